@@ -1,0 +1,86 @@
+#pragma once
+/// \file dynamics.hpp
+/// The reduced equations of motion of a Chain (MODEL.md §2): gaps, contact forces, the
+/// right-hand side, the tangent (Jacobian) map and the energy.
+///
+/// A state is a flat array y = (u_0..u_{Nm-1}, v_0..v_{Nm-1}) of 2 Nm reduced displacements
+/// and velocities. Time is reduced time t = f0 t_phys.
+
+#include "gapchain/model.hpp"
+
+#include <vector>
+
+namespace gapchain {
+
+/// Harmonic ground acceleration a0 cos(2 pi f_r t); in the reduced equations every body feels
+/// ground(t) = -4 pi^2 amplitude cos(2 pi f_r t).
+struct HarmonicForcing {
+    double f_r = 1.0;       ///< reduced forcing frequency, > 0
+    double amplitude = 1.0; ///< multiple of a0, >= 0 (0 switches the forcing off)
+};
+
+/// Equations of motion of one row under one forcing. Immutable and safe to share between
+/// threads; every method is O(Nm) or less.
+class Dynamics {
+public:
+    /// Validates the chain and the forcing (std::invalid_argument on bad values).
+    Dynamics(Chain chain, HarmonicForcing forcing);
+
+    [[nodiscard]] const Chain& chain() const { return m_chain; }
+    [[nodiscard]] const HarmonicForcing& forcing() const { return m_forcing; }
+    /// Number of bodies Nm.
+    [[nodiscard]] int bodies() const { return m_n; }
+    /// Number of contacts Nm + 1 (two walls and Nm - 1 body pairs).
+    [[nodiscard]] int gaps() const { return m_n + 1; }
+    /// State dimension 2 Nm.
+    [[nodiscard]] int dimension() const { return 2 * m_n; }
+    /// Forcing period 1 / f_r in reduced time.
+    [[nodiscard]] double period() const { return 1.0 / m_forcing.f_r; }
+
+    /// Ground term of every body's equation at reduced time t: -4 pi^2 A cos(2 pi f_r t).
+    [[nodiscard]] double ground(double t) const;
+
+    /// Accelerations without the damping term (springs, contacts and ground), given the
+    /// ground term. u and r have Nm entries.
+    void restoring_acceleration(double ground, const double* u, double* r) const;
+    /// Full accelerations a = restoring - damping * v.
+    void acceleration(double ground, const double* u, const double* v, double* a) const;
+    /// Time derivative of the accelerations (the jerk) at time t, state y and accelerations a
+    /// (Nm entries each, jerk out). Used for quintic dense output of the velocities.
+    void acceleration_rate(double t, const double* y, const double* a, double* jerk) const;
+    /// y' = f(t, y) for y = (u, v); y and dydt have 2 Nm entries.
+    void rhs(double t, const double* y, double* dydt) const;
+
+    /// Gap g_j of contact j = 0..Nm (> 0 means penetration), given the displacements u.
+    [[nodiscard]] double gap(int j, const double* u) const;
+    /// Time derivative of g_j, given the velocities v (the same combination as the gap).
+    [[nodiscard]] double gap_rate(int j, const double* v) const;
+    /// Second time derivative of g_j at the state y (2 Nm entries) and ground term.
+    [[nodiscard]] double gap_acceleration(int j, double ground, const double* y) const;
+    /// Reduced impact force of contact j: contact_j max(g_j, 0) / force_scale (eqs 14-15).
+    [[nodiscard]] double force(int j, const double* u) const;
+    /// Reduced force per unit penetration of contact j.
+    [[nodiscard]] double force_per_penetration(int j) const { return m_force_gain[j]; }
+
+    /// Kinetic + spring + contact energy (per nominal mass); conserved when every damping is 0
+    /// and the forcing amplitude is 0 (MODEL.md §5).
+    [[nodiscard]] double energy(const double* y) const;
+
+    /// Jacobian df/dy at state y, row-major 2Nm x 2Nm into jac (resized). Contact forces depend
+    /// on positions only, so its trace is -sum(damping) at every state.
+    void jacobian(const double* y, std::vector<double>& jac) const;
+
+    /// Upper bound on the fastest angular frequency [rad / reduced time] (MODEL.md §4).
+    [[nodiscard]] double max_angular_frequency() const { return m_omega_max; }
+
+private:
+    Chain m_chain;
+    HarmonicForcing m_forcing;
+    int m_n = 0;
+    double m_omega_max = 0.0;
+    std::vector<double> m_contact_over_mass_left;  ///< 4 pi^2 k_j / m_j for body j's left gap
+    std::vector<double> m_contact_over_mass_right; ///< 4 pi^2 k_{j+1} / m_j for the right gap
+    std::vector<double> m_force_gain;              ///< k_j / force_scale
+};
+
+} // namespace gapchain

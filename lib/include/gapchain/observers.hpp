@@ -1,0 +1,84 @@
+#pragma once
+/// \file observers.hpp
+/// Observers of the time loop. A run switches on only the ones its scene needs.
+
+#include "gapchain/dynamics.hpp"
+#include "gapchain/run.hpp"
+
+#include <functional>
+#include <optional>
+#include <vector>
+
+namespace gapchain {
+
+/// The largest force one contact reached while recording, and its impacts.
+struct ContactMaximum {
+    double force = 0.0; ///< reduced force max_t F_j(t), >= 0 (0: never closed)
+    double time = 0.0;  ///< reduced time of that maximum
+    long impacts = 0;   ///< number of times the contact closed
+};
+
+/// Tracks max_t F_j(t) for every contact j. Peaks between steps are located on the quintic
+/// Hermite interpolant of the gap (value, rate and acceleration at both ends), so F_m carries
+/// no O(h^2) step-point bias. O(Nm) memory and O(Nm) work per step.
+class MaxForceTracker final : public Observer {
+public:
+    /// dyn must outlive the tracker.
+    explicit MaxForceTracker(const Dynamics& dyn);
+    void on_step(const StepView& step) override;
+    /// Per contact j = 0..Nm (0: left wall, Nm: right wall).
+    [[nodiscard]] const std::vector<ContactMaximum>& contacts() const { return m_max; }
+
+private:
+    const Dynamics& m_dyn;
+    std::vector<ContactMaximum> m_max;
+    std::vector<double> m_gap;  ///< g_j at the end of the previous step
+    std::vector<double> m_rate; ///< dg_j/dt there
+    double m_last_t = -1.0;
+    bool m_have_previous = false;
+};
+
+/// Detects a periodic steady state from the states at the forcing-period boundaries: the run
+/// is periodic with period k (in forcing periods) when the boundary states k periods apart
+/// agree to tolerance * (1 + |y|_inf) at two consecutive boundaries. O(k_max Nm) memory.
+class SteadyStateDetector final : public Observer {
+public:
+    /// dimension: state size 2 Nm; max_period: largest k tried (>= 1); tolerance > 0;
+    /// earliest_stop: first recorded period; a stop is asked for only once a whole steady
+    /// period k has been recorded after it (so the recorded maxima cover the orbit).
+    SteadyStateDetector(int dimension, int max_period, double tolerance, long earliest_stop);
+    void on_step(const StepView&) override {}
+    bool on_period(long n, double t, const double* y) override;
+    /// Period k of the steady state, once found.
+    [[nodiscard]] std::optional<int> period() const { return m_period; }
+    /// Reduced time at which it was found.
+    [[nodiscard]] std::optional<double> time() const { return m_time; }
+
+private:
+    [[nodiscard]] bool matches(long a, long b) const;
+    int m_dim;
+    int m_max_period;
+    double m_tolerance;
+    long m_earliest_stop;
+    std::vector<std::vector<double>> m_ring; ///< boundary states, n modulo (max_period + 2)
+    std::optional<int> m_period;
+    std::optional<double> m_time;
+};
+
+/// Receives (t, y) samples of a recorded trajectory.
+using TrajectorySink = std::function<void(double t, const double* y)>;
+
+/// Streams every `every`-th step's end state (while recording) to a sink; stores nothing.
+class TrajectoryRecorder final : public Observer {
+public:
+    /// every >= 1: decimation factor in steps.
+    TrajectoryRecorder(int every, TrajectorySink sink);
+    void on_step(const StepView& step) override;
+
+private:
+    int m_every;
+    long m_count = 0;
+    TrajectorySink m_sink;
+};
+
+} // namespace gapchain

@@ -1,0 +1,72 @@
+#pragma once
+/// \file stepper.hpp
+/// One stepper interface for every fixed-step scheme, and the choice of the step.
+
+#include "gapchain/dynamics.hpp"
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace gapchain {
+
+/// Integration schemes. `automatic` resolves to the scheme measured fastest for the accuracy.
+enum class Scheme {
+    automatic,          ///< "auto": chosen by choose_scheme()
+    central_difference, ///< the paper's explicit scheme, order 2, one force evaluation per step
+    rk4,                ///< classical Runge-Kutta, order 4 (order 3 across contact kinks)
+};
+
+/// Parses "auto", "central_difference" or "rk4"; throws std::invalid_argument otherwise.
+Scheme parse_scheme(std::string_view name);
+/// The scene name of a scheme.
+std::string_view to_string(Scheme scheme);
+
+/// Order of accuracy on smooth problems, and the stability limit on h * omega_max.
+struct SchemeTraits {
+    int order;              ///< global order on smooth problems
+    double stability_limit; ///< largest stable h * omega for an undamped oscillator
+    int forces_per_step;    ///< right-hand-side evaluations per step
+};
+/// Traits of a concrete scheme (not `automatic`).
+SchemeTraits traits(Scheme scheme);
+
+/// The scheme `automatic` stands for, at a relative F_m tolerance in (0, 1).
+Scheme choose_scheme(double tolerance);
+
+/// Advances a state (u, v) of a Dynamics by one fixed step. Not thread-safe: one per run.
+class Stepper {
+public:
+    virtual ~Stepper() = default;
+    /// Advance y (2 Nm entries) from reduced time t to t + h (h > 0).
+    virtual void step(double t, double h, std::vector<double>& y) = 0;
+    /// Forget cached evaluations; call after changing y other than through step().
+    virtual void reset() {}
+    /// Right-hand-side evaluations so far.
+    [[nodiscard]] long evaluations() const { return m_evaluations; }
+
+protected:
+    long m_evaluations = 0;
+};
+
+/// A stepper of a concrete scheme for dyn (which must outlive it).
+std::unique_ptr<Stepper> make_stepper(Scheme scheme, const Dynamics& dyn);
+
+/// The step of a run: an integer number of steps per forcing period, so that every period
+/// boundary is a step point.
+struct StepPlan {
+    Scheme scheme = Scheme::rk4; ///< concrete scheme
+    double step = 0.0;           ///< reduced time step, > 0
+    int steps_per_period = 0;    ///< forcing period / step, >= 1
+};
+
+/// Chooses the step for a relative F_m tolerance in [1e-12, 0.1]: the largest step with an
+/// integer number of steps per period that keeps h * omega_max within the scheme's accuracy
+/// and stability limits. A user step (> 0) is honoured (rounded down to fit the period) unless it
+/// breaks the stability limit, which throws std::invalid_argument naming the limit.
+StepPlan plan_step(const Dynamics& dyn, Scheme scheme, double tolerance,
+                   std::optional<double> user_step = std::nullopt);
+
+} // namespace gapchain

@@ -1,0 +1,46 @@
+#pragma once
+// Input checks shared by the library boundary: each throws std::invalid_argument with a
+// one-line message naming the key, the accepted range and the bad value.
+
+#include <cmath>
+#include <cstddef>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+
+namespace gapchain::detail {
+
+enum class Bound { closed, open_low };
+
+inline std::string format_number(double x) {
+    std::ostringstream s;
+    s.precision(10);
+    s << x;
+    return s.str();
+}
+
+inline void require_range(const std::string& key, double value, double lo, double hi,
+                          Bound bound = Bound::closed) {
+    const bool low_ok = bound == Bound::open_low ? value > lo : value >= lo;
+    if (!std::isfinite(value) || !low_ok || value > hi) {
+        const char* open = bound == Bound::open_low ? "(" : "[";
+        throw std::invalid_argument(key + ": must be a finite number in " + open +
+                                    format_number(lo) + ", " + format_number(hi) + "], got " +
+                                    format_number(value));
+    }
+}
+
+inline void require_range(const std::string& key, int value, int lo, int hi) {
+    if (value < lo || value > hi)
+        throw std::invalid_argument(key + ": must be an integer in [" + std::to_string(lo) +
+                                    ", " + std::to_string(hi) + "], got " +
+                                    std::to_string(value));
+}
+
+inline void require_length(const std::string& key, std::size_t got, std::size_t expected) {
+    if (got != expected)
+        throw std::invalid_argument(key + ": must have " + std::to_string(expected) +
+                                    " entries, got " + std::to_string(got));
+}
+
+} // namespace gapchain::detail

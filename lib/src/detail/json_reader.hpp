@@ -1,0 +1,116 @@
+#pragma once
+// Strict reading of one JSON object of a scene: typed getters with defaults and ranges, and a
+// final check that rejects every key nobody asked for. Messages name the full key path.
+
+#include "detail/check.hpp"
+#include "gapchain/scene.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+#include <string>
+#include <vector>
+
+namespace gapchain::detail {
+
+class SectionReader {
+public:
+    SectionReader(const nlohmann::json& object, std::string path,
+                  std::vector<std::string> allowed = {})
+        : m_object(object), m_path(std::move(path)), m_allowed(std::move(allowed)) {
+        if (!m_object.is_object())
+            throw SceneError((m_path.empty() ? "scene" : m_path) + ": must be a JSON object");
+    }
+
+    // The child object under key (an empty object when the key is absent).
+    [[nodiscard]] SectionReader section(const std::string& key) const {
+        static const nlohmann::json empty = nlohmann::json::object();
+        return SectionReader(m_object.contains(key) ? m_object.at(key) : empty, full(key));
+    }
+    void allow(std::initializer_list<std::string> keys) {
+        m_allowed.insert(m_allowed.end(), keys.begin(), keys.end());
+    }
+    [[nodiscard]] bool has(const std::string& key) const { return m_object.contains(key); }
+
+    double number(const std::string& key, double fallback, double lo, double hi,
+                  Bound bound = Bound::closed) const {
+        if (!has(key)) return fallback;
+        const auto& v = m_object.at(key);
+        if (!v.is_number()) throw SceneError(full(key) + ": must be a number" + range(lo, hi, bound));
+        const double x = v.get<double>();
+        try {
+            require_range(full(key), x, lo, hi, bound);
+        } catch (const std::invalid_argument& e) {
+            throw SceneError(e.what());
+        }
+        return x;
+    }
+
+    long integer(const std::string& key, long fallback, long lo, long hi) const {
+        if (!has(key)) return fallback;
+        const auto& v = m_object.at(key);
+        double x = 0.0;
+        if (v.is_number_integer()) {
+            x = static_cast<double>(v.get<long long>());
+        } else if (v.is_number_float() && std::isfinite(v.get<double>()) &&
+                   v.get<double>() == std::floor(v.get<double>())) {
+            x = v.get<double>();
+        } else {
+            throw SceneError(full(key) + ": must be an integer in [" + std::to_string(lo) + ", " +
+                             std::to_string(hi) + "], got " + v.dump());
+        }
+        if (x < static_cast<double>(lo) || x > static_cast<double>(hi))
+            throw SceneError(full(key) + ": must be an integer in [" + std::to_string(lo) + ", " +
+                             std::to_string(hi) + "], got " + v.dump());
+        return static_cast<long>(x);
+    }
+
+    bool boolean(const std::string& key, bool fallback) const {
+        if (!has(key)) return fallback;
+        const auto& v = m_object.at(key);
+        if (!v.is_boolean()) throw SceneError(full(key) + ": must be true or false, got " + v.dump());
+        return v.get<bool>();
+    }
+
+    std::string text(const std::string& key, const std::string& fallback,
+                     const std::vector<std::string>& choices) const {
+        if (!has(key)) return fallback;
+        const auto& v = m_object.at(key);
+        const std::string s = v.is_string() ? v.get<std::string>() : std::string();
+        if (!v.is_string() || std::find(choices.begin(), choices.end(), s) == choices.end())
+            throw SceneError(full(key) + ": must be one of " + join(choices) + ", got " + v.dump());
+        return s;
+    }
+
+    // Rejects any key that was not allowed.
+    void finish() const {
+        for (const auto& [key, value] : m_object.items()) {
+            (void)value;
+            if (std::find(m_allowed.begin(), m_allowed.end(), key) == m_allowed.end())
+                throw SceneError(full(key) + ": unknown key; accepted keys here: " +
+                                 join(m_allowed));
+        }
+    }
+
+private:
+    [[nodiscard]] std::string full(const std::string& key) const {
+        return m_path.empty() ? key : m_path + "." + key;
+    }
+    static std::string join(const std::vector<std::string>& items) {
+        std::string s;
+        for (const auto& i : items) s += (s.empty() ? "" : ", ") + i;
+        return s;
+    }
+    static std::string range(double lo, double hi, Bound bound) {
+        return std::string(" in ") + (bound == Bound::open_low ? "(" : "[") + format_number(lo) +
+               ", " + format_number(hi) + "]";
+    }
+
+    const nlohmann::json& m_object;
+    std::string m_path;
+    std::vector<std::string> m_allowed;
+};
+
+} // namespace gapchain::detail

@@ -1,0 +1,149 @@
+#include "gapchain/dynamics.hpp"
+
+#include "detail/check.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace gapchain {
+
+namespace {
+constexpr double four_pi2 = 4.0 * std::numbers::pi * std::numbers::pi;
+}
+
+Dynamics::Dynamics(Chain chain, HarmonicForcing forcing)
+    : m_chain(std::move(chain)), m_forcing(forcing) {
+    validate(m_chain);
+    detail::require_range("excitation.f_r", m_forcing.f_r, 0.0, 1e4, detail::Bound::open_low);
+    detail::require_range("excitation.amplitude", m_forcing.amplitude, 0.0, 1e6);
+    m_n = m_chain.bodies();
+    m_omega_max = gapchain::max_angular_frequency(m_chain);
+    m_contact_over_mass_left.resize(m_n);
+    m_contact_over_mass_right.resize(m_n);
+    for (int i = 0; i < m_n; ++i) {
+        m_contact_over_mass_left[i] = four_pi2 * m_chain.contact[i] / m_chain.mass[i];
+        m_contact_over_mass_right[i] = four_pi2 * m_chain.contact[i + 1] / m_chain.mass[i];
+    }
+    m_force_gain.resize(m_n + 1);
+    for (int j = 0; j <= m_n; ++j) m_force_gain[j] = m_chain.contact[j] / m_chain.force_scale;
+}
+
+double Dynamics::ground(double t) const {
+    return -four_pi2 * m_forcing.amplitude * std::cos(2.0 * std::numbers::pi * m_forcing.f_r * t);
+}
+
+void Dynamics::restoring_acceleration(double ground, const double* u, double* r) const {
+    const double* e = m_chain.clearance.data();
+    const double* s = m_chain.spring.data();
+    const int n = m_n;
+    // Penetration of the gap on the left of body i, carried from one body to the next.
+    double p_left = std::max(-u[0] - e[0], 0.0);
+    for (int i = 0; i < n; ++i) {
+        const double g_right = (i + 1 < n ? u[i] - u[i + 1] : u[i]) - e[i + 1];
+        const double p_right = std::max(g_right, 0.0);
+        r[i] = ground - s[i] * u[i] + m_contact_over_mass_left[i] * p_left -
+               m_contact_over_mass_right[i] * p_right;
+        p_left = p_right;
+    }
+}
+
+void Dynamics::acceleration(double ground, const double* u, const double* v, double* a) const {
+    restoring_acceleration(ground, u, a);
+    const double* d = m_chain.damping.data();
+    for (int i = 0; i < m_n; ++i) a[i] -= d[i] * v[i];
+}
+
+void Dynamics::acceleration_rate(double t, const double* y, const double* a, double* jerk) const {
+    const double* u = y;
+    const double* v = y + m_n;
+    const double w = 2.0 * std::numbers::pi * m_forcing.f_r;
+    const double ground_rate = four_pi2 * m_forcing.amplitude * w * std::sin(w * t);
+    // A closed contact's penetration changes at the gap rate, an open one's not at all.
+    auto penetration_rate = [&](int j) { return gap(j, u) > 0.0 ? gap_rate(j, v) : 0.0; };
+    double q_left = penetration_rate(0);
+    for (int i = 0; i < m_n; ++i) {
+        const double q_right = penetration_rate(i + 1);
+        jerk[i] = ground_rate - m_chain.spring[i] * v[i] - m_chain.damping[i] * a[i] +
+                  m_contact_over_mass_left[i] * q_left - m_contact_over_mass_right[i] * q_right;
+        q_left = q_right;
+    }
+}
+
+void Dynamics::rhs(double t, const double* y, double* dydt) const {
+    std::copy(y + m_n, y + 2 * m_n, dydt);
+    acceleration(ground(t), y, y + m_n, dydt + m_n);
+}
+
+double Dynamics::gap(int j, const double* u) const {
+    const double e = m_chain.clearance[j];
+    if (j == 0) return -u[0] - e;
+    if (j == m_n) return u[m_n - 1] - e;
+    return u[j - 1] - u[j] - e;
+}
+
+double Dynamics::gap_rate(int j, const double* v) const {
+    if (j == 0) return -v[0];
+    if (j == m_n) return v[m_n - 1];
+    return v[j - 1] - v[j];
+}
+
+double Dynamics::gap_acceleration(int j, double ground, const double* y) const {
+    // Only the (at most) two bodies on either side of gap j matter: O(1) per call.
+    const double* u = y;
+    const double* v = y + m_n;
+    auto body_acc = [&](int i) {
+        const double p_l = std::max(gap(i, u), 0.0);
+        const double p_r = std::max(gap(i + 1, u), 0.0);
+        return ground - m_chain.spring[i] * u[i] - m_chain.damping[i] * v[i] +
+               m_contact_over_mass_left[i] * p_l - m_contact_over_mass_right[i] * p_r;
+    };
+    if (j == 0) return -body_acc(0);
+    if (j == m_n) return body_acc(m_n - 1);
+    return body_acc(j - 1) - body_acc(j);
+}
+
+double Dynamics::force(int j, const double* u) const {
+    return m_force_gain[j] * std::max(gap(j, u), 0.0);
+}
+
+double Dynamics::energy(const double* y) const {
+    const double* u = y;
+    const double* v = y + m_n;
+    double e = 0.0;
+    for (int i = 0; i < m_n; ++i)
+        e += 0.5 * m_chain.mass[i] * (v[i] * v[i] + m_chain.spring[i] * u[i] * u[i]);
+    for (int j = 0; j <= m_n; ++j) {
+        const double p = std::max(gap(j, u), 0.0);
+        e += 0.5 * four_pi2 * m_chain.contact[j] * p * p;
+    }
+    return e;
+}
+
+void Dynamics::jacobian(const double* y, std::vector<double>& jac) const {
+    const int n = m_n;
+    const int dim = 2 * n;
+    jac.assign(static_cast<std::size_t>(dim) * dim, 0.0);
+    auto at = [&](int r, int c) -> double& { return jac[static_cast<std::size_t>(r) * dim + c]; };
+    for (int i = 0; i < n; ++i) {
+        at(i, n + i) = 1.0;
+        at(n + i, i) = -m_chain.spring[i];
+        at(n + i, n + i) = -m_chain.damping[i];
+    }
+    // A closed contact j adds k_j (c_j c_j^T) with c_j the gap's combination of displacements;
+    // an open one adds nothing. At g_j = 0 exactly we take the open branch (one-sided limit).
+    for (int j = 0; j <= n; ++j) {
+        if (gap(j, y) <= 0.0) continue;
+        const int left = j - 1; // body whose displacement enters g_j with +1 (or none)
+        const int right = j;    // body whose displacement enters g_j with -1 (or none)
+        const double k = four_pi2 * m_chain.contact[j];
+        if (left >= 0) at(n + left, left) -= k / m_chain.mass[left];
+        if (right < n) at(n + right, right) -= k / m_chain.mass[right];
+        if (left >= 0 && right < n) {
+            at(n + left, right) += k / m_chain.mass[left];
+            at(n + right, left) += k / m_chain.mass[right];
+        }
+    }
+}
+
+} // namespace gapchain

@@ -1,0 +1,138 @@
+#include "gapchain/run.hpp"
+
+#include "detail/check.hpp"
+#include "detail/hermite.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace gapchain {
+
+std::string_view to_string(RunStatus status) {
+    switch (status) {
+    case RunStatus::completed: return "completed";
+    case RunStatus::steady_state: return "steady_state";
+    case RunStatus::non_finite: return "non_finite";
+    case RunStatus::cancelled: return "cancelled";
+    }
+    return "?";
+}
+
+namespace {
+
+/// Index of the first body whose displacement or velocity is not finite, or -1.
+int first_non_finite_body(const std::vector<double>& y, int n) {
+    for (int i = 0; i < 2 * n; ++i)
+        if (!std::isfinite(y[i])) return i % n;
+    return -1;
+}
+
+/// Earliest time in (t0 + margin, t1 - margin) at which a contact opens or closes during the
+/// step y0 -> y1, located on the quintic Hermite interpolant of its gap; t1 if none.
+double first_switch(const Dynamics& dyn, double t0, double t1, const double* y0,
+                    const double* y1) {
+    const int n = dyn.bodies();
+    const double h = t1 - t0;
+    const double margin = 1e-9 * h;
+    double first = t1;
+    double ground0 = 0.0, ground1 = 0.0;
+    bool have_ground = false;
+    for (int j = 0; j < dyn.gaps(); ++j) {
+        const double g0 = dyn.gap(j, y0);
+        const double g1 = dyn.gap(j, y1);
+        if ((g0 > 0.0) == (g1 > 0.0)) continue;
+        if (!have_ground) {
+            ground0 = dyn.ground(t0);
+            ground1 = dyn.ground(t1);
+            have_ground = true;
+        }
+        const detail::QuinticHermite g(g0, dyn.gap_rate(j, y0 + n),
+                                       dyn.gap_acceleration(j, ground0, y0), g1,
+                                       dyn.gap_rate(j, y1 + n),
+                                       dyn.gap_acceleration(j, ground1, y1), h);
+        const double t = t0 + g.crossing(0.0, 0.0, h);
+        if (t > t0 + margin && t < t1 - margin) first = std::min(first, t);
+    }
+    return first;
+}
+
+} // namespace
+
+RunOutcome run(const Dynamics& dyn, Stepper& stepper, const StepPlan& plan, const RunSpan& span,
+               std::vector<double>& y, std::span<Observer* const> observers,
+               const ProgressCallback& progress) {
+    detail::require_range("run.periods", static_cast<double>(span.periods), 1.0, 1e9);
+    if (span.transient_periods < 0 || span.transient_periods >= span.periods)
+        throw std::invalid_argument("run.transient_periods: must be in [0, periods - 1], got " +
+                                    std::to_string(span.transient_periods));
+    detail::require_length("initial state", y.size(), static_cast<std::size_t>(dyn.dimension()));
+    if (plan.steps_per_period < 1 || !(plan.step > 0.0))
+        throw std::invalid_argument("run: the step plan is empty (steps_per_period < 1)");
+
+    const int n = dyn.bodies();
+    const int spp = plan.steps_per_period;
+    const double h = plan.step;
+    const long report_every = std::max(1L, span.periods / 200);
+    std::vector<double> y_prev(y.size());
+    RunOutcome out;
+    stepper.reset();
+
+    // Times are computed from integer step counts, so period boundaries never drift.
+    auto time_at = [&](long period, int k) { return span.t_start + (period * spp + k) * h; };
+
+    bool stop = false;
+    for (Observer* o : observers) stop = o->on_period(0, span.t_start, y.data()) || stop;
+    for (long p = 0; p < span.periods; ++p) {
+        const bool recording = p >= span.transient_periods;
+        for (int k = 0; k < spp; ++k) {
+            const double t_end = time_at(p, k + 1);
+            double t0 = time_at(p, k);
+            // A contact switch inside a step puts a kink in the force, which costs a
+            // fourth-order scheme two orders; so a step that straddles a switch is redone in
+            // pieces that end on it. Bounded: each piece passes at least one switch.
+            for (int piece = 0; piece <= 2 * dyn.gaps() && t0 < t_end; ++piece) {
+                std::copy(y.begin(), y.end(), y_prev.begin());
+                stepper.step(t0, t_end - t0, y);
+                double t1 = t_end;
+                if (piece < 2 * dyn.gaps()) {
+                    t1 = first_switch(dyn, t0, t_end, y_prev.data(), y.data());
+                    if (t1 < t_end) {
+                        std::copy(y_prev.begin(), y_prev.end(), y.begin());
+                        stepper.reset();
+                        stepper.step(t0, t1 - t0, y);
+                        stepper.reset();
+                    }
+                }
+                const StepView view{t0, t1, y_prev.data(), y.data(), p, recording};
+                for (Observer* o : observers) o->on_step(view);
+                ++out.steps;
+                t0 = t1;
+            }
+        }
+        out.periods_done = p + 1;
+        out.t_end = time_at(p + 1, 0);
+        if (const int body = first_non_finite_body(y, n); body >= 0) {
+            out.status = RunStatus::non_finite;
+            out.message = "the state became non-finite before t = " +
+                          detail::format_number(out.t_end) + " (body " + std::to_string(body + 1) +
+                          "); the step or the parameters are out of the scheme's reach";
+            return out;
+        }
+        stop = false;
+        for (Observer* o : observers) stop = o->on_period(p + 1, out.t_end, y.data()) || stop;
+        if (stop && recording) {
+            out.status = RunStatus::steady_state;
+            return out;
+        }
+        if (progress && ((p + 1) % report_every == 0 || p + 1 == span.periods) &&
+            !progress(static_cast<double>(p + 1) / span.periods)) {
+            out.status = RunStatus::cancelled;
+            out.message = "cancelled at t = " + detail::format_number(out.t_end);
+            return out;
+        }
+    }
+    return out;
+}
+
+} // namespace gapchain

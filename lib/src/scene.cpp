@@ -1,0 +1,250 @@
+#include "gapchain/scene.hpp"
+
+#include "detail/check.hpp"
+#include "detail/json_reader.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+#include <sstream>
+#include <unistd.h>
+
+namespace gapchain {
+
+using nlohmann::json;
+using detail::SectionReader;
+
+namespace {
+
+/// "section.key=value" -> json[section][key] = value.
+void apply_override(json& root, const std::string& assignment) {
+    const auto eq = assignment.find('=');
+    const auto dot = assignment.find('.');
+    if (eq == std::string::npos || dot == std::string::npos || dot > eq || dot == 0 ||
+        dot + 1 == eq)
+        throw SceneError("--set: expected section.key=value, got \"" + assignment + "\"");
+    const std::string section = assignment.substr(0, dot);
+    const std::string key = assignment.substr(dot + 1, eq - dot - 1);
+    const std::string text = assignment.substr(eq + 1);
+    json value;
+    if (text == "nan" || text == "NaN") {
+        value = std::numeric_limits<double>::quiet_NaN();
+    } else if (text == "inf" || text == "Inf" || text == "infinity") {
+        value = std::numeric_limits<double>::infinity();
+    } else if (text == "-inf" || text == "-Inf") {
+        value = -std::numeric_limits<double>::infinity();
+    } else {
+        value = json::parse(text, nullptr, false);
+        if (value.is_discarded()) value = text;
+    }
+    if (!root.contains(section)) root[section] = json::object();
+    if (!root[section].is_object())
+        throw SceneError(section + ": must be an object to set " + key);
+    root[section][key] = value;
+}
+
+std::vector<double> number_array(const json& j, const std::string& key) {
+    if (!j.is_array()) throw SceneError(key + ": must be an array of numbers");
+    std::vector<double> out;
+    for (const auto& x : j) {
+        if (!x.is_number()) throw SceneError(key + ": must be an array of numbers");
+        const double v = x.get<double>();
+        if (!std::isfinite(v)) throw SceneError(key + ": every entry must be finite");
+        out.push_back(v);
+    }
+    return out;
+}
+
+Scene scene_from_json(json root, const std::vector<std::string>& overrides,
+                      const std::string& source) {
+    if (!root.is_object()) throw SceneError("scene: the top level must be a JSON object");
+    for (const auto& o : overrides) apply_override(root, o);
+    SectionReader top(root, "", {"units", "model", "excitation", "run", "initial", "output"});
+    Scene scene;
+    scene.source = source;
+    const std::string units = top.text("units", "reduced", {"reduced", "physical"});
+    scene.units = units == "physical" ? Units::physical : Units::reduced;
+
+    SectionReader model = top.section("model");
+    SectionReader excitation = top.section("excitation");
+    if (scene.units == Units::reduced) {
+        model.allow({"Nm", "fc", "eps", "e_r"});
+        excitation.allow({"f_r", "type"});
+        ReducedParameters& p = scene.reduced;
+        p.Nm = model.integer("Nm", p.Nm, 1, 1'000'000);
+        p.fc = model.number("fc", p.fc, 0.0, 1e9, detail::Bound::open_low);
+        p.eps = model.number("eps", p.eps, 0.0, 100.0);
+        p.e_r = model.number("e_r", p.e_r, 0.0, 1e6);
+        p.f_r = excitation.number("f_r", p.f_r, 0.0, 1e4, detail::Bound::open_low);
+    } else {
+        model.allow({"Nm", "M", "K", "C", "Kc", "e"});
+        excitation.allow({"a0", "f", "type"});
+        PhysicalParameters q;
+        q.Nm = model.integer("Nm", q.Nm, 1, 1'000'000);
+        q.M = model.number("M", q.M, 0.0, 1e12, detail::Bound::open_low);
+        q.K = model.number("K", q.K, 0.0, 1e15, detail::Bound::open_low);
+        q.C = model.number("C", q.C, 0.0, 1e15);
+        q.Kc = model.number("Kc", q.Kc, 0.0, 1e18, detail::Bound::open_low);
+        q.e = model.number("e", q.e, 0.0, 1e3);
+        q.a0 = excitation.number("a0", q.a0, 0.0, 1e6, detail::Bound::open_low);
+        q.f = excitation.number("f", q.f, 0.0, 1e6, detail::Bound::open_low);
+        scene.physical = q;
+        scene.reduced = to_reduced(q);
+    }
+    excitation.text("type", "harmonic", {"harmonic"});
+    model.finish();
+    excitation.finish();
+
+    SectionReader run = top.section("run");
+    run.allow({"periods", "transient_periods", "scheme", "tolerance", "step", "steady_state",
+               "steady_tolerance", "max_steady_period", "estimate_error"});
+    RunOptions& o = scene.run;
+    o.periods = run.integer("periods", 1000, 1, 1'000'000'000);
+    o.transient_periods = run.integer("transient_periods", 0, 0, 999'999'999);
+    if (o.transient_periods >= o.periods)
+        throw SceneError("run.transient_periods: must be an integer in [0, run.periods - 1 = " +
+                         std::to_string(o.periods - 1) + "], got " +
+                         std::to_string(o.transient_periods));
+    o.scheme = parse_scheme(run.text("scheme", "auto", {"auto", "central_difference", "rk4"}));
+    o.tolerance = run.number("tolerance", o.tolerance, 1e-12, 0.1);
+    if (run.has("step")) o.step = run.number("step", 0.0, 0.0, 1e3, detail::Bound::open_low);
+    o.stop_at_steady_state = run.boolean("steady_state", o.stop_at_steady_state);
+    o.steady_tolerance = run.number("steady_tolerance", o.steady_tolerance, 1e-15, 1e-2);
+    o.max_steady_period = run.integer("max_steady_period", o.max_steady_period, 1, 1000);
+    o.estimate_error = run.boolean("estimate_error", o.estimate_error);
+    run.finish();
+
+    SectionReader output = top.section("output");
+    output.allow({"trajectory_every"});
+    scene.trajectory_every = output.integer("trajectory_every", 1, 1, 1'000'000);
+    output.finish();
+
+    if (root.contains("initial")) {
+        SectionReader initial = top.section("initial");
+        initial.allow({"u", "v"});
+        initial.finish();
+        const auto n = static_cast<std::size_t>(scene.reduced.Nm);
+        const json& ij = root["initial"];
+        std::vector<double> u(n, 0.0), v(n, 0.0);
+        if (ij.contains("u")) u = number_array(ij["u"], "initial.u");
+        if (ij.contains("v")) v = number_array(ij["v"], "initial.v");
+        if (u.size() != n || v.size() != n)
+            throw SceneError("initial.u, initial.v: must each have model.Nm = " +
+                             std::to_string(n) + " entries");
+        scene.initial = u;
+        scene.initial.insert(scene.initial.end(), v.begin(), v.end());
+    }
+    top.finish();
+    return scene;
+}
+
+} // namespace
+
+Scene parse_scene(std::string_view text, const std::vector<std::string>& overrides,
+                  const std::string& source) {
+    json root;
+    try {
+        root = json::parse(text);
+    } catch (const json::exception& e) {
+        // Parse errors, and number overflow (1e999), which nlohmann reports as out_of_range.
+        throw SceneError(source + ": malformed JSON: " + e.what());
+    }
+    try {
+        return scene_from_json(std::move(root), overrides, source);
+    } catch (const SceneError&) {
+        throw;
+    } catch (const std::invalid_argument& e) {
+        throw SceneError(e.what());
+    }
+}
+
+Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+    std::ifstream in(path);
+    if (!in) throw SceneError(path + ": cannot read the scene file");
+    std::ostringstream text;
+    text << in.rdbuf();
+    if (in.bad()) throw SceneError(path + ": cannot read the scene file");
+    return parse_scene(text.str(), overrides, path);
+}
+
+std::string to_json(const SimulationResult& r, const Scene& scene) {
+    json j;
+    j["F_m"] = r.F_m;
+    j["F_m_error"] = r.F_m_error;
+    j["F_m_contact"] = r.F_m_contact;
+    j["F_m_time"] = r.F_m_time;
+    j["contact"] = r.contact;
+    if (scene.physical) {
+        j["F_m_newton"] = force_in_newtons(r.F_m, *scene.physical);
+        j["F_m_error_newton"] = force_in_newtons(r.F_m_error, *scene.physical);
+    }
+    json bodies = json::array();
+    for (const auto& b : r.per_body) {
+        json e = {{"left", b.left}, {"right", b.right}, {"t_left", b.t_left},
+                  {"t_right", b.t_right}};
+        if (scene.physical) {
+            e["left_newton"] = force_in_newtons(b.left, *scene.physical);
+            e["right_newton"] = force_in_newtons(b.right, *scene.physical);
+        }
+        bodies.push_back(e);
+    }
+    j["per_body"] = bodies;
+    json contacts = json::array();
+    for (const auto& c : r.per_contact)
+        contacts.push_back({{"force", c.force}, {"time", c.time}, {"impacts", c.impacts}});
+    j["per_contact"] = contacts;
+    j["steady_state_period"] =
+        r.steady_state_period ? json(*r.steady_state_period) : json(nullptr);
+    j["steady_state_time"] = r.steady_state_time ? json(*r.steady_state_time) : json(nullptr);
+    j["status"] = std::string(to_string(r.status));
+    j["scheme"] = std::string(to_string(r.scheme));
+    j["step"] = r.step;
+    j["periods_simulated"] = r.periods_simulated;
+    j["steps"] = r.steps;
+    j["evaluations"] = r.evaluations;
+    j["wall_time_s"] = r.wall_time_s;
+    const ReducedParameters& p = scene.reduced;
+    j["parameters"] = {{"Nm", p.Nm}, {"fc", p.fc}, {"eps", p.eps}, {"e_r", p.e_r},
+                       {"f_r", p.f_r}, {"periods", scene.run.periods},
+                       {"transient_periods", scene.run.transient_periods},
+                       {"tolerance", scene.run.tolerance}};
+    j["scene"] = scene.source;
+    return j.dump(2) + "\n";
+}
+
+OutputFile::OutputFile(std::string path) : m_path(std::move(path)) {
+    m_temp = m_path + ".tmp." + std::to_string(::getpid());
+    m_stream.open(m_temp, std::ios::out | std::ios::trunc);
+    if (!m_stream) throw SceneError(m_path + ": cannot open for writing");
+    m_stream.precision(17);
+}
+
+OutputFile::~OutputFile() {
+    if (!m_committed) {
+        m_stream.close();
+        std::remove(m_temp.c_str());
+    }
+}
+
+void OutputFile::commit() {
+    m_stream.flush();
+    const bool ok = static_cast<bool>(m_stream);
+    m_stream.close();
+    if (!ok || std::rename(m_temp.c_str(), m_path.c_str()) != 0) {
+        std::remove(m_temp.c_str());
+        m_committed = true;
+        throw SceneError(m_path + ": cannot write the output file");
+    }
+    m_committed = true;
+}
+
+void write_file_atomically(const std::string& path, const std::string& text) {
+    OutputFile f(path);
+    f.stream() << text;
+    f.commit();
+}
+
+} // namespace gapchain

@@ -1,0 +1,153 @@
+#include "gapchain/simulation.hpp"
+
+#include "detail/check.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace gapchain {
+
+void validate(const RunOptions& o) {
+    detail::require_range("run.periods", static_cast<double>(o.periods), 1.0, 1e9);
+    if (o.transient_periods < 0 || o.transient_periods >= o.periods)
+        throw std::invalid_argument("run.transient_periods: must be an integer in [0, periods - 1 = " +
+                                    std::to_string(o.periods - 1) + "], got " +
+                                    std::to_string(o.transient_periods));
+    detail::require_range("run.tolerance", o.tolerance, 1e-12, 0.1);
+    if (o.step) detail::require_range("run.step", *o.step, 0.0, 1e3, detail::Bound::open_low);
+    detail::require_range("run.steady_tolerance", o.steady_tolerance, 0.0, 1.0,
+                          detail::Bound::open_low);
+    detail::require_range("run.max_steady_period", o.max_steady_period, 1, 1000);
+}
+
+namespace {
+
+struct SingleRun {
+    RunOutcome outcome;
+    std::vector<ContactMaximum> contacts;
+    std::optional<int> period;
+    std::optional<double> period_time;
+    long evaluations = 0;
+};
+
+SingleRun run_once(const Dynamics& dyn, const StepPlan& plan, const RunOptions& options,
+                   std::vector<double>& y, const TrajectorySink& trajectory, int every,
+                   const ProgressCallback& progress) {
+    auto stepper = make_stepper(plan.scheme, dyn);
+    MaxForceTracker forces(dyn);
+    std::vector<Observer*> observers{&forces};
+    std::optional<SteadyStateDetector> steady;
+    if (options.stop_at_steady_state) {
+        steady.emplace(dyn.dimension(), options.max_steady_period, options.steady_tolerance,
+                       options.transient_periods);
+        observers.push_back(&*steady);
+    }
+    std::optional<TrajectoryRecorder> recorder;
+    if (trajectory) {
+        recorder.emplace(every, trajectory);
+        observers.push_back(&*recorder);
+    }
+    const RunSpan span{options.periods, options.transient_periods, 0.0};
+    SingleRun r;
+    r.outcome = run(dyn, *stepper, plan, span, y, observers, progress);
+    r.contacts = forces.contacts();
+    if (steady) {
+        r.period = steady->period();
+        r.period_time = steady->time();
+    }
+    r.evaluations = stepper->evaluations();
+    return r;
+}
+
+double max_force(const std::vector<ContactMaximum>& contacts) {
+    double f = 0.0;
+    for (const auto& c : contacts) f = std::max(f, c.force);
+    return f;
+}
+
+} // namespace
+
+SimulationResult simulate(const Dynamics& dyn, const RunOptions& options,
+                          const std::vector<double>& initial, const SimulationHooks& hooks) {
+    const auto start = std::chrono::steady_clock::now();
+    validate(options);
+    if (!initial.empty())
+        detail::require_length("initial state", initial.size(),
+                               static_cast<std::size_t>(dyn.dimension()));
+    for (double x : initial)
+        if (!std::isfinite(x))
+            throw std::invalid_argument("initial: every entry must be finite, got " +
+                                        detail::format_number(x));
+    const StepPlan plan = plan_step(dyn, options.scheme, options.tolerance, options.step);
+    const std::vector<double> y0 =
+        initial.empty() ? std::vector<double>(dyn.dimension(), 0.0) : initial;
+
+    SimulationResult result;
+    std::vector<double> y = y0;
+    const SingleRun main = run_once(dyn, plan, options, y, hooks.trajectory,
+                                    std::max(1, hooks.trajectory_every), hooks.progress);
+    result.status = main.outcome.status;
+    result.message = main.outcome.message;
+    result.scheme = plan.scheme;
+    result.step = plan.step;
+    result.periods_simulated = main.outcome.periods_done;
+    result.steps = main.outcome.steps;
+    result.evaluations = main.evaluations;
+    result.per_contact = main.contacts;
+    result.steady_state_period = main.period;
+    result.steady_state_time = main.period_time;
+    result.final_state = y;
+
+    const int n = dyn.bodies();
+    result.per_body.resize(n);
+    for (int i = 0; i < n; ++i) {
+        result.per_body[i] = {main.contacts[i].force, main.contacts[i + 1].force,
+                              main.contacts[i].time, main.contacts[i + 1].time};
+    }
+    for (int j = 0; j <= n; ++j) {
+        const auto& c = main.contacts[j];
+        if (c.impacts > 0 || c.force > 0.0) result.contact = true;
+        if (c.force > result.F_m) {
+            result.F_m = c.force;
+            result.F_m_contact = j;
+            result.F_m_time = c.time;
+        }
+    }
+
+    if (options.estimate_error && result.status != RunStatus::non_finite &&
+        result.status != RunStatus::cancelled) {
+        // The comparison run at twice the step; if that would break the stability limit,
+        // use half the step instead (the estimate then bounds the coarser run's error).
+        StepPlan other = plan;
+        const SchemeTraits tr = traits(plan.scheme);
+        if (plan.steps_per_period >= 2 &&
+            2.0 * plan.step * dyn.max_angular_frequency() < 0.9 * tr.stability_limit) {
+            other.steps_per_period = plan.steps_per_period / 2;
+        } else {
+            other.steps_per_period = plan.steps_per_period * 2;
+        }
+        other.step = dyn.period() / other.steps_per_period;
+        std::vector<double> y2 = y0;
+        const SingleRun check = run_once(dyn, other, options, y2, {}, 1, {});
+        result.evaluations += check.evaluations;
+        if (check.outcome.status == RunStatus::non_finite) {
+            result.F_m_error = std::numeric_limits<double>::infinity();
+        } else {
+            // Periodic runs converge at the scheme's order p, so the error of F_m is about
+            // |F_m - F_m'| / (2^p - 1); we report twice that. Runs that never settle (chaotic,
+            // long transients) get the raw difference: there it is not a truncation error.
+            const double diff = std::abs(result.F_m - max_force(check.contacts));
+            const double gain = std::ldexp(1.0, traits(plan.scheme).order) - 1.0;
+            const bool periodic = result.steady_state_period && check.period;
+            const double estimate = periodic ? 2.0 * diff / gain : diff;
+            // Round-off floor: F_m is never known better than a few ulps of itself.
+            result.F_m_error = std::max(estimate, 1e-14 * result.F_m);
+        }
+    }
+    result.wall_time_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return result;
+}
+
+} // namespace gapchain

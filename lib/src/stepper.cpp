@@ -1,0 +1,178 @@
+#include "gapchain/stepper.hpp"
+
+#include "detail/check.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace gapchain {
+
+Scheme parse_scheme(std::string_view name) {
+    if (name == "auto") return Scheme::automatic;
+    if (name == "central_difference") return Scheme::central_difference;
+    if (name == "rk4") return Scheme::rk4;
+    throw std::invalid_argument("run.scheme: must be one of auto, central_difference, rk4, got \"" +
+                                std::string(name) + "\"");
+}
+
+std::string_view to_string(Scheme scheme) {
+    switch (scheme) {
+    case Scheme::automatic: return "auto";
+    case Scheme::central_difference: return "central_difference";
+    case Scheme::rk4: return "rk4";
+    }
+    return "?";
+}
+
+SchemeTraits traits(Scheme scheme) {
+    switch (scheme) {
+    case Scheme::central_difference: return {2, 2.0, 1};
+    case Scheme::rk4: return {4, 2.78, 4};
+    case Scheme::automatic: break;
+    }
+    throw std::invalid_argument("traits: the scheme must be concrete, got auto");
+}
+
+Scheme choose_scheme(double tolerance) {
+    detail::require_range("run.tolerance", tolerance, 0.0, 1.0, detail::Bound::open_low);
+    // Measured in docs/performance.md: at equal F_m error rk4 beats central_difference at every
+    // tolerance below 1e-2 (its 4 evaluations per step buy a much larger step).
+    return tolerance >= 1e-2 ? Scheme::central_difference : Scheme::rk4;
+}
+
+namespace {
+
+/// The paper's explicit central-difference scheme in kick-drift-kick form. The damping is
+/// diagonal, so the closing half-kick solves for v_{n+1} exactly and the scheme stays explicit
+/// and second order, with one force evaluation per step (the end force is reused).
+class CentralDifference final : public Stepper {
+public:
+    explicit CentralDifference(const Dynamics& dyn)
+        : m_dyn(dyn), m_n(dyn.bodies()), m_restoring(m_n), m_half(m_n) {}
+
+    void step(double t, double h, std::vector<double>& y) override {
+        double* u = y.data();
+        double* v = y.data() + m_n;
+        const double* d = m_dyn.chain().damping.data();
+        if (!m_cached || m_t != t) {
+            m_dyn.restoring_acceleration(m_dyn.ground(t), u, m_restoring.data());
+            ++m_evaluations;
+        }
+        for (int i = 0; i < m_n; ++i) {
+            m_half[i] = v[i] + 0.5 * h * (m_restoring[i] - d[i] * v[i]);
+            u[i] += h * m_half[i];
+        }
+        m_dyn.restoring_acceleration(m_dyn.ground(t + h), u, m_restoring.data());
+        ++m_evaluations;
+        for (int i = 0; i < m_n; ++i)
+            v[i] = (m_half[i] + 0.5 * h * m_restoring[i]) / (1.0 + 0.5 * h * d[i]);
+        m_cached = true;
+        m_t = t + h;
+    }
+    void reset() override { m_cached = false; }
+
+private:
+    const Dynamics& m_dyn;
+    int m_n;
+    std::vector<double> m_restoring;
+    std::vector<double> m_half;
+    bool m_cached = false;
+    double m_t = 0.0;
+};
+
+class RungeKutta4 final : public Stepper {
+public:
+    explicit RungeKutta4(const Dynamics& dyn)
+        : m_dyn(dyn), m_n(dyn.bodies()), m_k(4, std::vector<double>(2 * m_n)), m_tmp(2 * m_n) {}
+
+    void step(double t, double h, std::vector<double>& y) override {
+        const int dim = 2 * m_n;
+        const double g0 = m_dyn.ground(t);
+        const double gh = m_dyn.ground(t + 0.5 * h);
+        const double g1 = m_dyn.ground(t + h);
+        evaluate(g0, y.data(), m_k[0].data());
+        axpy(0.5 * h, m_k[0], y);
+        evaluate(gh, m_tmp.data(), m_k[1].data());
+        axpy(0.5 * h, m_k[1], y);
+        evaluate(gh, m_tmp.data(), m_k[2].data());
+        axpy(h, m_k[2], y);
+        evaluate(g1, m_tmp.data(), m_k[3].data());
+        const double w = h / 6.0;
+        for (int i = 0; i < dim; ++i)
+            y[i] += w * (m_k[0][i] + 2.0 * (m_k[1][i] + m_k[2][i]) + m_k[3][i]);
+        m_evaluations += 4;
+    }
+
+private:
+    void evaluate(double ground, const double* y, double* dydt) const {
+        for (int i = 0; i < m_n; ++i) dydt[i] = y[m_n + i];
+        m_dyn.acceleration(ground, y, y + m_n, dydt + m_n);
+    }
+    void axpy(double a, const std::vector<double>& k, const std::vector<double>& y) {
+        for (std::size_t i = 0; i < y.size(); ++i) m_tmp[i] = y[i] + a * k[i];
+    }
+
+    const Dynamics& m_dyn;
+    int m_n;
+    std::vector<std::vector<double>> m_k;
+    std::vector<double> m_tmp;
+};
+
+/// Largest h * omega_max that meets a relative tolerance. Calibrated on the smooth and stiff
+/// scenes of docs/performance.md, where the relative F_m error measured C (h omega)^p with
+/// C = 0.062 (central difference, p = 2) and C = 7.4e-4 (rk4, p = 4, switch-aligned steps);
+/// the constants below keep a factor 2 in hand.
+double accuracy_limit(Scheme scheme, double tolerance) {
+    switch (scheme) {
+    case Scheme::central_difference: return 2.8 * std::sqrt(tolerance);
+    case Scheme::rk4: return std::min(0.7, 5.0 * std::pow(tolerance, 0.25));
+    case Scheme::automatic: break;
+    }
+    return 0.0;
+}
+
+} // namespace
+
+std::unique_ptr<Stepper> make_stepper(Scheme scheme, const Dynamics& dyn) {
+    switch (scheme) {
+    case Scheme::central_difference: return std::make_unique<CentralDifference>(dyn);
+    case Scheme::rk4: return std::make_unique<RungeKutta4>(dyn);
+    case Scheme::automatic: break;
+    }
+    throw std::invalid_argument("make_stepper: the scheme must be concrete, got auto");
+}
+
+StepPlan plan_step(const Dynamics& dyn, Scheme scheme, double tolerance,
+                   std::optional<double> user_step) {
+    detail::require_range("run.tolerance", tolerance, 1e-12, 0.1);
+    if (scheme == Scheme::automatic) scheme = choose_scheme(tolerance);
+    const SchemeTraits tr = traits(scheme);
+    const double omega = dyn.max_angular_frequency();
+    const double period = dyn.period();
+    const double stable = tr.stability_limit / omega;
+    double h = 0.0;
+    if (user_step) {
+        detail::require_range("run.step", *user_step, 0.0, period, detail::Bound::open_low);
+        if (*user_step * omega >= tr.stability_limit)
+            throw std::invalid_argument(
+                "run.step: " + std::string(to_string(scheme)) + " is unstable for this row above " +
+                detail::format_number(stable) + " (stability bound " +
+                detail::format_number(tr.stability_limit) + " / omega_max), got " +
+                detail::format_number(*user_step));
+        h = *user_step;
+    } else {
+        // Resolve the fastest contact oscillation (at least ~16 steps per contact period, so
+        // that no impact falls between two steps) and the forcing (at least 16 per period).
+        const double hw = std::min({accuracy_limit(scheme, tolerance), 0.4,
+                                    0.9 * tr.stability_limit});
+        h = std::min(hw / omega, period / 16.0);
+    }
+    StepPlan plan;
+    plan.scheme = scheme;
+    plan.steps_per_period = static_cast<int>(std::ceil(period / h - 1e-9));
+    plan.step = period / plan.steps_per_period;
+    return plan;
+}
+
+} // namespace gapchain

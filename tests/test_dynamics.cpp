@@ -1,0 +1,97 @@
+#include "gapchain/dynamics.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+using namespace gapchain;
+
+namespace {
+std::vector<double> random_state(int n, unsigned seed, double scale) {
+    std::mt19937 gen(seed);
+    std::uniform_real_distribution<double> d(-scale, scale);
+    std::vector<double> y(2 * n);
+    for (auto& x : y) x = d(gen);
+    return y;
+}
+} // namespace
+
+TEST_CASE("Jacobian trace is -4 pi eps Nm at every state (MODEL.md §5)") {
+    const ReducedParameters p{6, 200, 0.3, 0.05, 2.0};
+    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+    std::vector<double> jac;
+    for (unsigned seed = 1; seed <= 20; ++seed) {
+        const auto y = random_state(p.Nm, seed, 0.5);
+        dyn.jacobian(y.data(), jac);
+        double trace = 0.0;
+        for (int i = 0; i < dyn.dimension(); ++i) trace += jac[i * dyn.dimension() + i];
+        CHECK(trace == doctest::Approx(-4 * std::numbers::pi * p.eps * p.Nm).epsilon(1e-13));
+    }
+}
+
+TEST_CASE("Jacobian matches central finite differences of the right-hand side") {
+    const ReducedParameters p{4, 50, 0.2, 0.1, 1.3};
+    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+    const int dim = dyn.dimension();
+    std::vector<double> jac, fp(dim), fm(dim);
+    for (unsigned seed = 3; seed <= 8; ++seed) {
+        auto y = random_state(p.Nm, seed, 0.6);
+        dyn.jacobian(y.data(), jac);
+        for (int c = 0; c < dim; ++c) {
+            const double h = 1e-7;
+            auto yp = y, ym = y;
+            yp[c] += h;
+            ym[c] -= h;
+            dyn.rhs(0.3, yp.data(), fp.data());
+            dyn.rhs(0.3, ym.data(), fm.data());
+            for (int r = 0; r < dim; ++r) {
+                // Away from a kink (a random state is almost surely not on one).
+                CHECK((fp[r] - fm[r]) / (2 * h) ==
+                      doctest::Approx(jac[r * dim + c]).epsilon(1e-5).scale(100));
+            }
+        }
+    }
+}
+
+TEST_CASE("gaps, forces and the sign convention of MODEL.md §2") {
+    const ReducedParameters p{3, 100, 0.5, 0.1, 1.0};
+    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+    // Body 1 pushed 0.3 into the left wall; bodies 2 and 3 pressed together by 0.2.
+    std::vector<double> y{-0.4, 0.25, -0.05, 0, 0, 0};
+    CHECK(dyn.gap(0, y.data()) == doctest::Approx(0.3));
+    CHECK(dyn.gap(2, y.data()) == doctest::Approx(0.2));
+    CHECK(dyn.gap(1, y.data()) < 0.0);
+    CHECK(dyn.force(0, y.data()) == doctest::Approx(std::sqrt(100.0) * 0.3)); // sqrt(fc) p
+    CHECK(dyn.force(2, y.data()) == doctest::Approx(std::sqrt(100.0) / 2 * 0.2));
+    std::vector<double> a(3);
+    dyn.acceleration(0.0, y.data(), y.data() + 3, a.data());
+    const double c = 4 * std::numbers::pi * std::numbers::pi;
+    CHECK(a[0] == doctest::Approx(-c * -0.4 + c * 100 * 0.3));
+    CHECK(a[1] == doctest::Approx(-c * 0.25 - c * 50 * 0.2));
+    CHECK(a[2] == doctest::Approx(-c * -0.05 + c * 50 * 0.2));
+}
+
+TEST_CASE("energy rate equals minus the damping power plus the forcing power") {
+    const ReducedParameters p{5, 80, 0.4, 0.05, 1.0};
+    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+    auto y = random_state(p.Nm, 11, 0.4);
+    std::vector<double> f(dyn.dimension());
+    const double t = 0.17;
+    dyn.rhs(t, y.data(), f.data());
+    // dE/dt along the flow by a directional finite difference.
+    const double h = 1e-7;
+    auto yp = y, ym = y;
+    for (int i = 0; i < dyn.dimension(); ++i) {
+        yp[i] += h * f[i];
+        ym[i] -= h * f[i];
+    }
+    const double dEdt = (dyn.energy(yp.data()) - dyn.energy(ym.data())) / (2 * h);
+    double expected = 0.0;
+    for (int i = 0; i < p.Nm; ++i) {
+        const double v = y[p.Nm + i];
+        expected += -4 * std::numbers::pi * p.eps * v * v + dyn.ground(t) * v;
+    }
+    CHECK(dEdt == doctest::Approx(expected).epsilon(1e-6));
+}

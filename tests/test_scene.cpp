@@ -1,0 +1,91 @@
+#include "gapchain/scene.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+#include <string>
+
+using namespace gapchain;
+
+namespace {
+std::string error_of(const std::string& text, const std::vector<std::string>& sets = {}) {
+    try {
+        (void)parse_scene(text, sets);
+    } catch (const SceneError& e) {
+        return e.what();
+    }
+    return "";
+}
+} // namespace
+
+TEST_CASE("an empty scene takes the paper's defaults") {
+    const Scene s = parse_scene("{}");
+    CHECK(s.reduced.eps == 0.5);
+    CHECK(s.run.periods == 1000);
+    CHECK(s.run.transient_periods == 0);
+    CHECK(s.run.scheme == Scheme::automatic);
+    CHECK(s.initial.empty());
+}
+
+TEST_CASE("the documented keys are read, and --set overrides them") {
+    const Scene s = parse_scene(R"({"model": {"Nm": 5, "fc": 100, "eps": 0.5, "e_r": 0.5},
+        "excitation": {"f_r": 1.0},
+        "run": {"periods": 1000, "transient_periods": 0, "scheme": "auto", "tolerance": 1e-4}})",
+                                {"model.fc=60", "run.scheme=rk4"});
+    CHECK(s.reduced.fc == 60);
+    CHECK(s.reduced.Nm == 5);
+    CHECK(s.run.scheme == Scheme::rk4);
+    CHECK(s.run.tolerance == 1e-4);
+}
+
+TEST_CASE("physical scenes convert to reduced parameters") {
+    const Scene s = parse_scene(R"({"units": "physical",
+        "model": {"Nm": 2, "M": 1.0, "K": 39.47841760435743, "C": 1.2566370614359172, "Kc": 3947.841760435743, "e": 0.01},
+        "excitation": {"a0": 1.0, "f": 1.5}})");
+    REQUIRE(s.physical.has_value());
+    CHECK(s.reduced.fc == doctest::Approx(100));
+    CHECK(s.reduced.eps == doctest::Approx(0.1));
+    CHECK(s.reduced.f_r == doctest::Approx(1.5));
+    CHECK(s.reduced.e_r == doctest::Approx(4 * std::numbers::pi * std::numbers::pi * 0.01));
+}
+
+TEST_CASE("bad input: every class gives one line naming the key") {
+    CHECK(error_of("{not json").find("malformed JSON") != std::string::npos);
+    CHECK(error_of(R"({"model": {"fcc": 1}})").find("model.fcc: unknown key") != std::string::npos);
+    CHECK(error_of(R"({"modle": {}})").find("modle: unknown key") != std::string::npos);
+    CHECK(error_of(R"({"model": {"Nm": 0}})").find("model.Nm") != std::string::npos);
+    CHECK(error_of(R"({"model": {"Nm": 2.5}})").find("model.Nm: must be an integer") != std::string::npos);
+    CHECK(error_of(R"({"model": {"fc": "big"}})").find("model.fc: must be a number") != std::string::npos);
+    CHECK(error_of(R"({"model": {"fc": 0}})").find("model.fc") != std::string::npos);
+    CHECK(error_of(R"({"model": {"eps": -1}})").find("model.eps") != std::string::npos);
+    CHECK(error_of(R"({"model": {"e_r": -0.1}})").find("model.e_r") != std::string::npos);
+    CHECK(error_of(R"({"excitation": {"f_r": 0}})").find("excitation.f_r") != std::string::npos);
+    CHECK(error_of(R"({"run": {"periods": 0}})").find("run.periods") != std::string::npos);
+    CHECK(error_of(R"({"model": {"fc": 1e999}})").find("number overflow") != std::string::npos);
+    CHECK(error_of("{}", {"model.eps=nan"}).find("model.eps: must be a finite number") != std::string::npos);
+    CHECK(error_of("{}", {"model.fc=inf"}).find("model.fc") != std::string::npos);
+    CHECK(error_of(R"({"run": {"scheme": "euler"}})").find("run.scheme: must be one of") != std::string::npos);
+    CHECK(error_of(R"({"run": {"periods": 10, "transient_periods": 10}})").find("run.transient_periods") != std::string::npos);
+    CHECK(error_of(R"({"initial": {"u": [1, 2]}})").find("initial.u") != std::string::npos);
+    CHECK(error_of("{}", {"nodot=3"}).find("--set") != std::string::npos);
+    CHECK_THROWS_AS((void)load_scene("/nonexistent/scene.json"), SceneError);
+}
+
+TEST_CASE("OutputFile leaves nothing behind unless committed") {
+    const std::string path = (std::filesystem::temp_directory_path() / "gapchain_outfile.txt").string();
+    std::remove(path.c_str());
+    {
+        OutputFile f(path);
+        f.stream() << "partial";
+    }
+    CHECK_FALSE(std::filesystem::exists(path));
+    write_file_atomically(path, "whole\n");
+    std::ifstream in(path);
+    std::string line;
+    std::getline(in, line);
+    CHECK(line == "whole");
+    std::remove(path.c_str());
+}

@@ -1,0 +1,131 @@
+#include "gapchain/simulation.hpp"
+
+#include "reference.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <complex>
+#include <numbers>
+
+using namespace gapchain;
+using std::numbers::pi;
+
+TEST_CASE("no contact: the steady response is eq (20) in amplitude and phase") {
+    for (double eps : {0.1, 0.5}) {
+        for (double f_r : {0.3, 1.0, 2.2}) {
+            const ReducedParameters p{3, 100, eps, 1e3, f_r}; // clearance never reached
+            const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+            RunOptions o;
+            o.periods = 400;
+            o.tolerance = 1e-9;
+            o.estimate_error = false;
+            const SimulationResult r = simulate(dyn, o);
+            CHECK_FALSE(r.contact);
+            CHECK(r.F_m == 0.0);
+            // u'' + 4 pi eps u' + 4 pi^2 u = -4 pi^2 cos(w t): u = Re(-H e^{iwt}) with
+            // H = 1 / (1 - f_r^2 + 2 i eps f_r); at t = n T the phase factor is 1.
+            const std::complex<double> H = 1.0 / std::complex<double>(1 - f_r * f_r, 2 * eps * f_r);
+            const double w = 2 * pi * f_r;
+            const double amplitude = 1.0 / std::sqrt(std::pow(1 - f_r * f_r, 2) + 4 * eps * eps * f_r * f_r);
+            CHECK(std::abs(H) == doctest::Approx(amplitude).epsilon(1e-14));
+            for (int i = 0; i < p.Nm; ++i) {
+                CHECK(r.final_state[i] == doctest::Approx(-H.real()).epsilon(1e-8));
+                CHECK(r.final_state[p.Nm + i] == doctest::Approx(w * H.imag()).epsilon(1e-8));
+            }
+        }
+    }
+}
+
+TEST_CASE("one body between two walls agrees with an independent GSL rk8pd integration") {
+    for (double f_r : {0.8, 1.0, 1.4}) {
+        const ReducedParameters p{1, 30, 0.3, 0.4, f_r};
+        const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+        RunOptions o;
+        o.periods = 40;
+        o.tolerance = 1e-8;
+        o.stop_at_steady_state = false;
+        const SimulationResult r = simulate(dyn, o);
+        const auto ref = reference::run({1, 30, 0.3, 0.4, f_r}, 40);
+        CHECK(r.F_m == doctest::Approx(ref.F_m).epsilon(1e-6));
+        CHECK(r.final_state[0] == doctest::Approx(ref.state[0]).epsilon(1e-6));
+        CHECK(r.final_state[1] == doctest::Approx(ref.state[1]).epsilon(1e-6));
+    }
+}
+
+TEST_CASE("Fig 5 scene: F_m to 0.1 % of a high-resolution run, and an honest F_m_error") {
+    const ReducedParameters p{5, 100, 0.5, 0.5, 1.0};
+    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+    const SimulationResult r = simulate(dyn, RunOptions{}); // the defaults: tolerance 1e-4
+    const double ref = reference::run({5, 100, 0.5, 0.5, 1.0}, 40).F_m;
+    MESSAGE("F_m " << r.F_m << " +- " << r.F_m_error << ", reference " << ref);
+    CHECK(r.steady_state_period == 1);
+    CHECK(std::abs(r.F_m - ref) < 1e-3 * ref);
+    CHECK(std::abs(r.F_m - ref) < r.F_m_error);
+    CHECK(r.F_m_error < 1e-3 * ref);
+}
+
+TEST_CASE("steady-state stop: the maxima equal those of the full run") {
+    const ReducedParameters p{3, 50, 0.3, 0.3, 1.1};
+    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+    RunOptions early;
+    early.periods = 300;
+    early.estimate_error = false;
+    RunOptions full = early;
+    full.stop_at_steady_state = false;
+    const SimulationResult a = simulate(dyn, early);
+    const SimulationResult b = simulate(dyn, full);
+    REQUIRE(a.steady_state_period.has_value());
+    CHECK(a.status == RunStatus::steady_state);
+    CHECK(a.periods_simulated < 150);
+    CHECK(b.periods_simulated == 300);
+    for (int j = 0; j <= p.Nm; ++j)
+        CHECK(a.per_contact[j].force == doctest::Approx(b.per_contact[j].force).epsilon(1e-9));
+}
+
+TEST_CASE("mirror symmetry of the per-body maxima in steady state (MODEL.md §5)") {
+    const ReducedParameters p{5, 60, 0.5, 0.3, 1.2};
+    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+    RunOptions o;
+    o.periods = 300;
+    o.transient_periods = 100;
+    o.tolerance = 1e-7;
+    o.estimate_error = false;
+    const SimulationResult r = simulate(dyn, o);
+    REQUIRE(r.contact);
+    for (int i = 0; i < p.Nm; ++i) {
+        CHECK(r.per_body[i].left ==
+              doctest::Approx(r.per_body[p.Nm - 1 - i].right).epsilon(1e-7));
+    }
+}
+
+TEST_CASE("eps = 0 and no forcing: energy is conserved through impacts") {
+    const ReducedParameters p{4, 200, 0.0, 0.05, 1.0};
+    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 0.0});
+    std::vector<double> y0{0.6, -0.2, 0.1, -0.5, 1.0, 0.0, -2.0, 0.5};
+    const double e0 = dyn.energy(y0.data());
+    RunOptions o;
+    o.periods = 20;
+    o.scheme = Scheme::rk4;
+    o.step = 0.02 / dyn.max_angular_frequency();
+    o.stop_at_steady_state = false;
+    o.estimate_error = false;
+    const SimulationResult r = simulate(dyn, o, y0);
+    REQUIRE(r.contact);
+    long impacts = 0;
+    for (const auto& c : r.per_contact) impacts += c.impacts;
+    CHECK(impacts > 20);
+    CHECK(dyn.energy(r.final_state.data()) == doctest::Approx(e0).epsilon(1e-7));
+}
+
+TEST_CASE("a state that overflows is reported as non-finite, not printed") {
+    const ReducedParameters p{2, 10, 0.5, 0.1, 1.0};
+    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+    RunOptions o;
+    o.periods = 5;
+    o.estimate_error = false;
+    const SimulationResult r = simulate(dyn, o, {1.7e308, -1.7e308, 1.7e308, 0});
+    CHECK(r.status == RunStatus::non_finite);
+    CHECK(r.message.find("body") != std::string::npos);
+    CHECK(r.periods_simulated == 1);
+}

@@ -20,7 +20,9 @@ struct Row {
     double amplitude = 1.0;
 };
 
-inline double contact_k(const Row& r, int j) { return (j == 0 || j == r.Nm) ? r.fc : r.fc / 2.0; }
+inline double contact_k(const Row& r, int j) {
+    return (j == 0 || j == r.Nm) ? r.fc : r.fc / 2.0;
+}
 
 inline double gap(const Row& r, int j, const double* u) {
     if (j == 0) return -u[0] - r.e_r;

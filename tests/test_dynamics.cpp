@@ -13,7 +13,8 @@ std::vector<double> random_state(int n, unsigned seed, double scale) {
     std::mt19937 gen(seed);
     std::uniform_real_distribution<double> d(-scale, scale);
     std::vector<double> y(2 * n);
-    for (auto& x : y) x = d(gen);
+    for (auto& x : y)
+        x = d(gen);
     return y;
 }
 } // namespace
@@ -26,7 +27,8 @@ TEST_CASE("Jacobian trace is -4 pi eps Nm at every state (MODEL.md §5)") {
         const auto y = random_state(p.Nm, seed, 0.5);
         dyn.jacobian(y.data(), jac);
         double trace = 0.0;
-        for (int i = 0; i < dyn.dimension(); ++i) trace += jac[i * dyn.dimension() + i];
+        for (int i = 0; i < dyn.dimension(); ++i)
+            trace += jac[i * dyn.dimension() + i];
         CHECK(trace == doctest::Approx(-4 * std::numbers::pi * p.eps * p.Nm).epsilon(1e-13));
     }
 }

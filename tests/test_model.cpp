@@ -64,7 +64,8 @@ TEST_CASE("homogeneous chain: walls fc, body-body fc/2 (MODEL.md §1)") {
     REQUIRE(c.gaps() == 5);
     CHECK(c.contact[0] == 60);
     CHECK(c.contact[4] == 60);
-    for (int j = 1; j < 4; ++j) CHECK(c.contact[j] == 30);
+    for (int j = 1; j < 4; ++j)
+        CHECK(c.contact[j] == 30);
     CHECK(c.force_scale == doctest::Approx(std::sqrt(60.0)));
     // Gershgorin bound of MODEL.md §4: 2 pi sqrt(1 + 2 fc).
     CHECK(max_angular_frequency(c) ==

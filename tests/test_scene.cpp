@@ -57,25 +57,31 @@ TEST_CASE("bad input: every class gives one line naming the key") {
     CHECK(error_of(R"({"model": {"fcc": 1}})").find("model.fcc: unknown key") != std::string::npos);
     CHECK(error_of(R"({"modle": {}})").find("modle: unknown key") != std::string::npos);
     CHECK(error_of(R"({"model": {"Nm": 0}})").find("model.Nm") != std::string::npos);
-    CHECK(error_of(R"({"model": {"Nm": 2.5}})").find("model.Nm: must be an integer") != std::string::npos);
-    CHECK(error_of(R"({"model": {"fc": "big"}})").find("model.fc: must be a number") != std::string::npos);
+    CHECK(error_of(R"({"model": {"Nm": 2.5}})").find("model.Nm: must be an integer") !=
+          std::string::npos);
+    CHECK(error_of(R"({"model": {"fc": "big"}})").find("model.fc: must be a number") !=
+          std::string::npos);
     CHECK(error_of(R"({"model": {"fc": 0}})").find("model.fc") != std::string::npos);
     CHECK(error_of(R"({"model": {"eps": -1}})").find("model.eps") != std::string::npos);
     CHECK(error_of(R"({"model": {"e_r": -0.1}})").find("model.e_r") != std::string::npos);
     CHECK(error_of(R"({"excitation": {"f_r": 0}})").find("excitation.f_r") != std::string::npos);
     CHECK(error_of(R"({"run": {"periods": 0}})").find("run.periods") != std::string::npos);
     CHECK(error_of(R"({"model": {"fc": 1e999}})").find("number overflow") != std::string::npos);
-    CHECK(error_of("{}", {"model.eps=nan"}).find("model.eps: must be a finite number") != std::string::npos);
+    CHECK(error_of("{}", {"model.eps=nan"}).find("model.eps: must be a finite number") !=
+          std::string::npos);
     CHECK(error_of("{}", {"model.fc=inf"}).find("model.fc") != std::string::npos);
-    CHECK(error_of(R"({"run": {"scheme": "euler"}})").find("run.scheme: must be one of") != std::string::npos);
-    CHECK(error_of(R"({"run": {"periods": 10, "transient_periods": 10}})").find("run.transient_periods") != std::string::npos);
+    CHECK(error_of(R"({"run": {"scheme": "euler"}})").find("run.scheme: must be one of") !=
+          std::string::npos);
+    CHECK(error_of(R"({"run": {"periods": 10, "transient_periods": 10}})")
+              .find("run.transient_periods") != std::string::npos);
     CHECK(error_of(R"({"initial": {"u": [1, 2]}})").find("initial.u") != std::string::npos);
     CHECK(error_of("{}", {"nodot=3"}).find("--set") != std::string::npos);
     CHECK_THROWS_AS((void)load_scene("/nonexistent/scene.json"), SceneError);
 }
 
 TEST_CASE("OutputFile leaves nothing behind unless committed") {
-    const std::string path = (std::filesystem::temp_directory_path() / "gapchain_outfile.txt").string();
+    const std::string path =
+        (std::filesystem::temp_directory_path() / "gapchain_outfile.txt").string();
     std::remove(path.c_str());
     {
         OutputFile f(path);

@@ -27,7 +27,8 @@ TEST_CASE("no contact: the steady response is eq (20) in amplitude and phase") {
             // H = 1 / (1 - f_r^2 + 2 i eps f_r); at t = n T the phase factor is 1.
             const std::complex<double> H = 1.0 / std::complex<double>(1 - f_r * f_r, 2 * eps * f_r);
             const double w = 2 * pi * f_r;
-            const double amplitude = 1.0 / std::sqrt(std::pow(1 - f_r * f_r, 2) + 4 * eps * eps * f_r * f_r);
+            const double amplitude =
+                1.0 / std::sqrt(std::pow(1 - f_r * f_r, 2) + 4 * eps * eps * f_r * f_r);
             CHECK(std::abs(H) == doctest::Approx(amplitude).epsilon(1e-14));
             for (int i = 0; i < p.Nm; ++i) {
                 CHECK(r.final_state[i] == doctest::Approx(-H.real()).epsilon(1e-8));
@@ -94,8 +95,7 @@ TEST_CASE("mirror symmetry of the per-body maxima in steady state (MODEL.md §5)
     const SimulationResult r = simulate(dyn, o);
     REQUIRE(r.contact);
     for (int i = 0; i < p.Nm; ++i) {
-        CHECK(r.per_body[i].left ==
-              doctest::Approx(r.per_body[p.Nm - 1 - i].right).epsilon(1e-7));
+        CHECK(r.per_body[i].left == doctest::Approx(r.per_body[p.Nm - 1 - i].right).epsilon(1e-7));
     }
 }
 
@@ -113,7 +113,8 @@ TEST_CASE("eps = 0 and no forcing: energy is conserved through impacts") {
     const SimulationResult r = simulate(dyn, o, y0);
     REQUIRE(r.contact);
     long impacts = 0;
-    for (const auto& c : r.per_contact) impacts += c.impacts;
+    for (const auto& c : r.per_contact)
+        impacts += c.impacts;
     CHECK(impacts > 20);
     CHECK(dyn.energy(r.final_state.data()) == doctest::Approx(e0).epsilon(1e-7));
 }

@@ -32,12 +32,15 @@ int main(int argc, char** argv) {
             trajectory.emplace(trajectory_path);
             auto& os = trajectory->stream();
             os << "t";
-            for (int i = 1; i <= n; ++i) os << ",u" << i;
-            for (int i = 1; i <= n; ++i) os << ",v" << i;
+            for (int i = 1; i <= n; ++i)
+                os << ",u" << i;
+            for (int i = 1; i <= n; ++i)
+                os << ",v" << i;
             os << "\n";
             hooks.trajectory = [&os, n](double t, const double* y) {
                 os << t;
-                for (int i = 0; i < 2 * n; ++i) os << ',' << y[i];
+                for (int i = 0; i < 2 * n; ++i)
+                    os << ',' << y[i];
                 os << '\n';
             };
             hooks.trajectory_every = scene.trajectory_every;
@@ -59,9 +62,12 @@ int main(int argc, char** argv) {
                         force_in_newtons(r.F_m_error, *scene.physical));
         if (r.F_m_contact >= 0) {
             const int j = r.F_m_contact;
-            if (j == 0) std::printf("  at the left wall");
-            else if (j == n) std::printf("  at the right wall");
-            else std::printf("  between bodies %d and %d", j, j + 1);
+            if (j == 0)
+                std::printf("  at the left wall");
+            else if (j == n)
+                std::printf("  at the right wall");
+            else
+                std::printf("  between bodies %d and %d", j, j + 1);
             std::printf(", t = %.6g\n", r.F_m_time);
         } else {
             std::printf("  (no contact)\n");

@@ -26,7 +26,8 @@ Dynamics::Dynamics(Chain chain, HarmonicForcing forcing)
         m_contact_over_mass_right[i] = four_pi2 * m_chain.contact[i + 1] / m_chain.mass[i];
     }
     m_force_gain.resize(m_n + 1);
-    for (int j = 0; j <= m_n; ++j) m_force_gain[j] = m_chain.contact[j] / m_chain.force_scale;
+    for (int j = 0; j <= m_n; ++j)
+        m_force_gain[j] = m_chain.contact[j] / m_chain.force_scale;
 }
 
 double Dynamics::ground(double t) const {
@@ -51,7 +52,8 @@ void Dynamics::restoring_acceleration(double ground, const double* u, double* r)
 void Dynamics::acceleration(double ground, const double* u, const double* v, double* a) const {
     restoring_acceleration(ground, u, a);
     const double* d = m_chain.damping.data();
-    for (int i = 0; i < m_n; ++i) a[i] -= d[i] * v[i];
+    for (int i = 0; i < m_n; ++i)
+        a[i] -= d[i] * v[i];
 }
 
 void Dynamics::acceleration_rate(double t, const double* y, const double* a, double* jerk) const {

@@ -94,11 +94,16 @@ void validate(const Chain& c) {
     detail::require_length("model.damping", c.damping.size(), n);
     detail::require_length("model.clearance", c.clearance.size(), n + 1);
     detail::require_length("model.contact", c.contact.size(), n + 1);
-    for (double m : c.mass) require_range("model.mass", m, 0.0, 1e12, detail::Bound::open_low);
-    for (double s : c.spring) require_range("model.spring", s, 0.0, 1e15, detail::Bound::open_low);
-    for (double d : c.damping) require_range("model.damping", d, 0.0, 1e15);
-    for (double e : c.clearance) require_range("model.clearance", e, 0.0, 1e6);
-    for (double k : c.contact) require_range("model.contact", k, 0.0, 1e12, detail::Bound::open_low);
+    for (double m : c.mass)
+        require_range("model.mass", m, 0.0, 1e12, detail::Bound::open_low);
+    for (double s : c.spring)
+        require_range("model.spring", s, 0.0, 1e15, detail::Bound::open_low);
+    for (double d : c.damping)
+        require_range("model.damping", d, 0.0, 1e15);
+    for (double e : c.clearance)
+        require_range("model.clearance", e, 0.0, 1e6);
+    for (double k : c.contact)
+        require_range("model.contact", k, 0.0, 1e12, detail::Bound::open_low);
     require_range("model.force_scale", c.force_scale, 0.0, 1e12, detail::Bound::open_low);
 }
 

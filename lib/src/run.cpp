@@ -11,10 +11,14 @@ namespace gapchain {
 
 std::string_view to_string(RunStatus status) {
     switch (status) {
-    case RunStatus::completed: return "completed";
-    case RunStatus::steady_state: return "steady_state";
-    case RunStatus::non_finite: return "non_finite";
-    case RunStatus::cancelled: return "cancelled";
+    case RunStatus::completed:
+        return "completed";
+    case RunStatus::steady_state:
+        return "steady_state";
+    case RunStatus::non_finite:
+        return "non_finite";
+    case RunStatus::cancelled:
+        return "cancelled";
     }
     return "?";
 }
@@ -30,8 +34,7 @@ int first_non_finite_body(const std::vector<double>& y, int n) {
 
 /// Earliest time in (t0 + margin, t1 - margin) at which a contact opens or closes during the
 /// step y0 -> y1, located on the quintic Hermite interpolant of its gap; t1 if none.
-double first_switch(const Dynamics& dyn, double t0, double t1, const double* y0,
-                    const double* y1) {
+double first_switch(const Dynamics& dyn, double t0, double t1, const double* y0, const double* y1) {
     const int n = dyn.bodies();
     const double h = t1 - t0;
     const double margin = 1e-9 * h;
@@ -47,10 +50,9 @@ double first_switch(const Dynamics& dyn, double t0, double t1, const double* y0,
             ground1 = dyn.ground(t1);
             have_ground = true;
         }
-        const detail::QuinticHermite g(g0, dyn.gap_rate(j, y0 + n),
-                                       dyn.gap_acceleration(j, ground0, y0), g1,
-                                       dyn.gap_rate(j, y1 + n),
-                                       dyn.gap_acceleration(j, ground1, y1), h);
+        const detail::QuinticHermite g(
+            g0, dyn.gap_rate(j, y0 + n), dyn.gap_acceleration(j, ground0, y0), g1,
+            dyn.gap_rate(j, y1 + n), dyn.gap_acceleration(j, ground1, y1), h);
         const double t = t0 + g.crossing(0.0, 0.0, h);
         if (t > t0 + margin && t < t1 - margin) first = std::min(first, t);
     }
@@ -82,7 +84,8 @@ RunOutcome run(const Dynamics& dyn, Stepper& stepper, const StepPlan& plan, cons
     auto time_at = [&](long period, int k) { return span.t_start + (period * spp + k) * h; };
 
     bool stop = false;
-    for (Observer* o : observers) stop = o->on_period(0, span.t_start, y.data()) || stop;
+    for (Observer* o : observers)
+        stop = o->on_period(0, span.t_start, y.data()) || stop;
     for (long p = 0; p < span.periods; ++p) {
         const bool recording = p >= span.transient_periods;
         for (int k = 0; k < spp; ++k) {
@@ -105,7 +108,8 @@ RunOutcome run(const Dynamics& dyn, Stepper& stepper, const StepPlan& plan, cons
                     }
                 }
                 const StepView view{t0, t1, y_prev.data(), y.data(), p, recording};
-                for (Observer* o : observers) o->on_step(view);
+                for (Observer* o : observers)
+                    o->on_step(view);
                 ++out.steps;
                 t0 = t1;
             }
@@ -114,13 +118,15 @@ RunOutcome run(const Dynamics& dyn, Stepper& stepper, const StepPlan& plan, cons
         out.t_end = time_at(p + 1, 0);
         if (const int body = first_non_finite_body(y, n); body >= 0) {
             out.status = RunStatus::non_finite;
-            out.message = "the state became non-finite before t = " +
-                          detail::format_number(out.t_end) + " (body " + std::to_string(body + 1) +
-                          "); the step or the parameters are out of the scheme's reach";
+            out.message =
+                "the state became non-finite before t = " + detail::format_number(out.t_end) +
+                " (body " + std::to_string(body + 1) +
+                "); the step or the parameters are out of the scheme's reach";
             return out;
         }
         stop = false;
-        for (Observer* o : observers) stop = o->on_period(p + 1, out.t_end, y.data()) || stop;
+        for (Observer* o : observers)
+            stop = o->on_period(p + 1, out.t_end, y.data()) || stop;
         if (stop && recording) {
             out.status = RunStatus::steady_state;
             return out;

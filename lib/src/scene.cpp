@@ -14,8 +14,8 @@
 
 namespace gapchain {
 
-using nlohmann::json;
 using detail::SectionReader;
+using nlohmann::json;
 
 namespace {
 
@@ -41,8 +41,7 @@ void apply_override(json& root, const std::string& assignment) {
         if (value.is_discarded()) value = text;
     }
     if (!root.contains(section)) root[section] = json::object();
-    if (!root[section].is_object())
-        throw SceneError(section + ": must be an object to set " + key);
+    if (!root[section].is_object()) throw SceneError(section + ": must be an object to set " + key);
     root[section][key] = value;
 }
 
@@ -61,7 +60,8 @@ std::vector<double> number_array(const json& j, const std::string& key) {
 Scene scene_from_json(json root, const std::vector<std::string>& overrides,
                       const std::string& source) {
     if (!root.is_object()) throw SceneError("scene: the top level must be a JSON object");
-    for (const auto& o : overrides) apply_override(root, o);
+    for (const auto& o : overrides)
+        apply_override(root, o);
     SectionReader top(root, "", {"units", "model", "excitation", "run", "initial", "output"});
     Scene scene;
     scene.source = source;
@@ -183,8 +183,8 @@ std::string to_json(const SimulationResult& r, const Scene& scene) {
     }
     json bodies = json::array();
     for (const auto& b : r.per_body) {
-        json e = {{"left", b.left}, {"right", b.right}, {"t_left", b.t_left},
-                  {"t_right", b.t_right}};
+        json e = {
+            {"left", b.left}, {"right", b.right}, {"t_left", b.t_left}, {"t_right", b.t_right}};
         if (scene.physical) {
             e["left_newton"] = force_in_newtons(b.left, *scene.physical);
             e["right_newton"] = force_in_newtons(b.right, *scene.physical);
@@ -196,8 +196,7 @@ std::string to_json(const SimulationResult& r, const Scene& scene) {
     for (const auto& c : r.per_contact)
         contacts.push_back({{"force", c.force}, {"time", c.time}, {"impacts", c.impacts}});
     j["per_contact"] = contacts;
-    j["steady_state_period"] =
-        r.steady_state_period ? json(*r.steady_state_period) : json(nullptr);
+    j["steady_state_period"] = r.steady_state_period ? json(*r.steady_state_period) : json(nullptr);
     j["steady_state_time"] = r.steady_state_time ? json(*r.steady_state_time) : json(nullptr);
     j["status"] = std::string(to_string(r.status));
     j["scheme"] = std::string(to_string(r.scheme));
@@ -207,8 +206,12 @@ std::string to_json(const SimulationResult& r, const Scene& scene) {
     j["evaluations"] = r.evaluations;
     j["wall_time_s"] = r.wall_time_s;
     const ReducedParameters& p = scene.reduced;
-    j["parameters"] = {{"Nm", p.Nm}, {"fc", p.fc}, {"eps", p.eps}, {"e_r", p.e_r},
-                       {"f_r", p.f_r}, {"periods", scene.run.periods},
+    j["parameters"] = {{"Nm", p.Nm},
+                       {"fc", p.fc},
+                       {"eps", p.eps},
+                       {"e_r", p.e_r},
+                       {"f_r", p.f_r},
+                       {"periods", scene.run.periods},
                        {"transient_periods", scene.run.transient_periods},
                        {"tolerance", scene.run.tolerance}};
     j["scene"] = scene.source;

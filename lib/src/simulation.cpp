@@ -11,9 +11,9 @@ namespace gapchain {
 void validate(const RunOptions& o) {
     detail::require_range("run.periods", static_cast<double>(o.periods), 1.0, 1e9);
     if (o.transient_periods < 0 || o.transient_periods >= o.periods)
-        throw std::invalid_argument("run.transient_periods: must be an integer in [0, periods - 1 = " +
-                                    std::to_string(o.periods - 1) + "], got " +
-                                    std::to_string(o.transient_periods));
+        throw std::invalid_argument(
+            "run.transient_periods: must be an integer in [0, periods - 1 = " +
+            std::to_string(o.periods - 1) + "], got " + std::to_string(o.transient_periods));
     detail::require_range("run.tolerance", o.tolerance, 1e-12, 0.1);
     if (o.step) detail::require_range("run.step", *o.step, 0.0, 1e3, detail::Bound::open_low);
     detail::require_range("run.steady_tolerance", o.steady_tolerance, 0.0, 1.0,
@@ -62,7 +62,8 @@ SingleRun run_once(const Dynamics& dyn, const StepPlan& plan, const RunOptions& 
 
 double max_force(const std::vector<ContactMaximum>& contacts) {
     double f = 0.0;
-    for (const auto& c : contacts) f = std::max(f, c.force);
+    for (const auto& c : contacts)
+        f = std::max(f, c.force);
     return f;
 }
 

@@ -18,18 +18,24 @@ Scheme parse_scheme(std::string_view name) {
 
 std::string_view to_string(Scheme scheme) {
     switch (scheme) {
-    case Scheme::automatic: return "auto";
-    case Scheme::central_difference: return "central_difference";
-    case Scheme::rk4: return "rk4";
+    case Scheme::automatic:
+        return "auto";
+    case Scheme::central_difference:
+        return "central_difference";
+    case Scheme::rk4:
+        return "rk4";
     }
     return "?";
 }
 
 SchemeTraits traits(Scheme scheme) {
     switch (scheme) {
-    case Scheme::central_difference: return {2, 2.0, 1};
-    case Scheme::rk4: return {4, 2.78, 4};
-    case Scheme::automatic: break;
+    case Scheme::central_difference:
+        return {2, 2.0, 1};
+    case Scheme::rk4:
+        return {4, 2.78, 4};
+    case Scheme::automatic:
+        break;
     }
     throw std::invalid_argument("traits: the scheme must be concrete, got auto");
 }
@@ -106,11 +112,13 @@ public:
 
 private:
     void evaluate(double ground, const double* y, double* dydt) const {
-        for (int i = 0; i < m_n; ++i) dydt[i] = y[m_n + i];
+        for (int i = 0; i < m_n; ++i)
+            dydt[i] = y[m_n + i];
         m_dyn.acceleration(ground, y, y + m_n, dydt + m_n);
     }
     void axpy(double a, const std::vector<double>& k, const std::vector<double>& y) {
-        for (std::size_t i = 0; i < y.size(); ++i) m_tmp[i] = y[i] + a * k[i];
+        for (std::size_t i = 0; i < y.size(); ++i)
+            m_tmp[i] = y[i] + a * k[i];
     }
 
     const Dynamics& m_dyn;
@@ -125,9 +133,12 @@ private:
 /// the constants below keep a factor 2 in hand.
 double accuracy_limit(Scheme scheme, double tolerance) {
     switch (scheme) {
-    case Scheme::central_difference: return 2.8 * std::sqrt(tolerance);
-    case Scheme::rk4: return std::min(0.7, 5.0 * std::pow(tolerance, 0.25));
-    case Scheme::automatic: break;
+    case Scheme::central_difference:
+        return 2.8 * std::sqrt(tolerance);
+    case Scheme::rk4:
+        return std::min(0.7, 5.0 * std::pow(tolerance, 0.25));
+    case Scheme::automatic:
+        break;
     }
     return 0.0;
 }
@@ -136,9 +147,12 @@ double accuracy_limit(Scheme scheme, double tolerance) {
 
 std::unique_ptr<Stepper> make_stepper(Scheme scheme, const Dynamics& dyn) {
     switch (scheme) {
-    case Scheme::central_difference: return std::make_unique<CentralDifference>(dyn);
-    case Scheme::rk4: return std::make_unique<RungeKutta4>(dyn);
-    case Scheme::automatic: break;
+    case Scheme::central_difference:
+        return std::make_unique<CentralDifference>(dyn);
+    case Scheme::rk4:
+        return std::make_unique<RungeKutta4>(dyn);
+    case Scheme::automatic:
+        break;
     }
     throw std::invalid_argument("make_stepper: the scheme must be concrete, got auto");
 }
@@ -155,17 +169,17 @@ StepPlan plan_step(const Dynamics& dyn, Scheme scheme, double tolerance,
     if (user_step) {
         detail::require_range("run.step", *user_step, 0.0, period, detail::Bound::open_low);
         if (*user_step * omega >= tr.stability_limit)
-            throw std::invalid_argument(
-                "run.step: " + std::string(to_string(scheme)) + " is unstable for this row above " +
-                detail::format_number(stable) + " (stability bound " +
-                detail::format_number(tr.stability_limit) + " / omega_max), got " +
-                detail::format_number(*user_step));
+            throw std::invalid_argument("run.step: " + std::string(to_string(scheme)) +
+                                        " is unstable for this row above " +
+                                        detail::format_number(stable) + " (stability bound " +
+                                        detail::format_number(tr.stability_limit) +
+                                        " / omega_max), got " + detail::format_number(*user_step));
         h = *user_step;
     } else {
         // Resolve the fastest contact oscillation (at least ~16 steps per contact period, so
         // that no impact falls between two steps) and the forcing (at least 16 per period).
-        const double hw = std::min({accuracy_limit(scheme, tolerance), 0.4,
-                                    0.9 * tr.stability_limit});
+        const double hw =
+            std::min({accuracy_limit(scheme, tolerance), 0.4, 0.9 * tr.stability_limit});
         h = std::min(hw / omega, period / 16.0);
     }
     StepPlan plan;

@@ -23,8 +23,8 @@ public:
 
 // The scene argument and --set overrides every scene-reading tool takes.
 struct SceneArguments {
-    std::string path;               // empty: the tool's built-in default scene
-    std::vector<std::string> sets;  // "section.key=value"
+    std::string path;              // empty: the tool's built-in default scene
+    std::vector<std::string> sets; // "section.key=value"
 };
 
 // Adds SCENE (positional, required unless a default exists) and --set to app.

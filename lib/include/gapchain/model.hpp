@@ -20,14 +20,14 @@ struct ReducedParameters {
 
 /// Dimensional parameters of a homogeneous row (SI units).
 struct PhysicalParameters {
-    int Nm = 5;       ///< number of bodies, 1 <= Nm <= 1'000'000
-    double M = 1.0;   ///< body mass [kg], > 0
-    double K = 1.0;   ///< body-to-ground stiffness [N/m], > 0
-    double C = 0.0;   ///< body-to-ground damping [kg/s], >= 0
-    double Kc = 1.0;  ///< wall contact stiffness [N/m], > 0 (body-body contacts get Kc/2)
-    double e = 0.0;   ///< clearance [m], >= 0
-    double a0 = 1.0;  ///< ground acceleration amplitude [m/s^2], > 0
-    double f = 1.0;   ///< forcing frequency [Hz], > 0
+    int Nm = 5;      ///< number of bodies, 1 <= Nm <= 1'000'000
+    double M = 1.0;  ///< body mass [kg], > 0
+    double K = 1.0;  ///< body-to-ground stiffness [N/m], > 0
+    double C = 0.0;  ///< body-to-ground damping [kg/s], >= 0
+    double Kc = 1.0; ///< wall contact stiffness [N/m], > 0 (body-body contacts get Kc/2)
+    double e = 0.0;  ///< clearance [m], >= 0
+    double a0 = 1.0; ///< ground acceleration amplitude [m/s^2], > 0
+    double f = 1.0;  ///< forcing frequency [Hz], > 0
 };
 
 /// Throws std::invalid_argument naming the first parameter outside its documented range.

@@ -36,13 +36,13 @@ enum class Units { reduced, physical };
 
 /// A validated scene.
 struct Scene {
-    Units units = Units::reduced;                ///< how the scene gave the model
-    ReducedParameters reduced;                   ///< always set (converted if physical)
-    std::optional<PhysicalParameters> physical;  ///< set for physical scenes
-    RunOptions run;                              ///< run options
-    std::vector<double> initial;                 ///< initial state (empty: rest)
-    int trajectory_every = 1;                    ///< trajectory decimation in steps, >= 1
-    std::string source;                          ///< file it came from, or "<built-in>"
+    Units units = Units::reduced;               ///< how the scene gave the model
+    ReducedParameters reduced;                  ///< always set (converted if physical)
+    std::optional<PhysicalParameters> physical; ///< set for physical scenes
+    RunOptions run;                             ///< run options
+    std::vector<double> initial;                ///< initial state (empty: rest)
+    int trajectory_every = 1;                   ///< trajectory decimation in steps, >= 1
+    std::string source;                         ///< file it came from, or "<built-in>"
 
     /// The homogeneous chain of the reduced parameters.
     [[nodiscard]] Chain chain() const { return Chain::homogeneous(reduced); }

@@ -16,15 +16,15 @@ namespace gapchain {
 
 /// How to run one simulation. Defaults are the paper's (1000 periods, transient counted).
 struct RunOptions {
-    long periods = 1000;                ///< forcing periods, 1 .. 1e9
-    long transient_periods = 0;         ///< discarded first periods, 0 .. periods - 1
-    Scheme scheme = Scheme::automatic;  ///< integration scheme
-    double tolerance = 1e-4;            ///< relative accuracy asked of F_m, 1e-12 .. 0.1
-    std::optional<double> step;         ///< user step (reduced time), overrides the tolerance
-    bool stop_at_steady_state = true;   ///< stop once the state at the period repeats
-    double steady_tolerance = 1e-10;    ///< relative repeat tolerance, (0, 1)
-    int max_steady_period = 16;         ///< largest steady period tried, 1 .. 1000
-    bool estimate_error = true;         ///< second run at twice the step for F_m_error
+    long periods = 1000;               ///< forcing periods, 1 .. 1e9
+    long transient_periods = 0;        ///< discarded first periods, 0 .. periods - 1
+    Scheme scheme = Scheme::automatic; ///< integration scheme
+    double tolerance = 1e-4;           ///< relative accuracy asked of F_m, 1e-12 .. 0.1
+    std::optional<double> step;        ///< user step (reduced time), overrides the tolerance
+    bool stop_at_steady_state = true;  ///< stop once the state at the period repeats
+    double steady_tolerance = 1e-10;   ///< relative repeat tolerance, (0, 1)
+    int max_steady_period = 16;        ///< largest steady period tried, 1 .. 1000
+    bool estimate_error = true;        ///< second run at twice the step for F_m_error
 };
 
 /// Throws std::invalid_argument naming the first option outside its range.
@@ -62,9 +62,9 @@ struct SimulationResult {
 
 /// Optional streams of one simulation.
 struct SimulationHooks {
-    TrajectorySink trajectory;     ///< receives (decimated) states of the main run, if set
-    int trajectory_every = 1;      ///< decimation in steps, >= 1
-    ProgressCallback progress;     ///< progress of the main run, if set
+    TrajectorySink trajectory; ///< receives (decimated) states of the main run, if set
+    int trajectory_every = 1;  ///< decimation in steps, >= 1
+    ProgressCallback progress; ///< progress of the main run, if set
 };
 
 /// Simulates dyn from initial (2 Nm entries; empty = rest) under options.

@@ -32,9 +32,8 @@ inline void require_range(const std::string& key, double value, double lo, doubl
 
 inline void require_range(const std::string& key, int value, int lo, int hi) {
     if (value < lo || value > hi)
-        throw std::invalid_argument(key + ": must be an integer in [" + std::to_string(lo) +
-                                    ", " + std::to_string(hi) + "], got " +
-                                    std::to_string(value));
+        throw std::invalid_argument(key + ": must be an integer in [" + std::to_string(lo) + ", " +
+                                    std::to_string(hi) + "], got " + std::to_string(value));
 }
 
 inline void require_length(const std::string& key, std::size_t got, std::size_t expected) {

@@ -30,7 +30,8 @@ public:
     }
     // State at reduced time t in [t0, t1] into out (2 Nm entries).
     void state(double t, double* out) const {
-        for (int i = 0; i < 2 * m_n; ++i) out[i] = m_parts[i].value(t - m_t0);
+        for (int i = 0; i < 2 * m_n; ++i)
+            out[i] = m_parts[i].value(t - m_t0);
     }
     // Interpolant of state component i (0 <= i < 2 Nm), in time from the step start.
     [[nodiscard]] const QuinticHermite& component(int i) const { return m_parts[i]; }

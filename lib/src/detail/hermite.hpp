@@ -18,21 +18,27 @@ public:
         const double r0 = x1 - c0 - c1 - c2;
         const double r1 = h * d1 - c1 - 2.0 * c2;
         const double r2 = h * h * a1 - 2.0 * c2;
-        m_c = {c0, c1, c2, 10.0 * r0 - 4.0 * r1 + 0.5 * r2, -15.0 * r0 + 7.0 * r1 - r2,
+        m_c = {c0,
+               c1,
+               c2,
+               10.0 * r0 - 4.0 * r1 + 0.5 * r2,
+               -15.0 * r0 + 7.0 * r1 - r2,
                6.0 * r0 - 3.0 * r1 + 0.5 * r2};
     }
     // Value at time tau in [0, h] from the start of the step.
     [[nodiscard]] double value(double tau) const {
         const double s = tau / m_h;
         double r = m_c[5];
-        for (int k = 4; k >= 0; --k) r = r * s + m_c[k];
+        for (int k = 4; k >= 0; --k)
+            r = r * s + m_c[k];
         return r;
     }
     // First derivative at tau.
     [[nodiscard]] double rate(double tau) const {
         const double s = tau / m_h;
         double r = 5.0 * m_c[5];
-        for (int k = 4; k >= 1; --k) r = r * s + k * m_c[k];
+        for (int k = 4; k >= 1; --k)
+            r = r * s + k * m_c[k];
         return r / m_h;
     }
     // Root of rate() in [lo, hi] where rate changes sign (bisection to full precision).

@@ -38,7 +38,8 @@ public:
                   Bound bound = Bound::closed) const {
         if (!has(key)) return fallback;
         const auto& v = m_object.at(key);
-        if (!v.is_number()) throw SceneError(full(key) + ": must be a number" + range(lo, hi, bound));
+        if (!v.is_number())
+            throw SceneError(full(key) + ": must be a number" + range(lo, hi, bound));
         const double x = v.get<double>();
         try {
             require_range(full(key), x, lo, hi, bound);
@@ -70,7 +71,8 @@ public:
     bool boolean(const std::string& key, bool fallback) const {
         if (!has(key)) return fallback;
         const auto& v = m_object.at(key);
-        if (!v.is_boolean()) throw SceneError(full(key) + ": must be true or false, got " + v.dump());
+        if (!v.is_boolean())
+            throw SceneError(full(key) + ": must be true or false, got " + v.dump());
         return v.get<bool>();
     }
 
@@ -89,8 +91,8 @@ public:
         for (const auto& [key, value] : m_object.items()) {
             (void)value;
             if (std::find(m_allowed.begin(), m_allowed.end(), key) == m_allowed.end())
-                throw SceneError(full(key) + ": unknown key; accepted keys here: " +
-                                 join(m_allowed));
+                throw SceneError(full(key) +
+                                 ": unknown key; accepted keys here: " + join(m_allowed));
         }
     }
 
@@ -100,7 +102,8 @@ private:
     }
     static std::string join(const std::vector<std::string>& items) {
         std::string s;
-        for (const auto& i : items) s += (s.empty() ? "" : ", ") + i;
+        for (const auto& i : items)
+            s += (s.empty() ? "" : ", ") + i;
         return s;
     }
     static std::string range(double lo, double hi, Bound bound) {

@@ -1,4 +1,4 @@
-#include "gapchain/scene.hpp"
+#include "gapchain/report.hpp"
 
 #include <doctest/doctest.h>
 

@@ -1,7 +1,7 @@
 // gapchain-sim: one simulation of a row; prints F_m and writes a JSON result.
 #include "common/cli.hpp"
 
-#include "gapchain/scene.hpp"
+#include "gapchain/report.hpp"
 #include "gapchain/simulation.hpp"
 
 #include <cstdio>

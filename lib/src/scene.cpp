@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
 #include <limits>
 #include <sstream>
 #include <unistd.h>
@@ -168,86 +169,6 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
     text << in.rdbuf();
     if (in.bad()) throw SceneError(path + ": cannot read the scene file");
     return parse_scene(text.str(), overrides, path);
-}
-
-std::string to_json(const SimulationResult& r, const Scene& scene) {
-    json j;
-    j["F_m"] = r.F_m;
-    j["F_m_error"] = r.F_m_error;
-    j["F_m_contact"] = r.F_m_contact;
-    j["F_m_time"] = r.F_m_time;
-    j["contact"] = r.contact;
-    if (scene.physical) {
-        j["F_m_newton"] = force_in_newtons(r.F_m, *scene.physical);
-        j["F_m_error_newton"] = force_in_newtons(r.F_m_error, *scene.physical);
-    }
-    json bodies = json::array();
-    for (const auto& b : r.per_body) {
-        json e = {
-            {"left", b.left}, {"right", b.right}, {"t_left", b.t_left}, {"t_right", b.t_right}};
-        if (scene.physical) {
-            e["left_newton"] = force_in_newtons(b.left, *scene.physical);
-            e["right_newton"] = force_in_newtons(b.right, *scene.physical);
-        }
-        bodies.push_back(e);
-    }
-    j["per_body"] = bodies;
-    json contacts = json::array();
-    for (const auto& c : r.per_contact)
-        contacts.push_back({{"force", c.force}, {"time", c.time}, {"impacts", c.impacts}});
-    j["per_contact"] = contacts;
-    j["steady_state_period"] = r.steady_state_period ? json(*r.steady_state_period) : json(nullptr);
-    j["steady_state_time"] = r.steady_state_time ? json(*r.steady_state_time) : json(nullptr);
-    j["status"] = std::string(to_string(r.status));
-    j["scheme"] = std::string(to_string(r.scheme));
-    j["step"] = r.step;
-    j["periods_simulated"] = r.periods_simulated;
-    j["steps"] = r.steps;
-    j["evaluations"] = r.evaluations;
-    j["wall_time_s"] = r.wall_time_s;
-    const ReducedParameters& p = scene.reduced;
-    j["parameters"] = {{"Nm", p.Nm},
-                       {"fc", p.fc},
-                       {"eps", p.eps},
-                       {"e_r", p.e_r},
-                       {"f_r", p.f_r},
-                       {"periods", scene.run.periods},
-                       {"transient_periods", scene.run.transient_periods},
-                       {"tolerance", scene.run.tolerance}};
-    j["scene"] = scene.source;
-    return j.dump(2) + "\n";
-}
-
-OutputFile::OutputFile(std::string path) : m_path(std::move(path)) {
-    m_temp = m_path + ".tmp." + std::to_string(::getpid());
-    m_stream.open(m_temp, std::ios::out | std::ios::trunc);
-    if (!m_stream) throw SceneError(m_path + ": cannot open for writing");
-    m_stream.precision(17);
-}
-
-OutputFile::~OutputFile() {
-    if (!m_committed) {
-        m_stream.close();
-        std::remove(m_temp.c_str());
-    }
-}
-
-void OutputFile::commit() {
-    m_stream.flush();
-    const bool ok = static_cast<bool>(m_stream);
-    m_stream.close();
-    if (!ok || std::rename(m_temp.c_str(), m_path.c_str()) != 0) {
-        std::remove(m_temp.c_str());
-        m_committed = true;
-        throw SceneError(m_path + ": cannot write the output file");
-    }
-    m_committed = true;
-}
-
-void write_file_atomically(const std::string& path, const std::string& text) {
-    OutputFile f(path);
-    f.stream() << text;
-    f.commit();
 }
 
 } // namespace gapchain

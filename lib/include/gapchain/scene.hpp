@@ -1,7 +1,7 @@
 #pragma once
 /// \file scene.hpp
-/// Scene I/O: JSON scene -> parameters and options; results -> JSON. The only library code
-/// that knows about files and formats.
+/// Scene input: JSON scene -> parameters and options (report.hpp writes the results). With
+/// report.hpp, the only library code that knows about files and formats.
 ///
 /// A scene (every key optional; left-out keys take the paper's defaults):
 ///   {"units": "reduced",
@@ -15,7 +15,6 @@
 #include "gapchain/dynamics.hpp"
 #include "gapchain/simulation.hpp"
 
-#include <fstream>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -57,34 +56,5 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
 /// Parses and validates scene text (see load_scene). Throws SceneError.
 Scene parse_scene(std::string_view text, const std::vector<std::string>& overrides = {},
                   const std::string& source = "<string>");
-
-/// A simulation result as JSON: F_m, F_m_error, contact, per_body, per_contact,
-/// steady_state_period (null if none), wall_time_s, and the run's provenance.
-std::string to_json(const SimulationResult& result, const Scene& scene);
-
-/// Writes a file so that readers never see it half-written and a failure leaves nothing:
-/// the text goes to a temporary file next to path, which is renamed over path on commit().
-/// Destroying an uncommitted OutputFile removes the temporary.
-class OutputFile {
-public:
-    /// Opens path + ".tmp.<pid>" for writing; throws SceneError if it cannot.
-    explicit OutputFile(std::string path);
-    ~OutputFile();
-    OutputFile(const OutputFile&) = delete;
-    OutputFile& operator=(const OutputFile&) = delete;
-    /// The stream to write to.
-    std::ostream& stream() { return m_stream; }
-    /// Flushes, closes and renames onto the final path; throws SceneError on I/O failure.
-    void commit();
-
-private:
-    std::string m_path;
-    std::string m_temp;
-    std::ofstream m_stream;
-    bool m_committed = false;
-};
-
-/// Writes text to path through an OutputFile.
-void write_file_atomically(const std::string& path, const std::string& text);
 
 } // namespace gapchain

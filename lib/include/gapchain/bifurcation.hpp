@@ -1,0 +1,84 @@
+#pragma once
+/// \file bifurcation.hpp
+/// Bifurcation diagrams: sweep one parameter, and at each value discard a transient, record
+/// the section points of the chosen variables and F_m, and detect the period.
+
+#include "gapchain/model.hpp"
+#include "gapchain/poincare.hpp"
+#include "gapchain/run.hpp"
+#include "gapchain/stepper.hpp"
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace gapchain {
+
+/// The swept parameter.
+enum class SweptParameter { f_r, e_r, fc, eps };
+/// Parses "f_r", "e_r", "fc" or "eps"; throws std::invalid_argument otherwise.
+SweptParameter parse_swept_parameter(std::string_view name);
+/// The name parse_swept_parameter() reads.
+std::string_view to_string(SweptParameter p);
+
+/// How the values of a sweep are linked.
+enum class SweepMode {
+    independent,  ///< each value from rest; values run in parallel (OpenMP)
+    continuation, ///< each value from the previous end state, sweeping up then down
+};
+/// Parses "independent" or "continuation"; throws std::invalid_argument otherwise.
+SweepMode parse_sweep_mode(std::string_view name);
+
+/// Sweep direction of a diagram row.
+enum class SweepDirection { up, down };
+/// "up" or "down".
+std::string_view to_string(SweepDirection d);
+
+/// What a diagram computes.
+struct BifurcationOptions {
+    SweptParameter parameter = SweptParameter::f_r; ///< swept parameter
+    double from = 2.0;                              ///< first value (valid for the parameter)
+    double to = 4.5;                                ///< last value
+    int steps = 500;                                ///< number of values, >= 1 (ends included)
+    SweepMode mode = SweepMode::independent;
+    long transient_periods = 200;      ///< discarded periods per value, >= 0
+    long record_periods = 100;         ///< recorded periods per value, >= 1
+    SectionSpec section;               ///< default: stroboscopic at phase 0, recording u_1
+    Scheme scheme = Scheme::automatic; ///< integration scheme
+    double tolerance = 1e-4;           ///< relative accuracy asked of each run
+    double period_tolerance = 1e-6;    ///< relative tolerance telling section points apart
+    int max_period = 16;               ///< largest period detected, >= 1
+    int threads = 0;                   ///< OpenMP threads for independent mode (0: all)
+};
+
+/// Throws std::invalid_argument naming the first invalid option.
+void validate(const BifurcationOptions& options, const ReducedParameters& base);
+
+/// One parameter value of one sweep direction.
+struct BifurcationRow {
+    double value = 0.0; ///< parameter value
+    SweepDirection direction = SweepDirection::up;
+    std::vector<SectionPoint> points; ///< the recorded section points, in time order
+    double F_m = 0.0;                 ///< max reduced force over the recorded periods
+    int period = 0;                   ///< detected period in forcing periods (0: not periodic)
+    RunStatus status = RunStatus::completed; ///< how the run ended
+};
+
+/// A whole diagram.
+struct BifurcationResult {
+    std::vector<BifurcationRow> rows; ///< up sweep in order, then the down sweep if any
+    double wall_time_s = 0.0;         ///< wall time of the whole call [s]
+    int threads_used = 1;             ///< OpenMP threads that ran it
+};
+
+/// Smallest k <= max_period such that every recorded value repeats k points later to
+/// tolerance * (1 + max |value|); 0 if none (or fewer than 2 k points).
+int detect_period(const std::vector<SectionPoint>& points, int max_period, double tolerance);
+
+/// Computes the diagram around base (its swept parameter is replaced by each value). Progress
+/// reports the fraction of values done (it may be called from any thread, never concurrently).
+/// Results do not depend on the number of threads.
+BifurcationResult bifurcation(const ReducedParameters& base, const BifurcationOptions& options,
+                              const ProgressCallback& progress = {});
+
+} // namespace gapchain

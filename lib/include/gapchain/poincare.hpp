@@ -1,0 +1,96 @@
+#pragma once
+/// \file poincare.hpp
+/// Poincaré sections of a run: stroboscopic (once per forcing period at a chosen phase) and
+/// event sections (a linear signal of the state crossing a level in a chosen direction, e.g.
+/// u_1 = 0 upward, or every closing of contact j). Points are located on the quintic Hermite
+/// dense output of the step they fall in, never at the nearest step, and streamed to a sink.
+
+#include "gapchain/dynamics.hpp"
+#include "gapchain/run.hpp"
+#include "gapchain/simulation.hpp"
+
+#include <functional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace gapchain {
+
+/// A quantity read off the state at a section point.
+struct SectionVariable {
+    enum class Kind {
+        displacement, ///< u_i
+        velocity,     ///< v_i
+        gap,          ///< g_j (> 0: penetration)
+        force,        ///< reduced contact force F_j
+        time,         ///< reduced time
+    };
+    Kind kind = Kind::displacement;
+    int index = 0; ///< body i (0-based) or contact j (0 = left wall)
+
+    /// Parses "u1".."uNm", "v1".."vNm" (1-based bodies), "g0".."gNm", "F0".."FNm" (contacts,
+    /// 0 = left wall) or "t"; throws std::invalid_argument naming the key for anything else.
+    static SectionVariable parse(std::string_view name, int bodies, const std::string& key);
+    /// The name parse() reads.
+    [[nodiscard]] std::string name() const;
+    /// Its value at reduced time t and state y.
+    [[nodiscard]] double value(const Dynamics& dyn, double t, const double* y) const;
+};
+
+/// Crossing direction of an event section.
+enum class CrossingDirection { up, down, both };
+
+/// Which section to take.
+struct SectionSpec {
+    enum class Kind { stroboscopic, event };
+    Kind kind = Kind::stroboscopic;
+    double phase = 0.0;      ///< stroboscopic: fraction of the period, in [0, 1)
+    SectionVariable trigger; ///< event: u_i, v_i or g_j (a linear signal of the state)
+    double level = 0.0;      ///< event: level the trigger crosses
+    CrossingDirection direction = CrossingDirection::up;    ///< event: crossing direction
+    std::vector<SectionVariable> record{SectionVariable{}}; ///< values kept per point (u_1)
+};
+
+/// Throws std::invalid_argument if the spec is inconsistent with a row of `bodies` bodies.
+void validate(const SectionSpec& spec, int bodies);
+
+/// One section point: its time and the recorded values, in SectionSpec::record order.
+struct SectionPoint {
+    double t = 0.0;
+    std::vector<double> values;
+};
+
+/// Receives section points in time order.
+using SectionSink = std::function<void(const SectionPoint&)>;
+
+/// Observer that takes a section of a run while it records (after the transient) and streams
+/// its points to a sink. Stores nothing itself.
+class PoincareSampler final : public Observer {
+public:
+    /// dyn must outlive the sampler; spec is validated.
+    PoincareSampler(const Dynamics& dyn, SectionSpec spec, SectionSink sink);
+    void on_step(const StepView& step) override;
+    /// Points emitted so far.
+    [[nodiscard]] long count() const { return m_count; }
+
+private:
+    void emit(double t, const double* y);
+    [[nodiscard]] double trigger_value(const double* y) const;
+
+    const Dynamics& m_dyn;
+    SectionSpec m_spec;
+    SectionSink m_sink;
+    std::vector<double> m_state;
+    SectionPoint m_point;
+    long m_count = 0;
+};
+
+/// Runs dyn from initial (empty: rest) over options.periods, with options.transient_periods
+/// discarded, on the step options.scheme / tolerance / step ask for, and streams the section
+/// points to sink. Runs the full length (a section wants every period). Returns how the run
+/// ended; a non-finite state is reported there, not thrown.
+RunOutcome take_section(const Dynamics& dyn, const RunOptions& options, const SectionSpec& spec,
+                        const SectionSink& sink, const std::vector<double>& initial = {},
+                        const ProgressCallback& progress = {});
+
+} // namespace gapchain

@@ -1,0 +1,51 @@
+#pragma once
+/// \file report.hpp
+/// Scene output: result structs -> JSON and CSV, and files that appear whole or not at all.
+
+#include "gapchain/bifurcation.hpp"
+#include "gapchain/scene.hpp"
+#include "gapchain/simulation.hpp"
+
+#include <fstream>
+#include <string>
+
+namespace gapchain {
+
+/// A simulation result as JSON: F_m, F_m_error, contact, per_body, per_contact,
+/// steady_state_period (null if none), wall_time_s, and the run's provenance.
+std::string to_json(const SimulationResult& result, const Scene& scene);
+
+/// Writes a file so that readers never see it half-written and a failure leaves nothing:
+/// the text goes to a temporary file next to path, which is renamed over path on commit().
+/// Destroying an uncommitted OutputFile removes the temporary.
+class OutputFile {
+public:
+    /// Opens path + ".tmp.<pid>" for writing; throws SceneError if it cannot.
+    explicit OutputFile(std::string path);
+    ~OutputFile();
+    OutputFile(const OutputFile&) = delete;
+    OutputFile& operator=(const OutputFile&) = delete;
+    /// The stream to write to.
+    std::ostream& stream() { return m_stream; }
+    /// Flushes, closes and renames onto the final path; throws SceneError on I/O failure.
+    void commit();
+
+private:
+    std::string m_path;
+    std::string m_temp;
+    std::ofstream m_stream;
+    bool m_committed = false;
+};
+
+/// Writes text to path through an OutputFile.
+void write_file_atomically(const std::string& path, const std::string& text);
+
+/// The section points of a diagram as CSV: columns value,direction,point,t,<recorded names>;
+/// `point` is the first recorded variable (the diagram's ordinate).
+std::string points_csv(const BifurcationResult& result, const SectionSpec& section,
+                       SweptParameter parameter);
+
+/// One row per value and direction: value,direction,F_m,period,points,status.
+std::string summary_csv(const BifurcationResult& result, SweptParameter parameter);
+
+} // namespace gapchain

@@ -1,0 +1,188 @@
+#include "gapchain/poincare.hpp"
+
+#include "detail/check.hpp"
+#include "detail/dense_output.hpp"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace gapchain {
+
+SectionVariable SectionVariable::parse(std::string_view name, int bodies, const std::string& key) {
+    auto fail = [&]() -> SectionVariable {
+        throw std::invalid_argument(key + ": must be t, u1..u" + std::to_string(bodies) +
+                                    ", v1..v" + std::to_string(bodies) + ", g0..g" +
+                                    std::to_string(bodies) + " or F0..F" + std::to_string(bodies) +
+                                    ", got \"" + std::string(name) + "\"");
+    };
+    if (name == "t") return {Kind::time, 0};
+    if (name.size() < 2) return fail();
+    int index = 0;
+    for (char c : name.substr(1)) {
+        if (c < '0' || c > '9' || index > 10'000'000) return fail();
+        index = index * 10 + (c - '0');
+    }
+    switch (name[0]) {
+    case 'u':
+        if (index < 1 || index > bodies) return fail();
+        return {Kind::displacement, index - 1};
+    case 'v':
+        if (index < 1 || index > bodies) return fail();
+        return {Kind::velocity, index - 1};
+    case 'g':
+        if (index > bodies) return fail();
+        return {Kind::gap, index};
+    case 'F':
+        if (index > bodies) return fail();
+        return {Kind::force, index};
+    default:
+        return fail();
+    }
+}
+
+std::string SectionVariable::name() const {
+    // Built with append rather than "u" + std::string: GCC 12 warns falsely (-Wrestrict) on
+    // the latter.
+    std::string s;
+    switch (kind) {
+    case Kind::displacement:
+        s = "u";
+        break;
+    case Kind::velocity:
+        s = "v";
+        break;
+    case Kind::gap:
+        s = "g";
+        break;
+    case Kind::force:
+        s = "F";
+        break;
+    case Kind::time:
+        return "t";
+    }
+    const bool body = kind == Kind::displacement || kind == Kind::velocity;
+    s.append(std::to_string(body ? index + 1 : index));
+    return s;
+}
+
+double SectionVariable::value(const Dynamics& dyn, double t, const double* y) const {
+    switch (kind) {
+    case Kind::displacement:
+        return y[index];
+    case Kind::velocity:
+        return y[dyn.bodies() + index];
+    case Kind::gap:
+        return dyn.gap(index, y);
+    case Kind::force:
+        return dyn.force(index, y);
+    case Kind::time:
+        return t;
+    }
+    return 0.0;
+}
+
+void validate(const SectionSpec& spec, int bodies) {
+    if (spec.kind == SectionSpec::Kind::stroboscopic) {
+        if (!(spec.phase >= 0.0 && spec.phase < 1.0))
+            throw std::invalid_argument("section.phase: must be in [0, 1), got " +
+                                        detail::format_number(spec.phase));
+    } else {
+        using K = SectionVariable::Kind;
+        const auto k = spec.trigger.kind;
+        if (k != K::displacement && k != K::velocity && k != K::gap)
+            throw std::invalid_argument("section.trigger: must be a displacement, velocity or "
+                                        "gap (a linear signal of the state), got " +
+                                        spec.trigger.name());
+        detail::require_range("section.level", spec.level, -1e12, 1e12);
+    }
+    if (spec.record.empty())
+        throw std::invalid_argument("section.record: needs at least one variable");
+    for (const auto& v : spec.record) {
+        const int limit = (v.kind == SectionVariable::Kind::displacement ||
+                           v.kind == SectionVariable::Kind::velocity)
+                              ? bodies - 1
+                              : bodies;
+        if (v.index < 0 || v.index > limit)
+            throw std::invalid_argument("section.record: " + v.name() + " is outside a row of " +
+                                        std::to_string(bodies) + " bodies");
+    }
+}
+
+PoincareSampler::PoincareSampler(const Dynamics& dyn, SectionSpec spec, SectionSink sink)
+    : m_dyn(dyn), m_spec(std::move(spec)), m_sink(std::move(sink)), m_state(dyn.dimension()) {
+    validate(m_spec, dyn.bodies());
+    m_point.values.resize(m_spec.record.size());
+}
+
+void PoincareSampler::emit(double t, const double* y) {
+    m_point.t = t;
+    for (std::size_t k = 0; k < m_spec.record.size(); ++k)
+        m_point.values[k] = m_spec.record[k].value(m_dyn, t, y);
+    ++m_count;
+    m_sink(m_point);
+}
+
+double PoincareSampler::trigger_value(const double* y) const {
+    return m_spec.trigger.value(m_dyn, 0.0, y) - m_spec.level;
+}
+
+void PoincareSampler::on_step(const StepView& step) {
+    if (!step.recording) return;
+    if (m_spec.kind == SectionSpec::Kind::stroboscopic) {
+        const double period = m_dyn.period();
+        // The section time of this step's period (and of the next one, which a step that
+        // ends exactly on a period boundary may reach).
+        for (long n = step.period; n <= step.period + 1; ++n) {
+            const double ts = (static_cast<double>(n) + m_spec.phase) * period;
+            const double tol = 1e-12 * period * (1.0 + static_cast<double>(n));
+            if (ts <= step.t0 + tol || ts > step.t1 + tol) continue;
+            if (std::abs(ts - step.t1) <= tol) {
+                emit(ts, step.y1);
+            } else {
+                const detail::StepInterpolant dense(m_dyn, step);
+                dense.state(ts, m_state.data());
+                emit(ts, m_state.data());
+            }
+        }
+        return;
+    }
+    const double s0 = trigger_value(step.y0);
+    const double s1 = trigger_value(step.y1);
+    const bool up = s0 < 0.0 && s1 >= 0.0;
+    const bool down = s0 > 0.0 && s1 <= 0.0;
+    const bool wanted = (up && m_spec.direction != CrossingDirection::down) ||
+                        (down && m_spec.direction != CrossingDirection::up);
+    if (!wanted) return;
+    // The trigger is a linear combination of state components, so its interpolant is the
+    // same combination of theirs; root-find on it by bisection to full precision.
+    const detail::StepInterpolant dense(m_dyn, step);
+    double lo = step.t0, hi = step.t1;
+    for (int it = 0; it < 80 && hi - lo > 1e-15 * (1.0 + std::abs(hi)); ++it) {
+        const double mid = 0.5 * (lo + hi);
+        dense.state(mid, m_state.data());
+        const double s = trigger_value(m_state.data());
+        if ((s < 0.0) == (s0 < 0.0))
+            lo = mid;
+        else
+            hi = mid;
+    }
+    const double tc = 0.5 * (lo + hi);
+    dense.state(tc, m_state.data());
+    emit(tc, m_state.data());
+}
+
+RunOutcome take_section(const Dynamics& dyn, const RunOptions& options, const SectionSpec& spec,
+                        const SectionSink& sink, const std::vector<double>& initial,
+                        const ProgressCallback& progress) {
+    validate(options);
+    const StepPlan plan = plan_step(dyn, options.scheme, options.tolerance, options.step);
+    auto stepper = make_stepper(plan.scheme, dyn);
+    PoincareSampler sampler(dyn, spec, sink);
+    Observer* observers[] = {&sampler};
+    std::vector<double> y = initial.empty() ? std::vector<double>(dyn.dimension(), 0.0) : initial;
+    detail::require_length("initial state", y.size(), static_cast<std::size_t>(dyn.dimension()));
+    const RunSpan span{options.periods, options.transient_periods, 0.0};
+    return run(dyn, *stepper, plan, span, y, observers, progress);
+}
+
+} // namespace gapchain

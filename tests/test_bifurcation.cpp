@@ -1,0 +1,83 @@
+#include "gapchain/bifurcation.hpp"
+
+#include "gapchain/report.hpp"
+
+#include <doctest/doctest.h>
+
+using namespace gapchain;
+
+namespace {
+const ReducedParameters fig13{5, 60, 0.5, 0.06, 3.0};
+}
+
+TEST_CASE("Fig 13 row: a period-1 and a period-2 value are told apart") {
+    BifurcationOptions o;
+    o.from = 2.9;
+    o.to = 3.6;
+    o.steps = 2;
+    o.transient_periods = 200;
+    o.record_periods = 40;
+    const BifurcationResult r = bifurcation(fig13, o);
+    REQUIRE(r.rows.size() == 2);
+    CHECK(r.rows[0].period == 1);
+    CHECK(r.rows[1].period == 2);
+    CHECK(r.rows[0].points.size() == 40);
+    CHECK(r.rows[0].F_m > 0.0);
+}
+
+TEST_CASE("detect_period on synthetic sequences") {
+    auto seq = [](std::vector<double> v) {
+        std::vector<SectionPoint> s;
+        for (double x : v)
+            s.push_back({0.0, {x}});
+        return s;
+    };
+    CHECK(detect_period(seq({1, 1, 1, 1}), 8, 1e-9) == 1);
+    CHECK(detect_period(seq({1, 2, 1, 2, 1, 2}), 8, 1e-9) == 2);
+    CHECK(detect_period(seq({1, 2, 3, 1, 2, 3, 1}), 8, 1e-9) == 3);
+    CHECK(detect_period(seq({1, 2, 3, 4, 5, 6}), 8, 1e-9) == 0);
+}
+
+TEST_CASE("independent mode: identical CSVs with 1 and 2 threads") {
+    BifurcationOptions o;
+    o.from = 2.4;
+    o.to = 3.4;
+    o.steps = 12;
+    o.transient_periods = 30;
+    o.record_periods = 20;
+    o.threads = 1;
+    const BifurcationResult one = bifurcation(fig13, o);
+    o.threads = 2;
+    const BifurcationResult two = bifurcation(fig13, o);
+    CHECK(points_csv(one, o.section, o.parameter) == points_csv(two, o.section, o.parameter));
+    CHECK(summary_csv(one, o.parameter) == summary_csv(two, o.parameter));
+}
+
+TEST_CASE("continuation sweeps up then down, each value from the previous end state") {
+    BifurcationOptions o;
+    o.mode = SweepMode::continuation;
+    o.from = 2.8;
+    o.to = 3.0;
+    o.steps = 3;
+    o.transient_periods = 50;
+    o.record_periods = 10;
+    const BifurcationResult r = bifurcation(fig13, o);
+    REQUIRE(r.rows.size() == 6);
+    CHECK(r.rows[0].direction == SweepDirection::up);
+    CHECK(r.rows[0].value == doctest::Approx(2.8));
+    CHECK(r.rows[3].direction == SweepDirection::down);
+    CHECK(r.rows[3].value == doctest::Approx(3.0));
+    CHECK(r.rows[5].value == doctest::Approx(2.8));
+    // On the period-1 branch both directions land on the same attractor.
+    CHECK(r.rows[5].points.back().values[0] ==
+          doctest::Approx(r.rows[0].points.back().values[0]).epsilon(1e-6));
+}
+
+TEST_CASE("bad options name the option") {
+    BifurcationOptions o;
+    o.from = -1.0;
+    CHECK_THROWS_WITH_AS(validate(o, fig13), doctest::Contains("f_r"), std::invalid_argument);
+    o = {};
+    o.steps = 0;
+    CHECK_THROWS_WITH_AS(validate(o, fig13), doctest::Contains("--steps"), std::invalid_argument);
+}

@@ -1,0 +1,96 @@
+#include "gapchain/poincare.hpp"
+
+#include "gapchain/stepper.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <complex>
+#include <numbers>
+#include <stdexcept>
+
+using namespace gapchain;
+using std::numbers::pi;
+
+namespace {
+std::vector<SectionPoint> take_section(const Dynamics& dyn, const SectionSpec& spec,
+                                       double step_scale, long periods, long transient,
+                                       double tolerance = 1e-8) {
+    StepPlan plan = plan_step(dyn, Scheme::rk4, tolerance);
+    plan.steps_per_period = static_cast<int>(std::ceil(plan.steps_per_period * step_scale));
+    plan.step = dyn.period() / plan.steps_per_period;
+    auto stepper = make_stepper(plan.scheme, dyn);
+    std::vector<SectionPoint> points;
+    PoincareSampler sampler(dyn, spec, [&](const SectionPoint& p) { points.push_back(p); });
+    Observer* obs[] = {&sampler};
+    std::vector<double> y(dyn.dimension(), 0.0);
+    run(dyn, *stepper, plan, {periods, transient, 0.0}, y, obs);
+    return points;
+}
+} // namespace
+
+TEST_CASE("no contact: stroboscopic points are the linear steady state of eq (20)") {
+    for (double phase : {0.0, 0.25, 0.6}) {
+        const ReducedParameters p{2, 50, 0.3, 1e3, 1.3};
+        const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+        SectionSpec spec;
+        spec.phase = phase;
+        spec.record = {SectionVariable::parse("u1", 2, "r"), SectionVariable::parse("v2", 2, "r")};
+        const auto points = take_section(dyn, spec, 1.0, 120, 100);
+        REQUIRE(points.size() == 20);
+        // u = Re(-H e^{i w t}), H = 1 / (1 - f_r^2 + 2 i eps f_r): amplitude eq (20) and phase.
+        const std::complex<double> H =
+            1.0 / std::complex<double>(1 - p.f_r * p.f_r, 2 * p.eps * p.f_r);
+        const double w = 2 * pi * p.f_r;
+        for (const auto& pt : points) {
+            const std::complex<double> e = std::exp(std::complex<double>(0, w * pt.t));
+            const double cycles = pt.t * p.f_r - phase; // a whole number at the section
+            CHECK(std::abs(cycles - std::round(cycles)) < 1e-9);
+            CHECK(pt.values[0] == doctest::Approx(-(H * e).real()).epsilon(1e-8).scale(1));
+            CHECK(pt.values[1] == doctest::Approx(-(std::complex<double>(0, w) * H * e).real())
+                                      .epsilon(1e-8)
+                                      .scale(1));
+        }
+    }
+}
+
+TEST_CASE("event sections agree with a much finer run to 1e-8") {
+    // Contacts on: the Fig 5 row crossing u_1 = 0 upward, and every closing of the left wall.
+    const ReducedParameters p{5, 100, 0.5, 0.5, 1.0};
+    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+    for (const char* trigger : {"u1", "g0"}) {
+        SectionSpec spec;
+        spec.kind = SectionSpec::Kind::event;
+        spec.trigger = SectionVariable::parse(trigger, 5, "trigger");
+        spec.record = {SectionVariable::parse("t", 5, "r"), SectionVariable::parse("v1", 5, "r"),
+                       SectionVariable::parse("u3", 5, "r")};
+        // The run's own step at tolerance 1e-10 against one 8 times finer.
+        const auto coarse = take_section(dyn, spec, 1.0, 30, 10, 1e-10);
+        const auto fine = take_section(dyn, spec, 8.0, 30, 10, 1e-10);
+        REQUIRE(coarse.size() == fine.size());
+        REQUIRE(coarse.size() >= 20);
+        double worst[3] = {0, 0, 0};
+        for (std::size_t k = 0; k < coarse.size(); ++k)
+            for (int c = 0; c < 3; ++c)
+                worst[c] = std::max(worst[c], std::abs(coarse[k].values[c] - fine[k].values[c]));
+        MESSAGE(std::string(trigger) << ": worst differences t " << worst[0] << ", v1 " << worst[1]
+                                     << ", u3 " << worst[2]);
+        for (std::size_t k = 0; k < coarse.size(); ++k) {
+            CHECK(coarse[k].t == doctest::Approx(fine[k].t).epsilon(1e-8).scale(1));
+            CHECK(coarse[k].values[1] == doctest::Approx(fine[k].values[1]).epsilon(1e-8).scale(1));
+            CHECK(coarse[k].values[2] == doctest::Approx(fine[k].values[2]).epsilon(1e-8).scale(1));
+        }
+    }
+}
+
+TEST_CASE("section variables parse, and bad names are refused with the key") {
+    CHECK(SectionVariable::parse("u3", 5, "k").index == 2);
+    CHECK(SectionVariable::parse("F5", 5, "k").kind == SectionVariable::Kind::force);
+    CHECK(SectionVariable::parse("v1", 5, "k").name() == "v1");
+    CHECK_THROWS_AS(SectionVariable::parse("u6", 5, "k"), std::invalid_argument);
+    CHECK_THROWS_AS(SectionVariable::parse("x1", 5, "k"), std::invalid_argument);
+    CHECK_THROWS_AS(SectionVariable::parse("u", 5, "k"), std::invalid_argument);
+    SectionSpec bad;
+    bad.phase = 1.0;
+    CHECK_THROWS_AS(validate(bad, 3), std::invalid_argument);
+}

@@ -1,0 +1,116 @@
+// gapchain-bifurcation: a bifurcation diagram over one parameter (Fig 13 of the paper by
+// default): DIR/points.csv, DIR/summary.csv and DIR/bifurcation.png.
+#include "common/cli.hpp"
+#include "common/plot.hpp"
+
+#include "gapchain/bifurcation.hpp"
+#include "gapchain/report.hpp"
+
+#include <algorithm>
+#include <cstdio>
+#include <filesystem>
+
+namespace {
+
+// Fig 13 of the paper: Nm = 5, fc = 60, e_r = 0.06, eps = 0.5.
+constexpr const char* fig13_scene =
+    R"({"model": {"Nm": 5, "fc": 60, "eps": 0.5, "e_r": 0.06}, "excitation": {"f_r": 3.0}})";
+
+std::string gnuplot_script(const std::string& param, const std::string& variable,
+                           const std::string& title) {
+    return "# Regenerate: gnuplot bifurcation.gp (in this folder)\n"
+           "set terminal pngcairo size 1200,900 font 'sans,11'\n"
+           "set output 'bifurcation.png'\n"
+           "set datafile separator ','\n"
+           "set multiplot layout 2,1 title '" +
+           title +
+           "'\n"
+           "set ylabel '" +
+           variable +
+           " (stroboscopic section)'\n"
+           "set grid\n"
+           "set key outside right\n"
+           "plot 'points.csv' every ::2 using (strcol(2) eq 'up' ? $1 : 1/0):3 with dots lc rgb "
+           "'#1f4e9c' title 'sweep up', \\\n"
+           "     'points.csv' every ::2 using (strcol(2) eq 'down' ? $1 : 1/0):3 with dots lc rgb "
+           "'#d62728' title 'sweep down'\n"
+           "set ylabel 'F_m (reduced)'\n"
+           "set xlabel '" +
+           param +
+           "'\n"
+           "plot 'summary.csv' every ::2 using (strcol(2) eq 'up' ? $1 : 1/0):3 with linespoints "
+           "pt 7 ps 0.3 lc rgb '#1f4e9c' title 'sweep up', \\\n"
+           "     'summary.csv' every ::2 using (strcol(2) eq 'down' ? $1 : 1/0):3 with linespoints "
+           "pt 7 ps 0.3 lc rgb '#d62728' title 'sweep down'\n"
+           "unset multiplot\n";
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    using namespace gapchain;
+    CLI::App app{"Bifurcation diagram of a row over one parameter: section points and F_m at "
+                 "each value. Without a scene: Fig 13 of the paper (Nm=5, fc=60, e_r=0.06, "
+                 "eps=0.5).",
+                 "gapchain-bifurcation"};
+    cli::SceneArguments scene_args;
+    cli::add_scene_arguments(app, scene_args, false);
+    BifurcationOptions o;
+    std::string param = "f_r", mode = "independent", out_dir = "fig13", variable = "u1";
+    bool no_plot = false;
+    app.add_option("--param", param, "Swept parameter: f_r, e_r, fc or eps")->capture_default_str();
+    app.add_option("--from", o.from, "First value")->capture_default_str();
+    app.add_option("--to", o.to, "Last value")->capture_default_str();
+    app.add_option("--steps", o.steps, "Number of values (ends included)")->capture_default_str();
+    app.add_option("--mode", mode,
+                   "independent (parallel, from rest) or continuation (up then down)")
+        ->capture_default_str();
+    app.add_option("--transient", o.transient_periods, "Discarded periods per value")
+        ->capture_default_str();
+    app.add_option("--record", o.record_periods, "Recorded periods per value")
+        ->capture_default_str();
+    app.add_option("--variable", variable, "Section variable: u1..uN, v1..vN, g0..gN, F0..FN")
+        ->capture_default_str();
+    app.add_option("--phase", o.section.phase, "Stroboscopic phase in [0, 1)")
+        ->capture_default_str();
+    app.add_option("--threads", o.threads, "OpenMP threads (0: all cores)")->capture_default_str();
+    app.add_option("--out", out_dir, "Output folder")->capture_default_str();
+    app.add_flag("--no-plot", no_plot, "Write the CSV files only");
+
+    return cli::run(app, argc, argv, [&] {
+        const Scene scene = cli::load(scene_args, fig13_scene);
+        o.parameter = parse_swept_parameter(param);
+        o.mode = parse_sweep_mode(mode);
+        o.section.record = {SectionVariable::parse(variable, scene.reduced.Nm, "--variable")};
+        o.scheme = scene.run.scheme;
+        o.tolerance = scene.run.tolerance;
+        validate(o, scene.reduced);
+        std::filesystem::create_directories(out_dir);
+        cli::Progress progress("gapchain-bifurcation");
+        const BifurcationResult r = bifurcation(scene.reduced, o, progress.callback());
+        write_file_atomically(out_dir + "/points.csv", points_csv(r, o.section, o.parameter));
+        write_file_atomically(out_dir + "/summary.csv", summary_csv(r, o.parameter));
+        const ReducedParameters& p = scene.reduced;
+        char title[256];
+        std::snprintf(title, sizeof title, "Nm=%d fc=%g eps=%g e_r=%g f_r=%g (swept: %s)", p.Nm,
+                      p.fc, p.eps, p.e_r, p.f_r, param.c_str());
+        if (!no_plot)
+            cli::plot_with_gnuplot(out_dir + "/bifurcation.gp",
+                                   gnuplot_script(param, variable, title));
+        double f_max = 0.0, at = 0.0;
+        int periodic = 0;
+        for (const auto& row : r.rows) {
+            if (row.F_m > f_max) f_max = row.F_m, at = row.value;
+            periodic += row.period > 0;
+        }
+        std::printf(
+            "gapchain-bifurcation: %s from %g to %g, %d values (%s), %ld+%ld periods each\n",
+            param.c_str(), o.from, o.to, o.steps, mode.c_str(), o.transient_periods,
+            o.record_periods);
+        std::printf("max F_m = %.6g at %s = %g; %d of %zu rows periodic\n", f_max, param.c_str(),
+                    at, periodic, r.rows.size());
+        std::printf("wrote %s/points.csv, %s/summary.csv%s  (%.2f s on %d threads)\n",
+                    out_dir.c_str(), out_dir.c_str(), no_plot ? "" : ", bifurcation.png",
+                    r.wall_time_s, r.threads_used);
+    });
+}

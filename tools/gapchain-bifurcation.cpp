@@ -91,9 +91,18 @@ int main(int argc, char** argv) {
         write_file_atomically(out_dir + "/points.csv", points_csv(r, o.section, o.parameter));
         write_file_atomically(out_dir + "/summary.csv", summary_csv(r, o.parameter));
         const ReducedParameters& p = scene.reduced;
-        char title[256];
-        std::snprintf(title, sizeof title, "Nm=%d fc=%g eps=%g e_r=%g f_r=%g (swept: %s)", p.Nm,
-                      p.fc, p.eps, p.e_r, p.f_r, param.c_str());
+        // The title names the fixed parameters only: the swept one is on the x axis.
+        std::string title = "Nm=" + std::to_string(p.Nm);
+        const std::pair<const char*, double> fixed[] = {
+            {"fc", p.fc}, {"eps", p.eps}, {"e_r", p.e_r}, {"f_r", p.f_r}};
+        for (const auto& [name, value] : fixed) {
+            if (param == name) continue;
+            char buffer[64];
+            std::snprintf(buffer, sizeof buffer, "  %s=%g", name, value);
+            title += buffer;
+        }
+        title += "  (" + mode + ", " + std::to_string(o.transient_periods) + "+" +
+                 std::to_string(o.record_periods) + " periods per value)";
         if (!no_plot)
             cli::plot_with_gnuplot(out_dir + "/bifurcation.gp",
                                    gnuplot_script(param, variable, title));

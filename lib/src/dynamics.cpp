@@ -77,19 +77,6 @@ void Dynamics::rhs(double t, const double* y, double* dydt) const {
     acceleration(ground(t), y, y + m_n, dydt + m_n);
 }
 
-double Dynamics::gap(int j, const double* u) const {
-    const double e = m_chain.clearance[j];
-    if (j == 0) return -u[0] - e;
-    if (j == m_n) return u[m_n - 1] - e;
-    return u[j - 1] - u[j] - e;
-}
-
-double Dynamics::gap_rate(int j, const double* v) const {
-    if (j == 0) return -v[0];
-    if (j == m_n) return v[m_n - 1];
-    return v[j - 1] - v[j];
-}
-
 double Dynamics::gap_acceleration(int j, double ground, const double* y) const {
     // Only the (at most) two bodies on either side of gap j matter: O(1) per call.
     const double* u = y;

@@ -34,7 +34,10 @@ int first_non_finite_body(const std::vector<double>& y, int n) {
 
 /// Earliest time in (t0 + margin, t1 - margin) at which a contact opens or closes during the
 /// step y0 -> y1, located on the quintic Hermite interpolant of its gap; t1 if none.
-double first_switch(const Dynamics& dyn, double t0, double t1, const double* y0, const double* y1) {
+/// gaps0 holds the gaps at y0; gaps1 receives those at y1.
+double first_switch(const Dynamics& dyn, double t0, double t1, const double* y0,
+                    const double* y1, const std::vector<double>& gaps0,
+                    std::vector<double>& gaps1) {
     const int n = dyn.bodies();
     const double h = t1 - t0;
     const double margin = 1e-9 * h;
@@ -42,21 +45,26 @@ double first_switch(const Dynamics& dyn, double t0, double t1, const double* y0,
     double ground0 = 0.0, ground1 = 0.0;
     bool have_ground = false;
     for (int j = 0; j < dyn.gaps(); ++j) {
-        const double g0 = dyn.gap(j, y0);
-        const double g1 = dyn.gap(j, y1);
+        const double g0 = gaps0[j];
+        const double g1 = gaps1[j] = dyn.gap(j, y1);
         if ((g0 > 0.0) == (g1 > 0.0)) continue;
         if (!have_ground) {
             ground0 = dyn.ground(t0);
             ground1 = dyn.ground(t1);
             have_ground = true;
         }
-        const detail::QuinticHermite g(
-            g0, dyn.gap_rate(j, y0 + n), dyn.gap_acceleration(j, ground0, y0), g1,
-            dyn.gap_rate(j, y1 + n), dyn.gap_acceleration(j, ground1, y1), h);
+        const detail::QuinticHermite g(g0, dyn.gap_rate(j, y0 + n),
+                                       dyn.gap_acceleration(j, ground0, y0), g1,
+                                       dyn.gap_rate(j, y1 + n),
+                                       dyn.gap_acceleration(j, ground1, y1), h);
         const double t = t0 + g.crossing(0.0, 0.0, h);
         if (t > t0 + margin && t < t1 - margin) first = std::min(first, t);
     }
     return first;
+}
+
+void compute_gaps(const Dynamics& dyn, const double* y, std::vector<double>& gaps) {
+    for (int j = 0; j < dyn.gaps(); ++j) gaps[j] = dyn.gap(j, y);
 }
 
 } // namespace
@@ -77,6 +85,9 @@ RunOutcome run(const Dynamics& dyn, Stepper& stepper, const StepPlan& plan, cons
     const double h = plan.step;
     const long report_every = std::max(1L, span.periods / 200);
     std::vector<double> y_prev(y.size());
+    // Gaps at the current state, carried from step to step so each is computed once.
+    std::vector<double> gaps(dyn.gaps()), gaps_next(dyn.gaps());
+    compute_gaps(dyn, y.data(), gaps);
     RunOutcome out;
     stepper.reset();
 
@@ -99,14 +110,18 @@ RunOutcome run(const Dynamics& dyn, Stepper& stepper, const StepPlan& plan, cons
                 stepper.step(t0, t_end - t0, y);
                 double t1 = t_end;
                 if (piece < 2 * dyn.gaps()) {
-                    t1 = first_switch(dyn, t0, t_end, y_prev.data(), y.data());
+                    t1 = first_switch(dyn, t0, t_end, y_prev.data(), y.data(), gaps, gaps_next);
                     if (t1 < t_end) {
                         std::copy(y_prev.begin(), y_prev.end(), y.begin());
                         stepper.reset();
                         stepper.step(t0, t1 - t0, y);
                         stepper.reset();
+                        compute_gaps(dyn, y.data(), gaps_next);
                     }
+                } else {
+                    compute_gaps(dyn, y.data(), gaps_next);
                 }
+                gaps.swap(gaps_next);
                 const StepView view{t0, t1, y_prev.data(), y.data(), p, recording};
                 for (Observer* o : observers)
                     o->on_step(view);

@@ -52,9 +52,18 @@ public:
     void rhs(double t, const double* y, double* dydt) const;
 
     /// Gap g_j of contact j = 0..Nm (> 0 means penetration), given the displacements u.
-    [[nodiscard]] double gap(int j, const double* u) const;
+    [[nodiscard]] double gap(int j, const double* u) const {
+        const double e = m_chain.clearance[j];
+        if (j == 0) return -u[0] - e;
+        if (j == m_n) return u[m_n - 1] - e;
+        return u[j - 1] - u[j] - e;
+    }
     /// Time derivative of g_j, given the velocities v (the same combination as the gap).
-    [[nodiscard]] double gap_rate(int j, const double* v) const;
+    [[nodiscard]] double gap_rate(int j, const double* v) const {
+        if (j == 0) return -v[0];
+        if (j == m_n) return v[m_n - 1];
+        return v[j - 1] - v[j];
+    }
     /// Second time derivative of g_j at the state y (2 Nm entries) and ground term.
     [[nodiscard]] double gap_acceleration(int j, double ground, const double* y) const;
     /// Reduced impact force of contact j: contact_j max(g_j, 0) / force_scale (eqs 14-15).

@@ -1,0 +1,140 @@
+// gapchain-bench: the benchmarks of docs/performance.md. Prints figures; never part of CTest
+// (only its --help is). Machines are shared and noisy: compare ratios measured in one run.
+//   gapchain-bench sim           the three reference scenes against a plain fixed-step RK4 loop
+//   gapchain-bench bifurcation   the 500-value Fig 13 diagram (200 + 100 periods per value)
+#include "common/cli.hpp"
+
+#include "gapchain/bifurcation.hpp"
+#include "gapchain/simulation.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+
+namespace {
+
+using namespace gapchain;
+
+double seconds_since(std::chrono::steady_clock::time_point start) {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// The baseline a user would write first: fixed-step RK4 on the right-hand side, F_m read at
+// the step points, every period integrated (no steady-state stop, no peak location).
+double plain_rk4_fm(const Dynamics& dyn, double h_omega, long periods) {
+    const int dim = dyn.dimension();
+    const int spp =
+        static_cast<int>(std::ceil(dyn.period() * dyn.max_angular_frequency() / h_omega));
+    const double h = dyn.period() / spp;
+    std::vector<double> y(dim, 0.0), k1(dim), k2(dim), k3(dim), k4(dim), tmp(dim);
+    double fm = 0.0;
+    for (long s = 0; s < periods * spp; ++s) {
+        const double t = s * h;
+        dyn.rhs(t, y.data(), k1.data());
+        for (int i = 0; i < dim; ++i)
+            tmp[i] = y[i] + 0.5 * h * k1[i];
+        dyn.rhs(t + 0.5 * h, tmp.data(), k2.data());
+        for (int i = 0; i < dim; ++i)
+            tmp[i] = y[i] + 0.5 * h * k2[i];
+        dyn.rhs(t + 0.5 * h, tmp.data(), k3.data());
+        for (int i = 0; i < dim; ++i)
+            tmp[i] = y[i] + h * k3[i];
+        dyn.rhs(t + h, tmp.data(), k4.data());
+        for (int i = 0; i < dim; ++i)
+            y[i] += h / 6.0 * (k1[i] + 2 * k2[i] + 2 * k3[i] + k4[i]);
+        for (int j = 0; j < dyn.gaps(); ++j)
+            fm = std::max(fm, dyn.force(j, y.data()));
+    }
+    return fm;
+}
+
+struct Case {
+    const char* name;
+    ReducedParameters p;
+};
+
+void bench_sim(long periods, double tolerance) {
+    const Case cases[] = {{"(a) smooth", {5, 100, 0.5, 0.5, 1.0}},
+                          {"(b) stiff", {20, 2000, 0.5, 0.24, 1.0}},
+                          {"(c) chaotic", {46, 559, 0.1, 0.22, 1.0}}};
+    std::printf("periods %ld, tolerance %g (relative F_m)\n", periods, tolerance);
+    double plain_h_omega = 0.5;
+    for (const Case& c : cases) {
+        const Dynamics dyn(Chain::homogeneous(c.p), {c.p.f_r, 1.0});
+        RunOptions o;
+        o.periods = periods;
+        o.tolerance = tolerance;
+        const SimulationResult r = simulate(dyn, o);
+        const double body_steps = static_cast<double>(r.steps) * c.p.Nm;
+        std::printf(
+            "%-12s gapchain %-5s: F_m %.8f +- %.2e  %8.4f s  %6ld periods  %.3g body-steps/s"
+            "  %s\n",
+            c.name, std::string(to_string(r.scheme)).c_str(), r.F_m, r.F_m_error, r.wall_time_s,
+            r.periods_simulated, body_steps / r.wall_time_s,
+            r.steady_state_period ? "periodic" : "not periodic");
+        const bool periodic = r.steady_state_period.has_value();
+        if (periodic) {
+            // Equal accuracy: the plain loop's step is halved until its F_m (read at step points)
+            // is within the tolerance of a tight gapchain reference; the search runs on 60
+            // periods (the maxima settle well before), the timing on the full length.
+            RunOptions tight = o;
+            tight.tolerance = 1e-10;
+            tight.estimate_error = false;
+            const double ref = simulate(dyn, tight).F_m;
+            plain_h_omega = 0.5;
+            while (std::abs(plain_rk4_fm(dyn, plain_h_omega, 60) - ref) > tolerance * ref &&
+                   plain_h_omega > 1e-4)
+                plain_h_omega /= 2;
+            std::printf("%-12s reference F_m %.10f; gapchain true error %.2e (relative %.2e)\n", "",
+                        ref, std::abs(r.F_m - ref), std::abs(r.F_m - ref) / ref);
+        }
+        // For the chaotic scene, whose F_m has no converged value to search against, the plain
+        // loop keeps the h * omega_max the periodic scenes needed.
+        const auto start = std::chrono::steady_clock::now();
+        const double plain = plain_rk4_fm(dyn, plain_h_omega, periods);
+        const double plain_s = seconds_since(start);
+        const double per_period_ratio =
+            (plain_s / static_cast<double>(periods)) / (r.wall_time_s / r.periods_simulated);
+        std::printf("%-12s plain rk4 (h*omega %.4g): F_m %.8f  %8.4f s   -> %.1fx faster per "
+                    "simulation, %.1fx per simulated period\n",
+                    "", plain_h_omega, plain, plain_s, plain_s / r.wall_time_s, per_period_ratio);
+    }
+}
+
+void bench_bifurcation(int threads) {
+    BifurcationOptions o;
+    o.threads = threads;
+    const ReducedParameters fig13{5, 60, 0.5, 0.06, 3.0};
+    const BifurcationResult r = bifurcation(fig13, o);
+    int periodic = 0;
+    for (const auto& row : r.rows)
+        periodic += row.period > 0;
+    std::printf("Fig 13 diagram: %d values x (%ld + %ld) periods, %d threads: %.3f s wall "
+                "(%d periodic rows)\n",
+                o.steps, o.transient_periods, o.record_periods, r.threads_used, r.wall_time_s,
+                periodic);
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"Benchmarks of docs/performance.md (prints figures; not a test).",
+                 "gapchain-bench"};
+    app.require_subcommand(1);
+    long periods = 1000;
+    double tolerance = 1e-4;
+    int threads = 0;
+    auto* sim = app.add_subcommand("sim", "The three reference scenes against a plain RK4 loop");
+    sim->add_option("--periods", periods, "Forcing periods per simulation")->capture_default_str();
+    sim->add_option("--tolerance", tolerance, "Relative F_m tolerance")->capture_default_str();
+    auto* bif = app.add_subcommand("bifurcation", "The 500-value Fig 13 bifurcation diagram");
+    bif->add_option("--threads", threads, "OpenMP threads (0: all)")->capture_default_str();
+    return gapchain::cli::run(app, argc, argv, [&] {
+        if (sim->parsed()) bench_sim(periods, tolerance);
+        if (bif->parsed()) {
+            bench_bifurcation(1);
+            bench_bifurcation(threads);
+        }
+    });
+}

@@ -2,9 +2,11 @@
 // (only its --help is). Machines are shared and noisy: compare ratios measured in one run.
 //   gapchain-bench sim           the three reference scenes against a plain fixed-step RK4 loop
 //   gapchain-bench bifurcation   the 500-value Fig 13 diagram (200 + 100 periods per value)
+//   gapchain-bench modes         the lowest 10 modes of a 10^6-body chain (Spectra)
 #include "common/cli.hpp"
 
 #include "gapchain/bifurcation.hpp"
+#include "gapchain/modes.hpp"
 #include "gapchain/simulation.hpp"
 
 #include <algorithm>
@@ -116,6 +118,22 @@ void bench_bifurcation(int threads) {
                 periodic);
 }
 
+void bench_modes(int Nm, int count) {
+    for (double fc : {1.0, 100.0, 2000.0}) {
+        ModalOptions o;
+        o.count = count;
+        o.method = EigenMethod::sparse;
+        const ModalResult r = modal_analysis(Chain::homogeneous({Nm, fc, 0.5, 0.0, 1.0}), o);
+        double worst = 0.0;
+        for (double res : r.residuals)
+            worst = std::max(worst, res);
+        std::printf(
+            "Nm = %d, fc = %g: lowest %d modes in %.3f s (%ld restarts, max residual %.1e), "
+            "f_1 - 1 = %.6e\n",
+            Nm, fc, count, r.wall_time_s, r.iterations, worst, r.frequencies.front() - 1.0);
+    }
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -130,7 +148,12 @@ int main(int argc, char** argv) {
     sim->add_option("--tolerance", tolerance, "Relative F_m tolerance")->capture_default_str();
     auto* bif = app.add_subcommand("bifurcation", "The 500-value Fig 13 bifurcation diagram");
     bif->add_option("--threads", threads, "OpenMP threads (0: all)")->capture_default_str();
+    int Nm = 1'000'000, modes = 10;
+    auto* mod = app.add_subcommand("modes", "The lowest modes of a long chain (Spectra)");
+    mod->add_option("--Nm", Nm, "Bodies")->capture_default_str();
+    mod->add_option("--modes", modes, "Modes")->capture_default_str();
     return gapchain::cli::run(app, argc, argv, [&] {
+        if (mod->parsed()) bench_modes(Nm, modes);
         if (sim->parsed()) bench_sim(periods, tolerance);
         if (bif->parsed()) {
             bench_bifurcation(1);

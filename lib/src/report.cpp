@@ -121,4 +121,33 @@ std::string summary_csv(const BifurcationResult& result, SweptParameter paramete
     return os.str();
 }
 
+std::string to_json(const ModalResult& r, int Nm, double fc) {
+    json j;
+    j["Nm"] = Nm;
+    j["fc"] = fc;
+    j["mode_numbers"] = r.mode_numbers;
+    j["frequencies"] = r.frequencies;
+    j["approx"] = r.approx;
+    j["rel_error"] = r.rel_error;
+    j["residuals"] = r.residuals;
+    if (!r.shapes.empty()) j["shapes"] = r.shapes;
+    j["method"] = std::string(to_string(r.method));
+    j["status"] = r.status == ModalStatus::converged       ? "converged"
+                  : r.status == ModalStatus::not_converged ? "not_converged"
+                                                           : "numerical_issue";
+    j["iterations"] = r.iterations;
+    j["wall_time_s"] = r.wall_time_s;
+    return j.dump(2) + "\n";
+}
+
+std::string grid_csv(const ApproximationGrid& grid) {
+    std::ostringstream os;
+    os.precision(10);
+    os << "Nm,fc,f1_error,other_error,other_mode\n";
+    for (const auto& p : grid.points)
+        os << p.Nm << ',' << p.fc << ',' << p.first << ',' << p.other << ',' << p.other_mode
+           << '\n';
+    return os.str();
+}
+
 } // namespace gapchain

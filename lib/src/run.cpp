@@ -35,9 +35,8 @@ int first_non_finite_body(const std::vector<double>& y, int n) {
 /// Earliest time in (t0 + margin, t1 - margin) at which a contact opens or closes during the
 /// step y0 -> y1, located on the quintic Hermite interpolant of its gap; t1 if none.
 /// gaps0 holds the gaps at y0; gaps1 receives those at y1.
-double first_switch(const Dynamics& dyn, double t0, double t1, const double* y0,
-                    const double* y1, const std::vector<double>& gaps0,
-                    std::vector<double>& gaps1) {
+double first_switch(const Dynamics& dyn, double t0, double t1, const double* y0, const double* y1,
+                    const std::vector<double>& gaps0, std::vector<double>& gaps1) {
     const int n = dyn.bodies();
     const double h = t1 - t0;
     const double margin = 1e-9 * h;
@@ -53,10 +52,9 @@ double first_switch(const Dynamics& dyn, double t0, double t1, const double* y0,
             ground1 = dyn.ground(t1);
             have_ground = true;
         }
-        const detail::QuinticHermite g(g0, dyn.gap_rate(j, y0 + n),
-                                       dyn.gap_acceleration(j, ground0, y0), g1,
-                                       dyn.gap_rate(j, y1 + n),
-                                       dyn.gap_acceleration(j, ground1, y1), h);
+        const detail::QuinticHermite g(
+            g0, dyn.gap_rate(j, y0 + n), dyn.gap_acceleration(j, ground0, y0), g1,
+            dyn.gap_rate(j, y1 + n), dyn.gap_acceleration(j, ground1, y1), h);
         const double t = t0 + g.crossing(0.0, 0.0, h);
         if (t > t0 + margin && t < t1 - margin) first = std::min(first, t);
     }
@@ -64,7 +62,8 @@ double first_switch(const Dynamics& dyn, double t0, double t1, const double* y0,
 }
 
 void compute_gaps(const Dynamics& dyn, const double* y, std::vector<double>& gaps) {
-    for (int j = 0; j < dyn.gaps(); ++j) gaps[j] = dyn.gap(j, y);
+    for (int j = 0; j < dyn.gaps(); ++j)
+        gaps[j] = dyn.gap(j, y);
 }
 
 } // namespace

@@ -3,6 +3,7 @@
 /// Scene output: result structs -> JSON and CSV, and files that appear whole or not at all.
 
 #include "gapchain/bifurcation.hpp"
+#include "gapchain/modes.hpp"
 #include "gapchain/scene.hpp"
 #include "gapchain/simulation.hpp"
 
@@ -47,5 +48,12 @@ std::string points_csv(const BifurcationResult& result, const SectionSpec& secti
 
 /// One row per value and direction: value,direction,F_m,period,points,status.
 std::string summary_csv(const BifurcationResult& result, SweptParameter parameter);
+
+/// Modal analysis as JSON: Nm, fc, mode_numbers, frequencies, approx, rel_error, residuals,
+/// shapes (if computed), method, status, iterations, wall_time_s.
+std::string to_json(const ModalResult& result, int Nm, double fc);
+
+/// The eq (26) grid as CSV: Nm,fc,f1_error,other_error,other_mode.
+std::string grid_csv(const ApproximationGrid& grid);
 
 } // namespace gapchain

@@ -1,0 +1,67 @@
+#include "gapchain/bounds.hpp"
+
+#include "detail/check.hpp"
+#include "gapchain/modes.hpp"
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+namespace gapchain {
+
+using detail::Bound;
+using detail::require_range;
+
+double single_body_amplitude(double f_r, double eps) {
+    require_range("f_r", f_r, 0.0, 1e6);
+    require_range("eps", eps, 0.0, 100.0);
+    const double d = std::pow(1.0 - f_r * f_r, 2) + 4.0 * eps * eps * f_r * f_r;
+    if (d == 0.0) throw std::invalid_argument("eps: must be > 0 at f_r = 1 (undamped resonance)");
+    return 1.0 / std::sqrt(d);
+}
+
+double no_impact_clearance(double f_r, double eps) {
+    return single_body_amplitude(f_r, eps);
+}
+
+double wall_contact_frequency(double fc) {
+    require_range("fc", fc, 0.0, 1e12, Bound::open_low);
+    return std::sqrt(1.0 + fc);
+}
+
+double smooth_max_force(double fc, double eps) {
+    require_range("fc", fc, 0.0, 1e12, Bound::open_low);
+    require_range("eps", eps, 0.0, 100.0, Bound::open_low);
+    if (eps * eps >= 1.0 + fc)
+        throw std::invalid_argument("eps: eq (24) needs eps^2 < 1 + fc, got eps = " +
+                                    detail::format_number(eps));
+    return std::sqrt(fc / (1.0 + fc - eps * eps)) / (2.0 * eps);
+}
+
+double smooth_bound(double eps) {
+    require_range("eps", eps, 0.0, 100.0, Bound::open_low);
+    return 1.0 / (2.0 * eps);
+}
+
+double chaotic_max_force(int Nm, double fc, double eps, double f1) {
+    require_range("Nm", Nm, 1, 1'000'000'000);
+    require_range("fc", fc, 0.0, 1e12, Bound::open_low);
+    require_range("eps", eps, 0.0, 100.0, Bound::open_low);
+    if (!(f1 > eps))
+        throw std::invalid_argument("f1: eq (32) needs f1 > eps, got f1 = " +
+                                    detail::format_number(f1));
+    const double u1m =
+        approx_first_mode_end_amplitude(Nm) / (2.0 * eps * std::sqrt(f1 * f1 - eps * eps));
+    return std::sqrt(fc) * u1m;
+}
+
+double chaotic_max_force_approx(int Nm, double fc, double eps) {
+    return chaotic_max_force(Nm, fc, eps, approx_frequency(1, Nm, fc));
+}
+
+double chaotic_bound(double eps) {
+    require_range("eps", eps, 0.0, 100.0, Bound::open_low);
+    return std::numbers::pi / (2.0 * eps * std::sqrt(4.935));
+}
+
+} // namespace gapchain

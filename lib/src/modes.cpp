@@ -1,0 +1,218 @@
+#include "gapchain/modes.hpp"
+
+#include "detail/check.hpp"
+
+#include "detail/tridiagonal_shift_solve.hpp"
+
+#include <Eigen/Dense>
+#include <Spectra/SymEigsShiftSolver.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+namespace gapchain {
+
+EigenMethod parse_eigen_method(std::string_view name) {
+    if (name == "auto") return EigenMethod::automatic;
+    if (name == "dense") return EigenMethod::dense;
+    if (name == "sparse") return EigenMethod::sparse;
+    throw std::invalid_argument("--method: must be auto, dense or sparse, got \"" +
+                                std::string(name) + "\"");
+}
+
+std::string_view to_string(EigenMethod method) {
+    switch (method) {
+    case EigenMethod::automatic:
+        return "auto";
+    case EigenMethod::dense:
+        return "dense";
+    case EigenMethod::sparse:
+        return "sparse";
+    }
+    return "?";
+}
+
+Tridiagonal linear_chain_matrix(const Chain& c) {
+    validate(c);
+    constexpr double four_pi2 = 4.0 * std::numbers::pi * std::numbers::pi;
+    const int n = c.bodies();
+    Tridiagonal t;
+    t.diagonal.resize(n);
+    t.off_diagonal.resize(std::max(0, n - 1));
+    // Chain::spring is in reduced rate units (4 pi^2 for the nominal body); K_lin is in K.
+    for (int i = 0; i < n; ++i)
+        t.diagonal[i] =
+            (c.spring[i] * c.mass[i] / four_pi2 + c.contact[i] + c.contact[i + 1]) / c.mass[i];
+    for (int i = 0; i + 1 < n; ++i)
+        t.off_diagonal[i] = -c.contact[i + 1] / std::sqrt(c.mass[i] * c.mass[i + 1]);
+    return t;
+}
+
+double approx_frequency(int k, int Nm, double fc) {
+    detail::require_range("k", k, 1, std::max(1, Nm));
+    const double x = static_cast<double>(k) / Nm;
+    return std::sqrt(1.0 + fc * x * x * (4.935 - 2.935 * std::pow(x, 1.81)));
+}
+
+double approx_first_mode_end_amplitude(int Nm) {
+    detail::require_range("model.Nm", Nm, 1, 1'000'000'000);
+    return std::numbers::pi / Nm;
+}
+
+namespace {
+
+/// Fills frequencies, approximations, shapes (phi = M^-1/2 psi) and residuals from the
+/// eigenpairs of the mass-normalised matrix.
+void fill_modes(const Chain& c, const Tridiagonal& t, const Eigen::VectorXd& values,
+                const Eigen::MatrixXd& vectors, int first_mode, bool shapes, double fc_nominal,
+                ModalResult& r) {
+    const int n = c.bodies();
+    const int count = static_cast<int>(values.size());
+    for (int m = 0; m < count; ++m) {
+        const int k = first_mode + m;
+        const double lambda = values[m];
+        r.mode_numbers.push_back(k);
+        r.frequencies.push_back(std::sqrt(lambda));
+        r.approx.push_back(approx_frequency(k, n, fc_nominal));
+        r.rel_error.push_back((r.approx.back() - r.frequencies.back()) / r.frequencies.back());
+        const Eigen::VectorXd psi = vectors.col(m);
+        double res2 = 0.0;
+        for (int i = 0; i < n; ++i) {
+            double a = t.diagonal[i] * psi[i];
+            if (i > 0) a += t.off_diagonal[i - 1] * psi[i - 1];
+            if (i + 1 < n) a += t.off_diagonal[i] * psi[i + 1];
+            res2 += (a - lambda * psi[i]) * (a - lambda * psi[i]);
+        }
+        r.residuals.push_back(std::sqrt(res2) / lambda);
+        if (shapes) {
+            std::vector<double> phi(n);
+            // A fixed sign convention: the first body moves positively (or the first nonzero).
+            double sign = 1.0;
+            for (int i = 0; i < n; ++i)
+                if (std::abs(psi[i]) > 1e-12) {
+                    sign = psi[i] > 0 ? 1.0 : -1.0;
+                    break;
+                }
+            for (int i = 0; i < n; ++i)
+                phi[i] = sign * psi[i] / std::sqrt(c.mass[i]);
+            r.shapes.push_back(std::move(phi));
+        }
+    }
+}
+
+} // namespace
+
+ModalResult modal_analysis(const Chain& chain, const ModalOptions& o) {
+    const auto start = std::chrono::steady_clock::now();
+    const Tridiagonal t = linear_chain_matrix(chain);
+    const int n = chain.bodies();
+    detail::require_range("--modes", o.count, 0, n);
+    detail::require_range("tolerance", o.tolerance, 0.0, 1e-2, detail::Bound::open_low);
+    // Nominal fc for eq (26): the wall contact stiffness (fc for the paper's row).
+    const double fc = chain.contact.front();
+    const int count = o.count == 0 ? n : o.count;
+    EigenMethod method = o.method;
+    if (method == EigenMethod::automatic)
+        method = (n <= 2000 || count == n || 2 * count + 1 > n) ? EigenMethod::dense
+                                                                : EigenMethod::sparse;
+    if (method == EigenMethod::sparse && (o.count == 0 || 2 * count + 1 > n))
+        throw std::invalid_argument("--modes: the sparse solver needs 1 <= modes < Nm / 2, got " +
+                                    std::to_string(o.count) + " of Nm = " + std::to_string(n) +
+                                    "; use the dense solver for more");
+    ModalResult r;
+    r.method = method;
+    const int first_mode = o.end == SpectrumEnd::lowest ? 1 : n - count + 1;
+    if (method == EigenMethod::dense) {
+        Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> solver;
+        const Eigen::Map<const Eigen::VectorXd> d(t.diagonal.data(), n);
+        const Eigen::Map<const Eigen::VectorXd> e(t.off_diagonal.data(), n - 1);
+        solver.computeFromTridiagonal(d, e, Eigen::ComputeEigenvectors);
+        if (solver.info() != Eigen::Success) r.status = ModalStatus::not_converged;
+        const int offset = first_mode - 1;
+        fill_modes(chain, t, solver.eigenvalues().segment(offset, count),
+                   solver.eigenvectors().middleCols(offset, count), first_mode, o.shapes, fc, r);
+    } else {
+        // Shift just outside the spectrum at the wanted end, so the wanted eigenvalues become
+        // the largest of the inverted operator and are well separated even when they are
+        // clustered near 1 (large Nm). Lower bound: the smallest body spring (the contact
+        // matrix is positive definite with walls); upper bound: Gershgorin.
+        double lower = t.diagonal[0], upper = 0.0;
+        for (int i = 0; i < n; ++i) {
+            const double off = (i > 0 ? std::abs(t.off_diagonal[i - 1]) : 0.0) +
+                               (i + 1 < n ? std::abs(t.off_diagonal[i]) : 0.0);
+            lower = std::min(lower, chain.spring[i] / (4.0 * std::numbers::pi * std::numbers::pi));
+            upper = std::max(upper, t.diagonal[i] + off);
+        }
+        const double sigma =
+            o.end == SpectrumEnd::lowest ? lower * (1.0 - 1e-12) : upper * (1.0 + 1e-12);
+        detail::TridiagonalShiftSolve op(t);
+        const int ncv = std::min(n, std::max(2 * count + 1, 20));
+        Spectra::SymEigsShiftSolver<detail::TridiagonalShiftSolve> eigs(op, count, ncv, sigma);
+        eigs.init();
+        eigs.compute(Spectra::SortRule::LargestMagn, 1000, o.tolerance);
+        r.iterations = eigs.num_iterations();
+        switch (eigs.info()) {
+        case Spectra::CompInfo::Successful:
+            r.status = ModalStatus::converged;
+            break;
+        case Spectra::CompInfo::NotConverging:
+            r.status = ModalStatus::not_converged;
+            break;
+        default:
+            r.status = ModalStatus::numerical_issue;
+            break;
+        }
+        if (r.status == ModalStatus::converged) {
+            // Spectra returns them by decreasing |1/(lambda - sigma)|; sort ascending.
+            Eigen::VectorXd values = eigs.eigenvalues();
+            Eigen::MatrixXd vectors = eigs.eigenvectors();
+            std::vector<int> order(count);
+            for (int m = 0; m < count; ++m)
+                order[m] = m;
+            std::sort(order.begin(), order.end(),
+                      [&](int x, int y) { return values[x] < values[y]; });
+            Eigen::VectorXd sorted_values(count);
+            Eigen::MatrixXd sorted_vectors(n, count);
+            for (int m = 0; m < count; ++m) {
+                sorted_values[m] = values[order[m]];
+                sorted_vectors.col(m) = vectors.col(order[m]);
+            }
+            fill_modes(chain, t, sorted_values, sorted_vectors, first_mode, o.shapes, fc, r);
+        }
+    }
+    r.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return r;
+}
+
+ApproximationGrid approximation_grid(const std::vector<int>& Nm_values,
+                                     const std::vector<double>& fc_values) {
+    const auto start = std::chrono::steady_clock::now();
+    ApproximationGrid grid;
+    ModalOptions o;
+    o.shapes = false;
+    for (int Nm : Nm_values)
+        for (double fc : fc_values) {
+            const ModalResult r = modal_analysis(Chain::homogeneous({Nm, fc, 0.5, 0.0, 1.0}), o);
+            ApproximationError e;
+            e.Nm = Nm;
+            e.fc = fc;
+            e.first = r.rel_error[0];
+            for (int k = 1; k < Nm; ++k)
+                if (std::abs(r.rel_error[k]) > e.other) {
+                    e.other = std::abs(r.rel_error[k]);
+                    e.other_mode = k + 1;
+                }
+            if (grid.points.empty() || std::abs(e.first) > std::abs(grid.worst_first.first))
+                grid.worst_first = e;
+            if (grid.points.empty() || e.other > grid.worst_other.other) grid.worst_other = e;
+            grid.points.push_back(e);
+        }
+    grid.wall_time_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return grid;
+}
+
+} // namespace gapchain

@@ -1,0 +1,112 @@
+#include "gapchain/modes.hpp"
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+using namespace gapchain;
+
+namespace {
+Chain row(int Nm, double fc) {
+    return Chain::homogeneous({Nm, fc, 0.5, 0.0, 1.0});
+}
+ModalResult all_modes(int Nm, double fc) {
+    ModalOptions o;
+    return modal_analysis(row(Nm, fc), o);
+}
+} // namespace
+
+TEST_CASE("Nm = 1: one body between two walls has f^2 = 1 + 2 fc (eq 30 exact)") {
+    for (double fc : {1.0, 60.0, 2000.0}) {
+        const ModalResult r = all_modes(1, fc);
+        REQUIRE(r.frequencies.size() == 1);
+        CHECK(r.frequencies[0] * r.frequencies[0] == doctest::Approx(1 + 2 * fc).epsilon(1e-14));
+        CHECK(r.approx[0] == doctest::Approx(std::sqrt(1 + 2 * fc)).epsilon(1e-14));
+    }
+}
+
+TEST_CASE("Nm = 2: f^2 = 1 + fc and 1 + 2 fc") {
+    const double fc = 37.0;
+    const ModalResult r = all_modes(2, fc);
+    CHECK(r.frequencies[0] * r.frequencies[0] == doctest::Approx(1 + fc).epsilon(1e-14));
+    CHECK(r.frequencies[1] * r.frequencies[1] == doctest::Approx(1 + 2 * fc).epsilon(1e-14));
+    // In-phase and anti-phase shapes.
+    CHECK(r.shapes[0][0] == doctest::Approx(r.shapes[0][1]));
+    CHECK(r.shapes[1][0] == doctest::Approx(-r.shapes[1][1]));
+}
+
+TEST_CASE("every eigenvalue lies in [1, 1 + 2 fc] and the shapes are orthonormal") {
+    for (int Nm : {3, 7, 20, 64}) {
+        const double fc = 150.0;
+        const ModalResult r = all_modes(Nm, fc);
+        REQUIRE(static_cast<int>(r.frequencies.size()) == Nm);
+        for (double f : r.frequencies) {
+            CHECK(f * f >= 1.0);
+            CHECK(f * f <=
+                  (1.0 + 2 * fc) * (1 + 1e-14)); // reached exactly for odd Nm, up to rounding
+        }
+        CHECK(std::is_sorted(r.frequencies.begin(), r.frequencies.end()));
+        for (int a = 0; a < Nm; ++a)
+            for (int b = 0; b < Nm; ++b) {
+                double dot = 0.0;
+                for (int i = 0; i < Nm; ++i)
+                    dot += r.shapes[a][i] * r.shapes[b][i];
+                CHECK(dot == doctest::Approx(a == b ? 1.0 : 0.0).scale(1).epsilon(1e-12));
+            }
+        for (double res : r.residuals)
+            CHECK(res < 1e-12);
+    }
+}
+
+TEST_CASE("dense and Spectra agree to 1e-10 on Nm = 500, at both ends") {
+    const Chain c = row(500, 100.0);
+    const ModalResult dense = modal_analysis(c, {});
+    for (SpectrumEnd end : {SpectrumEnd::lowest, SpectrumEnd::highest}) {
+        ModalOptions o;
+        o.count = 10;
+        o.end = end;
+        o.method = EigenMethod::sparse;
+        const ModalResult sparse = modal_analysis(c, o);
+        REQUIRE(sparse.status == ModalStatus::converged);
+        REQUIRE(sparse.frequencies.size() == 10);
+        for (int m = 0; m < 10; ++m) {
+            const int k = sparse.mode_numbers[m];
+            CHECK(sparse.frequencies[m] ==
+                  doctest::Approx(dense.frequencies[k - 1]).epsilon(1e-10));
+            double dot = 0.0;
+            for (int i = 0; i < 500; ++i)
+                dot += sparse.shapes[m][i] * dense.shapes[k - 1][i];
+            CHECK(std::abs(dot) == doctest::Approx(1.0).epsilon(1e-8));
+        }
+    }
+}
+
+TEST_CASE("eq (26) against the exact frequencies: the maxima MODEL.md §1 states") {
+    // MODEL.md: over fc in [1, 2000] and Nm in [1, 20] the approximation is within 1.22 % for
+    // f_1 and 2.60 % for the other modes (the paper claims < 1 % and < 3 %).
+    double worst_first = 0.0, worst_other = 0.0;
+    for (int Nm = 1; Nm <= 20; ++Nm)
+        for (double fc = 1.0; fc <= 2000.0; fc *= 1.25) {
+            const ModalResult r = all_modes(Nm, fc);
+            worst_first = std::max(worst_first, std::abs(r.rel_error[0]));
+            for (int k = 1; k < Nm; ++k)
+                worst_other = std::max(worst_other, std::abs(r.rel_error[k]));
+        }
+    MESSAGE("max |error| f_1 " << worst_first << ", others " << worst_other);
+    CHECK(worst_first < 0.0123);
+    CHECK(worst_first > 0.010);
+    CHECK(worst_other < 0.0261);
+    CHECK(worst_other > 0.020);
+}
+
+TEST_CASE("bad options are refused") {
+    ModalOptions o;
+    o.count = 11;
+    CHECK_THROWS_AS(modal_analysis(row(10, 5.0), o), std::invalid_argument);
+    o.count = 6;
+    o.method = EigenMethod::sparse;
+    CHECK_THROWS_AS(modal_analysis(row(10, 5.0), o), std::invalid_argument);
+    CHECK_THROWS_AS(parse_eigen_method("lapack"), std::invalid_argument);
+}

@@ -109,6 +109,20 @@ double Dynamics::energy(const double* y) const {
     return e;
 }
 
+void Dynamics::tangent_acceleration(const std::vector<char>& closed, const double* du,
+                                    const double* dv, double* dacc) const {
+    const int n = m_n;
+    // A closed contact's penetration follows its gap: dp_j = dg_j; an open one's stays 0.
+    double dp_left = closed[0] ? -du[0] : 0.0;
+    for (int i = 0; i < n; ++i) {
+        double dp_right = 0.0;
+        if (closed[i + 1]) dp_right = i + 1 < n ? du[i] - du[i + 1] : du[i];
+        dacc[i] = -m_chain.spring[i] * du[i] - m_chain.damping[i] * dv[i] +
+                  m_contact_over_mass_left[i] * dp_left - m_contact_over_mass_right[i] * dp_right;
+        dp_left = dp_right;
+    }
+}
+
 void Dynamics::jacobian(const double* y, std::vector<double>& jac) const {
     const int n = m_n;
     const int dim = 2 * n;

@@ -130,11 +130,12 @@ void PoincareSampler::on_step(const StepView& step) {
     if (!step.recording) return;
     if (m_spec.kind == SectionSpec::Kind::stroboscopic) {
         const double period = m_dyn.period();
-        // The section time of this step's period (and of the next one, which a step that
-        // ends exactly on a period boundary may reach).
-        for (long n = step.period; n <= step.period + 1; ++n) {
-            const double ts = (static_cast<double>(n) + m_spec.phase) * period;
-            const double tol = 1e-12 * period * (1.0 + static_cast<double>(n));
+        // Section times from absolute time (a run may start at any t): the one in the period
+        // holding t0 and the next, which a step ending on a boundary may reach.
+        const double first = std::floor(step.t0 / period);
+        for (double n = first; n <= first + 1.0; n += 1.0) {
+            const double ts = (n + m_spec.phase) * period;
+            const double tol = 1e-12 * period * (1.0 + std::abs(n));
             if (ts <= step.t0 + tol || ts > step.t1 + tol) continue;
             if (std::abs(ts - step.t1) <= tol) {
                 emit(ts, step.y1);

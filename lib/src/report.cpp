@@ -2,7 +2,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <cstdio>
+#include <numbers>
 #include <sstream>
 #include <unistd.h>
 
@@ -147,6 +149,87 @@ std::string grid_csv(const ApproximationGrid& grid) {
     for (const auto& p : grid.points)
         os << p.Nm << ',' << p.fc << ',' << p.first << ',' << p.other << ',' << p.other_mode
            << '\n';
+    return os.str();
+}
+
+std::string to_json(const LyapunovResult& r, const ReducedParameters& p, int count) {
+    json j;
+    j["exponents"] = r.exponents;
+    j["error"] = r.errors;
+    j["sum"] = r.sum;
+    if (count == 2 * p.Nm) j["expected_sum"] = -4.0 * std::numbers::pi * p.eps * p.Nm;
+    j["averaging_time"] = r.averaging_time;
+    j["units"] = "1 / reduced time";
+    j["status"] = std::string(to_string(r.status));
+    j["wall_time_s"] = r.wall_time_s;
+    j["parameters"] = {{"Nm", p.Nm}, {"fc", p.fc}, {"eps", p.eps}, {"e_r", p.e_r}, {"f_r", p.f_r}};
+    return j.dump(2) + "\n";
+}
+
+std::string history_csv(const LyapunovResult& r) {
+    std::ostringstream os;
+    os.precision(10);
+    os << "t";
+    for (std::size_t k = 0; k < r.exponents.size(); ++k)
+        os << ",lambda" << k + 1;
+    os << '\n';
+    for (const auto& h : r.history) {
+        os << h.t;
+        for (double x : h.exponents)
+            os << ',' << x;
+        os << '\n';
+    }
+    return os.str();
+}
+
+namespace {
+json classification_json(const Classification& c) {
+    json j;
+    j["regime"] = std::string(to_string(c.regime));
+    j["period"] = c.period;
+    j["lambda_max"] = c.lambda_max;
+    j["lambda_max_error"] =
+        std::isfinite(c.lambda_max_error) ? json(c.lambda_max_error) : json(nullptr);
+    j["F_m"] = c.F_m;
+    j["distinct_points"] = c.distinct_points;
+    j["section_points"] = c.section_points;
+    j["broadband_share"] = c.broadband_share;
+    j["stopped_at_steady_state"] = c.stopped_at_steady_state;
+    j["periods_run"] = c.periods_run;
+    j["status"] = std::string(to_string(c.status));
+    j["wall_time_s"] = c.wall_time_s;
+    return j;
+}
+} // namespace
+
+std::string to_json(const Classification& c, const ReducedParameters& p) {
+    json j = classification_json(c);
+    j["parameters"] = {{"Nm", p.Nm}, {"fc", p.fc}, {"eps", p.eps}, {"e_r", p.e_r}, {"f_r", p.f_r}};
+    return j.dump(2) + "\n";
+}
+
+std::string map_csv(const RegimeMap& map) {
+    std::ostringstream os;
+    os.precision(10);
+    os << "e_r,f_r,regime,code,period,F_m,lambda_max,lambda_max_error,distinct_points,broadband_"
+          "share\n";
+    for (std::size_t i = 0; i < map.e_r.size(); ++i)
+        for (std::size_t k = 0; k < map.f_r.size(); ++k) {
+            const Classification& c = map.cells[i * map.f_r.size() + k];
+            os << map.e_r[i] << ',' << map.f_r[k] << ',' << to_string(c.regime) << ','
+               << static_cast<int>(c.regime) << ',' << c.period << ',' << c.F_m << ','
+               << c.lambda_max << ',' << c.lambda_max_error << ',' << c.distinct_points << ','
+               << c.broadband_share << '\n';
+        }
+    return os.str();
+}
+
+std::string psd_csv(const Psd& psd, double f_r) {
+    std::ostringstream os;
+    os.precision(10);
+    os << "f,f_over_f_r,density\n";
+    for (std::size_t k = 0; k < psd.frequency.size(); ++k)
+        os << psd.frequency[k] << ',' << psd.frequency[k] / f_r << ',' << psd.density[k] << '\n';
     return os.str();
 }
 

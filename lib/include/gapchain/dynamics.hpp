@@ -79,6 +79,12 @@ public:
     /// on positions only, so its trace is -sum(damping) at every state.
     void jacobian(const double* y, std::vector<double>& jac) const;
 
+    /// Linearised accelerations for a fixed contact configuration (closed[j] != 0: contact j
+    /// closed): dacc = d(acceleration) for displacement and velocity perturbations du, dv (Nm
+    /// entries each). This is the lower half of the Jacobian applied to (du, dv), in O(Nm).
+    void tangent_acceleration(const std::vector<char>& closed, const double* du, const double* dv,
+                              double* dacc) const;
+
     /// Upper bound on the fastest angular frequency [rad / reduced time] (MODEL.md §4).
     [[nodiscard]] double max_angular_frequency() const { return m_omega_max; }
 

@@ -3,9 +3,12 @@
 /// Scene output: result structs -> JSON and CSV, and files that appear whole or not at all.
 
 #include "gapchain/bifurcation.hpp"
+#include "gapchain/classify.hpp"
+#include "gapchain/lyapunov.hpp"
 #include "gapchain/modes.hpp"
 #include "gapchain/scene.hpp"
 #include "gapchain/simulation.hpp"
+#include "gapchain/spectrum.hpp"
 
 #include <fstream>
 #include <string>
@@ -55,5 +58,23 @@ std::string to_json(const ModalResult& result, int Nm, double fc);
 
 /// The eq (26) grid as CSV: Nm,fc,f1_error,other_error,other_mode.
 std::string grid_csv(const ApproximationGrid& grid);
+
+/// Lyapunov exponents as JSON: exponents, error, sum, expected_sum (-sum of the damping
+/// rates, MODEL.md §5), averaging_time, status, wall_time_s and the parameters.
+std::string to_json(const LyapunovResult& result, const ReducedParameters& p, int count);
+
+/// Running estimates as CSV: t, lambda1, lambda2, ...
+std::string history_csv(const LyapunovResult& result);
+
+/// One classification as JSON: regime, period, lambda_max, lambda_max_error, F_m,
+/// distinct_points, section_points, broadband_share, periods_run, wall_time_s, parameters.
+std::string to_json(const Classification& c, const ReducedParameters& p);
+
+/// A regime map as CSV: e_r,f_r,regime,code,period,F_m,lambda_max,lambda_max_error,
+/// distinct_points,broadband_share (code: 0 no-contact, 1 periodic, 2 quasi-periodic, 3 chaotic).
+std::string map_csv(const RegimeMap& map);
+
+/// A PSD as CSV: f, f_over_f_r, density.
+std::string psd_csv(const Psd& psd, double f_r);
 
 } // namespace gapchain

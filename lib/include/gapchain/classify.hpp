@@ -1,0 +1,80 @@
+#pragma once
+/// \file classify.hpp
+/// Regime classification of a parameter point (no contact, periodic with its period,
+/// quasi-periodic, chaotic) from the largest Lyapunov exponent and its error, the stroboscopic
+/// section and the spectrum; and regime maps over (e_r, f_r) as in Fig 2 of the paper.
+///
+/// Rule: no impact while recording -> no-contact; a periodic steady state (state repeating to
+/// steady_tolerance) -> periodic; otherwise lambda_max > max(chaos_threshold, 3 error) ->
+/// chaotic; a repeating section or lambda_max < -max(...) -> periodic; else quasi-periodic.
+
+#include "gapchain/model.hpp"
+#include "gapchain/run.hpp"
+#include "gapchain/stepper.hpp"
+
+#include <string_view>
+#include <vector>
+
+namespace gapchain {
+
+/// The regime of a point.
+enum class Regime { no_contact, periodic, quasi_periodic, chaotic };
+/// "no-contact", "periodic", "quasi-periodic" or "chaotic".
+std::string_view to_string(Regime regime);
+
+/// How a point is classified.
+struct ClassifyOptions {
+    long transient_periods = 100; ///< discarded periods (a periodic steady state may stop the
+                                  ///< run as soon as it is found), >= 0
+    long record_periods = 300;    ///< periods of evidence for non-periodic motion, >= 10
+    Scheme scheme = Scheme::automatic;
+    double tolerance = 1e-4;        ///< integration tolerance (relative, F_m)
+    int max_period = 16;            ///< largest period recognised, >= 1
+    double period_tolerance = 1e-6; ///< section points closer than this (relative) are one
+    double steady_tolerance = 1e-9; ///< state repeat tolerance for an early periodic stop
+    int samples_per_period = 16;    ///< samples of u_1 per period for the spectrum, >= 4
+    double chaos_threshold = 0.02;  ///< lambda_max must exceed this [1 / reduced time] and three
+                                    ///< standard errors to count as chaos
+};
+
+/// Throws std::invalid_argument naming the first invalid option.
+void validate(const ClassifyOptions& options);
+
+/// The label and its evidence.
+struct Classification {
+    Regime regime = Regime::no_contact;
+    int period = 0;                ///< forcing periods per cycle when periodic; 0 when the cycle
+                                   ///< is longer than max_period (or not periodic)
+    double lambda_max = 0.0;       ///< largest Lyapunov exponent [1 / reduced time]
+    double lambda_max_error = 0.0; ///< its standard error (inf if the window was too short)
+    int distinct_points = 0;       ///< distinct stroboscopic points among those recorded
+    int section_points = 0;        ///< stroboscopic points recorded
+    double broadband_share = 0.0;  ///< spectral power of u_1 away from m/n f_r (n <= 4)
+    double F_m = 0.0;              ///< max reduced force over the recorded periods
+    bool stopped_at_steady_state = false; ///< the run ended early on a periodic steady state
+    long periods_run = 0;                 ///< periods integrated
+    RunStatus status = RunStatus::completed;
+    double wall_time_s = 0.0; ///< [s]
+};
+
+/// Classifies one point: one run with the max-force tracker, the steady-state detector, a
+/// one-vector tangent observer, a stroboscopic section and a u_1 recorder.
+Classification classify(const ReducedParameters& p, const ClassifyOptions& options);
+
+/// A regime map over e_r (rows) and f_r (columns).
+struct RegimeMap {
+    std::vector<double> e_r;           ///< row values
+    std::vector<double> f_r;           ///< column values
+    std::vector<Classification> cells; ///< e_r-major: cell (i, j) at i * f_r.size() + j
+    double wall_time_s = 0.0;          ///< [s]
+    int threads_used = 1;
+};
+
+/// Classifies every (e_r, f_r) around base in parallel (OpenMP, dynamic schedule; threads 0 =
+/// all). Results do not depend on the thread count. Progress is called with the fraction done
+/// (serialised).
+RegimeMap regime_map(const ReducedParameters& base, const std::vector<double>& e_r,
+                     const std::vector<double>& f_r, const ClassifyOptions& options,
+                     int threads = 0, const ProgressCallback& progress = {});
+
+} // namespace gapchain

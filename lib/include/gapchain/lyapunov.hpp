@@ -1,0 +1,149 @@
+#pragma once
+/// \file lyapunov.hpp
+/// Lyapunov exponents by Benettin's method: tangent vectors are propagated with the flow and
+/// re-orthonormalised (QR); the exponents are the time averages of the log stretchings.
+///
+/// Two drivers share one accumulator: a generic one for any smooth system given by its
+/// right-hand side and Jacobian (RK4 on the state and the tangent basis), and one for the row,
+/// which rides the gapchain time loop as an observer.
+
+#include "gapchain/dynamics.hpp"
+#include "gapchain/run.hpp"
+#include "gapchain/simulation.hpp"
+
+#include <vector>
+
+namespace gapchain {
+
+/// Running estimate of the exponents at one time.
+struct LyapunovSample {
+    double t = 0.0;                ///< reduced time
+    std::vector<double> exponents; ///< running averages so far
+};
+
+/// The spectrum and how well it is known.
+struct LyapunovResult {
+    std::vector<double> exponents;       ///< largest first [1 / unit time]
+    std::vector<double> errors;          ///< standard error of each (from 10 time blocks)
+    double sum = 0.0;                    ///< sum of the exponents
+    double averaging_time = 0.0;         ///< time the averages cover
+    std::vector<LyapunovSample> history; ///< running estimates (at most ~500 samples)
+    RunStatus status = RunStatus::completed;
+    std::string message;      ///< why a run failed (empty otherwise)
+    double wall_time_s = 0.0; ///< [s]
+};
+
+/// Orthonormal tangent basis (dimension x count, column-major) and the log-stretching sums.
+/// Reusable by any driver: propagate basis() by the tangent map, then call orthonormalize().
+class LyapunovAccumulator {
+public:
+    /// 1 <= count <= dimension. The initial basis is a fixed, generic orthonormal set.
+    LyapunovAccumulator(int dimension, int count);
+    /// The basis, column k at [k * dimension, (k + 1) * dimension).
+    [[nodiscard]] std::vector<double>& basis() { return m_basis; }
+    [[nodiscard]] int dimension() const { return m_dim; }
+    [[nodiscard]] int count() const { return m_count; }
+    /// Modified Gram-Schmidt QR of the basis at time t; when accumulate, adds log |R_kk|.
+    /// Returns false if a column collapsed or became non-finite.
+    bool orthonormalize(double t, bool accumulate);
+    /// Starts the averages at time t (discarding what came before).
+    void start(double t);
+    /// Exponents, errors and history so far.
+    [[nodiscard]] LyapunovResult result() const;
+
+private:
+    int m_dim;
+    int m_count;
+    std::vector<double> m_basis;
+    double m_t_start = 0.0;
+    bool m_started = false;
+    std::vector<double> m_times; ///< time of each accumulated re-orthonormalisation
+    std::vector<double> m_sums;  ///< cumulative log sums, count per entry
+};
+
+/// A smooth system for the generic driver.
+class TangentSystem {
+public:
+    virtual ~TangentSystem() = default;
+    [[nodiscard]] virtual int dimension() const = 0;
+    virtual void rhs(double t, const double* y, double* dydt) const = 0;
+    /// Row-major dimension x dimension Jacobian at (t, y).
+    virtual void jacobian(double t, const double* y, double* jac) const = 0;
+};
+
+/// Options of the generic driver.
+struct LyapunovOptions {
+    int count = 0;                         ///< exponents wanted (0: all)
+    double step = 0.01;                    ///< RK4 step, > 0
+    double transient = 0.0;                ///< time integrated before averaging, >= 0
+    double duration = 100.0;               ///< averaging time, > 0
+    int steps_per_orthonormalization = 10; ///< >= 1
+};
+
+/// Lyapunov spectrum of a smooth system from y0 (RK4 on the state and the tangent basis).
+LyapunovResult lyapunov_spectrum(const TangentSystem& system, std::vector<double> y0,
+                                 const LyapunovOptions& options);
+
+/// Observer that propagates a tangent basis along a run of the row. Between two steps the
+/// contact configuration is fixed (the time loop splits steps at every switch), so the tangent
+/// flow is exp(h J) with J constant; it is applied by its Taylor series to round-off accuracy,
+/// in coordinates (du, dv / omega) that keep |h J| near h omega. The contact force is continuous
+/// in the gap, so the vector field is continuous across a switch and the tangent vectors need no
+/// jump (saltation) matrix there: the saltation matrix I + (f+ - f-) n^T / (n^T f-) is the
+/// identity when f+ = f- on the switching surface.
+class TangentObserver final : public Observer {
+public:
+    /// dyn must outlive the observer; count in [1, 2 Nm]; averages start at the end of period
+    /// `start_period`.
+    TangentObserver(const Dynamics& dyn, int count, long start_period);
+    void on_step(const StepView& step) override;
+    bool on_period(long n, double t, const double* y) override;
+    [[nodiscard]] LyapunovResult result() const { return m_accumulator.result(); }
+    /// False once the basis collapsed or became non-finite.
+    [[nodiscard]] bool healthy() const { return m_healthy; }
+
+private:
+    void apply_jacobian(const double* x, double* out) const;
+    const Dynamics& m_dyn;
+    LyapunovAccumulator m_accumulator;
+    long m_start_period;
+    double m_scale; ///< omega used to scale velocities
+    std::vector<char> m_closed;
+    std::vector<double> m_term, m_next, m_sum;
+    mutable std::vector<double> m_dv; ///< scratch for apply_jacobian
+    bool m_healthy = true;
+};
+
+/// Lyapunov spectrum of the row (count exponents, 1 .. 2 Nm) over options.periods, averaged
+/// after options.transient_periods; runs the full length (no steady-state stop).
+LyapunovResult chain_lyapunov(const Dynamics& dyn, const RunOptions& options, int count,
+                              const std::vector<double>& initial = {},
+                              const ProgressCallback& progress = {});
+
+/// Options of the time-series estimate (Rosenstein, Collins & De Luca, Physica D 65, 1993).
+struct TimeSeriesOptions {
+    int embedding = 6;      ///< embedding dimension m, 1 .. 100
+    int delay = 1;          ///< delay in samples, >= 1
+    int min_separation = 0; ///< neighbours at least this many samples apart in time (Theiler
+                            ///< window); 0: one mean period from the zero crossings
+    int horizon = 0;        ///< samples each pair is followed; 0: 4 min_separation
+    double fit_from = 0.25; ///< start of the fitted range, fraction of the horizon in [0, 1)
+    double fit_to = 0.55;   ///< end of the fitted range, (fit_from, 1]
+    int max_points = 4000;  ///< embedded points used (the series is decimated in time beyond)
+};
+
+/// The largest exponent from a measured series.
+struct TimeSeriesExponent {
+    double lambda = 0.0;            ///< slope of the mean log divergence [1 / time]
+    double error = 0.0;             ///< standard error of the fitted slope
+    std::vector<double> divergence; ///< mean log distance after i samples, i = 0 .. horizon
+    double sample_interval = 0.0;   ///< time between samples
+};
+
+/// Largest Lyapunov exponent of a scalar series sampled every dt (> 0) by Rosenstein's method:
+/// delay embedding, nearest neighbours outside a Theiler window, mean log divergence, and a
+/// least-squares slope over [fit_from, fit_to] of the horizon.
+TimeSeriesExponent largest_exponent_from_series(const std::vector<double>& series, double dt,
+                                                const TimeSeriesOptions& options = {});
+
+} // namespace gapchain

@@ -1,0 +1,342 @@
+#include "gapchain/lyapunov.hpp"
+
+#include "detail/check.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+
+namespace gapchain {
+
+LyapunovAccumulator::LyapunovAccumulator(int dimension, int count)
+    : m_dim(dimension), m_count(count), m_basis(static_cast<std::size_t>(dimension) * count, 0.0) {
+    detail::require_range("dimension", dimension, 1, 100'000'000);
+    detail::require_range("count", count, 1, dimension);
+    // A generic start (not aligned with any coordinate axis, where a symmetric system could
+    // keep it on an invariant subspace): a fixed deterministic fill, then orthonormalised.
+    for (int k = 0; k < count; ++k)
+        for (int i = 0; i < dimension; ++i)
+            m_basis[static_cast<std::size_t>(k) * dimension + i] =
+                (i == k ? 1.0 : 0.0) + 0.1 * std::sin(1.0 + 7.3 * i + 3.1 * k * k + 0.7 * i * k);
+    orthonormalize(0.0, false);
+}
+
+bool LyapunovAccumulator::orthonormalize(double t, bool accumulate) {
+    std::vector<double> logs(m_count);
+    for (int k = 0; k < m_count; ++k) {
+        double* qk = &m_basis[static_cast<std::size_t>(k) * m_dim];
+        for (int j = 0; j < k; ++j) {
+            const double* qj = &m_basis[static_cast<std::size_t>(j) * m_dim];
+            const double r = std::inner_product(qj, qj + m_dim, qk, 0.0);
+            for (int i = 0; i < m_dim; ++i)
+                qk[i] -= r * qj[i];
+        }
+        const double norm = std::sqrt(std::inner_product(qk, qk + m_dim, qk, 0.0));
+        if (!(norm > 0.0) || !std::isfinite(norm)) return false;
+        for (int i = 0; i < m_dim; ++i)
+            qk[i] /= norm;
+        logs[k] = std::log(norm);
+    }
+    if (accumulate && m_started) {
+        const std::size_t base = m_sums.size();
+        m_sums.resize(base + m_count);
+        for (int k = 0; k < m_count; ++k)
+            m_sums[base + k] =
+                (base >= static_cast<std::size_t>(m_count) ? m_sums[base - m_count + k] : 0.0) +
+                logs[k];
+        m_times.push_back(t);
+    }
+    return true;
+}
+
+void LyapunovAccumulator::start(double t) {
+    m_t_start = t;
+    m_started = true;
+    m_times.clear();
+    m_sums.clear();
+}
+
+LyapunovResult LyapunovAccumulator::result() const {
+    LyapunovResult r;
+    r.exponents.assign(m_count, 0.0);
+    r.errors.assign(m_count, 0.0);
+    const std::size_t samples = m_times.size();
+    if (samples == 0) return r;
+    auto sum_at = [&](std::size_t s, int k) { return m_sums[s * m_count + k]; };
+    r.averaging_time = m_times.back() - m_t_start;
+    for (int k = 0; k < m_count; ++k)
+        r.exponents[k] = sum_at(samples - 1, k) / r.averaging_time;
+    r.sum = std::accumulate(r.exponents.begin(), r.exponents.end(), 0.0);
+    // Standard error from 10 consecutive blocks of the averaging window.
+    constexpr int blocks = 10;
+    if (samples >= 2 * blocks) {
+        for (int k = 0; k < m_count; ++k) {
+            std::vector<double> rates;
+            double prev_t = m_t_start, prev_sum = 0.0;
+            for (int b = 1; b <= blocks; ++b) {
+                const std::size_t s = b * samples / blocks - 1;
+                rates.push_back((sum_at(s, k) - prev_sum) / (m_times[s] - prev_t));
+                prev_t = m_times[s];
+                prev_sum = sum_at(s, k);
+            }
+            const double mean = std::accumulate(rates.begin(), rates.end(), 0.0) / blocks;
+            double var = 0.0;
+            for (double x : rates)
+                var += (x - mean) * (x - mean);
+            r.errors[k] = std::sqrt(var / (blocks - 1) / blocks);
+        }
+    } else {
+        r.errors.assign(m_count, std::numeric_limits<double>::infinity());
+    }
+    const std::size_t stride = std::max<std::size_t>(1, samples / 500);
+    for (std::size_t s = stride - 1; s < samples; s += stride) {
+        LyapunovSample h;
+        h.t = m_times[s];
+        for (int k = 0; k < m_count; ++k)
+            h.exponents.push_back(sum_at(s, k) / (h.t - m_t_start));
+        r.history.push_back(std::move(h));
+    }
+    return r;
+}
+
+LyapunovResult lyapunov_spectrum(const TangentSystem& sys, std::vector<double> y,
+                                 const LyapunovOptions& o) {
+    const auto start = std::chrono::steady_clock::now();
+    const int n = sys.dimension();
+    detail::require_length("initial state", y.size(), static_cast<std::size_t>(n));
+    detail::require_range("count", o.count, 0, n);
+    detail::require_range("step", o.step, 0.0, 1e6, detail::Bound::open_low);
+    detail::require_range("transient", o.transient, 0.0, 1e12);
+    detail::require_range("duration", o.duration, 0.0, 1e12, detail::Bound::open_low);
+    detail::require_range("steps_per_orthonormalization", o.steps_per_orthonormalization, 1,
+                          1'000'000);
+    const int count = o.count == 0 ? n : o.count;
+    LyapunovAccumulator acc(n, count);
+    std::vector<double>& q = acc.basis();
+    const std::size_t m = static_cast<std::size_t>(n) * (1 + count);
+    // Augmented state z = (y, Q); RK4 on z' = (f(y), J(y) Q).
+    std::vector<double> z(m), k1(m), k2(m), k3(m), k4(m), tmp(m),
+        jac(static_cast<std::size_t>(n) * n);
+    auto deriv = [&](double t, const std::vector<double>& in, std::vector<double>& out) {
+        sys.rhs(t, in.data(), out.data());
+        sys.jacobian(t, in.data(), jac.data());
+        for (int c = 0; c < count; ++c) {
+            const double* col = &in[static_cast<std::size_t>(n) * (1 + c)];
+            double* dcol = &out[static_cast<std::size_t>(n) * (1 + c)];
+            for (int i = 0; i < n; ++i) {
+                double s = 0.0;
+                for (int j = 0; j < n; ++j)
+                    s += jac[static_cast<std::size_t>(i) * n + j] * col[j];
+                dcol[i] = s;
+            }
+        }
+    };
+    const long transient_steps = std::lround(o.transient / o.step);
+    const long total = transient_steps + std::lround(o.duration / o.step);
+    double t = 0.0;
+    LyapunovResult failure;
+    if (transient_steps == 0) acc.start(0.0);
+    for (long s = 0; s < total; ++s) {
+        std::copy(y.begin(), y.end(), z.begin());
+        std::copy(q.begin(), q.end(), z.begin() + n);
+        const double h = o.step;
+        deriv(t, z, k1);
+        for (std::size_t i = 0; i < m; ++i)
+            tmp[i] = z[i] + 0.5 * h * k1[i];
+        deriv(t + 0.5 * h, tmp, k2);
+        for (std::size_t i = 0; i < m; ++i)
+            tmp[i] = z[i] + 0.5 * h * k2[i];
+        deriv(t + 0.5 * h, tmp, k3);
+        for (std::size_t i = 0; i < m; ++i)
+            tmp[i] = z[i] + h * k3[i];
+        deriv(t + h, tmp, k4);
+        for (std::size_t i = 0; i < m; ++i)
+            z[i] += h / 6.0 * (k1[i] + 2 * (k2[i] + k3[i]) + k4[i]);
+        std::copy(z.begin(), z.begin() + n, y.begin());
+        std::copy(z.begin() + n, z.end(), q.begin());
+        t = (s + 1) * h;
+        if (s + 1 == transient_steps) acc.start(t);
+        if ((s + 1) % o.steps_per_orthonormalization == 0 || s + 1 == total) {
+            if (!acc.orthonormalize(t, s + 1 > transient_steps)) {
+                failure.status = RunStatus::non_finite;
+                failure.message =
+                    "the tangent basis became non-finite at t = " + detail::format_number(t);
+                return failure;
+            }
+        }
+    }
+    LyapunovResult r = acc.result();
+    r.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return r;
+}
+
+TangentObserver::TangentObserver(const Dynamics& dyn, int count, long start_period)
+    : m_dyn(dyn), m_accumulator(dyn.dimension(), count), m_start_period(start_period),
+      m_scale(dyn.max_angular_frequency()), m_closed(dyn.gaps()), m_term(dyn.dimension()),
+      m_next(dyn.dimension()), m_sum(dyn.dimension()), m_dv(dyn.bodies()) {}
+
+void TangentObserver::apply_jacobian(const double* x, double* out) const {
+    // Scaled coordinates x = (du, dv / w): J' = [[0, w I], [A_u / w, A_v]].
+    const int n = m_dyn.bodies();
+    const double w = m_scale;
+    for (int i = 0; i < n; ++i) {
+        out[i] = w * x[n + i];
+        m_dv[i] = w * x[n + i];
+    }
+    m_dyn.tangent_acceleration(m_closed, x, m_dv.data(), out + n);
+    for (int i = 0; i < n; ++i)
+        out[n + i] /= w;
+}
+
+void TangentObserver::on_step(const StepView& step) {
+    if (!m_healthy) return;
+    const int dim = m_dyn.dimension();
+    for (int j = 0; j < m_dyn.gaps(); ++j)
+        m_closed[j] = m_dyn.gap(j, step.y0) + m_dyn.gap(j, step.y1) > 0.0 ? 1 : 0;
+    const double h = step.t1 - step.t0;
+    std::vector<double>& q = m_accumulator.basis();
+    for (int c = 0; c < m_accumulator.count(); ++c) {
+        double* col = &q[static_cast<std::size_t>(c) * dim];
+        std::copy(col, col + dim, m_term.begin());
+        std::copy(col, col + dim, m_sum.begin());
+        // exp(h J') x by its Taylor series, to round-off.
+        for (int k = 1; k <= 60; ++k) {
+            apply_jacobian(m_term.data(), m_next.data());
+            double term_norm = 0.0, sum_norm = 0.0;
+            for (int i = 0; i < dim; ++i) {
+                m_term[i] = m_next[i] * h / k;
+                m_sum[i] += m_term[i];
+                term_norm = std::max(term_norm, std::abs(m_term[i]));
+                sum_norm = std::max(sum_norm, std::abs(m_sum[i]));
+            }
+            if (term_norm <= 1e-17 * sum_norm) break;
+        }
+        std::copy(m_sum.begin(), m_sum.end(), col);
+    }
+}
+
+bool TangentObserver::on_period(long n, double t, const double*) {
+    if (!m_healthy) return false;
+    if (!m_accumulator.orthonormalize(t, n > m_start_period)) m_healthy = false;
+    if (n == m_start_period) m_accumulator.start(t);
+    return false;
+}
+
+LyapunovResult chain_lyapunov(const Dynamics& dyn, const RunOptions& options, int count,
+                              const std::vector<double>& initial,
+                              const ProgressCallback& progress) {
+    const auto start = std::chrono::steady_clock::now();
+    validate(options);
+    detail::require_range("--count", count, 1, dyn.dimension());
+    const StepPlan plan = plan_step(dyn, options.scheme, options.tolerance, options.step);
+    auto stepper = make_stepper(plan.scheme, dyn);
+    TangentObserver tangent(dyn, count, options.transient_periods);
+    Observer* observers[] = {&tangent};
+    std::vector<double> y = initial.empty() ? std::vector<double>(dyn.dimension(), 0.0) : initial;
+    detail::require_length("initial state", y.size(), static_cast<std::size_t>(dyn.dimension()));
+    const RunOutcome outcome =
+        run(dyn, *stepper, plan, {options.periods, options.transient_periods, 0.0}, y, observers,
+            progress);
+    LyapunovResult r = tangent.result();
+    r.status = outcome.status;
+    r.message = outcome.message;
+    if (!tangent.healthy() && r.status == RunStatus::completed) {
+        r.status = RunStatus::non_finite;
+        r.message = "the tangent basis became non-finite";
+    }
+    r.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return r;
+}
+
+TimeSeriesExponent largest_exponent_from_series(const std::vector<double>& x, double dt,
+                                                const TimeSeriesOptions& o) {
+    detail::require_range("dt", dt, 0.0, 1e12, detail::Bound::open_low);
+    detail::require_range("embedding", o.embedding, 1, 100);
+    detail::require_range("delay", o.delay, 1, 1'000'000);
+    detail::require_range("min_separation", o.min_separation, 0, 100'000'000);
+    detail::require_range("horizon", o.horizon, 0, 100'000'000);
+    detail::require_range("fit_from", o.fit_from, 0.0, 0.99);
+    detail::require_range("fit_to", o.fit_to, o.fit_from + 1e-9, 1.0);
+    detail::require_range("max_points", o.max_points, 100, 1'000'000);
+    for (double v : x)
+        if (!std::isfinite(v)) throw std::invalid_argument("series: every sample must be finite");
+    const long n = static_cast<long>(x.size());
+    // Mean period from the mean-crossings: the Theiler window keeps neighbours that are merely
+    // the next sample on the same trajectory out of the search.
+    long separation = o.min_separation;
+    if (separation == 0) {
+        const double mean = std::accumulate(x.begin(), x.end(), 0.0) / std::max(1L, n);
+        long crossings = 0;
+        for (long i = 1; i < n; ++i)
+            crossings += (x[i - 1] < mean) != (x[i] < mean);
+        separation = crossings > 1 ? 2 * n / crossings : n / 10;
+    }
+    const long horizon = o.horizon > 0 ? o.horizon : 4 * separation;
+    const long span = static_cast<long>(o.embedding - 1) * o.delay;
+    const long points = n - span - horizon;
+    if (points < 10 * 2 + 2 * separation)
+        throw std::invalid_argument(
+            "series: too short for embedding " + std::to_string(o.embedding) + ", delay " +
+            std::to_string(o.delay) + " and horizon " + std::to_string(horizon) + " (" +
+            std::to_string(n) + " samples)");
+    // Reference points, decimated to bound the O(P^2) neighbour search.
+    const long stride = std::max(1L, points / o.max_points);
+    auto distance2 = [&](long a, long b) {
+        double d = 0.0;
+        for (int k = 0; k < o.embedding; ++k) {
+            const double e = x[a + k * o.delay] - x[b + k * o.delay];
+            d += e * e;
+        }
+        return d;
+    };
+    std::vector<double> sum(horizon + 1, 0.0);
+    std::vector<long> count(horizon + 1, 0);
+    for (long a = 0; a < points; a += stride) {
+        long best = -1;
+        double best_d = std::numeric_limits<double>::infinity();
+        for (long b = 0; b < points; b += stride) {
+            if (std::abs(a - b) <= separation) continue;
+            const double d = distance2(a, b);
+            if (d > 0.0 && d < best_d) {
+                best_d = d;
+                best = b;
+            }
+        }
+        if (best < 0) continue;
+        for (long i = 0; i <= horizon; ++i) {
+            const double d = distance2(a + i, best + i);
+            if (d > 0.0) {
+                sum[i] += 0.5 * std::log(d);
+                ++count[i];
+            }
+        }
+    }
+    TimeSeriesExponent r;
+    r.sample_interval = dt;
+    r.divergence.resize(horizon + 1);
+    for (long i = 0; i <= horizon; ++i)
+        r.divergence[i] = count[i] > 0 ? sum[i] / count[i] : 0.0;
+    // Least-squares slope over the fitted range.
+    const long i0 = static_cast<long>(o.fit_from * horizon);
+    const long i1 = std::max(i0 + 2, static_cast<long>(o.fit_to * horizon));
+    double st = 0, sy = 0, stt = 0, sty = 0;
+    const double m = static_cast<double>(i1 - i0 + 1);
+    for (long i = i0; i <= i1; ++i) {
+        const double t = i * dt, y = r.divergence[i];
+        st += t, sy += y, stt += t * t, sty += t * y;
+    }
+    const double denom = m * stt - st * st;
+    r.lambda = (m * sty - st * sy) / denom;
+    const double intercept = (sy - r.lambda * st) / m;
+    double sse = 0.0;
+    for (long i = i0; i <= i1; ++i) {
+        const double e = r.divergence[i] - intercept - r.lambda * i * dt;
+        sse += e * e;
+    }
+    r.error = std::sqrt(sse / std::max(1.0, m - 2) * m / denom);
+    return r;
+}
+
+} // namespace gapchain

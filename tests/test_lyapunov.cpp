@@ -1,0 +1,88 @@
+#include "gapchain/lyapunov.hpp"
+#include "gapchain/signal.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <numbers>
+
+using namespace gapchain;
+using std::numbers::pi;
+
+namespace {
+struct Lorenz final : TangentSystem {
+    int dimension() const override { return 3; }
+    void rhs(double, const double* y, double* f) const override {
+        f[0] = 10 * (y[1] - y[0]);
+        f[1] = y[0] * (28 - y[2]) - y[1];
+        f[2] = y[0] * y[1] - 8.0 / 3.0 * y[2];
+    }
+    void jacobian(double, const double* y, double* j) const override {
+        const double m[9] = {-10, 10, 0, 28 - y[2], -1, -y[0], y[1], y[0], -8.0 / 3.0};
+        for (int i = 0; i < 9; ++i)
+            j[i] = m[i];
+    }
+};
+const ReducedParameters fig13_chaotic{5, 60, 0.5, 0.06, 3.3};
+} // namespace
+
+TEST_CASE("Lorenz 63: (0.9056, 0, -14.5723) within 1 %") {
+    LyapunovOptions o;
+    o.step = 0.005;
+    o.transient = 50;
+    o.duration = 1000;
+    const LyapunovResult r = lyapunov_spectrum(Lorenz{}, {1, 1, 1}, o);
+    CHECK(r.exponents[0] == doctest::Approx(0.9056).epsilon(0.01));
+    CHECK(std::abs(r.exponents[1]) < 0.01);
+    CHECK(r.exponents[2] == doctest::Approx(-14.5723).epsilon(0.01));
+    CHECK(r.sum == doctest::Approx(-(10 + 1 + 8.0 / 3.0)).epsilon(1e-3)); // trace
+}
+
+TEST_CASE("chaotic row: exponents sum to -4 pi eps Nm and pair up about -2 pi eps") {
+    const Dynamics dyn(Chain::homogeneous(fig13_chaotic), {fig13_chaotic.f_r, 1.0});
+    RunOptions o;
+    o.periods = 700;
+    o.transient_periods = 100;
+    const LyapunovResult r = chain_lyapunov(dyn, o, 10);
+    const double eps = fig13_chaotic.eps;
+    CHECK(r.exponents[0] > 0.3); // chaotic
+    CHECK(r.exponents[0] > 5 * r.errors[0]);
+    CHECK(r.sum == doctest::Approx(-4 * pi * eps * 5).epsilon(1e-6));
+    // With damping proportional to mass the tangent flow is e^{-2 pi eps t} times a symplectic
+    // one, so the spectrum is symmetric about -2 pi eps.
+    for (int k = 0; k < 5; ++k)
+        CHECK(r.exponents[k] + r.exponents[9 - k] == doctest::Approx(-4 * pi * eps).epsilon(1e-6));
+}
+
+TEST_CASE("no contact: every exponent is -2 pi eps") {
+    const ReducedParameters p{3, 60, 0.3, 100.0, 1.3};
+    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+    RunOptions o;
+    o.periods = 3000;
+    o.transient_periods = 10;
+    const LyapunovResult r = chain_lyapunov(dyn, o, 6);
+    for (double l : r.exponents)
+        CHECK(l == doctest::Approx(-2 * pi * p.eps).epsilon(2e-3));
+    CHECK(r.sum == doctest::Approx(-4 * pi * p.eps * 3).epsilon(1e-9));
+}
+
+TEST_CASE("the time-series estimate is within 10 % of the tangent-space exponent") {
+    const Dynamics dyn(Chain::homogeneous(fig13_chaotic), {fig13_chaotic.f_r, 1.0});
+    RunOptions o;
+    o.periods = 4200;
+    o.transient_periods = 200;
+    const LyapunovResult tangent = chain_lyapunov(dyn, o, 1);
+    RunOutcome outcome;
+    // u_1 four times per period (delay one quarter period), embedding 4, 15-period horizon.
+    const Signal u1 = record_signal(dyn, o, SectionVariable{}, 4, outcome);
+    TimeSeriesOptions ts;
+    ts.embedding = 4;
+    ts.delay = 1;
+    ts.horizon = 60;
+    ts.min_separation = 8;
+    ts.max_points = 6000;
+    const TimeSeriesExponent r = largest_exponent_from_series(u1.values, 1.0 / u1.sample_rate, ts);
+    MESSAGE("time series " << r.lambda << " +- " << r.error << ", tangent "
+                           << tangent.exponents[0]);
+    CHECK(r.lambda == doctest::Approx(tangent.exponents[0]).epsilon(0.10));
+}

@@ -1,0 +1,98 @@
+#include "gapchain/spectrum.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <stdexcept>
+
+using namespace gapchain;
+using std::numbers::pi;
+
+TEST_CASE("Parseval: one rectangular segment integrates to the mean square exactly") {
+    std::mt19937 gen(7);
+    std::normal_distribution<double> noise(0.0, 1.3);
+    std::vector<double> x(1024);
+    for (auto& v : x)
+        v = noise(gen);
+    double mean = 0.0;
+    for (double v : x)
+        mean += v;
+    mean /= x.size();
+    double ms = 0.0;
+    for (double v : x)
+        ms += (v - mean) * (v - mean);
+    ms /= x.size();
+    PsdOptions o;
+    o.sample_rate = 20.0;
+    o.segment_length = 1024;
+    o.window = Window::rectangular;
+    const Psd psd = welch_psd(x, o);
+    double integral = 0.0;
+    for (double d : psd.density)
+        integral += d * psd.df;
+    CHECK(psd.segments == 1);
+    CHECK(integral == doctest::Approx(ms).epsilon(1e-12));
+}
+
+TEST_CASE("Parseval holds on average for Welch with a Hann window") {
+    std::mt19937 gen(11);
+    std::normal_distribution<double> noise(0.0, 2.0);
+    std::vector<double> x(1 << 16);
+    for (auto& v : x)
+        v = noise(gen);
+    PsdOptions o;
+    o.sample_rate = 1.0;
+    o.segment_length = 1024;
+    const Psd psd = welch_psd(x, o);
+    double integral = 0.0;
+    for (double d : psd.density)
+        integral += d * psd.df;
+    CHECK(psd.segments == 127);
+    CHECK(integral == doctest::Approx(4.0).epsilon(0.03));
+}
+
+TEST_CASE("a pure sine's peak lands on its frequency and is labelled") {
+    const double fs = 64.0, f_r = 2.5;
+    std::vector<double> x(8192);
+    for (std::size_t i = 0; i < x.size(); ++i)
+        x[i] = 0.7 * std::sin(2 * pi * f_r * i / fs) +
+               0.2 * std::sin(2 * pi * 0.5 * f_r * i / fs + 1.0);
+    PsdOptions o;
+    o.sample_rate = fs;
+    o.segment_length = 2048;
+    const Psd psd = welch_psd(x, o);
+    const SpectralContent c = spectral_content(psd, f_r);
+    REQUIRE(c.peaks.size() >= 2);
+    CHECK(c.peaks[0].frequency == doctest::Approx(f_r).epsilon(1e-9));
+    CHECK(c.peaks[0].label() == "1 f_r");
+    CHECK(c.peaks[1].frequency == doctest::Approx(0.5 * f_r).epsilon(1e-9));
+    CHECK(c.peaks[1].label() == "1/2 f_r");
+    // Power of a sine of amplitude A is A^2 / 2.
+    CHECK(c.peaks[0].power == doctest::Approx(0.7 * 0.7 / 2).epsilon(0.01));
+    CHECK(c.broadband_share < 1e-3);
+}
+
+TEST_CASE("white noise is broadband") {
+    std::mt19937 gen(3);
+    std::normal_distribution<double> noise(0.0, 1.0);
+    std::vector<double> x(1 << 15);
+    for (auto& v : x)
+        v = noise(gen);
+    PsdOptions o;
+    o.sample_rate = 32.0;
+    o.segment_length = 4096;
+    const SpectralContent c = spectral_content(welch_psd(x, o), 1.0);
+    CHECK(c.broadband_share > 0.5);
+}
+
+TEST_CASE("bad input is refused") {
+    PsdOptions o;
+    o.segment_length = 64;
+    CHECK_THROWS_AS(welch_psd(std::vector<double>(10, 1.0), o), std::invalid_argument);
+    std::vector<double> x(128, 0.0);
+    x[5] = NAN;
+    CHECK_THROWS_AS(welch_psd(x, o), std::invalid_argument);
+    CHECK_THROWS_AS(parse_window("kaiser"), std::invalid_argument);
+}

@@ -19,7 +19,7 @@ std::vector<SectionPoint> take_section(const Dynamics& dyn, const SectionSpec& s
     StepPlan plan = plan_step(dyn, Scheme::rk4, tolerance);
     plan.steps_per_period = static_cast<int>(std::ceil(plan.steps_per_period * step_scale));
     plan.step = dyn.period() / plan.steps_per_period;
-    auto stepper = make_stepper(plan.scheme, dyn);
+    auto stepper = make_stepper(plan, dyn);
     std::vector<SectionPoint> points;
     PoincareSampler sampler(dyn, spec, [&](const SectionPoint& p) { points.push_back(p); });
     Observer* obs[] = {&sampler};

@@ -3,9 +3,12 @@
 
 #include <doctest/doctest.h>
 
+#include "gapchain/simulation.hpp"
+
 #include <cmath>
 #include <stdexcept>
 #include <string>
+#include <iostream>
 
 using namespace gapchain;
 
@@ -64,4 +67,64 @@ TEST_CASE("the planned step fits the forcing period and tightens with the tolera
     CHECK(tight.step * dyn.max_angular_frequency() < traits(Scheme::rk4).stability_limit);
     CHECK(plan_step(dyn, Scheme::automatic, 1e-4).scheme == Scheme::rk4);
     CHECK_THROWS_AS(parse_scheme("euler"), std::invalid_argument);
+}
+
+namespace {
+SimulationResult run_with(const ReducedParameters& p, Scheme s, double tolerance, long periods) {
+    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+    RunOptions o;
+    o.scheme = s;
+    o.tolerance = tolerance;
+    o.periods = periods;
+    o.estimate_error = false;
+    return simulate(dyn, o);
+}
+} // namespace
+
+TEST_CASE("exact agrees with rk8pd at tolerance 1e-10 to better than 1e-8 in F_m") {
+    const ReducedParameters scenes[] = {{5, 100, 0.5, 0.5, 1.0},   // smooth
+                                        {20, 2000, 0.5, 0.24, 1.0}, // stiff
+                                        {3, 500, 0.05, 1.0, 1.0}};  // low damping
+    for (const auto& p : scenes) {
+        const SimulationResult exact = run_with(p, Scheme::exact, 1e-10, 300);
+        const SimulationResult rk8pd = run_with(p, Scheme::rk8pd, 1e-10, 300);
+        CAPTURE(p.Nm);
+        REQUIRE(exact.steady_state_period.has_value());
+        CHECK(std::abs(exact.F_m - rk8pd.F_m) < 1e-8 * exact.F_m);
+        for (std::size_t i = 0; i < exact.final_state.size(); ++i)
+            CHECK(exact.final_state[i] == doctest::Approx(rk8pd.final_state[i]).epsilon(1e-8).scale(1));
+    }
+}
+
+TEST_CASE("extreme cases: finite, and two schemes agree to the requested tolerance") {
+    struct Case {
+        const char* name;
+        ReducedParameters p;
+        long periods;
+        Scheme a, b;
+        double tolerance;
+    };
+    const Case cases[] = {
+        {"fc = 1e6 (stiff contact)", {3, 1e6, 0.5, 0.3, 1.0}, 6, Scheme::rk4, Scheme::exact, 1e-6},
+        {"eps = 1e-3 (nearly undamped; chaotic, so 3 periods)", {3, 100, 1e-3, 0.5, 1.0}, 3, Scheme::rk4, Scheme::exact, 1e-6},
+        {"eps = 2 (overdamped)", {3, 100, 2.0, 0.05, 1.0}, 20, Scheme::rk4, Scheme::exact, 1e-6},
+        {"e_r = 0 (touching at rest)", {4, 100, 0.5, 0.0, 1.0}, 20, Scheme::rk4, Scheme::exact, 1e-6},
+        {"Nm = 1", {1, 100, 0.5, 0.5, 1.0}, 20, Scheme::rk4, Scheme::exact, 1e-6},
+        {"Nm = 1000", {1000, 100, 0.5, 0.5, 1.0}, 3, Scheme::rk4, Scheme::rkf45, 1e-5},
+        {"f_r = 0.01 (quasi-static)", {3, 100, 0.5, 0.5, 0.01}, 2, Scheme::rk4, Scheme::exact, 1e-6},
+        {"f_r = 20 (far above resonance)", {3, 100, 0.5, 0.001, 20.0}, 40, Scheme::rk4, Scheme::exact, 1e-6},
+    };
+    for (const Case& c : cases) {
+        const std::string name = c.name;
+        CAPTURE(name);
+        const SimulationResult a = run_with(c.p, c.a, c.tolerance, c.periods);
+        const SimulationResult b = run_with(c.p, c.b, c.tolerance, c.periods);
+        REQUIRE(a.status != RunStatus::non_finite);
+        REQUIRE(b.status != RunStatus::non_finite);
+        CHECK(std::isfinite(a.F_m));
+        CHECK(a.contact);
+        MESSAGE(name << ": " << a.F_m << " vs " << b.F_m << " rel " << std::abs(a.F_m - b.F_m) / b.F_m
+                      << " periods " << a.periods_simulated << "/" << b.periods_simulated);
+        CHECK(std::abs(a.F_m - b.F_m) <= c.tolerance * b.F_m);
+    }
 }

@@ -76,7 +76,7 @@ BifurcationRow diagram_row(const ReducedParameters& p, const BifurcationOptions&
                            std::vector<double>& y, SweepDirection direction, double value) {
     const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
     const StepPlan plan = plan_step(dyn, o.scheme, o.tolerance);
-    auto stepper = make_stepper(plan.scheme, dyn);
+    auto stepper = make_stepper(plan, dyn);
     BifurcationRow row;
     row.value = value;
     row.direction = direction;

@@ -71,7 +71,7 @@ Classification classify(const ReducedParameters& p, const ClassifyOptions& o) {
     run_options.scheme = o.scheme;
     run_options.tolerance = o.tolerance;
     const StepPlan plan = plan_for_sampling(dyn, run_options, o.samples_per_period);
-    auto stepper = make_stepper(plan.scheme, dyn);
+    auto stepper = make_stepper(plan, dyn);
 
     // Phase 1, settling: up to transient_periods, stopped as soon as a periodic steady state
     // is found. The tangent vector rides along; for a periodic point its average over this

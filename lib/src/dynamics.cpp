@@ -123,6 +123,18 @@ void Dynamics::tangent_acceleration(const std::vector<char>& closed, const doubl
     }
 }
 
+void Dynamics::affine_acceleration(const std::vector<char>& closed, double ground, const double* u,
+                                   const double* v, double* a) const {
+    const int n = m_n;
+    double p_left = closed[0] ? gap(0, u) : 0.0;
+    for (int i = 0; i < n; ++i) {
+        const double p_right = closed[i + 1] ? gap(i + 1, u) : 0.0;
+        a[i] = ground - m_chain.spring[i] * u[i] - m_chain.damping[i] * v[i] +
+               m_contact_over_mass_left[i] * p_left - m_contact_over_mass_right[i] * p_right;
+        p_left = p_right;
+    }
+}
+
 void Dynamics::jacobian(const double* y, std::vector<double>& jac) const {
     const int n = m_n;
     const int dim = 2 * n;

@@ -231,7 +231,7 @@ LyapunovResult chain_lyapunov(const Dynamics& dyn, const RunOptions& options, in
     validate(options);
     detail::require_range("--count", count, 1, dyn.dimension());
     const StepPlan plan = plan_step(dyn, options.scheme, options.tolerance, options.step);
-    auto stepper = make_stepper(plan.scheme, dyn);
+    auto stepper = make_stepper(plan, dyn);
     TangentObserver tangent(dyn, count, options.transient_periods);
     Observer* observers[] = {&tangent};
     std::vector<double> y = initial.empty() ? std::vector<double>(dyn.dimension(), 0.0) : initial;

@@ -10,7 +10,8 @@
 namespace gapchain {
 
 MaxForceTracker::MaxForceTracker(const Dynamics& dyn)
-    : m_dyn(dyn), m_max(dyn.gaps()), m_gap(dyn.gaps()), m_rate(dyn.gaps()) {}
+    : m_dyn(dyn), m_max(dyn.gaps()), m_gap(dyn.gaps()), m_rate(dyn.gaps()),
+      m_scratch(dyn.dimension()) {}
 
 void MaxForceTracker::on_step(const StepView& step) {
     const int n = m_dyn.bodies();
@@ -46,8 +47,26 @@ void MaxForceTracker::on_step(const StepView& step) {
             }
             const detail::QuinticHermite g(g0, r0, m_dyn.gap_acceleration(j, ground0, step.y0), g1,
                                            r1, m_dyn.gap_acceleration(j, ground1, step.y1), h);
-            const double tau = g.stationary_point(0.0, h);
-            const double inner = g.value(tau);
+            double tau = g.stationary_point(0.0, h);
+            double inner = g.value(tau);
+            // A scheme with dense output (exact) gives the peak to round-off: Newton on the
+            // gap rate, started from the interpolant's peak.
+            if (step.stepper != nullptr &&
+                step.stepper->dense_state(step.t0 + tau, m_scratch.data())) {
+                for (int it = 0; it < 6; ++it) {
+                    const double t = step.t0 + tau;
+                    step.stepper->dense_state(t, m_scratch.data());
+                    const double rate = m_dyn.gap_rate(j, m_scratch.data() + n);
+                    const double acc =
+                        m_dyn.gap_acceleration(j, m_dyn.ground(t), m_scratch.data());
+                    if (acc >= 0.0) break;
+                    const double dt = -rate / acc;
+                    tau = std::clamp(tau + dt, 0.0, h);
+                    if (std::abs(dt) <= 1e-14 * (1.0 + std::abs(t))) break;
+                }
+                step.stepper->dense_state(step.t0 + tau, m_scratch.data());
+                inner = m_dyn.gap(j, m_scratch.data());
+            }
             if (inner > peak) {
                 peak = inner;
                 peak_t = step.t0 + tau;

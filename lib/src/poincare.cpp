@@ -114,12 +114,23 @@ PoincareSampler::PoincareSampler(const Dynamics& dyn, SectionSpec spec, SectionS
     m_point.values.resize(m_spec.record.size());
 }
 
+PoincareSampler::~PoincareSampler() = default;
+
 void PoincareSampler::emit(double t, const double* y) {
     m_point.t = t;
     for (std::size_t k = 0; k < m_spec.record.size(); ++k)
         m_point.values[k] = m_spec.record[k].value(m_dyn, t, y);
     ++m_count;
     m_sink(m_point);
+}
+
+void PoincareSampler::state_at(const StepView& step, double t) {
+    // The stepper's own dense output where it has one (exact), else the quintic interpolant,
+    // built once per step.
+    if (step.stepper != nullptr && step.stepper->dense_state(t, m_state.data())) return;
+    if (!m_interpolant || m_interpolant->start() != step.t0)
+        m_interpolant = std::make_unique<detail::StepInterpolant>(m_dyn, step);
+    m_interpolant->state(t, m_state.data());
 }
 
 double PoincareSampler::trigger_value(const double* y) const {
@@ -140,8 +151,7 @@ void PoincareSampler::on_step(const StepView& step) {
             if (std::abs(ts - step.t1) <= tol) {
                 emit(ts, step.y1);
             } else {
-                const detail::StepInterpolant dense(m_dyn, step);
-                dense.state(ts, m_state.data());
+                state_at(step, ts);
                 emit(ts, m_state.data());
             }
         }
@@ -156,11 +166,10 @@ void PoincareSampler::on_step(const StepView& step) {
     if (!wanted) return;
     // The trigger is a linear combination of state components, so its interpolant is the
     // same combination of theirs; root-find on it by bisection to full precision.
-    const detail::StepInterpolant dense(m_dyn, step);
     double lo = step.t0, hi = step.t1;
     for (int it = 0; it < 80 && hi - lo > 1e-15 * (1.0 + std::abs(hi)); ++it) {
         const double mid = 0.5 * (lo + hi);
-        dense.state(mid, m_state.data());
+        state_at(step, mid);
         const double s = trigger_value(m_state.data());
         if ((s < 0.0) == (s0 < 0.0))
             lo = mid;
@@ -168,7 +177,7 @@ void PoincareSampler::on_step(const StepView& step) {
             hi = mid;
     }
     const double tc = 0.5 * (lo + hi);
-    dense.state(tc, m_state.data());
+    state_at(step, tc);
     emit(tc, m_state.data());
 }
 
@@ -177,7 +186,7 @@ RunOutcome take_section(const Dynamics& dyn, const RunOptions& options, const Se
                         const ProgressCallback& progress) {
     validate(options);
     const StepPlan plan = plan_step(dyn, options.scheme, options.tolerance, options.step);
-    auto stepper = make_stepper(plan.scheme, dyn);
+    auto stepper = make_stepper(plan, dyn);
     PoincareSampler sampler(dyn, spec, sink);
     Observer* observers[] = {&sampler};
     std::vector<double> y = initial.empty() ? std::vector<double>(dyn.dimension(), 0.0) : initial;

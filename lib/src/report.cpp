@@ -233,4 +233,15 @@ std::string psd_csv(const Psd& psd, double f_r) {
     return os.str();
 }
 
+std::string work_precision_csv(const WorkPrecision& study) {
+    std::ostringstream os;
+    os.precision(10);
+    os << "scheme,tolerance,step,F_m,F_m_error,final_error,l2_error,seconds,evaluations\n";
+    for (const auto& p : study.points)
+        os << to_string(p.scheme) << (p.split ? "" : "-nosplit") << ',' << p.tolerance << ','
+           << p.step << ',' << p.F_m << ',' << p.F_m_error << ',' << p.final_error << ','
+           << p.l2_error << ',' << p.wall_time_s << ',' << p.evaluations << '\n';
+    return os.str();
+}
+
 } // namespace gapchain

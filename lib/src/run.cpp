@@ -32,15 +32,21 @@ int first_non_finite_body(const std::vector<double>& y, int n) {
     return -1;
 }
 
+/// A contact switch inside a step: when, and which contact.
+struct Switch {
+    double t;
+    int gap;
+};
+
 /// Earliest time in (t0 + margin, t1 - margin) at which a contact opens or closes during the
-/// step y0 -> y1, located on the quintic Hermite interpolant of its gap; t1 if none.
+/// step y0 -> y1, located on the quintic Hermite interpolant of its gap ({t1, -1} if none).
 /// gaps0 holds the gaps at y0; gaps1 receives those at y1.
-double first_switch(const Dynamics& dyn, double t0, double t1, const double* y0, const double* y1,
+Switch first_switch(const Dynamics& dyn, double t0, double t1, const double* y0, const double* y1,
                     const std::vector<double>& gaps0, std::vector<double>& gaps1) {
     const int n = dyn.bodies();
     const double h = t1 - t0;
     const double margin = 1e-9 * h;
-    double first = t1;
+    Switch first{t1, -1};
     double ground0 = 0.0, ground1 = 0.0;
     bool have_ground = false;
     for (int j = 0; j < dyn.gaps(); ++j) {
@@ -52,13 +58,32 @@ double first_switch(const Dynamics& dyn, double t0, double t1, const double* y0,
             ground1 = dyn.ground(t1);
             have_ground = true;
         }
-        const detail::QuinticHermite g(
-            g0, dyn.gap_rate(j, y0 + n), dyn.gap_acceleration(j, ground0, y0), g1,
-            dyn.gap_rate(j, y1 + n), dyn.gap_acceleration(j, ground1, y1), h);
+        const detail::QuinticHermite g(g0, dyn.gap_rate(j, y0 + n),
+                                       dyn.gap_acceleration(j, ground0, y0), g1,
+                                       dyn.gap_rate(j, y1 + n),
+                                       dyn.gap_acceleration(j, ground1, y1), h);
         const double t = t0 + g.crossing(0.0, 0.0, h);
-        if (t > t0 + margin && t < t1 - margin) first = std::min(first, t);
+        if (t > t0 + margin && t < t1 - margin && t < first.t) first = {t, j};
     }
     return first;
+}
+
+/// Newton iterations on the stepper's dense output of the step just taken, for schemes that
+/// have one (exact): the switch time to round-off instead of the interpolant's accuracy.
+double refine_switch(const Dynamics& dyn, const Stepper& stepper, Switch s, double t0, double t1,
+                     std::vector<double>& scratch) {
+    const int n = dyn.bodies();
+    const double margin = 1e-9 * (t1 - t0);
+    double t = s.t;
+    for (int it = 0; it < 8; ++it) {
+        if (!stepper.dense_state(t, scratch.data())) return s.t;
+        const double rate = dyn.gap_rate(s.gap, scratch.data() + n);
+        if (rate == 0.0) break;
+        const double dt = -dyn.gap(s.gap, scratch.data()) / rate;
+        t = std::clamp(t + dt, t0 + margin, t1 - margin);
+        if (std::abs(dt) <= 1e-14 * (1.0 + std::abs(t))) break;
+    }
+    return t;
 }
 
 void compute_gaps(const Dynamics& dyn, const double* y, std::vector<double>& gaps) {
@@ -85,7 +110,7 @@ RunOutcome run(const Dynamics& dyn, Stepper& stepper, const StepPlan& plan, cons
     const long report_every = std::max(1L, span.periods / 200);
     std::vector<double> y_prev(y.size());
     // Gaps at the current state, carried from step to step so each is computed once.
-    std::vector<double> gaps(dyn.gaps()), gaps_next(dyn.gaps());
+    std::vector<double> gaps(dyn.gaps()), gaps_next(dyn.gaps()), scratch(y.size());
     compute_gaps(dyn, y.data(), gaps);
     RunOutcome out;
     stepper.reset();
@@ -108,8 +133,10 @@ RunOutcome run(const Dynamics& dyn, Stepper& stepper, const StepPlan& plan, cons
                 std::copy(y.begin(), y.end(), y_prev.begin());
                 stepper.step(t0, t_end - t0, y);
                 double t1 = t_end;
-                if (piece < 2 * dyn.gaps()) {
-                    t1 = first_switch(dyn, t0, t_end, y_prev.data(), y.data(), gaps, gaps_next);
+                if (plan.split_at_switches && piece < 2 * dyn.gaps()) {
+                    const Switch s =
+                        first_switch(dyn, t0, t_end, y_prev.data(), y.data(), gaps, gaps_next);
+                    t1 = s.gap >= 0 ? refine_switch(dyn, stepper, s, t0, t_end, scratch) : t_end;
                     if (t1 < t_end) {
                         std::copy(y_prev.begin(), y_prev.end(), y.begin());
                         stepper.reset();
@@ -121,7 +148,7 @@ RunOutcome run(const Dynamics& dyn, Stepper& stepper, const StepPlan& plan, cons
                     compute_gaps(dyn, y.data(), gaps_next);
                 }
                 gaps.swap(gaps_next);
-                const StepView view{t0, t1, y_prev.data(), y.data(), p, recording};
+                const StepView view{t0, t1, y_prev.data(), y.data(), p, recording, &stepper};
                 for (Observer* o : observers)
                     o->on_step(view);
                 ++out.steps;

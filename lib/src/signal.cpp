@@ -40,7 +40,7 @@ Signal record_signal(const Dynamics& dyn, const RunOptions& options,
                      const std::vector<double>& initial, const ProgressCallback& progress) {
     validate(options);
     const StepPlan plan = plan_for_sampling(dyn, options, samples_per_period);
-    auto stepper = make_stepper(plan.scheme, dyn);
+    auto stepper = make_stepper(plan, dyn);
     Signal signal;
     SignalRecorder recorder(dyn, variable, dyn.period() / samples_per_period, signal);
     Observer* observers[] = {&recorder};

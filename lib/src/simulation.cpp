@@ -34,7 +34,7 @@ struct SingleRun {
 SingleRun run_once(const Dynamics& dyn, const StepPlan& plan, const RunOptions& options,
                    std::vector<double>& y, const TrajectorySink& trajectory, int every,
                    const ProgressCallback& progress) {
-    auto stepper = make_stepper(plan.scheme, dyn);
+    auto stepper = make_stepper(plan, dyn);
     MaxForceTracker forces(dyn);
     std::vector<Observer*> observers{&forces};
     std::optional<SteadyStateDetector> steady;
@@ -118,12 +118,17 @@ SimulationResult simulate(const Dynamics& dyn, const RunOptions& options,
 
     if (options.estimate_error && result.status != RunStatus::non_finite &&
         result.status != RunStatus::cancelled) {
-        // The comparison run at twice the step; if that would break the stability limit,
-        // use half the step instead (the estimate then bounds the coarser run's error).
+        // The comparison run. Fixed-step schemes: twice the step (or half, if twice would
+        // break the stability limit). GSL adaptive schemes: ten times the tolerance. Exact:
+        // half the output interval (its F_m then moves only by round-off and event location).
         StepPlan other = plan;
         const SchemeTraits tr = traits(plan.scheme);
-        if (plan.steps_per_period >= 2 &&
-            2.0 * plan.step * dyn.max_angular_frequency() < 0.9 * tr.stability_limit) {
+        if (plan.scheme == Scheme::rkf45 || plan.scheme == Scheme::rk8pd) {
+            other.tolerance = std::min(0.1, 10.0 * plan.tolerance);
+        } else if (plan.scheme == Scheme::exact) {
+            other.steps_per_period = plan.steps_per_period * 2;
+        } else if (plan.steps_per_period >= 2 &&
+                   2.0 * plan.step * dyn.max_angular_frequency() < 0.9 * tr.stability_limit) {
             other.steps_per_period = plan.steps_per_period / 2;
         } else {
             other.steps_per_period = plan.steps_per_period * 2;
@@ -139,9 +144,12 @@ SimulationResult simulate(const Dynamics& dyn, const RunOptions& options,
             // |F_m - F_m'| / (2^p - 1); we report twice that. Runs that never settle (chaotic,
             // long transients) get the raw difference: there it is not a truncation error.
             const double diff = std::abs(result.F_m - max_force(check.contacts));
-            const double gain = std::ldexp(1.0, traits(plan.scheme).order) - 1.0;
-            const bool periodic = result.steady_state_period && check.period;
-            const double estimate = periodic ? 2.0 * diff / gain : diff;
+            const double gain = std::ldexp(1.0, tr.order) - 1.0;
+            const bool periodic = result.steady_state_period && check.period && !tr.adaptive &&
+                                  other.steps_per_period < plan.steps_per_period;
+            // A finer comparison run (stability fallback) differs by (1 - 2^-p) of the error.
+            const bool finer = !tr.adaptive && other.steps_per_period > plan.steps_per_period;
+            const double estimate = periodic ? 2.0 * diff / gain : (finer ? 2.0 * diff : diff);
             // Round-off floor: F_m is never known better than a few ulps of itself.
             result.F_m_error = std::max(estimate, 1e-14 * result.F_m);
         }

@@ -1,8 +1,11 @@
 #include "gapchain/stepper.hpp"
 
 #include "detail/check.hpp"
+#include "detail/steppers.hpp"
 
 #include <algorithm>
+#include <limits>
+#include <numbers>
 #include <cmath>
 #include <stdexcept>
 
@@ -12,39 +15,48 @@ Scheme parse_scheme(std::string_view name) {
     if (name == "auto") return Scheme::automatic;
     if (name == "central_difference") return Scheme::central_difference;
     if (name == "rk4") return Scheme::rk4;
-    throw std::invalid_argument("run.scheme: must be one of auto, central_difference, rk4, got \"" +
-                                std::string(name) + "\"");
+    if (name == "rkf45") return Scheme::rkf45;
+    if (name == "rk8pd") return Scheme::rk8pd;
+    if (name == "exact") return Scheme::exact;
+    throw std::invalid_argument(
+        "run.scheme: must be one of auto, central_difference, rk4, rkf45, rk8pd, exact, got \"" +
+        std::string(name) + "\"");
 }
 
 std::string_view to_string(Scheme scheme) {
     switch (scheme) {
-    case Scheme::automatic:
-        return "auto";
-    case Scheme::central_difference:
-        return "central_difference";
-    case Scheme::rk4:
-        return "rk4";
+    case Scheme::automatic: return "auto";
+    case Scheme::central_difference: return "central_difference";
+    case Scheme::rk4: return "rk4";
+    case Scheme::rkf45: return "rkf45";
+    case Scheme::rk8pd: return "rk8pd";
+    case Scheme::exact: return "exact";
     }
     return "?";
 }
 
 SchemeTraits traits(Scheme scheme) {
+    constexpr double unbounded = std::numeric_limits<double>::infinity();
     switch (scheme) {
-    case Scheme::central_difference:
-        return {2, 2.0, 1};
-    case Scheme::rk4:
-        return {4, 2.78, 4};
-    case Scheme::automatic:
-        break;
+    case Scheme::central_difference: return {2, 2.0, 1, false};
+    case Scheme::rk4: return {4, 2.78, 4, false};
+    case Scheme::rkf45: return {4, unbounded, 6, true};
+    case Scheme::rk8pd: return {8, unbounded, 13, true};
+    case Scheme::exact: return {0, unbounded, 1, true};
+    case Scheme::automatic: break;
     }
     throw std::invalid_argument("traits: the scheme must be concrete, got auto");
 }
 
-Scheme choose_scheme(double tolerance) {
+Scheme choose_scheme(double tolerance, int bodies) {
     detail::require_range("run.tolerance", tolerance, 0.0, 1.0, detail::Bound::open_low);
-    // Measured in docs/performance.md: at equal F_m error rk4 beats central_difference at every
-    // tolerance below 1e-2 (its 4 evaluations per step buy a much larger step).
-    return tolerance >= 1e-2 ? Scheme::central_difference : Scheme::rk4;
+    // From the work-precision study of docs/accuracy.md: at equal F_m error, rk4 beats the
+    // central difference below 1e-2 (its 4 evaluations buy a much larger step), and the exact
+    // propagator beats rk4 from 1e-7 down on rows up to 20 bodies (its O(Nm^2) step cost and
+    // per-configuration set-up lose on longer rows).
+    if (tolerance >= 1e-2) return Scheme::central_difference;
+    if (tolerance <= 1e-7 && bodies <= 20) return Scheme::exact;
+    return Scheme::rk4;
 }
 
 namespace {
@@ -137,29 +149,36 @@ private:
 /// Largest h * omega_max that meets a relative tolerance. Calibrated on the smooth and stiff
 /// scenes of docs/performance.md, where the relative F_m error measured C (h omega)^p with
 /// C = 0.062 (central difference, p = 2) and C = 7.4e-4 (rk4, p = 4, switch-aligned steps);
-/// the constants below keep a factor 2 in hand.
+/// the constants below keep a factor 2 in hand (rk4: 5, lowered to 4 after the nearly
+/// undamped extreme case, eps = 1e-3, needed it).
 double accuracy_limit(Scheme scheme, double tolerance) {
     switch (scheme) {
-    case Scheme::central_difference:
-        return 2.8 * std::sqrt(tolerance);
-    case Scheme::rk4:
-        return std::min(0.7, 5.0 * std::pow(tolerance, 0.25));
-    case Scheme::automatic:
-        break;
+    case Scheme::central_difference: return 2.8 * std::sqrt(tolerance);
+    case Scheme::rk4: return std::min(0.7, 4.0 * std::pow(tolerance, 0.25));
+    // Adaptive schemes control their own error; the output interval only has to keep the
+    // quintic Hermite interpolation between outputs (peaks, switches) within the tolerance:
+    // its error is about (h omega)^6 / 720.
+    case Scheme::rkf45:
+    case Scheme::rk8pd: return std::min(0.4, 3.0 * std::pow(tolerance, 1.0 / 6.0));
+    // Exact between switches, with exact dense output for peaks and switches: the interval
+    // only has to stay below the shortest contact half-period (pi / omega), so that no
+    // contact can open and close unseen within one interval.
+    case Scheme::exact: return 0.5 * std::numbers::pi;
+    case Scheme::automatic: break;
     }
     return 0.0;
 }
 
 } // namespace
 
-std::unique_ptr<Stepper> make_stepper(Scheme scheme, const Dynamics& dyn) {
-    switch (scheme) {
-    case Scheme::central_difference:
-        return std::make_unique<CentralDifference>(dyn);
-    case Scheme::rk4:
-        return std::make_unique<RungeKutta4>(dyn);
-    case Scheme::automatic:
-        break;
+std::unique_ptr<Stepper> make_stepper(const StepPlan& plan, const Dynamics& dyn) {
+    switch (plan.scheme) {
+    case Scheme::central_difference: return std::make_unique<CentralDifference>(dyn);
+    case Scheme::rk4: return std::make_unique<RungeKutta4>(dyn);
+    case Scheme::rkf45: return detail::make_gsl_stepper(dyn, false, plan.tolerance);
+    case Scheme::rk8pd: return detail::make_gsl_stepper(dyn, true, plan.tolerance);
+    case Scheme::exact: return detail::make_exact_propagator(dyn);
+    case Scheme::automatic: break;
     }
     throw std::invalid_argument("make_stepper: the scheme must be concrete, got auto");
 }
@@ -167,15 +186,16 @@ std::unique_ptr<Stepper> make_stepper(Scheme scheme, const Dynamics& dyn) {
 StepPlan plan_step(const Dynamics& dyn, Scheme scheme, double tolerance,
                    std::optional<double> user_step) {
     detail::require_range("run.tolerance", tolerance, 1e-12, 0.1);
-    if (scheme == Scheme::automatic) scheme = choose_scheme(tolerance);
+    if (scheme == Scheme::automatic) scheme = choose_scheme(tolerance, dyn.bodies());
     const SchemeTraits tr = traits(scheme);
-    const double omega = dyn.max_angular_frequency();
+    // The fastest of the contact oscillations and the forcing sets the step's accuracy.
     const double period = dyn.period();
+    const double omega = std::max(dyn.max_angular_frequency(), 2.0 * std::numbers::pi / period);
     const double stable = tr.stability_limit / omega;
     double h = 0.0;
     if (user_step) {
         detail::require_range("run.step", *user_step, 0.0, period, detail::Bound::open_low);
-        if (*user_step * omega >= tr.stability_limit)
+        if (!tr.adaptive && *user_step * omega >= tr.stability_limit)
             throw std::invalid_argument("run.step: " + std::string(to_string(scheme)) +
                                         " is unstable for this row above " +
                                         detail::format_number(stable) + " (stability bound " +
@@ -183,16 +203,19 @@ StepPlan plan_step(const Dynamics& dyn, Scheme scheme, double tolerance,
                                         " / omega_max), got " + detail::format_number(*user_step));
         h = *user_step;
     } else {
-        // Resolve the fastest contact oscillation (at least ~16 steps per contact period, so
-        // that no impact falls between two steps) and the forcing (at least 16 per period).
-        const double hw =
-            std::min({accuracy_limit(scheme, tolerance), 0.4, 0.9 * tr.stability_limit});
+        // Fixed-step schemes resolve the fastest contact oscillation (at least ~16 steps per
+        // contact period, so that no impact falls between two steps); every scheme resolves
+        // the forcing (at least 16 steps per period).
+        const double hw = tr.adaptive ? accuracy_limit(scheme, tolerance)
+                                      : std::min({accuracy_limit(scheme, tolerance), 0.4,
+                                                  0.9 * tr.stability_limit});
         h = std::min(hw / omega, period / 16.0);
     }
     StepPlan plan;
     plan.scheme = scheme;
     plan.steps_per_period = static_cast<int>(std::ceil(period / h - 1e-9));
     plan.step = period / plan.steps_per_period;
+    plan.tolerance = tolerance;
     return plan;
 }
 

@@ -85,6 +85,12 @@ public:
     void tangent_acceleration(const std::vector<char>& closed, const double* du, const double* dv,
                               double* dacc) const;
 
+    /// Accelerations as if exactly the contacts with closed[j] != 0 were closed (their force
+    /// linear in the gap, clearance included, even where the gap is negative): the affine
+    /// right-hand side of one contact configuration, given the ground term.
+    void affine_acceleration(const std::vector<char>& closed, double ground, const double* u,
+                             const double* v, double* a) const;
+
     /// Upper bound on the fastest angular frequency [rad / reduced time] (MODEL.md §4).
     [[nodiscard]] double max_angular_frequency() const { return m_omega_max; }
 

@@ -10,11 +10,16 @@
 #include "gapchain/simulation.hpp"
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
 
 namespace gapchain {
+
+namespace detail {
+class StepInterpolant;
+}
 
 /// A quantity read off the state at a section point.
 struct SectionVariable {
@@ -69,6 +74,7 @@ class PoincareSampler final : public Observer {
 public:
     /// dyn must outlive the sampler; spec is validated.
     PoincareSampler(const Dynamics& dyn, SectionSpec spec, SectionSink sink);
+    ~PoincareSampler() override;
     void on_step(const StepView& step) override;
     /// Points emitted so far.
     [[nodiscard]] long count() const { return m_count; }
@@ -76,11 +82,13 @@ public:
 private:
     void emit(double t, const double* y);
     [[nodiscard]] double trigger_value(const double* y) const;
+    void state_at(const StepView& step, double t);
 
     const Dynamics& m_dyn;
     SectionSpec m_spec;
     SectionSink m_sink;
     std::vector<double> m_state;
+    std::unique_ptr<detail::StepInterpolant> m_interpolant; ///< of the current step, if built
     SectionPoint m_point;
     long m_count = 0;
 };

@@ -2,6 +2,7 @@
 /// \file report.hpp
 /// Scene output: result structs -> JSON and CSV, and files that appear whole or not at all.
 
+#include "gapchain/accuracy.hpp"
 #include "gapchain/bifurcation.hpp"
 #include "gapchain/classify.hpp"
 #include "gapchain/lyapunov.hpp"
@@ -76,5 +77,9 @@ std::string map_csv(const RegimeMap& map);
 
 /// A PSD as CSV: f, f_over_f_r, density.
 std::string psd_csv(const Psd& psd, double f_r);
+
+/// A work-precision study as CSV: scheme (with "-nosplit" when steps were not split at
+/// switches), tolerance, step, F_m, F_m_error, final_error, l2_error, seconds, evaluations.
+std::string work_precision_csv(const WorkPrecision& study);
 
 } // namespace gapchain

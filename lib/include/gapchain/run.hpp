@@ -21,6 +21,7 @@ struct StepView {
     const double* y1; ///< state at t1
     long period;      ///< index of the forcing period the step lies in, from 0
     bool recording;   ///< false while the transient is being discarded
+    const Stepper* stepper = nullptr; ///< the stepper, for its dense output over this step
 };
 
 /// Receives the run step by step. Observers are single-threaded; one instance per run.

@@ -16,25 +16,31 @@ namespace gapchain {
 enum class Scheme {
     automatic,          ///< "auto": chosen by choose_scheme()
     central_difference, ///< the paper's explicit scheme, order 2, one force evaluation per step
-    rk4,                ///< classical Runge-Kutta, order 4 (order 3 across contact kinks)
+    rk4,                ///< classical Runge-Kutta, order 4 (steps are split at contact switches)
+    rkf45,              ///< GSL adaptive Runge-Kutta-Fehlberg 4(5) inside each output interval
+    rk8pd,              ///< GSL adaptive Prince-Dormand 8(9) inside each output interval
+    exact,              ///< piecewise-linear propagation: exact between contact switches
 };
 
-/// Parses "auto", "central_difference" or "rk4"; throws std::invalid_argument otherwise.
+/// Parses "auto", "central_difference", "rk4", "rkf45", "rk8pd" or "exact"; throws
+/// std::invalid_argument otherwise.
 Scheme parse_scheme(std::string_view name);
 /// The scene name of a scheme.
 std::string_view to_string(Scheme scheme);
 
 /// Order of accuracy on smooth problems, and the stability limit on h * omega_max.
 struct SchemeTraits {
-    int order;              ///< global order on smooth problems
-    double stability_limit; ///< largest stable h * omega for an undamped oscillator
-    int forces_per_step;    ///< right-hand-side evaluations per step
+    int order;              ///< global order on smooth problems (0: exact between switches)
+    double stability_limit; ///< largest stable h * omega for an undamped oscillator (inf: none)
+    int forces_per_step;    ///< right-hand-side evaluations per step (minimum, adaptive)
+    bool adaptive;          ///< the step is an output interval with internal error control
 };
 /// Traits of a concrete scheme (not `automatic`).
 SchemeTraits traits(Scheme scheme);
 
-/// The scheme `automatic` stands for, at a relative F_m tolerance in (0, 1).
-Scheme choose_scheme(double tolerance);
+/// The scheme `automatic` stands for, at a relative F_m tolerance in (0, 1), for a row of
+/// `bodies` bodies (measured in docs/accuracy.md).
+Scheme choose_scheme(double tolerance, int bodies);
 
 /// Advances a state (u, v) of a Dynamics by one fixed step. Not thread-safe: one per run.
 class Stepper {
@@ -44,25 +50,34 @@ public:
     virtual void step(double t, double h, std::vector<double>& y) = 0;
     /// Forget cached evaluations; call after changing y other than through step().
     virtual void reset() {}
-    /// Right-hand-side evaluations so far.
+    /// Right-hand-side evaluations so far (for exact: matrix-vector propagations).
     [[nodiscard]] long evaluations() const { return m_evaluations; }
+    /// Dense output of the last step taken: the state at reduced time t within it, into y
+    /// (2 Nm entries). Returns false when the scheme has none beyond Hermite interpolation.
+    virtual bool dense_state(double t, double* y) const {
+        (void)t, (void)y;
+        return false;
+    }
 
 protected:
     long m_evaluations = 0;
 };
 
-/// A stepper of a concrete scheme for dyn (which must outlive it).
-std::unique_ptr<Stepper> make_stepper(Scheme scheme, const Dynamics& dyn);
-
 /// The step of a run: an integer number of steps per forcing period, so that every period
 /// boundary is a step point.
 struct StepPlan {
     Scheme scheme = Scheme::rk4; ///< concrete scheme
-    double step = 0.0;           ///< reduced time step, > 0
+    double step = 0.0;           ///< reduced time step (output interval if adaptive), > 0
     int steps_per_period = 0;    ///< forcing period / step, >= 1
+    double tolerance = 1e-4;     ///< relative tolerance (adaptive schemes' error control)
+    bool split_at_switches = true; ///< end steps on contact switches (off only to measure why)
 };
 
-/// Chooses the step for a relative F_m tolerance in [1e-12, 0.1]: the largest step with an
+/// A stepper for plan's scheme for dyn (which must outlive it).
+std::unique_ptr<Stepper> make_stepper(const StepPlan& plan, const Dynamics& dyn);
+
+/// Chooses the scheme (for `automatic`) and the step for a relative F_m tolerance in
+/// [1e-12, 0.1]: the largest step with an
 /// integer number of steps per period that keeps h * omega_max within the scheme's accuracy
 /// and stability limits. A user step (> 0) is honoured (rounded down to fit the period) unless it
 /// breaks the stability limit, which throws std::invalid_argument naming the limit.

@@ -1,0 +1,136 @@
+#include "gapchain/accuracy.hpp"
+
+#include "detail/check.hpp"
+#include "gapchain/observers.hpp"
+#include "gapchain/run.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+namespace gapchain {
+
+namespace {
+
+/// Keeps the state at every period boundary.
+class PeriodSampler final : public Observer {
+public:
+    void on_step(const StepView&) override {}
+    bool on_period(long, double, const double* y) override {
+        m_states.emplace_back(y, y + m_dim);
+        return false;
+    }
+    explicit PeriodSampler(int dim) : m_dim(dim) {}
+    std::vector<std::vector<double>> m_states;
+
+private:
+    int m_dim;
+};
+
+struct Trajectory {
+    double F_m = 0.0;
+    std::vector<std::vector<double>> samples;
+    long evaluations = 0;
+    double seconds = 0.0;
+};
+
+Trajectory integrate(const Dynamics& dyn, const StepPlan& plan, long periods) {
+    const auto start = std::chrono::steady_clock::now();
+    auto stepper = make_stepper(plan, dyn);
+    MaxForceTracker forces(dyn);
+    PeriodSampler sampler(dyn.dimension());
+    Observer* observers[] = {&forces, &sampler};
+    std::vector<double> y(dyn.dimension(), 0.0);
+    run(dyn, *stepper, plan, {periods, 0, 0.0}, y, observers);
+    Trajectory t;
+    for (const auto& c : forces.contacts()) t.F_m = std::max(t.F_m, c.force);
+    t.samples = std::move(sampler.m_states);
+    t.evaluations = stepper->evaluations();
+    t.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return t;
+}
+
+double max_norm_difference(const std::vector<double>& a, const std::vector<double>& b) {
+    double d = 0.0;
+    for (std::size_t i = 0; i < a.size(); ++i) d = std::max(d, std::abs(a[i] - b[i]));
+    return std::isfinite(d) ? d : std::numeric_limits<double>::infinity();
+}
+
+} // namespace
+
+WorkPrecision work_precision(const Dynamics& dyn, const WorkPrecisionOptions& o) {
+    const auto start = std::chrono::steady_clock::now();
+    detail::require_range("--periods", static_cast<double>(o.periods), 1.0, 1e7);
+    detail::require_range("--repeats", o.repeats, 1, 100);
+    for (double tol : o.tolerances) detail::require_range("--tolerances", tol, 1e-12, 0.1);
+    for (Scheme s : o.schemes)
+        if (s == Scheme::automatic)
+            throw std::invalid_argument("--schemes: name concrete schemes, not auto");
+    WorkPrecision study;
+    StepPlan reference_plan = plan_step(dyn, Scheme::exact, 1e-12);
+    reference_plan.steps_per_period *= 2;
+    reference_plan.step /= 2;
+    const Trajectory reference = integrate(dyn, reference_plan, o.periods);
+    study.F_m_reference = reference.F_m;
+
+    auto measure = [&](Scheme scheme, bool split, double tolerance) {
+        StepPlan plan = plan_step(dyn, scheme, tolerance);
+        plan.split_at_switches = split;
+        std::vector<double> seconds;
+        Trajectory t;
+        for (int r = 0; r < o.repeats; ++r) {
+            t = integrate(dyn, plan, o.periods);
+            seconds.push_back(t.seconds);
+        }
+        std::sort(seconds.begin(), seconds.end());
+        WorkPrecisionPoint p;
+        p.scheme = scheme;
+        p.split = split;
+        p.tolerance = tolerance;
+        p.step = plan.step;
+        p.F_m = t.F_m;
+        p.F_m_error = reference.F_m > 0.0 ? std::abs(t.F_m - reference.F_m) / reference.F_m
+                                          : std::abs(t.F_m);
+        p.final_error = max_norm_difference(t.samples.back(), reference.samples.back());
+        double sum2 = 0.0;
+        for (std::size_t k = 0; k < t.samples.size(); ++k) {
+            const double e = max_norm_difference(t.samples[k], reference.samples[k]);
+            sum2 += e * e;
+        }
+        p.l2_error = std::sqrt(sum2 / t.samples.size());
+        p.wall_time_s = seconds[seconds.size() / 2];
+        p.evaluations = t.evaluations;
+        study.points.push_back(p);
+    };
+    for (Scheme scheme : o.schemes)
+        for (double tol : o.tolerances) measure(scheme, true, tol);
+    if (o.unsplit_too)
+        for (Scheme scheme : {Scheme::central_difference, Scheme::rk4})
+            for (double tol : o.tolerances) measure(scheme, false, tol);
+    study.wall_time_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    return study;
+}
+
+std::optional<WorkPrecisionPoint> fastest_for(const WorkPrecision& study, double target) {
+    std::optional<WorkPrecisionPoint> best;
+    for (const auto& p : study.points)
+        if (p.split && p.F_m_error <= target && (!best || p.wall_time_s < best->wall_time_s))
+            best = p;
+    return best;
+}
+
+std::optional<double> observed_order(const WorkPrecision& study, Scheme scheme, bool split) {
+    double sx = 0, sy = 0, sxx = 0, sxy = 0;
+    int n = 0;
+    for (const auto& p : study.points) {
+        if (p.scheme != scheme || p.split != split || !(p.F_m_error > 1e-12)) continue;
+        const double x = std::log(p.step), y = std::log(p.F_m_error);
+        sx += x, sy += y, sxx += x * x, sxy += x * y;
+        ++n;
+    }
+    if (n < 3) return std::nullopt;
+    return (n * sxy - sx * sy) / (n * sxx - sx * sx);
+}
+
+} // namespace gapchain

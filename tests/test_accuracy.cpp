@@ -29,5 +29,6 @@ TEST_CASE("work-precision study: errors fall with the tolerance, exact is its ow
     const auto best = fastest_for(study, 1e-6);
     REQUIRE(best.has_value());
     CHECK(best->F_m_error <= 1e-6);
-    CHECK_THROWS_AS(work_precision(dyn, WorkPrecisionOptions{{Scheme::automatic}}), std::invalid_argument);
+    CHECK_THROWS_AS(work_precision(dyn, WorkPrecisionOptions{{Scheme::automatic}}),
+                    std::invalid_argument);
 }

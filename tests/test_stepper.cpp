@@ -6,9 +6,9 @@
 #include "gapchain/simulation.hpp"
 
 #include <cmath>
+#include <iostream>
 #include <stdexcept>
 #include <string>
-#include <iostream>
 
 using namespace gapchain;
 
@@ -82,7 +82,7 @@ SimulationResult run_with(const ReducedParameters& p, Scheme s, double tolerance
 } // namespace
 
 TEST_CASE("exact agrees with rk8pd at tolerance 1e-10 to better than 1e-8 in F_m") {
-    const ReducedParameters scenes[] = {{5, 100, 0.5, 0.5, 1.0},   // smooth
+    const ReducedParameters scenes[] = {{5, 100, 0.5, 0.5, 1.0},    // smooth
                                         {20, 2000, 0.5, 0.24, 1.0}, // stiff
                                         {3, 500, 0.05, 1.0, 1.0}};  // low damping
     for (const auto& p : scenes) {
@@ -92,7 +92,8 @@ TEST_CASE("exact agrees with rk8pd at tolerance 1e-10 to better than 1e-8 in F_m
         REQUIRE(exact.steady_state_period.has_value());
         CHECK(std::abs(exact.F_m - rk8pd.F_m) < 1e-8 * exact.F_m);
         for (std::size_t i = 0; i < exact.final_state.size(); ++i)
-            CHECK(exact.final_state[i] == doctest::Approx(rk8pd.final_state[i]).epsilon(1e-8).scale(1));
+            CHECK(exact.final_state[i] ==
+                  doctest::Approx(rk8pd.final_state[i]).epsilon(1e-8).scale(1));
     }
 }
 
@@ -106,13 +107,33 @@ TEST_CASE("extreme cases: finite, and two schemes agree to the requested toleran
     };
     const Case cases[] = {
         {"fc = 1e6 (stiff contact)", {3, 1e6, 0.5, 0.3, 1.0}, 6, Scheme::rk4, Scheme::exact, 1e-6},
-        {"eps = 1e-3 (nearly undamped; chaotic, so 3 periods)", {3, 100, 1e-3, 0.5, 1.0}, 3, Scheme::rk4, Scheme::exact, 1e-6},
+        {"eps = 1e-3 (nearly undamped; chaotic, so 3 periods)",
+         {3, 100, 1e-3, 0.5, 1.0},
+         3,
+         Scheme::rk4,
+         Scheme::exact,
+         1e-6},
         {"eps = 2 (overdamped)", {3, 100, 2.0, 0.05, 1.0}, 20, Scheme::rk4, Scheme::exact, 1e-6},
-        {"e_r = 0 (touching at rest)", {4, 100, 0.5, 0.0, 1.0}, 20, Scheme::rk4, Scheme::exact, 1e-6},
+        {"e_r = 0 (touching at rest)",
+         {4, 100, 0.5, 0.0, 1.0},
+         20,
+         Scheme::rk4,
+         Scheme::exact,
+         1e-6},
         {"Nm = 1", {1, 100, 0.5, 0.5, 1.0}, 20, Scheme::rk4, Scheme::exact, 1e-6},
         {"Nm = 1000", {1000, 100, 0.5, 0.5, 1.0}, 3, Scheme::rk4, Scheme::rkf45, 1e-5},
-        {"f_r = 0.01 (quasi-static)", {3, 100, 0.5, 0.5, 0.01}, 2, Scheme::rk4, Scheme::exact, 1e-6},
-        {"f_r = 20 (far above resonance)", {3, 100, 0.5, 0.001, 20.0}, 40, Scheme::rk4, Scheme::exact, 1e-6},
+        {"f_r = 0.01 (quasi-static)",
+         {3, 100, 0.5, 0.5, 0.01},
+         2,
+         Scheme::rk4,
+         Scheme::exact,
+         1e-6},
+        {"f_r = 20 (far above resonance)",
+         {3, 100, 0.5, 0.001, 20.0},
+         40,
+         Scheme::rk4,
+         Scheme::exact,
+         1e-6},
     };
     for (const Case& c : cases) {
         const std::string name = c.name;
@@ -123,8 +144,9 @@ TEST_CASE("extreme cases: finite, and two schemes agree to the requested toleran
         REQUIRE(b.status != RunStatus::non_finite);
         CHECK(std::isfinite(a.F_m));
         CHECK(a.contact);
-        MESSAGE(name << ": " << a.F_m << " vs " << b.F_m << " rel " << std::abs(a.F_m - b.F_m) / b.F_m
-                      << " periods " << a.periods_simulated << "/" << b.periods_simulated);
+        MESSAGE(name << ": " << a.F_m << " vs " << b.F_m << " rel "
+                     << std::abs(a.F_m - b.F_m) / b.F_m << " periods " << a.periods_simulated << "/"
+                     << b.periods_simulated);
         CHECK(std::abs(a.F_m - b.F_m) <= c.tolerance * b.F_m);
     }
 }

@@ -43,7 +43,8 @@ Trajectory integrate(const Dynamics& dyn, const StepPlan& plan, long periods) {
     std::vector<double> y(dyn.dimension(), 0.0);
     run(dyn, *stepper, plan, {periods, 0, 0.0}, y, observers);
     Trajectory t;
-    for (const auto& c : forces.contacts()) t.F_m = std::max(t.F_m, c.force);
+    for (const auto& c : forces.contacts())
+        t.F_m = std::max(t.F_m, c.force);
     t.samples = std::move(sampler.m_states);
     t.evaluations = stepper->evaluations();
     t.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -52,7 +53,8 @@ Trajectory integrate(const Dynamics& dyn, const StepPlan& plan, long periods) {
 
 double max_norm_difference(const std::vector<double>& a, const std::vector<double>& b) {
     double d = 0.0;
-    for (std::size_t i = 0; i < a.size(); ++i) d = std::max(d, std::abs(a[i] - b[i]));
+    for (std::size_t i = 0; i < a.size(); ++i)
+        d = std::max(d, std::abs(a[i] - b[i]));
     return std::isfinite(d) ? d : std::numeric_limits<double>::infinity();
 }
 
@@ -62,7 +64,8 @@ WorkPrecision work_precision(const Dynamics& dyn, const WorkPrecisionOptions& o)
     const auto start = std::chrono::steady_clock::now();
     detail::require_range("--periods", static_cast<double>(o.periods), 1.0, 1e7);
     detail::require_range("--repeats", o.repeats, 1, 100);
-    for (double tol : o.tolerances) detail::require_range("--tolerances", tol, 1e-12, 0.1);
+    for (double tol : o.tolerances)
+        detail::require_range("--tolerances", tol, 1e-12, 0.1);
     for (Scheme s : o.schemes)
         if (s == Scheme::automatic)
             throw std::invalid_argument("--schemes: name concrete schemes, not auto");
@@ -89,8 +92,8 @@ WorkPrecision work_precision(const Dynamics& dyn, const WorkPrecisionOptions& o)
         p.tolerance = tolerance;
         p.step = plan.step;
         p.F_m = t.F_m;
-        p.F_m_error = reference.F_m > 0.0 ? std::abs(t.F_m - reference.F_m) / reference.F_m
-                                          : std::abs(t.F_m);
+        p.F_m_error =
+            reference.F_m > 0.0 ? std::abs(t.F_m - reference.F_m) / reference.F_m : std::abs(t.F_m);
         p.final_error = max_norm_difference(t.samples.back(), reference.samples.back());
         double sum2 = 0.0;
         for (std::size_t k = 0; k < t.samples.size(); ++k) {
@@ -103,10 +106,12 @@ WorkPrecision work_precision(const Dynamics& dyn, const WorkPrecisionOptions& o)
         study.points.push_back(p);
     };
     for (Scheme scheme : o.schemes)
-        for (double tol : o.tolerances) measure(scheme, true, tol);
+        for (double tol : o.tolerances)
+            measure(scheme, true, tol);
     if (o.unsplit_too)
         for (Scheme scheme : {Scheme::central_difference, Scheme::rk4})
-            for (double tol : o.tolerances) measure(scheme, false, tol);
+            for (double tol : o.tolerances)
+                measure(scheme, false, tol);
     study.wall_time_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return study;

@@ -23,14 +23,10 @@ SweptParameter parse_swept_parameter(std::string_view name) {
 
 std::string_view to_string(SweptParameter p) {
     switch (p) {
-    case SweptParameter::f_r:
-        return "f_r";
-    case SweptParameter::e_r:
-        return "e_r";
-    case SweptParameter::fc:
-        return "fc";
-    case SweptParameter::eps:
-        return "eps";
+    case SweptParameter::f_r: return "f_r";
+    case SweptParameter::e_r: return "e_r";
+    case SweptParameter::fc: return "fc";
+    case SweptParameter::eps: return "eps";
     }
     return "?";
 }
@@ -50,18 +46,10 @@ namespace {
 
 ReducedParameters with_value(ReducedParameters p, SweptParameter which, double value) {
     switch (which) {
-    case SweptParameter::f_r:
-        p.f_r = value;
-        break;
-    case SweptParameter::e_r:
-        p.e_r = value;
-        break;
-    case SweptParameter::fc:
-        p.fc = value;
-        break;
-    case SweptParameter::eps:
-        p.eps = value;
-        break;
+    case SweptParameter::f_r: p.f_r = value; break;
+    case SweptParameter::e_r: p.e_r = value; break;
+    case SweptParameter::fc: p.fc = value; break;
+    case SweptParameter::eps: p.eps = value; break;
     }
     return p;
 }

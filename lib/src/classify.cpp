@@ -19,14 +19,10 @@ namespace gapchain {
 
 std::string_view to_string(Regime regime) {
     switch (regime) {
-    case Regime::no_contact:
-        return "no-contact";
-    case Regime::periodic:
-        return "periodic";
-    case Regime::quasi_periodic:
-        return "quasi-periodic";
-    case Regime::chaotic:
-        return "chaotic";
+    case Regime::no_contact: return "no-contact";
+    case Regime::periodic: return "periodic";
+    case Regime::quasi_periodic: return "quasi-periodic";
+    case Regime::chaotic: return "chaotic";
     }
     return "?";
 }

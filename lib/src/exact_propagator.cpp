@@ -49,8 +49,8 @@ private:
         Eigen::MatrixXcd v;
         Eigen::MatrixXcd v_inverse;
         Eigen::VectorXcd lambda;
-        Eigen::VectorXcd z;  // forced response amplitude
-        Eigen::VectorXd z0;  // static offset of the closed contacts' clearances
+        Eigen::VectorXcd z; // forced response amplitude
+        Eigen::VectorXd z0; // static offset of the closed contacts' clearances
     };
 
     // A contact counts as closed if it will be penetrated just after the start of the step:
@@ -90,10 +90,12 @@ private:
             (j < m_n ? u[j] : v[j - m_n]) = 1.0;
             m_dyn.affine_acceleration(m_closed, 0.0, u.data(), v.data(), acc.data());
             if (j >= m_n) a(j - m_n, j) = 1.0;
-            for (int i = 0; i < m_n; ++i) a(m_n + i, j) = acc[i] - offset[i];
+            for (int i = 0; i < m_n; ++i)
+                a(m_n + i, j) = acc[i] - offset[i];
         }
         Eigen::VectorXd c = Eigen::VectorXd::Zero(m_dim);
-        for (int i = 0; i < m_n; ++i) c[m_n + i] = offset[i];
+        for (int i = 0; i < m_n; ++i)
+            c[m_n + i] = offset[i];
         Configuration conf;
         Eigen::EigenSolver<Eigen::MatrixXd> eigen(a);
         conf.v = eigen.eigenvectors();
@@ -101,7 +103,8 @@ private:
         conf.v_inverse = conf.v.inverse();
         Eigen::VectorXcd b = Eigen::VectorXcd::Zero(m_dim);
         const double four_pi2 = 4.0 * std::numbers::pi * std::numbers::pi;
-        for (int i = 0; i < m_n; ++i) b[m_n + i] = -four_pi2 * m_dyn.forcing().amplitude;
+        for (int i = 0; i < m_n; ++i)
+            b[m_n + i] = -four_pi2 * m_dyn.forcing().amplitude;
         const Eigen::MatrixXcd shifted =
             Complex(0.0, m_omega) * Eigen::MatrixXcd::Identity(m_dim, m_dim) - a.cast<Complex>();
         conf.z = shifted.partialPivLu().solve(b);

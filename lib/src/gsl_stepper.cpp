@@ -15,8 +15,9 @@ namespace {
 class GslStepper final : public Stepper {
 public:
     GslStepper(const Dynamics& dyn, bool high_order, double tolerance)
-        : m_dyn(dyn), m_dim(static_cast<std::size_t>(dyn.dimension())),
-          m_system{&GslStepper::rhs, nullptr, m_dim, this},
+        : m_dyn(dyn),
+          m_dim(static_cast<std::size_t>(dyn.dimension())), m_system{&GslStepper::rhs, nullptr,
+                                                                     m_dim, this},
           m_step(gsl_odeiv2_step_alloc(high_order ? gsl_odeiv2_step_rk8pd : gsl_odeiv2_step_rkf45,
                                        m_dim)),
           // Absolute and relative tolerance alike: reduced states are of order 1.

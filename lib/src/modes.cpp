@@ -25,12 +25,9 @@ EigenMethod parse_eigen_method(std::string_view name) {
 
 std::string_view to_string(EigenMethod method) {
     switch (method) {
-    case EigenMethod::automatic:
-        return "auto";
-    case EigenMethod::dense:
-        return "dense";
-    case EigenMethod::sparse:
-        return "sparse";
+    case EigenMethod::automatic: return "auto";
+    case EigenMethod::dense: return "dense";
+    case EigenMethod::sparse: return "sparse";
     }
     return "?";
 }
@@ -155,15 +152,9 @@ ModalResult modal_analysis(const Chain& chain, const ModalOptions& o) {
         eigs.compute(Spectra::SortRule::LargestMagn, 1000, o.tolerance);
         r.iterations = eigs.num_iterations();
         switch (eigs.info()) {
-        case Spectra::CompInfo::Successful:
-            r.status = ModalStatus::converged;
-            break;
-        case Spectra::CompInfo::NotConverging:
-            r.status = ModalStatus::not_converged;
-            break;
-        default:
-            r.status = ModalStatus::numerical_issue;
-            break;
+        case Spectra::CompInfo::Successful: r.status = ModalStatus::converged; break;
+        case Spectra::CompInfo::NotConverging: r.status = ModalStatus::not_converged; break;
+        default: r.status = ModalStatus::numerical_issue; break;
         }
         if (r.status == ModalStatus::converged) {
             // Spectra returns them by decreasing |1/(lambda - sigma)|; sort ascending.

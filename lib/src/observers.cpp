@@ -57,8 +57,7 @@ void MaxForceTracker::on_step(const StepView& step) {
                     const double t = step.t0 + tau;
                     step.stepper->dense_state(t, m_scratch.data());
                     const double rate = m_dyn.gap_rate(j, m_scratch.data() + n);
-                    const double acc =
-                        m_dyn.gap_acceleration(j, m_dyn.ground(t), m_scratch.data());
+                    const double acc = m_dyn.gap_acceleration(j, m_dyn.ground(t), m_scratch.data());
                     if (acc >= 0.0) break;
                     const double dt = -rate / acc;
                     tau = std::clamp(tau + dt, 0.0, h);

@@ -35,8 +35,7 @@ SectionVariable SectionVariable::parse(std::string_view name, int bodies, const 
     case 'F':
         if (index > bodies) return fail();
         return {Kind::force, index};
-    default:
-        return fail();
+    default: return fail();
     }
 }
 
@@ -45,20 +44,11 @@ std::string SectionVariable::name() const {
     // the latter.
     std::string s;
     switch (kind) {
-    case Kind::displacement:
-        s = "u";
-        break;
-    case Kind::velocity:
-        s = "v";
-        break;
-    case Kind::gap:
-        s = "g";
-        break;
-    case Kind::force:
-        s = "F";
-        break;
-    case Kind::time:
-        return "t";
+    case Kind::displacement: s = "u"; break;
+    case Kind::velocity: s = "v"; break;
+    case Kind::gap: s = "g"; break;
+    case Kind::force: s = "F"; break;
+    case Kind::time: return "t";
     }
     const bool body = kind == Kind::displacement || kind == Kind::velocity;
     s.append(std::to_string(body ? index + 1 : index));
@@ -67,16 +57,11 @@ std::string SectionVariable::name() const {
 
 double SectionVariable::value(const Dynamics& dyn, double t, const double* y) const {
     switch (kind) {
-    case Kind::displacement:
-        return y[index];
-    case Kind::velocity:
-        return y[dyn.bodies() + index];
-    case Kind::gap:
-        return dyn.gap(index, y);
-    case Kind::force:
-        return dyn.force(index, y);
-    case Kind::time:
-        return t;
+    case Kind::displacement: return y[index];
+    case Kind::velocity: return y[dyn.bodies() + index];
+    case Kind::gap: return dyn.gap(index, y);
+    case Kind::force: return dyn.force(index, y);
+    case Kind::time: return t;
     }
     return 0.0;
 }

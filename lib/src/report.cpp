@@ -4,6 +4,8 @@
 
 #include <cmath>
 #include <cstdio>
+#include <fcntl.h>
+#include <fstream>
 #include <numbers>
 #include <sstream>
 #include <unistd.h>
@@ -242,6 +244,115 @@ std::string work_precision_csv(const WorkPrecision& study) {
            << p.step << ',' << p.F_m << ',' << p.F_m_error << ',' << p.final_error << ','
            << p.l2_error << ',' << p.wall_time_s << ',' << p.evaluations << '\n';
     return os.str();
+}
+
+std::string sweep_csv_header(const Study& study) {
+    std::string h = "index";
+    for (const auto& a : study.axes)
+        h += ",axis:" + a.key;
+    h += ",Nm,fc,eps,e_r,f_r,F_m,F_m_error,status";
+    if (study.keep.steady_state) h += ",steady_state_period";
+    if (study.keep.wall_time) h += ",wall_time_s";
+    if (study.keep.regime) h += ",regime,period,lambda_max,lambda_max_error";
+    if (study.keep.per_body) h += ",per_body";
+    return h;
+}
+
+std::string sweep_csv_row(const Study& study, const SweepPointResult& r) {
+    std::ostringstream os;
+    os.precision(12);
+    os << r.index;
+    for (double v : r.values)
+        os << ',' << v;
+    const ReducedParameters& p = r.parameters;
+    const SimulationResult& s = r.simulation;
+    os << ',' << p.Nm << ',' << p.fc << ',' << p.eps << ',' << p.e_r << ',' << p.f_r << ',' << s.F_m
+       << ',' << s.F_m_error << ',' << to_string(s.status);
+    if (study.keep.steady_state)
+        os << ','
+           << (s.steady_state_period ? std::to_string(*s.steady_state_period) : std::string(""));
+    if (study.keep.wall_time) os << ',' << s.wall_time_s;
+    if (study.keep.regime && r.regime)
+        os << ',' << to_string(r.regime->regime) << ',' << r.regime->period << ','
+           << r.regime->lambda_max << ',' << r.regime->lambda_max_error;
+    if (study.keep.per_body) {
+        os << ',';
+        for (std::size_t i = 0; i < s.per_body.size(); ++i)
+            os << (i ? ";" : "") << s.per_body[i].left << '|' << s.per_body[i].right;
+    }
+    return os.str();
+}
+
+std::string study_json(const Study& study) {
+    nlohmann::ordered_json j;
+    j["study"] = study.source;
+    j["scene"] = nlohmann::ordered_json::parse(study.scene_json);
+    for (const auto& a : study.axes)
+        j["parameters"][a.key] = a.values;
+    j["sample"] = study.sampling == Sampling::grid     ? "grid"
+                  : study.sampling == Sampling::random ? "random"
+                                                       : "latin_hypercube";
+    j["samples"] = study.samples;
+    j["seed"] = study.seed;
+    j["points"] = point_count(study);
+    j["columns"] = sweep_csv_header(study);
+    j["build"] = {{"gapchain", GAPCHAIN_LIBRARY_VERSION},
+                  {"compiler", __VERSION__},
+                  {"built", __DATE__ " " __TIME__}};
+    return j.dump(2) + "\n";
+}
+
+ResultLog::ResultLog(const std::string& path, const std::string& header, long index_count)
+    : m_path(path), m_done(static_cast<std::size_t>(index_count), 0) {
+    std::string existing;
+    {
+        std::ifstream in(path, std::ios::binary);
+        if (in) {
+            std::ostringstream text;
+            text << in.rdbuf();
+            existing = text.str();
+        }
+    }
+    std::size_t keep = 0; // bytes of whole lines to keep
+    if (!existing.empty()) {
+        const std::size_t first = existing.find('\n');
+        if (first == std::string::npos || existing.compare(0, first, header) != 0)
+            throw SceneError(path + ": exists with other columns (another study?); remove it or "
+                                    "choose another --out");
+        keep = first + 1;
+        std::size_t pos = keep;
+        while (pos < existing.size()) {
+            const std::size_t end = existing.find('\n', pos);
+            if (end == std::string::npos) break; // torn last line: dropped
+            const std::string line = existing.substr(pos, end - pos);
+            char* tail = nullptr;
+            const long index = std::strtol(line.c_str(), &tail, 10);
+            if (tail == line.c_str() || *tail != ',' || index < 0 || index >= index_count)
+                throw SceneError(path + ": unreadable row \"" + line.substr(0, 60) + "\"");
+            m_done[index] = 1;
+            ++m_rows_found;
+            keep = end + 1;
+            pos = end + 1;
+        }
+    }
+    m_fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
+    if (m_fd < 0) throw SceneError(path + ": cannot open for writing");
+    if (existing.empty()) {
+        append(header);
+    } else if (keep < existing.size() && ::ftruncate(m_fd, static_cast<off_t>(keep)) != 0) {
+        throw SceneError(path + ": cannot drop the torn last row");
+    }
+}
+
+ResultLog::~ResultLog() {
+    if (m_fd >= 0) ::close(m_fd);
+}
+
+void ResultLog::append(const std::string& line) {
+    const std::string whole = line + "\n";
+    const ssize_t written = ::write(m_fd, whole.data(), whole.size());
+    if (written != static_cast<ssize_t>(whole.size()))
+        throw SceneError(m_path + ": cannot append a result row");
 }
 
 } // namespace gapchain

@@ -11,14 +11,10 @@ namespace gapchain {
 
 std::string_view to_string(RunStatus status) {
     switch (status) {
-    case RunStatus::completed:
-        return "completed";
-    case RunStatus::steady_state:
-        return "steady_state";
-    case RunStatus::non_finite:
-        return "non_finite";
-    case RunStatus::cancelled:
-        return "cancelled";
+    case RunStatus::completed: return "completed";
+    case RunStatus::steady_state: return "steady_state";
+    case RunStatus::non_finite: return "non_finite";
+    case RunStatus::cancelled: return "cancelled";
     }
     return "?";
 }
@@ -58,10 +54,9 @@ Switch first_switch(const Dynamics& dyn, double t0, double t1, const double* y0,
             ground1 = dyn.ground(t1);
             have_ground = true;
         }
-        const detail::QuinticHermite g(g0, dyn.gap_rate(j, y0 + n),
-                                       dyn.gap_acceleration(j, ground0, y0), g1,
-                                       dyn.gap_rate(j, y1 + n),
-                                       dyn.gap_acceleration(j, ground1, y1), h);
+        const detail::QuinticHermite g(
+            g0, dyn.gap_rate(j, y0 + n), dyn.gap_acceleration(j, ground0, y0), g1,
+            dyn.gap_rate(j, y1 + n), dyn.gap_acceleration(j, ground1, y1), h);
         const double t = t0 + g.crossing(0.0, 0.0, h);
         if (t > t0 + margin && t < t1 - margin && t < first.t) first = {t, j};
     }

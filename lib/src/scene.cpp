@@ -1,4 +1,5 @@
 #include "gapchain/scene.hpp"
+#include "gapchain/sweep.hpp"
 
 #include "detail/check.hpp"
 #include "detail/json_reader.hpp"
@@ -169,6 +170,153 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
     text << in.rdbuf();
     if (in.bad()) throw SceneError(path + ": cannot read the scene file");
     return parse_scene(text.str(), overrides, path);
+}
+
+namespace {
+
+std::vector<double> axis_values(const nlohmann::ordered_json& spec, const std::string& key) {
+    auto range = [&](const nlohmann::ordered_json& r, bool log) {
+        if (!r.is_array() || r.size() != 3 || !r[0].is_number() || !r[1].is_number() ||
+            !r[2].is_number_integer())
+            throw SceneError(key + ": a range is [from, to, count] with an integer count");
+        const double from = r[0].get<double>(), to = r[1].get<double>();
+        const long count = r[2].get<long>();
+        if (count < 1 || count > 10'000'000 || !std::isfinite(from) || !std::isfinite(to) ||
+            (log && (from <= 0.0 || to <= 0.0)))
+            throw SceneError(key + ": range needs count >= 1, finite ends" +
+                             std::string(log ? " > 0" : ""));
+        std::vector<double> v;
+        for (long k = 0; k < count; ++k) {
+            const double x = count == 1 ? 0.0 : static_cast<double>(k) / (count - 1);
+            v.push_back(log ? from * std::pow(to / from, x) : from + (to - from) * x);
+        }
+        return v;
+    };
+    if (spec.is_array()) {
+        std::vector<double> v;
+        for (const auto& x : spec) {
+            if (!x.is_number() || !std::isfinite(x.get<double>()))
+                throw SceneError(key + ": values must be finite numbers");
+            v.push_back(x.get<double>());
+        }
+        if (v.empty()) throw SceneError(key + ": needs at least one value");
+        return v;
+    }
+    if (spec.is_object() && spec.size() == 1 && spec.contains("lin"))
+        return range(spec["lin"], false);
+    if (spec.is_object() && spec.size() == 1 && spec.contains("log"))
+        return range(spec["log"], true);
+    throw SceneError(key + ": must be a list of values, {\"lin\": [from, to, count]} or "
+                           "{\"log\": [from, to, count]}");
+}
+
+} // namespace
+
+Study parse_study(const std::string& text, const std::string& source) {
+    using ojson = nlohmann::ordered_json;
+    ojson root;
+    try {
+        root = ojson::parse(text);
+    } catch (const ojson::exception& e) {
+        throw SceneError(source + ": malformed JSON: " + e.what());
+    }
+    if (!root.is_object()) throw SceneError(source + ": a study is a JSON object");
+    for (const auto& [key, value] : root.items()) {
+        (void)value;
+        if (key != "scene" && key != "parameters" && key != "sample" && key != "keep")
+            throw SceneError(key +
+                             ": unknown key; accepted keys here: scene, parameters, sample, keep");
+    }
+    Study s;
+    s.source = source;
+    if (root.contains("scene")) {
+        if (!root["scene"].is_object()) throw SceneError("scene: must be a JSON object");
+        s.scene_json = root["scene"].dump();
+    }
+    (void)parse_scene(s.scene_json, {}, source + " scene");
+    if (!root.contains("parameters") || !root["parameters"].is_object() ||
+        root["parameters"].empty())
+        throw SceneError("parameters: must be an object with at least one swept key");
+    for (const auto& [key, spec] : root["parameters"].items())
+        s.axes.push_back({key, axis_values(spec, "parameters." + key)});
+    if (root.contains("sample")) {
+        const auto& sample = root["sample"];
+        if (sample == "grid") {
+            s.sampling = Sampling::grid;
+        } else if (sample.is_object()) {
+            for (const auto& [key, value] : sample.items()) {
+                (void)value;
+                if (key != "method" && key != "samples" && key != "seed")
+                    throw SceneError("sample." + key +
+                                     ": unknown key; accepted keys here: method, samples, seed");
+            }
+            const std::string method = sample.value("method", std::string("grid"));
+            if (method == "random")
+                s.sampling = Sampling::random;
+            else if (method == "latin_hypercube")
+                s.sampling = Sampling::latin_hypercube;
+            else if (method != "grid")
+                throw SceneError("sample.method: must be grid, random or latin_hypercube, got \"" +
+                                 method + "\"");
+            if (s.sampling != Sampling::grid) {
+                if (!sample.contains("samples") || !sample["samples"].is_number_integer())
+                    throw SceneError("sample.samples: an integer in [1, 10000000] is required");
+                s.samples = sample["samples"].get<long>();
+                const long limit = s.sampling == Sampling::latin_hypercube ? 20000 : 10'000'000;
+                if (s.samples < 1 || s.samples > limit)
+                    throw SceneError("sample.samples: must be in [1, " + std::to_string(limit) +
+                                     "], got " + std::to_string(s.samples));
+                if (sample.contains("seed")) {
+                    if (!sample["seed"].is_number_unsigned())
+                        throw SceneError("sample.seed: must be a non-negative integer");
+                    s.seed = sample["seed"].get<unsigned long long>();
+                }
+            }
+        } else {
+            throw SceneError(
+                "sample: must be \"grid\" or {\"method\": ..., \"samples\": N, \"seed\": S}");
+        }
+    }
+    if (root.contains("keep")) {
+        if (!root["keep"].is_array()) throw SceneError("keep: must be a list of result names");
+        s.keep = KeptResults{false, false, false, false};
+        for (const auto& k : root["keep"]) {
+            const std::string name = k.is_string() ? k.get<std::string>() : "";
+            if (name == "F_m") continue;
+            if (name == "per_body")
+                s.keep.per_body = true;
+            else if (name == "regime")
+                s.keep.regime = true;
+            else if (name == "steady_state_period")
+                s.keep.steady_state = true;
+            else if (name == "wall_time")
+                s.keep.wall_time = true;
+            else
+                throw SceneError("keep: entries must be F_m, per_body, regime, steady_state_period "
+                                 "or wall_time, got " +
+                                 k.dump());
+        }
+    }
+    const long n = point_count(s);
+    if (n < 1 || n > 100'000'000)
+        throw SceneError("parameters: the study must have 1 .. 1e8 points");
+    // Every axis value must make a valid scene on its own: fail before any point runs.
+    for (const auto& axis : s.axes)
+        for (double v : axis.values) {
+            Study one = s;
+            one.axes = {{axis.key, {v}}};
+            one.sampling = Sampling::grid;
+            (void)point_scene(one, 0);
+        }
+    return s;
+}
+
+Study load_study(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) throw SceneError(path + ": cannot read the study file");
+    std::ostringstream text;
+    text << in.rdbuf();
+    return parse_study(text.str(), path);
 }
 
 } // namespace gapchain

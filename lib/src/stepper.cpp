@@ -4,9 +4,9 @@
 #include "detail/steppers.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 #include <numbers>
-#include <cmath>
 #include <stdexcept>
 
 namespace gapchain {
@@ -206,9 +206,10 @@ StepPlan plan_step(const Dynamics& dyn, Scheme scheme, double tolerance,
         // Fixed-step schemes resolve the fastest contact oscillation (at least ~16 steps per
         // contact period, so that no impact falls between two steps); every scheme resolves
         // the forcing (at least 16 steps per period).
-        const double hw = tr.adaptive ? accuracy_limit(scheme, tolerance)
-                                      : std::min({accuracy_limit(scheme, tolerance), 0.4,
-                                                  0.9 * tr.stability_limit});
+        const double hw =
+            tr.adaptive
+                ? accuracy_limit(scheme, tolerance)
+                : std::min({accuracy_limit(scheme, tolerance), 0.4, 0.9 * tr.stability_limit});
         h = std::min(hw / omega, period / 16.0);
     }
     StepPlan plan;

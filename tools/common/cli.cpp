@@ -40,25 +40,29 @@ int run(CLI::App& app, int argc, char** argv, const std::function<void()>& body)
     }
 }
 
-Progress::Progress(std::string label, bool enabled)
+Progress::Progress(std::string label, bool enabled, bool lines_otherwise)
     : m_label(std::move(label)), m_terminal(enabled && ::isatty(STDERR_FILENO) == 1),
-      m_start(std::chrono::steady_clock::now()), m_last(m_start) {}
+      m_lines(enabled && lines_otherwise && !m_terminal), m_start(std::chrono::steady_clock::now()),
+      m_last(m_start) {}
 
 Progress::~Progress() {
     if (m_drawn) std::fputs("\n", stderr);
 }
 
 bool Progress::update(double fraction) {
-    if (!m_terminal) return true;
+    if (!m_terminal && !m_lines) return true;
     const auto now = std::chrono::steady_clock::now();
-    if (fraction < 1.0 && now - m_last < std::chrono::milliseconds(250)) return true;
+    const auto every =
+        m_terminal ? std::chrono::milliseconds(250) : std::chrono::milliseconds(5000);
+    if (fraction < 1.0 && now - m_last < every) return true;
     m_last = now;
     const double elapsed = std::chrono::duration<double>(now - m_start).count();
     const double rate = elapsed > 0.0 ? 100.0 * fraction / elapsed : 0.0;
     const double eta = fraction > 0.0 ? elapsed * (1.0 - fraction) / fraction : 0.0;
-    std::fprintf(stderr, "\r%s: %5.1f %%  %.1f %%/s  elapsed %.1f s  ETA %.1f s   ",
-                 m_label.c_str(), 100.0 * fraction, rate, elapsed, eta);
-    m_drawn = true;
+    std::fprintf(stderr, "%s%s: %5.1f %%  %.2f %%/s  elapsed %.1f s  ETA %.1f s%s",
+                 m_terminal ? "\r" : "", m_label.c_str(), 100.0 * fraction, rate, elapsed, eta,
+                 m_terminal ? "   " : "\n");
+    m_drawn = m_terminal;
     return true;
 }
 

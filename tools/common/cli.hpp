@@ -37,11 +37,12 @@ Scene load(const SceneArguments& args, const std::string& default_scene_json = "
 // code: CLI11 and SceneError/std::invalid_argument -> 2, NumericalFailure and others -> 1.
 int run(CLI::App& app, int argc, char** argv, const std::function<void()>& body);
 
-// Progress with rate and ETA on stderr when it is a terminal (silent otherwise); its
-// callback() is the library's ProgressCallback.
+// Progress with rate and ETA on stderr: redrawn in place when stderr is a terminal; when it is
+// not, silent, or (lines_otherwise) a plain line every few seconds. callback() is the
+// library's ProgressCallback.
 class Progress {
 public:
-    Progress(std::string label, bool enabled = true);
+    Progress(std::string label, bool enabled = true, bool lines_otherwise = false);
     ~Progress();
     // Reports a fraction in [0, 1]; always returns true (never cancels).
     bool update(double fraction);
@@ -52,6 +53,7 @@ public:
 private:
     std::string m_label;
     bool m_terminal;
+    bool m_lines;
     std::chrono::steady_clock::time_point m_start;
     std::chrono::steady_clock::time_point m_last;
     bool m_drawn = false;

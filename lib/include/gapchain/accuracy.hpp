@@ -15,32 +15,32 @@ namespace gapchain {
 /// What to measure.
 struct WorkPrecisionOptions {
     std::vector<Scheme> schemes{Scheme::central_difference, Scheme::rk4, Scheme::rkf45,
-                                Scheme::rk8pd, Scheme::exact}; ///< concrete schemes
+                                Scheme::rk8pd, Scheme::exact};                ///< concrete schemes
     std::vector<double> tolerances{1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8}; ///< [1e-12, 0.1]
-    long periods = 50;          ///< forcing periods per run (full length, no steady-state stop)
-    int repeats = 3;            ///< timed repeats per point (the median is kept), 1 .. 100
-    bool unsplit_too = true;    ///< also run central_difference and rk4 without switch splitting
+    long periods = 50;       ///< forcing periods per run (full length, no steady-state stop)
+    int repeats = 3;         ///< timed repeats per point (the median is kept), 1 .. 100
+    bool unsplit_too = true; ///< also run central_difference and rk4 without switch splitting
 };
 
 /// One run of the study.
 struct WorkPrecisionPoint {
     Scheme scheme = Scheme::rk4;
-    bool split = true;          ///< steps ended on contact switches
-    double tolerance = 0.0;     ///< requested relative F_m tolerance
-    double step = 0.0;          ///< step or output interval
+    bool split = true;      ///< steps ended on contact switches
+    double tolerance = 0.0; ///< requested relative F_m tolerance
+    double step = 0.0;      ///< step or output interval
     double F_m = 0.0;
-    double F_m_error = 0.0;     ///< |F_m - F_m,ref| / F_m,ref
-    double final_error = 0.0;   ///< max-norm state error at the final time
-    double l2_error = 0.0;      ///< RMS over once-per-period samples of the max-norm error
-    double wall_time_s = 0.0;   ///< median over the repeats [s]
-    long evaluations = 0;       ///< right-hand-side evaluations (exact: propagations)
+    double F_m_error = 0.0;   ///< |F_m - F_m,ref| / F_m,ref
+    double final_error = 0.0; ///< max-norm state error at the final time
+    double l2_error = 0.0;    ///< RMS over once-per-period samples of the max-norm error
+    double wall_time_s = 0.0; ///< median over the repeats [s]
+    long evaluations = 0;     ///< right-hand-side evaluations (exact: propagations)
 };
 
 /// The study.
 struct WorkPrecision {
-    double F_m_reference = 0.0;              ///< exact propagator, half its default interval
-    std::vector<WorkPrecisionPoint> points;  ///< scheme-major, tolerance order
-    double wall_time_s = 0.0;                ///< [s]
+    double F_m_reference = 0.0;             ///< exact propagator, half its default interval
+    std::vector<WorkPrecisionPoint> points; ///< scheme-major, tolerance order
+    double wall_time_s = 0.0;               ///< [s]
 };
 
 /// Runs the study on dyn from rest. Throws std::invalid_argument on bad options.

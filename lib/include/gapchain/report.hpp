@@ -10,6 +10,7 @@
 #include "gapchain/scene.hpp"
 #include "gapchain/simulation.hpp"
 #include "gapchain/spectrum.hpp"
+#include "gapchain/sweep.hpp"
 
 #include <fstream>
 #include <string>
@@ -81,5 +82,40 @@ std::string psd_csv(const Psd& psd, double f_r);
 /// A work-precision study as CSV: scheme (with "-nosplit" when steps were not split at
 /// switches), tolerance, step, F_m, F_m_error, final_error, l2_error, seconds, evaluations.
 std::string work_precision_csv(const WorkPrecision& study);
+
+/// Header line of a sweep's CSV: index, the axes, Nm,fc,eps,e_r,f_r, F_m, F_m_error, status,
+/// then the kept fields (steady_state_period, wall_time_s, regime,period,lambda_max,
+/// lambda_max_error, per_body as "left|right;left|right;...").
+std::string sweep_csv_header(const Study& study);
+/// One CSV line (no newline) for a finished point.
+std::string sweep_csv_row(const Study& study, const SweepPointResult& result);
+/// The study and the build as JSON, for the sidecar next to the results.
+std::string study_json(const Study& study);
+
+/// An append-only results file that survives kill -9 at any moment. Each row reaches the file in
+/// one write(2) of the whole line, so a killed run leaves whole rows and at most one torn last
+/// line; reopening drops that line and reports which point indices are done.
+class ResultLog {
+public:
+    /// Opens path for appending (creating it with header). An existing file must start with
+    /// the same header (else SceneError: it belongs to another study). index_count bounds the
+    /// first column.
+    ResultLog(const std::string& path, const std::string& header, long index_count);
+    ~ResultLog();
+    ResultLog(const ResultLog&) = delete;
+    ResultLog& operator=(const ResultLog&) = delete;
+    /// done()[i] != 0 for every index already in the file.
+    [[nodiscard]] const std::vector<char>& done() const { return m_done; }
+    /// Rows already in the file when it was opened.
+    [[nodiscard]] long rows_found() const { return m_rows_found; }
+    /// Appends line + newline in a single write; throws SceneError on I/O failure.
+    void append(const std::string& line);
+
+private:
+    std::string m_path;
+    int m_fd = -1;
+    std::vector<char> m_done;
+    long m_rows_found = 0;
+};
 
 } // namespace gapchain

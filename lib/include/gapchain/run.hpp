@@ -15,12 +15,12 @@ namespace gapchain {
 
 /// One step as the observers see it: both ends, so that they can interpolate in between.
 struct StepView {
-    double t0;        ///< reduced time at the start of the step
-    double t1;        ///< reduced time at the end of the step
-    const double* y0; ///< state at t0 (2 Nm entries)
-    const double* y1; ///< state at t1
-    long period;      ///< index of the forcing period the step lies in, from 0
-    bool recording;   ///< false while the transient is being discarded
+    double t0;                        ///< reduced time at the start of the step
+    double t1;                        ///< reduced time at the end of the step
+    const double* y0;                 ///< state at t0 (2 Nm entries)
+    const double* y1;                 ///< state at t1
+    long period;                      ///< index of the forcing period the step lies in, from 0
+    bool recording;                   ///< false while the transient is being discarded
     const Stepper* stepper = nullptr; ///< the stepper, for its dense output over this step
 };
 

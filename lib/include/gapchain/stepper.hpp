@@ -66,10 +66,10 @@ protected:
 /// The step of a run: an integer number of steps per forcing period, so that every period
 /// boundary is a step point.
 struct StepPlan {
-    Scheme scheme = Scheme::rk4; ///< concrete scheme
-    double step = 0.0;           ///< reduced time step (output interval if adaptive), > 0
-    int steps_per_period = 0;    ///< forcing period / step, >= 1
-    double tolerance = 1e-4;     ///< relative tolerance (adaptive schemes' error control)
+    Scheme scheme = Scheme::rk4;   ///< concrete scheme
+    double step = 0.0;             ///< reduced time step (output interval if adaptive), > 0
+    int steps_per_period = 0;      ///< forcing period / step, >= 1
+    double tolerance = 1e-4;       ///< relative tolerance (adaptive schemes' error control)
     bool split_at_switches = true; ///< end steps on contact switches (off only to measure why)
 };
 

@@ -1,0 +1,95 @@
+#pragma once
+/// \file sweep.hpp
+/// Parametric studies: a base scene, axes of values for any scene keys, a sampling of their
+/// product (full grid, seeded random, Latin hypercube), and a parallel driver that streams one
+/// result per point as it finishes. Every point is computed independently from its index, so
+/// results do not depend on the thread count, the order or the shard.
+
+#include "gapchain/classify.hpp"
+#include "gapchain/run.hpp"
+#include "gapchain/scene.hpp"
+#include "gapchain/simulation.hpp"
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace gapchain {
+
+/// One swept scene key ("model.fc", "excitation.f_r", ...) and its values.
+struct StudyAxis {
+    std::string key;            ///< "section.key"; the short names Nm, fc, eps, e_r, f_r work too
+    std::vector<double> values; ///< at least one, all finite
+};
+
+/// How the points are drawn from the product of the axes.
+enum class Sampling {
+    grid,            ///< the full Cartesian product
+    random,          ///< `samples` points, each axis value drawn uniformly (seeded)
+    latin_hypercube, ///< `samples` points, each axis's values spread evenly (seeded)
+};
+
+/// Result fields a study keeps (F_m and the parameters always).
+struct KeptResults {
+    bool per_body = false;    ///< per-body left/right maxima
+    bool regime = false;      ///< regime, period, lambda_max and its error (classification run)
+    bool steady_state = true; ///< steady-state period
+    bool wall_time = true;    ///< wall time per point
+};
+
+/// A study.
+struct Study {
+    std::string scene_json = "{}"; ///< the base scene (JSON text)
+    std::vector<StudyAxis> axes;   ///< in order; the first varies slowest on the grid
+    Sampling sampling = Sampling::grid;
+    long samples = 0;            ///< random / Latin hypercube: number of points
+    unsigned long long seed = 1; ///< random / Latin hypercube seed
+    KeptResults keep;
+    std::string source; ///< file it came from
+};
+
+/// Number of points of the study.
+long point_count(const Study& study);
+
+/// The axis values of point `index` (0 <= index < point_count), deterministic.
+std::vector<double> point_values(const Study& study, long index);
+
+/// The scene of point `index`: the base scene with the point's values set (validated; a bad
+/// value throws SceneError naming the key).
+Scene point_scene(const Study& study, long index);
+
+/// One finished point.
+struct SweepPointResult {
+    long index = 0;
+    std::vector<double> values;           ///< axis values
+    ReducedParameters parameters;         ///< the point's reduced parameters
+    SimulationResult simulation;          ///< F_m and the rest
+    std::optional<Classification> regime; ///< if the study keeps the regime
+};
+
+/// Which points to run: a shard of the index range, minus those already done.
+struct SweepSelection {
+    int shard = 0;            ///< this shard, 0 <= shard < shards
+    int shards = 1;           ///< points with index % shards == shard belong to it
+    std::vector<long> subset; ///< if non-empty: only these indices (before sharding)
+    std::vector<char> done;   ///< done[index] != 0: skip (resume)
+    int threads = 0;          ///< OpenMP threads (0: all)
+};
+
+/// The indices selection would run, in index order.
+std::vector<long> pending_points(const Study& study, const SweepSelection& selection);
+
+/// Runs the pending points in parallel (OpenMP, dynamic schedule); sink is called once per
+/// finished point, one call at a time, in completion order. A point that fails numerically is
+/// reported through its result's status; bad input throws before any point runs.
+void run_sweep(const Study& study, const SweepSelection& selection,
+               const std::function<void(const SweepPointResult&)>& sink,
+               const ProgressCallback& progress = {});
+
+/// Reads and validates a study file (JSON; see docs/sweep.md). Throws SceneError.
+Study load_study(const std::string& path);
+/// Parses and validates study text. Throws SceneError.
+Study parse_study(const std::string& text, const std::string& source = "<string>");
+
+} // namespace gapchain

@@ -1,0 +1,69 @@
+#include "gapchain/sweep.hpp"
+
+#include <doctest/doctest.h>
+
+#include <set>
+
+using namespace gapchain;
+
+TEST_CASE("study files: lists, lin and log ranges, and the grid order") {
+    const Study s = parse_study(R"({"scene": {"model": {"Nm": 2}},
+        "parameters": {"fc": {"log": [1, 100, 3]}, "e_r": {"lin": [0, 1, 3]}, "f_r": [0.5, 1.0]},
+        "sample": "grid", "keep": ["F_m", "regime"]})");
+    REQUIRE(s.axes.size() == 3);
+    CHECK(s.axes[0].values[1] == doctest::Approx(10.0));
+    CHECK(s.axes[1].values[2] == doctest::Approx(1.0));
+    CHECK(point_count(s) == 18);
+    CHECK(s.keep.regime);
+    CHECK_FALSE(s.keep.per_body);
+    // The first axis varies slowest, the last fastest.
+    CHECK(point_values(s, 0) == std::vector<double>{1.0, 0.0, 0.5});
+    CHECK(point_values(s, 1) == std::vector<double>{1.0, 0.0, 1.0});
+    CHECK(point_values(s, 17)[0] == doctest::Approx(100.0));
+    const Scene scene = point_scene(s, 17);
+    CHECK(scene.reduced.fc == doctest::Approx(100.0));
+    CHECK(scene.reduced.f_r == 1.0);
+    CHECK(scene.reduced.Nm == 2);
+}
+
+TEST_CASE("random and Latin-hypercube samples are seeded and spread") {
+    const std::string axes =
+        R"("parameters": {"e_r": {"lin": [0, 1, 10]}, "f_r": {"lin": [1, 2, 10]}})";
+    const Study lhs = parse_study(
+        "{" + axes + R"(, "sample": {"method": "latin_hypercube", "samples": 10, "seed": 4}})");
+    // Each of the 10 values of each axis is used exactly once.
+    for (std::size_t a = 0; a < 2; ++a) {
+        std::set<double> used;
+        for (long i = 0; i < 10; ++i)
+            used.insert(point_values(lhs, i)[a]);
+        CHECK(used.size() == 10);
+    }
+    const Study r1 =
+        parse_study("{" + axes + R"(, "sample": {"method": "random", "samples": 50, "seed": 9}})");
+    const Study r2 = r1;
+    CHECK(point_values(r1, 33) == point_values(r2, 33));
+}
+
+TEST_CASE("bad studies name the key") {
+    CHECK_THROWS_WITH_AS(parse_study(R"({"parameters": {"fc": [0]}})"),
+                         doctest::Contains("model.fc"), SceneError);
+    CHECK_THROWS_WITH_AS(parse_study(R"({"parameters": {"model.stiffness": [1]}})"),
+                         doctest::Contains("model.stiffness: unknown key"), SceneError);
+    CHECK_THROWS_WITH_AS(parse_study(R"({"parameters": {"fc": {"lin": [1, 2]}}})"),
+                         doctest::Contains("parameters.fc"), SceneError);
+    CHECK_THROWS_WITH_AS(parse_study(R"({"parameters": {}})"), doctest::Contains("parameters"),
+                         SceneError);
+    CHECK_THROWS_WITH_AS(parse_study(R"({"parameters": {"fc": [1]}, "keep": ["speed"]})"),
+                         doctest::Contains("keep"), SceneError);
+    CHECK_THROWS_AS(parse_study("{nope"), SceneError);
+}
+
+TEST_CASE("the paper-scale study has 430,080 points") {
+    const Study s = load_study(GAPCHAIN_SOURCE_DIR "/data/studies/paper-scale.json");
+    CHECK(point_count(s) == 430080);
+    long below = 0;
+    for (double e : s.axes[3].values)
+        below += e < 0.3;
+    CHECK(below >= 15);
+    CHECK(s.axes[4].values.size() == 56);
+}

@@ -8,9 +8,104 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <memory>
+
+#ifdef GAPCHAIN_WITH_MPI
+#include <mpi.h>
+#endif
+
+namespace {
+
+// Across MPI ranks: rank r runs shard r of n, and rank 0 alone owns the results file. Other
+// ranks send each finished row to rank 0 (tag row) and a last empty message when they are done
+// (tag done); rank 0 appends rows as they come, between its own points and after them.
+// Without MPI (or with one rank) this is a single process and every call here is trivial.
+class Ranks {
+public:
+    Ranks(int& argc, char**& argv) {
+#ifdef GAPCHAIN_WITH_MPI
+        int provided = 0;
+        MPI_Init_thread(&argc, &argv, MPI_THREAD_SERIALIZED, &provided);
+        MPI_Comm_rank(MPI_COMM_WORLD, &m_rank);
+        MPI_Comm_size(MPI_COMM_WORLD, &m_size);
+#else
+        (void)argc, (void)argv;
+#endif
+    }
+    ~Ranks() {
+#ifdef GAPCHAIN_WITH_MPI
+        MPI_Finalize();
+#endif
+    }
+    [[nodiscard]] int rank() const { return m_rank; }
+    [[nodiscard]] int size() const { return m_size; }
+
+    // Rank 0's done flags to every rank.
+    void share_done(std::vector<char>& done) const {
+#ifdef GAPCHAIN_WITH_MPI
+        if (m_size > 1) MPI_Bcast(done.data(), static_cast<int>(done.size()), MPI_CHAR, 0, MPI_COMM_WORLD);
+#else
+        (void)done;
+#endif
+    }
+    void send_row(const std::string& row) const {
+#ifdef GAPCHAIN_WITH_MPI
+        MPI_Send(row.data(), static_cast<int>(row.size()), MPI_CHAR, 0, k_row, MPI_COMM_WORLD);
+#else
+        (void)row;
+#endif
+    }
+    void send_done() const {
+#ifdef GAPCHAIN_WITH_MPI
+        MPI_Send(nullptr, 0, MPI_CHAR, 0, k_done, MPI_COMM_WORLD);
+#endif
+    }
+    // Rank 0: hands every row received so far to append; with wait, until all ranks are done.
+    template <typename Append>
+    long collect(Append append, bool wait) {
+        long received = 0;
+#ifdef GAPCHAIN_WITH_MPI
+        while (m_finished < m_size - 1) {
+            int flag = 0;
+            MPI_Status status;
+            if (wait) {
+                MPI_Probe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &status);
+                flag = 1;
+            } else {
+                MPI_Iprobe(MPI_ANY_SOURCE, MPI_ANY_TAG, MPI_COMM_WORLD, &flag, &status);
+            }
+            if (!flag) break;
+            int count = 0;
+            MPI_Get_count(&status, MPI_CHAR, &count);
+            std::string row(static_cast<std::size_t>(count), '\0');
+            MPI_Recv(row.data(), count, MPI_CHAR, status.MPI_SOURCE, status.MPI_TAG, MPI_COMM_WORLD,
+                     MPI_STATUS_IGNORE);
+            if (status.MPI_TAG == k_done) {
+                ++m_finished;
+            } else {
+                append(row);
+                ++received;
+            }
+        }
+#else
+        (void)append, (void)wait;
+#endif
+        return received;
+    }
+
+private:
+    static constexpr int k_row = 1;
+    static constexpr int k_done = 2;
+    int m_rank = 0;
+    int m_size = 1;
+    int m_finished = 0;
+};
+
+} // namespace
 
 int main(int argc, char** argv) {
     using namespace gapchain;
+    Ranks ranks(argc, argv);
     CLI::App app{"Run a study (data/studies/*.json): every point's F_m (and what the study keeps), "
                  "in parallel, streamed to a CSV. Rerunning the same command after an interruption "
                  "continues where it stopped.",
@@ -49,22 +144,44 @@ int main(int argc, char** argv) {
             h ^= h >> 31;
             sel.subset.push_back(lo + static_cast<long>(h % static_cast<std::uint64_t>(hi - lo)));
         }
-        ResultLog log(out, sweep_csv_header(study), total);
-        sel.done = log.done();
-        if (!std::filesystem::exists(out + ".json"))
-            write_file_atomically(out + ".json", study_json(study));
+        if (ranks.size() > 1) {
+            if (sel.shards != 1)
+                throw std::invalid_argument(
+                    "--shard: not with several MPI ranks (each rank is a shard), got \"" +
+                    shard_text + "\"");
+            sel.shard = ranks.rank();
+            sel.shards = ranks.size();
+        }
+        std::unique_ptr<ResultLog> log;
+        sel.done.assign(static_cast<std::size_t>(total), 0);
+        if (ranks.rank() == 0) {
+            log = std::make_unique<ResultLog>(out, sweep_csv_header(study), total);
+            sel.done = log->done();
+            if (!std::filesystem::exists(out + ".json"))
+                write_file_atomically(out + ".json", study_json(study));
+        }
+        ranks.share_done(sel.done);
         const std::vector<long> pending = pending_points(study, sel);
-        std::fprintf(stderr,
-                     "gapchain-sweep: %ld points in the study, %ld already in %s, %zu to run\n",
-                     total, log.rows_found(), out.c_str(), pending.size());
+        if (ranks.rank() == 0)
+            std::fprintf(stderr,
+                         "gapchain-sweep: %ld points in the study, %ld already in %s, %zu to run%s\n",
+                         total, log->rows_found(), out.c_str(), pending.size(),
+                         ranks.size() > 1 ? " on rank 0" : "");
+        auto append = [&](const std::string& row) { log->append(row); };
         double seconds_periodic = 0, seconds_other = 0;
+        long from_others = 0;
         long periodic = 0, other = 0;
-        cli::Progress progress("gapchain-sweep", true, true);
+        cli::Progress progress("gapchain-sweep", ranks.rank() == 0, true);
         const auto start = std::chrono::steady_clock::now();
         run_sweep(
             study, sel,
             [&](const SweepPointResult& r) {
-                log.append(sweep_csv_row(study, r));
+                if (ranks.rank() == 0) {
+                    log->append(sweep_csv_row(study, r));
+                    from_others += ranks.collect(append, false);
+                } else {
+                    ranks.send_row(sweep_csv_row(study, r));
+                }
                 if (r.simulation.steady_state_period) {
                     ++periodic;
                     seconds_periodic += r.simulation.wall_time_s;
@@ -74,11 +191,19 @@ int main(int argc, char** argv) {
                 }
             },
             progress.callback());
+        if (ranks.rank() != 0) {
+            ranks.send_done();
+            return;
+        }
+        from_others += ranks.collect(append, true);
+        if (ranks.size() > 1)
+            std::printf("gapchain-sweep: rank 0 wrote %ld rows from the other %d ranks\n", from_others,
+                        ranks.size() - 1);
         const double wall =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         const long ran = periodic + other;
-        std::printf("gapchain-sweep: %ld points in %.2f s wall (%.3g points/s)\n", ran, wall,
-                    wall > 0 ? ran / wall : 0.0);
+        std::printf("gapchain-sweep: %ld points in %.2f s wall (%.3g points/s)%s\n", ran, wall,
+                    wall > 0 ? ran / wall : 0.0, ranks.size() > 1 ? " on rank 0; the other ranks' rows are in the file too" : "");
         if (ran > 0) {
             std::printf("  periodic (stopped at steady state): %ld points, mean %.4f s each\n",
                         periodic, periodic ? seconds_periodic / periodic : 0.0);

@@ -50,12 +50,12 @@ SchemeTraits traits(Scheme scheme) {
 
 Scheme choose_scheme(double tolerance, int bodies) {
     detail::require_range("run.tolerance", tolerance, 0.0, 1.0, detail::Bound::open_low);
-    // From the work-precision study of docs/accuracy.md: at equal F_m error, rk4 beats the
-    // central difference below 1e-2 (its 4 evaluations buy a much larger step), and the exact
-    // propagator beats rk4 from 1e-7 down on rows up to 20 bodies (its O(Nm^2) step cost and
-    // per-configuration set-up lose on longer rows).
-    if (tolerance >= 1e-2) return Scheme::central_difference;
-    if (tolerance <= 1e-7 && bodies <= 20) return Scheme::exact;
+    // From the work-precision studies of docs/accuracy.md: rk4 (with steps split at contact
+    // switches) beats the central difference at every tolerance from 1e-2 down; the exact
+    // propagator beats rk4 from 1e-6 down on rows of up to 10 bodies, and from 1e-8 down up to
+    // 20 bodies (its O(Nm^2) step and per-configuration set-up lose on longer rows).
+    if ((tolerance <= 1e-6 && bodies <= 10) || (tolerance <= 1e-8 && bodies <= 20))
+        return Scheme::exact;
     return Scheme::rk4;
 }
 

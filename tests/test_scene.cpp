@@ -39,6 +39,9 @@ TEST_CASE("the documented keys are read, and --set overrides them") {
     CHECK(s.reduced.Nm == 5);
     CHECK(s.run.scheme == Scheme::rk4);
     CHECK(s.run.tolerance == 1e-4);
+    for (const char* scheme : {"central_difference", "rkf45", "rk8pd", "exact"})
+        CHECK(parse_scene("{}", {std::string("run.scheme=") + scheme}).run.scheme ==
+              parse_scheme(scheme));
 }
 
 TEST_CASE("physical scenes convert to reduced parameters") {

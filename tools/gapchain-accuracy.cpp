@@ -55,7 +55,8 @@ int main(int argc, char** argv) {
                 "# Regenerate: gnuplot work_precision.gp (in this folder)\n"
                 "set terminal pngcairo size 1000,700 font 'sans,11'\nset output "
                 "'work_precision.png'\n"
-                "set datafile separator ','\nset logscale xy\nset grid\nset key outside right noenhanced\n"
+                "set datafile separator ','\nset logscale xy\nset grid\nset key outside right "
+                "noenhanced\n"
                 "set format x '10^{%L}'\nset xlabel 'relative error of F_m'\nset ylabel 'wall time "
                 "[s] (median)'\n"
                 "set title '" +

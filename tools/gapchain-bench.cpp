@@ -82,7 +82,8 @@ void bench_sim(long periods, double tolerance) {
             // periods (the maxima settle well before), the timing on the full length.
             RunOptions tight = o;
             tight.tolerance = 1e-10;
-            tight.scheme = Scheme::rk8pd; // independent of the scheme under test (auto may pick exact)
+            tight.scheme =
+                Scheme::rk8pd; // independent of the scheme under test (auto may pick exact)
             tight.estimate_error = false;
             const double ref = simulate(dyn, tight).F_m;
             plain_h_omega = 0.5;

@@ -37,13 +37,18 @@ public:
         MPI_Finalize();
 #endif
     }
-    [[nodiscard]] int rank() const { return m_rank; }
-    [[nodiscard]] int size() const { return m_size; }
+    [[nodiscard]] int rank() const {
+        return m_rank;
+    }
+    [[nodiscard]] int size() const {
+        return m_size;
+    }
 
     // Rank 0's done flags to every rank.
     void share_done(std::vector<char>& done) const {
 #ifdef GAPCHAIN_WITH_MPI
-        if (m_size > 1) MPI_Bcast(done.data(), static_cast<int>(done.size()), MPI_CHAR, 0, MPI_COMM_WORLD);
+        if (m_size > 1)
+            MPI_Bcast(done.data(), static_cast<int>(done.size()), MPI_CHAR, 0, MPI_COMM_WORLD);
 #else
         (void)done;
 #endif
@@ -163,10 +168,11 @@ int main(int argc, char** argv) {
         ranks.share_done(sel.done);
         const std::vector<long> pending = pending_points(study, sel);
         if (ranks.rank() == 0)
-            std::fprintf(stderr,
-                         "gapchain-sweep: %ld points in the study, %ld already in %s, %zu to run%s\n",
-                         total, log->rows_found(), out.c_str(), pending.size(),
-                         ranks.size() > 1 ? " on rank 0" : "");
+            std::fprintf(
+                stderr,
+                "gapchain-sweep: %ld points in the study, %ld already in %s, %zu to run%s\n", total,
+                log->rows_found(), out.c_str(), pending.size(),
+                ranks.size() > 1 ? " on rank 0" : "");
         auto append = [&](const std::string& row) { log->append(row); };
         double seconds_periodic = 0, seconds_other = 0;
         long from_others = 0;
@@ -197,13 +203,15 @@ int main(int argc, char** argv) {
         }
         from_others += ranks.collect(append, true);
         if (ranks.size() > 1)
-            std::printf("gapchain-sweep: rank 0 wrote %ld rows from the other %d ranks\n", from_others,
-                        ranks.size() - 1);
+            std::printf("gapchain-sweep: rank 0 wrote %ld rows from the other %d ranks\n",
+                        from_others, ranks.size() - 1);
         const double wall =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         const long ran = periodic + other;
         std::printf("gapchain-sweep: %ld points in %.2f s wall (%.3g points/s)%s\n", ran, wall,
-                    wall > 0 ? ran / wall : 0.0, ranks.size() > 1 ? " on rank 0; the other ranks' rows are in the file too" : "");
+                    wall > 0 ? ran / wall : 0.0,
+                    ranks.size() > 1 ? " on rank 0; the other ranks' rows are in the file too"
+                                     : "");
         if (ran > 0) {
             std::printf("  periodic (stopped at steady state): %ld points, mean %.4f s each\n",
                         periodic, periodic ? seconds_periodic / periodic : 0.0);

@@ -39,6 +39,17 @@ diff <(rows "$dir/full.csv") <(rows "$dir/one.csv") >/dev/null || { echo "FAIL: 
 "$sweep" "$study" --shard 1/2 --out "$dir/shards.csv" >/dev/null 2>&1
 diff <(rows "$dir/full.csv") <(rows "$dir/shards.csv") >/dev/null || { echo "FAIL: two shards differ"; fail=1; }
 
+# A second sweep on a file another one is writing is refused (the file is locked).
+"$sweep" "$study" --out "$dir/locked.csv" >/dev/null 2>&1 &
+first=$!
+for _ in $(seq 1 400); do [ -s "$dir/locked.csv" ] && break; sleep 0.02; done
+"$sweep" "$study" --out "$dir/locked.csv" >/dev/null 2>"$dir/locked.err"
+rc=$?
+kill -9 "$first" 2>/dev/null; wait "$first" 2>/dev/null
+if [ "$rc" -ne 2 ] || ! grep -q "another gapchain-sweep" "$dir/locked.err"; then
+    echo "FAIL: a second sweep on a busy file was not refused"; fail=1
+fi
+
 # A torn last row (a kill in the middle of a write) is dropped and redone.
 head -c -7 "$dir/full.csv" > "$dir/torn.csv"
 "$sweep" "$study" --out "$dir/torn.csv" >/dev/null 2>&1

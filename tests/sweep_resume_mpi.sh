@@ -25,9 +25,12 @@ for _ in $(seq 1 1000); do
     [ -f "$dir/killed.csv" ] && [ "$(wc -l < "$dir/killed.csv")" -gt 10 ] && break
     sleep 0.02
 done
+# Every process of the job at once, as a batch scheduler kills a job: mpirun and each rank (the
+# ranks run in process groups of their own).
+pkill -9 -f -- "--out $dir/killed.csv" 2>/dev/null
 kill -9 -- "-$leader" 2>/dev/null
 wait "$leader" 2>/dev/null
-sleep 0.5
+for _ in $(seq 1 100); do pgrep -f -- "--out $dir/killed.csv" >/dev/null || break; sleep 0.05; done
 partial=$(($(wc -l < "$dir/killed.csv") - 1))
 total=$(($(wc -l < "$dir/full.csv") - 1))
 echo "2 ranks killed after $partial of $total rows"

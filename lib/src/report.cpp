@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fcntl.h>
+#include <sys/file.h>
 #include <fstream>
 #include <numbers>
 #include <sstream>
@@ -337,6 +338,11 @@ ResultLog::ResultLog(const std::string& path, const std::string& header, long in
     }
     m_fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
     if (m_fd < 0) throw SceneError(path + ": cannot open for writing");
+    // One writer at a time: a second sweep on the same file (or a leftover process of a killed
+    // one) would append points twice. The kernel drops the lock when its holder dies.
+    if (::flock(m_fd, LOCK_EX | LOCK_NB) != 0)
+        throw SceneError(path + ": is being written by another gapchain-sweep still running; "
+                                "wait for it or stop it first");
     if (existing.empty()) {
         append(header);
     } else if (keep < existing.size() && ::ftruncate(m_fd, static_cast<off_t>(keep)) != 0) {

@@ -94,7 +94,8 @@ std::string study_json(const Study& study);
 
 /// An append-only results file that survives kill -9 at any moment. Each row reaches the file in
 /// one write(2) of the whole line, so a killed run leaves whole rows and at most one torn last
-/// line; reopening drops that line and reports which point indices are done.
+/// line; reopening drops that line and reports which point indices are done. The file is locked
+/// (flock) while open, so two sweeps can never write it at once.
 class ResultLog {
 public:
     /// Opens path for appending (creating it with header). An existing file must start with

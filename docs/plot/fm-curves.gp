@@ -1,0 +1,14 @@
+# F_m against one swept parameter, one curve per value of another, from a gapchain-sweep CSV.
+# Usage: gnuplot -e "csv='r.csv'; png='out.png'; xcol='e_r'; groupcol='fc'; values='1 10 100 1000'; title='...'" docs/plot/fm-curves.gp
+# (not "x": that name is gnuplot's dummy variable)
+set terminal pngcairo size 1000,650 font 'sans,11'
+set output png
+set datafile separator ','
+set datafile columnheaders
+set grid
+set key outside right title groupcol noenhanced
+set xlabel xcol noenhanced
+set ylabel 'F_m (reduced)'
+set title title noenhanced
+plot for [v in values] csv using (abs(column(groupcol) - v) < 1e-9 * (1 + v) ? column(xcol) : 1/0):(column('F_m')) \
+     smooth unique with linespoints pt 7 ps 0.6 lw 1.5 title v

@@ -161,4 +161,15 @@ void Dynamics::jacobian(const double* y, std::vector<double>& jac) const {
     }
 }
 
+std::vector<double> initial_state(const Dynamics& dyn, const std::vector<double>& initial) {
+    if (initial.empty()) return std::vector<double>(dyn.dimension(), 0.0);
+    detail::require_length("initial state", initial.size(),
+                           static_cast<std::size_t>(dyn.dimension()));
+    for (double x : initial)
+        if (!std::isfinite(x))
+            throw std::invalid_argument("initial: every entry must be finite, got " +
+                                        detail::format_number(x));
+    return initial;
+}
+
 } // namespace gapchain

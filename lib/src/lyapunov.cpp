@@ -234,8 +234,7 @@ LyapunovResult chain_lyapunov(const Dynamics& dyn, const RunOptions& options, in
     auto stepper = make_stepper(plan, dyn);
     TangentObserver tangent(dyn, count, options.transient_periods);
     Observer* observers[] = {&tangent};
-    std::vector<double> y = initial.empty() ? std::vector<double>(dyn.dimension(), 0.0) : initial;
-    detail::require_length("initial state", y.size(), static_cast<std::size_t>(dyn.dimension()));
+    std::vector<double> y = initial_state(dyn, initial);
     const RunOutcome outcome =
         run(dyn, *stepper, plan, {options.periods, options.transient_periods, 0.0}, y, observers,
             progress);

@@ -174,8 +174,7 @@ RunOutcome take_section(const Dynamics& dyn, const RunOptions& options, const Se
     auto stepper = make_stepper(plan, dyn);
     PoincareSampler sampler(dyn, spec, sink);
     Observer* observers[] = {&sampler};
-    std::vector<double> y = initial.empty() ? std::vector<double>(dyn.dimension(), 0.0) : initial;
-    detail::require_length("initial state", y.size(), static_cast<std::size_t>(dyn.dimension()));
+    std::vector<double> y = initial_state(dyn, initial);
     const RunSpan span{options.periods, options.transient_periods, 0.0};
     return run(dyn, *stepper, plan, span, y, observers, progress);
 }

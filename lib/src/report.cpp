@@ -5,10 +5,10 @@
 #include <cmath>
 #include <cstdio>
 #include <fcntl.h>
-#include <sys/file.h>
 #include <fstream>
 #include <numbers>
 #include <sstream>
+#include <sys/file.h>
 #include <unistd.h>
 
 namespace gapchain {

@@ -44,8 +44,7 @@ Signal record_signal(const Dynamics& dyn, const RunOptions& options,
     Signal signal;
     SignalRecorder recorder(dyn, variable, dyn.period() / samples_per_period, signal);
     Observer* observers[] = {&recorder};
-    std::vector<double> y = initial.empty() ? std::vector<double>(dyn.dimension(), 0.0) : initial;
-    detail::require_length("initial state", y.size(), static_cast<std::size_t>(dyn.dimension()));
+    std::vector<double> y = initial_state(dyn, initial);
     outcome = run(dyn, *stepper, plan, {options.periods, options.transient_periods, 0.0}, y,
                   observers, progress);
     return signal;

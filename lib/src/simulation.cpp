@@ -73,16 +73,8 @@ SimulationResult simulate(const Dynamics& dyn, const RunOptions& options,
                           const std::vector<double>& initial, const SimulationHooks& hooks) {
     const auto start = std::chrono::steady_clock::now();
     validate(options);
-    if (!initial.empty())
-        detail::require_length("initial state", initial.size(),
-                               static_cast<std::size_t>(dyn.dimension()));
-    for (double x : initial)
-        if (!std::isfinite(x))
-            throw std::invalid_argument("initial: every entry must be finite, got " +
-                                        detail::format_number(x));
+    const std::vector<double> y0 = initial_state(dyn, initial);
     const StepPlan plan = plan_step(dyn, options.scheme, options.tolerance, options.step);
-    const std::vector<double> y0 =
-        initial.empty() ? std::vector<double>(dyn.dimension(), 0.0) : initial;
 
     SimulationResult result;
     std::vector<double> y = y0;

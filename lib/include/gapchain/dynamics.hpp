@@ -104,4 +104,8 @@ private:
     std::vector<double> m_force_gain;              ///< k_j / force_scale
 };
 
+/// The initial state of a run: `initial` (2 Nm finite entries) or, if empty, rest. Throws
+/// std::invalid_argument naming the rule otherwise.
+std::vector<double> initial_state(const Dynamics& dyn, const std::vector<double>& initial);
+
 } // namespace gapchain

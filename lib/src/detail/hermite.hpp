@@ -43,25 +43,20 @@ public:
     }
     // Root of rate() in [lo, hi] where rate changes sign (bisection to full precision).
     [[nodiscard]] double stationary_point(double lo, double hi) const {
-        double f_lo = rate(lo);
-        for (int it = 0; it < 60 && hi - lo > 1e-15 * m_h; ++it) {
-            const double mid = 0.5 * (lo + hi);
-            const double f_mid = rate(mid);
-            if ((f_mid > 0.0) == (f_lo > 0.0)) {
-                lo = mid;
-                f_lo = f_mid;
-            } else {
-                hi = mid;
-            }
-        }
-        return 0.5 * (lo + hi);
+        return bisect([this](double tau) { return rate(tau); }, lo, hi);
     }
     // Root of value() - level in [lo, hi] where it changes sign.
     [[nodiscard]] double crossing(double level, double lo, double hi) const {
-        double f_lo = value(lo) - level;
+        return bisect([this, level](double tau) { return value(tau) - level; }, lo, hi);
+    }
+
+private:
+    template <typename F>
+    [[nodiscard]] double bisect(F f, double lo, double hi) const {
+        double f_lo = f(lo);
         for (int it = 0; it < 60 && hi - lo > 1e-15 * m_h; ++it) {
             const double mid = 0.5 * (lo + hi);
-            const double f_mid = value(mid) - level;
+            const double f_mid = f(mid);
             if ((f_mid > 0.0) == (f_lo > 0.0)) {
                 lo = mid;
                 f_lo = f_mid;
@@ -72,7 +67,6 @@ public:
         return 0.5 * (lo + hi);
     }
 
-private:
     double m_h;
     std::array<double, 6> m_c{};
 };

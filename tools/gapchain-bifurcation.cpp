@@ -79,6 +79,11 @@ int main(int argc, char** argv) {
 
     return cli::run(app, argc, argv, [&] {
         const Scene scene = cli::load(scene_args, fig13_scene);
+        if (!scene.uniform())
+            throw std::invalid_argument(
+                "model arrays and scatter: gapchain-bifurcation takes the paper's uniform row only "
+                "(Nm, fc, eps, e_r); non-uniform rows work in gapchain-sim, -poincare, -spectrum, "
+                "-lyapunov, -modes and -accuracy");
         o.parameter = parse_swept_parameter(param);
         o.mode = parse_sweep_mode(mode);
         o.section.record = {SectionVariable::parse(variable, scene.reduced.Nm, "--variable")};

@@ -55,6 +55,11 @@ int main(int argc, char** argv) {
     app.add_flag("--no-plot", no_plot, "Write the CSV only");
     return cli::run(app, argc, argv, [&] {
         const Scene scene = cli::load(scene_args);
+        if (!scene.uniform())
+            throw std::invalid_argument(
+                "model arrays and scatter: gapchain-classify takes the paper's uniform row only "
+                "(Nm, fc, eps, e_r); non-uniform rows work in gapchain-sim, -poincare, -spectrum, "
+                "-lyapunov, -modes and -accuracy");
         o.scheme = scene.run.scheme;
         o.tolerance = scene.run.tolerance;
         validate(o);

@@ -3,6 +3,7 @@
 
 #include "detail/check.hpp"
 #include "detail/json_reader.hpp"
+#include "detail/random.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -11,6 +12,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <numbers>
 #include <sstream>
 #include <unistd.h>
 
@@ -59,6 +61,73 @@ std::vector<double> number_array(const json& j, const std::string& key) {
     return out;
 }
 
+/// The row from the model's arrays and scatter, or nothing if the model gives neither.
+std::optional<Chain> non_uniform_row(const json& model, const ReducedParameters& p) {
+    if (!model.is_object()) return std::nullopt;
+    const char* array_keys[] = {"mass", "stiffness", "damping", "clearance", "contact", "scatter"};
+    bool any = false;
+    for (const char* k : array_keys) any = any || model.contains(k);
+    if (!any) return std::nullopt;
+    const auto n = static_cast<std::size_t>(p.Nm);
+    auto array = [&](const char* key, std::size_t size, double fallback) {
+        std::vector<double> v(size, fallback);
+        if (!model.contains(key)) return v;
+        const std::string full = std::string("model.") + key;
+        v = number_array(model[key], full);
+        if (v.size() != size)
+            throw SceneError(full + ": must have " + std::to_string(size) + " entries (" +
+                             (size == n ? "one per body" : "one per gap, Nm + 1") + "), got " +
+                             std::to_string(v.size()));
+        return v;
+    };
+    std::vector<double> mass = array("mass", n, 1.0);
+    std::vector<double> stiffness = array("stiffness", n, 1.0);
+    std::vector<double> damping = array("damping", n, p.eps);
+    std::vector<double> clearance = array("clearance", n + 1, p.e_r);
+    std::vector<double> contact = array("contact", n + 1, 1.0);
+    if (model.contains("scatter")) {
+        SectionReader scatter(model["scatter"], "model.scatter",
+                              {"clearance", "contact", "mass", "stiffness", "seed"});
+        scatter.finish();
+        const auto seed = static_cast<std::uint64_t>(scatter.integer("seed", 1, 0, 2'000'000'000));
+        auto spread = [&](const char* key, std::vector<double>& v, std::uint64_t stream,
+                          double floor) {
+            const double s = scatter.number(key, 0.0, 0.0, 10.0);
+            for (std::size_t i = 0; i < v.size(); ++i)
+                v[i] *= std::max(floor, 1.0 + s * detail::standard_normal(seed, stream, i));
+        };
+        // Clearances may close to zero; masses and stiffnesses must stay positive.
+        spread("clearance", clearance, 1, 0.0);
+        spread("contact", contact, 2, 1e-3);
+        spread("mass", mass, 3, 1e-3);
+        spread("stiffness", stiffness, 4, 1e-3);
+    }
+    auto check = [](const char* key, const std::vector<double>& v, double lo, bool open) {
+        for (double x : v)
+            if (!(open ? x > lo : x >= lo) || !std::isfinite(x))
+                throw SceneError(std::string("model.") + key + ": every entry must be a finite number " +
+                                 (open ? "> " : ">= ") + detail::format_number(lo) + ", got " +
+                                 detail::format_number(x));
+    };
+    check("mass", mass, 0.0, true);
+    check("stiffness", stiffness, 0.0, true);
+    check("damping", damping, 0.0, false);
+    check("clearance", clearance, 0.0, false);
+    check("contact", contact, 0.0, true);
+    Chain c = Chain::homogeneous(p);
+    const double four_pi2 = 4.0 * std::numbers::pi * std::numbers::pi;
+    for (std::size_t i = 0; i < n; ++i) {
+        c.mass[i] = mass[i];
+        c.spring[i] = four_pi2 * stiffness[i] / mass[i];
+        c.damping[i] = 4.0 * std::numbers::pi * damping[i] * std::sqrt(stiffness[i] / mass[i]);
+    }
+    for (std::size_t j = 0; j <= n; ++j) {
+        c.clearance[j] = clearance[j];
+        c.contact[j] *= contact[j];
+    }
+    return c;
+}
+
 Scene scene_from_json(json root, const std::vector<std::string>& overrides,
                       const std::string& source) {
     if (!root.is_object()) throw SceneError("scene: the top level must be a JSON object");
@@ -73,7 +142,8 @@ Scene scene_from_json(json root, const std::vector<std::string>& overrides,
     SectionReader model = top.section("model");
     SectionReader excitation = top.section("excitation");
     if (scene.units == Units::reduced) {
-        model.allow({"Nm", "fc", "eps", "e_r"});
+        model.allow({"Nm", "fc", "eps", "e_r", "mass", "stiffness", "damping", "clearance",
+                     "contact", "scatter"});
         excitation.allow({"f_r", "type"});
         ReducedParameters& p = scene.reduced;
         p.Nm = model.integer("Nm", p.Nm, 1, 1'000'000);
@@ -97,6 +167,7 @@ Scene scene_from_json(json root, const std::vector<std::string>& overrides,
         scene.reduced = to_reduced(q);
     }
     excitation.text("type", "harmonic", {"harmonic"});
+    if (scene.units == Units::reduced) scene.row = non_uniform_row(root["model"], scene.reduced);
     model.finish();
     excitation.finish();
 

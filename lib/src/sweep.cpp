@@ -1,6 +1,7 @@
 #include "gapchain/sweep.hpp"
 
 #include "detail/check.hpp"
+#include "detail/random.hpp"
 
 #include <omp.h>
 
@@ -13,18 +14,7 @@ namespace gapchain {
 
 namespace {
 
-/// SplitMix64: a portable, seedable hash (the standard library's distributions differ between
-/// implementations, which would make samples depend on the compiler).
-std::uint64_t mix(std::uint64_t x) {
-    x += 0x9e3779b97f4a7c15ULL;
-    x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
-    x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
-    return x ^ (x >> 31);
-}
-
-std::uint64_t hash3(std::uint64_t seed, std::uint64_t a, std::uint64_t b) {
-    return mix(mix(mix(seed) ^ a) ^ (b * 0xd6e8feb86659fd93ULL));
-}
+using detail::hash3;
 
 /// Position of `index` in axis `axis`'s Latin-hypercube permutation of [0, n) (Fisher-Yates
 /// driven by the hash, so it is the same everywhere).
@@ -152,6 +142,9 @@ void run_sweep(const Study& s, const SweepSelection& sel,
             r.parameters = scene.reduced;
             r.simulation = simulate(scene.dynamics(), scene.run, scene.initial);
             if (s.keep.regime) {
+                if (!scene.uniform())
+                    throw std::invalid_argument("keep: \"regime\" needs the paper's uniform row; "
+                                                "drop it or the model arrays and scatter");
                 ClassifyOptions co;
                 co.scheme = scene.run.scheme;
                 co.tolerance = scene.run.tolerance;

@@ -11,6 +11,13 @@
 ///    "initial": {"u": [...], "v": [...]},
 ///    "output": {"trajectory_every": 1}}
 /// With "units": "physical", model holds Nm, M, K, C, Kc, e and excitation holds a0, f (SI).
+///
+/// Non-uniform rows (reduced scenes): model may also give per-body arrays "mass" (M_i / M),
+/// "stiffness" (K_i / K), "damping" (eps_i), Nm entries each, and per-gap arrays "clearance"
+/// (reduced e_r of gap j = 0..Nm, 0 the left wall) and "contact" (factor on the nominal contact
+/// stiffness, fc at the walls and fc / 2 between bodies), Nm + 1 entries each; and "scatter":
+/// {"clearance": s, "contact": s, "mass": s, "stiffness": s, "seed": n}, a seeded normal
+/// scatter of relative standard deviation s around those values.
 
 #include "gapchain/dynamics.hpp"
 #include "gapchain/simulation.hpp"
@@ -42,9 +49,14 @@ struct Scene {
     std::vector<double> initial;                ///< initial state (empty: rest)
     int trajectory_every = 1;                   ///< trajectory decimation in steps, >= 1
     std::string source;                         ///< file it came from, or "<built-in>"
+    std::optional<Chain> row;                   ///< set for a non-uniform row (arrays, scatter)
 
-    /// The homogeneous chain of the reduced parameters.
-    [[nodiscard]] Chain chain() const { return Chain::homogeneous(reduced); }
+    /// The row: the non-uniform one if the scene gave arrays or a scatter, else the
+    /// homogeneous chain of the reduced parameters.
+    [[nodiscard]] Chain chain() const { return row ? *row : Chain::homogeneous(reduced); }
+    /// Whether the row is the paper's homogeneous one (tools that take only the five reduced
+    /// parameters refuse other rows).
+    [[nodiscard]] bool uniform() const { return !row.has_value(); }
     /// The equations of motion of the scene.
     [[nodiscard]] Dynamics dynamics() const { return Dynamics(chain(), {reduced.f_r, 1.0}); }
 };

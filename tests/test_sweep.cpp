@@ -47,8 +47,8 @@ TEST_CASE("random and Latin-hypercube samples are seeded and spread") {
 TEST_CASE("bad studies name the key") {
     CHECK_THROWS_WITH_AS(parse_study(R"({"parameters": {"fc": [0]}})"),
                          doctest::Contains("model.fc"), SceneError);
-    CHECK_THROWS_WITH_AS(parse_study(R"({"parameters": {"model.stiffness": [1]}})"),
-                         doctest::Contains("model.stiffness: unknown key"), SceneError);
+    CHECK_THROWS_WITH_AS(parse_study(R"({"parameters": {"model.springiness": [1]}})"),
+                         doctest::Contains("model.springiness: unknown key"), SceneError);
     CHECK_THROWS_WITH_AS(parse_study(R"({"parameters": {"fc": {"lin": [1, 2]}}})"),
                          doctest::Contains("parameters.fc"), SceneError);
     CHECK_THROWS_WITH_AS(parse_study(R"({"parameters": {}})"), doctest::Contains("parameters"),

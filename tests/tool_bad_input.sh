@@ -8,7 +8,7 @@ trap 'rm -rf "$dir"' EXIT
 good='{"model": {"Nm": 3, "fc": 10, "eps": 0.5, "e_r": 0.5}, "excitation": {"f_r": 1.0}, "run": {"periods": 5}}'
 echo "$good" > "$dir/good.json"
 echo '{"model": {"Nm": 3,' > "$dir/malformed.json"
-echo '{"model": {"Nm": 3, "stiffness": 2}}' > "$dir/unknown.json"
+echo '{"model": {"Nm": 3, "springiness": 2}}' > "$dir/unknown.json"
 echo '{"model": {"Nm": 0}}' > "$dir/range.json"
 echo '{"model": {"fc": 1e999}}' > "$dir/inf.json"
 echo '{"model": {"Nm": "three"}}' > "$dir/type.json"
@@ -25,7 +25,7 @@ check() { # name, expected key fragment, args...
     if ls "$dir" | grep -q "^out_$name"; then echo "FAIL $name: output left behind"; fail=1; fi
 }
 check malformed "malformed JSON" "$dir/malformed.json"
-check unknown "model.stiffness: unknown key" "$dir/unknown.json"
+check unknown "model.springiness: unknown key" "$dir/unknown.json"
 check range "model.Nm" "$dir/range.json"
 check inf "overflow" "$dir/inf.json"
 check type "model.Nm" "$dir/type.json"

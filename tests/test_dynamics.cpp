@@ -97,3 +97,26 @@ TEST_CASE("energy rate equals minus the damping power plus the forcing power") {
     }
     CHECK(dEdt == doctest::Approx(expected).epsilon(1e-6));
 }
+
+TEST_CASE("Hertz law: the Jacobian matches finite differences of the right-hand side") {
+    Chain c = Chain::homogeneous({4, 50, 0.2, 0.05, 1.3});
+    c.law = ContactLaw::hertz;
+    const Dynamics dyn(c, {1.3, 1.0});
+    const int dim = dyn.dimension();
+    std::vector<double> jac, fp(dim), fm(dim);
+    for (unsigned seed = 20; seed <= 24; ++seed) {
+        auto y = random_state(4, seed, 0.6);
+        dyn.jacobian(y.data(), jac);
+        for (int col = 0; col < dim; ++col) {
+            const double h = 1e-7;
+            auto yp = y, ym = y;
+            yp[col] += h;
+            ym[col] -= h;
+            dyn.rhs(0.3, yp.data(), fp.data());
+            dyn.rhs(0.3, ym.data(), fm.data());
+            for (int r = 0; r < dim; ++r)
+                CHECK((fp[r] - fm[r]) / (2 * h) ==
+                      doctest::Approx(jac[r * dim + col]).epsilon(1e-5).scale(100));
+        }
+    }
+}

@@ -101,12 +101,13 @@ TEST_CASE("OutputFile leaves nothing behind unless committed") {
 }
 
 TEST_CASE("non-uniform rows: arrays equal to the nominal values give the homogeneous run exactly") {
-    const std::string base = R"({"model": {"Nm": 3, "fc": 100, "eps": 0.3, "e_r": 0.2}, "excitation": {"f_r": 1.1},
+    const std::string base =
+        R"({"model": {"Nm": 3, "fc": 100, "eps": 0.3, "e_r": 0.2}, "excitation": {"f_r": 1.1},
         "run": {"periods": 40}})";
     const Scene uniform = parse_scene(base);
-    const Scene arrays = parse_scene(base, {"model.mass=[1,1,1]", "model.stiffness=[1,1,1]",
-                                            "model.damping=[0.3,0.3,0.3]", "model.clearance=[0.2,0.2,0.2,0.2]",
-                                            "model.contact=[1,1,1,1]"});
+    const Scene arrays = parse_scene(
+        base, {"model.mass=[1,1,1]", "model.stiffness=[1,1,1]", "model.damping=[0.3,0.3,0.3]",
+               "model.clearance=[0.2,0.2,0.2,0.2]", "model.contact=[1,1,1,1]"});
     CHECK(uniform.uniform());
     REQUIRE_FALSE(arrays.uniform());
     const SimulationResult a = simulate(uniform.dynamics(), uniform.run);
@@ -117,13 +118,13 @@ TEST_CASE("non-uniform rows: arrays equal to the nominal values give the homogen
 
 TEST_CASE("non-uniform rows: per-gap values reach the chain, and a scatter is seeded") {
     const std::string base = R"({"model": {"Nm": 2, "fc": 50, "e_r": 0.1}})";
-    const Scene s = parse_scene(base, {"model.clearance=[0.1,0.3,0.0]", "model.contact=[2,1,0.5]",
-                                       "model.mass=[1,4]"});
+    const Scene s = parse_scene(
+        base, {"model.clearance=[0.1,0.3,0.0]", "model.contact=[2,1,0.5]", "model.mass=[1,4]"});
     const Chain c = s.chain();
     CHECK(c.clearance[1] == 0.3);
-    CHECK(c.contact[0] == 100.0);   // 2 x fc at the left wall
-    CHECK(c.contact[1] == 25.0);    // 1 x fc/2 between the bodies
-    CHECK(c.contact[2] == 25.0);    // 0.5 x fc at the right wall
+    CHECK(c.contact[0] == 100.0);                           // 2 x fc at the left wall
+    CHECK(c.contact[1] == 25.0);                            // 1 x fc/2 between the bodies
+    CHECK(c.contact[2] == 25.0);                            // 0.5 x fc at the right wall
     CHECK(c.spring[1] == doctest::Approx(c.spring[0] / 4)); // heavier body, same spring
     const Scene s1 = parse_scene(base, {R"(model.scatter={"clearance": 0.1, "seed": 7})"});
     const Scene s2 = parse_scene(base, {R"(model.scatter={"clearance": 0.1, "seed": 7})"});
@@ -134,12 +135,23 @@ TEST_CASE("non-uniform rows: per-gap values reach the chain, and a scatter is se
 }
 
 TEST_CASE("bad arrays fail with a message naming the key") {
-    CHECK(error_of(R"({"model": {"Nm": 3, "clearance": [0.1, 0.1]}})").find("model.clearance: must have 4 entries") !=
+    CHECK(error_of(R"({"model": {"Nm": 3, "clearance": [0.1, 0.1]}})")
+              .find("model.clearance: must have 4 entries") != std::string::npos);
+    CHECK(error_of(R"({"model": {"Nm": 2, "clearance": [0.1, -0.1, 0.1]}})")
+              .find("model.clearance: every entry") != std::string::npos);
+    CHECK(error_of(R"({"model": {"Nm": 2, "mass": [1, 0]}})").find("model.mass") !=
           std::string::npos);
-    CHECK(error_of(R"({"model": {"Nm": 2, "clearance": [0.1, -0.1, 0.1]}})").find("model.clearance: every entry") !=
+    CHECK(error_of(R"({"model": {"Nm": 2, "mass": [1, "x"]}})").find("model.mass") !=
           std::string::npos);
-    CHECK(error_of(R"({"model": {"Nm": 2, "mass": [1, 0]}})").find("model.mass") != std::string::npos);
-    CHECK(error_of(R"({"model": {"Nm": 2, "mass": [1, "x"]}})").find("model.mass") != std::string::npos);
-    CHECK(error_of(R"({"model": {"scatter": {"clearance": 0.1, "sed": 3}}})").find("model.scatter.sed") !=
-          std::string::npos);
+    CHECK(error_of(R"({"model": {"scatter": {"clearance": 0.1, "sed": 3}}})")
+              .find("model.scatter.sed") != std::string::npos);
+}
+
+TEST_CASE("model.contact_law selects the Hertz law; anything else is refused") {
+    const Scene s = parse_scene("{}", {"model.contact_law=hertz"});
+    CHECK_FALSE(s.uniform());
+    CHECK(s.chain().law == ContactLaw::hertz);
+    CHECK(parse_scene("{}", {"model.contact_law=linear"}).uniform());
+    CHECK(error_of("{}", {"model.contact_law=spring"})
+              .find("model.contact_law: must be one of linear, hertz") != std::string::npos);
 }

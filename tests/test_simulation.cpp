@@ -7,6 +7,7 @@
 #include <cmath>
 #include <complex>
 #include <numbers>
+#include <stdexcept>
 
 using namespace gapchain;
 using std::numbers::pi;
@@ -129,4 +130,45 @@ TEST_CASE("a state that overflows is reported as non-finite, not printed") {
     CHECK(r.status == RunStatus::non_finite);
     CHECK(r.message.find("body") != std::string::npos);
     CHECK(r.periods_simulated == 1);
+}
+
+TEST_CASE("Hertz contact: one body, eps = 0, no forcing conserves energy through impacts") {
+    Chain c = Chain::homogeneous({1, 300, 0.0, 0.05, 1.0});
+    c.law = ContactLaw::hertz;
+    const Dynamics dyn(c, {1.0, 0.0});
+    const std::vector<double> y0{0.0, 3.0};
+    const double e0 = dyn.energy(y0.data());
+    RunOptions o;
+    o.periods = 20;
+    o.scheme = Scheme::rk4;
+    o.step = 0.02 / dyn.max_angular_frequency();
+    o.stop_at_steady_state = false;
+    o.estimate_error = false;
+    const SimulationResult r = simulate(dyn, o, y0);
+    REQUIRE(r.contact);
+    CHECK(r.per_contact[0].impacts >= 10);
+    CHECK(dyn.energy(r.final_state.data()) == doctest::Approx(e0).epsilon(1e-8));
+    // A Hertz contact is softer at small penetrations than the linear one of equal k: the
+    // body penetrates deeper, and F = k p^(3/2) / sqrt(fc) must match the penetration reached.
+    const double p_max = std::pow(r.F_m * std::sqrt(300.0) / 300.0, 2.0 / 3.0);
+    CHECK(p_max > 0.0);
+    CHECK(dyn.force_at_penetration(0, p_max) == doctest::Approx(r.F_m).epsilon(1e-12));
+}
+
+TEST_CASE("Hertz contact: exact and Lyapunov exponents refuse it, rk4 and rk8pd agree") {
+    Chain c = Chain::homogeneous({3, 100, 0.5, 0.2, 1.1});
+    c.law = ContactLaw::hertz;
+    const Dynamics dyn(c, {1.1, 1.0});
+    RunOptions o;
+    o.periods = 60;
+    o.scheme = Scheme::exact;
+    CHECK_THROWS_AS(simulate(dyn, o), std::invalid_argument);
+    o.scheme = Scheme::rk4;
+    o.tolerance = 1e-7;
+    o.estimate_error = false;
+    const double rk4 = simulate(dyn, o).F_m;
+    o.scheme = Scheme::rk8pd;
+    const double rk8pd = simulate(dyn, o).F_m;
+    CHECK(rk4 > 0.0);
+    CHECK(rk4 == doctest::Approx(rk8pd).epsilon(1e-6));
 }

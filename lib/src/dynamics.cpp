@@ -25,6 +25,7 @@ Dynamics::Dynamics(Chain chain, HarmonicForcing forcing)
         m_contact_over_mass_left[i] = four_pi2 * m_chain.contact[i] / m_chain.mass[i];
         m_contact_over_mass_right[i] = four_pi2 * m_chain.contact[i + 1] / m_chain.mass[i];
     }
+    m_hertz = m_chain.law == ContactLaw::hertz;
     m_force_gain.resize(m_n + 1);
     for (int j = 0; j <= m_n; ++j)
         m_force_gain[j] = m_chain.contact[j] / m_chain.force_scale;
@@ -39,10 +40,10 @@ void Dynamics::restoring_acceleration(double ground, const double* u, double* r)
     const double* s = m_chain.spring.data();
     const int n = m_n;
     // Penetration of the gap on the left of body i, carried from one body to the next.
-    double p_left = std::max(-u[0] - e[0], 0.0);
+    double p_left = shape(-u[0] - e[0]);
     for (int i = 0; i < n; ++i) {
         const double g_right = (i + 1 < n ? u[i] - u[i + 1] : u[i]) - e[i + 1];
-        const double p_right = std::max(g_right, 0.0);
+        const double p_right = shape(g_right);
         r[i] = ground - s[i] * u[i] + m_contact_over_mass_left[i] * p_left -
                m_contact_over_mass_right[i] * p_right;
         p_left = p_right;
@@ -62,7 +63,8 @@ void Dynamics::acceleration_rate(double t, const double* y, const double* a, dou
     const double w = 2.0 * std::numbers::pi * m_forcing.f_r;
     const double ground_rate = four_pi2 * m_forcing.amplitude * w * std::sin(w * t);
     // A closed contact's penetration changes at the gap rate, an open one's not at all.
-    auto penetration_rate = [&](int j) { return gap(j, u) > 0.0 ? gap_rate(j, v) : 0.0; };
+    // d phi(p)/dt = phi'(p) dg/dt on a closed contact, 0 on an open one.
+    auto penetration_rate = [&](int j) { return shape_slope(gap(j, u)) * gap_rate(j, v); };
     double q_left = penetration_rate(0);
     for (int i = 0; i < m_n; ++i) {
         const double q_right = penetration_rate(i + 1);
@@ -82,8 +84,8 @@ double Dynamics::gap_acceleration(int j, double ground, const double* y) const {
     const double* u = y;
     const double* v = y + m_n;
     auto body_acc = [&](int i) {
-        const double p_l = std::max(gap(i, u), 0.0);
-        const double p_r = std::max(gap(i + 1, u), 0.0);
+        const double p_l = shape(gap(i, u));
+        const double p_r = shape(gap(i + 1, u));
         return ground - m_chain.spring[i] * u[i] - m_chain.damping[i] * v[i] +
                m_contact_over_mass_left[i] * p_l - m_contact_over_mass_right[i] * p_r;
     };
@@ -93,7 +95,7 @@ double Dynamics::gap_acceleration(int j, double ground, const double* y) const {
 }
 
 double Dynamics::force(int j, const double* u) const {
-    return m_force_gain[j] * std::max(gap(j, u), 0.0);
+    return m_force_gain[j] * shape(gap(j, u));
 }
 
 double Dynamics::energy(const double* y) const {
@@ -103,8 +105,9 @@ double Dynamics::energy(const double* y) const {
     for (int i = 0; i < m_n; ++i)
         e += 0.5 * m_chain.mass[i] * (v[i] * v[i] + m_chain.spring[i] * u[i] * u[i]);
     for (int j = 0; j <= m_n; ++j) {
+        // Potential of the contact force: p^2 / 2 (linear) or 2 p^(5/2) / 5 (Hertz).
         const double p = std::max(gap(j, u), 0.0);
-        e += 0.5 * four_pi2 * m_chain.contact[j] * p * p;
+        e += four_pi2 * m_chain.contact[j] * (m_hertz ? 0.4 * p * p * std::sqrt(p) : 0.5 * p * p);
     }
     return e;
 }
@@ -151,7 +154,7 @@ void Dynamics::jacobian(const double* y, std::vector<double>& jac) const {
         if (gap(j, y) <= 0.0) continue;
         const int left = j - 1; // body whose displacement enters g_j with +1 (or none)
         const int right = j;    // body whose displacement enters g_j with -1 (or none)
-        const double k = four_pi2 * m_chain.contact[j];
+        const double k = four_pi2 * m_chain.contact[j] * shape_slope(gap(j, y));
         if (left >= 0) at(n + left, left) -= k / m_chain.mass[left];
         if (right < n) at(n + right, right) -= k / m_chain.mass[right];
         if (left >= 0 && right < n) {

@@ -175,7 +175,14 @@ LyapunovResult lyapunov_spectrum(const TangentSystem& sys, std::vector<double> y
 TangentObserver::TangentObserver(const Dynamics& dyn, int count, long start_period)
     : m_dyn(dyn), m_accumulator(dyn.dimension(), count), m_start_period(start_period),
       m_scale(dyn.max_angular_frequency()), m_closed(dyn.gaps()), m_term(dyn.dimension()),
-      m_next(dyn.dimension()), m_sum(dyn.dimension()), m_dv(dyn.bodies()) {}
+      m_next(dyn.dimension()), m_sum(dyn.dimension()), m_dv(dyn.bodies()) {
+    // Between switches the tangent flow is exp(h J) only if J is constant there, which holds
+    // for the linear law alone (a Hertz contact's stiffness varies with its penetration).
+    if (dyn.chain().law != ContactLaw::linear)
+        throw std::invalid_argument("model.contact_law: Lyapunov exponents need the linear contact "
+                                    "law (the tangent propagation assumes a constant Jacobian "
+                                    "between switches)");
+}
 
 void TangentObserver::apply_jacobian(const double* x, double* out) const {
     // Scaled coordinates x = (du, dv / w): J' = [[0, w I], [A_u / w, A_v]].

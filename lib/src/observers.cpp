@@ -73,7 +73,7 @@ void MaxForceTracker::on_step(const StepView& step) {
             if (g0 <= 0.0 && g1 <= 0.0 && inner > 0.0) ++best.impacts; // closed and reopened
         }
         if (g0 <= 0.0 && g1 > 0.0) ++best.impacts;
-        const double force = m_dyn.force_per_penetration(j) * std::max(peak, 0.0);
+        const double force = m_dyn.force_at_penetration(j, peak);
         if (force > best.force) {
             best.force = force;
             best.time = peak_t;

@@ -66,7 +66,8 @@ std::optional<Chain> non_uniform_row(const json& model, const ReducedParameters&
     if (!model.is_object()) return std::nullopt;
     const char* array_keys[] = {"mass", "stiffness", "damping", "clearance", "contact", "scatter"};
     bool any = false;
-    for (const char* k : array_keys) any = any || model.contains(k);
+    for (const char* k : array_keys)
+        any = any || model.contains(k);
     if (!any) return std::nullopt;
     const auto n = static_cast<std::size_t>(p.Nm);
     auto array = [&](const char* key, std::size_t size, double fallback) {
@@ -105,9 +106,9 @@ std::optional<Chain> non_uniform_row(const json& model, const ReducedParameters&
     auto check = [](const char* key, const std::vector<double>& v, double lo, bool open) {
         for (double x : v)
             if (!(open ? x > lo : x >= lo) || !std::isfinite(x))
-                throw SceneError(std::string("model.") + key + ": every entry must be a finite number " +
-                                 (open ? "> " : ">= ") + detail::format_number(lo) + ", got " +
-                                 detail::format_number(x));
+                throw SceneError(std::string("model.") + key +
+                                 ": every entry must be a finite number " + (open ? "> " : ">= ") +
+                                 detail::format_number(lo) + ", got " + detail::format_number(x));
     };
     check("mass", mass, 0.0, true);
     check("stiffness", stiffness, 0.0, true);
@@ -143,7 +144,7 @@ Scene scene_from_json(json root, const std::vector<std::string>& overrides,
     SectionReader excitation = top.section("excitation");
     if (scene.units == Units::reduced) {
         model.allow({"Nm", "fc", "eps", "e_r", "mass", "stiffness", "damping", "clearance",
-                     "contact", "scatter"});
+                     "contact", "scatter", "contact_law"});
         excitation.allow({"f_r", "type"});
         ReducedParameters& p = scene.reduced;
         p.Nm = model.integer("Nm", p.Nm, 1, 1'000'000);
@@ -168,6 +169,11 @@ Scene scene_from_json(json root, const std::vector<std::string>& overrides,
     }
     excitation.text("type", "harmonic", {"harmonic"});
     if (scene.units == Units::reduced) scene.row = non_uniform_row(root["model"], scene.reduced);
+    if (scene.units == Units::reduced &&
+        model.text("contact_law", "linear", {"linear", "hertz"}) == "hertz") {
+        if (!scene.row) scene.row = Chain::homogeneous(scene.reduced);
+        scene.row->law = ContactLaw::hertz;
+    }
     model.finish();
     excitation.finish();
 

@@ -186,7 +186,12 @@ std::unique_ptr<Stepper> make_stepper(const StepPlan& plan, const Dynamics& dyn)
 StepPlan plan_step(const Dynamics& dyn, Scheme scheme, double tolerance,
                    std::optional<double> user_step) {
     detail::require_range("run.tolerance", tolerance, 1e-12, 0.1);
-    if (scheme == Scheme::automatic) scheme = choose_scheme(tolerance, dyn.bodies());
+    const bool linear = dyn.chain().law == ContactLaw::linear;
+    if (scheme == Scheme::automatic)
+        scheme = linear ? choose_scheme(tolerance, dyn.bodies()) : Scheme::rk4;
+    if (scheme == Scheme::exact && !linear)
+        throw std::invalid_argument("run.scheme: exact propagates the linear contact law only; "
+                                    "use rk4, rkf45 or rk8pd with model.contact_law = hertz");
     const SchemeTraits tr = traits(scheme);
     // The fastest of the contact oscillations and the forcing sets the step's accuracy.
     const double period = dyn.period();

@@ -8,6 +8,8 @@
 
 #include "gapchain/model.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <vector>
 
 namespace gapchain {
@@ -68,8 +70,21 @@ public:
     [[nodiscard]] double gap_acceleration(int j, double ground, const double* y) const;
     /// Reduced impact force of contact j: contact_j max(g_j, 0) / force_scale (eqs 14-15).
     [[nodiscard]] double force(int j, const double* u) const;
-    /// Reduced force per unit penetration of contact j.
-    [[nodiscard]] double force_per_penetration(int j) const { return m_force_gain[j]; }
+    /// Reduced force of contact j at penetration p >= 0: k_j phi(p) / force_scale, with
+    /// phi(p) = p (linear law) or p^(3/2) (Hertz).
+    [[nodiscard]] double force_at_penetration(int j, double p) const {
+        return m_force_gain[j] * shape(p);
+    }
+    /// The contact law's shape phi(p) for a penetration p (0 for p <= 0).
+    [[nodiscard]] double shape(double p) const {
+        const double q = std::max(p, 0.0); // branch-free on the linear law's hot path
+        return m_hertz ? q * std::sqrt(q) : q;
+    }
+    /// Its derivative phi'(p) (0 for p <= 0).
+    [[nodiscard]] double shape_slope(double p) const {
+        if (p <= 0.0) return 0.0;
+        return m_hertz ? 1.5 * std::sqrt(p) : 1.0;
+    }
 
     /// Kinetic + spring + contact energy (per nominal mass); conserved when every damping is 0
     /// and the forcing amplitude is 0 (MODEL.md §5).
@@ -80,14 +95,15 @@ public:
     void jacobian(const double* y, std::vector<double>& jac) const;
 
     /// Linearised accelerations for a fixed contact configuration (closed[j] != 0: contact j
-    /// closed): dacc = d(acceleration) for displacement and velocity perturbations du, dv (Nm
-    /// entries each). This is the lower half of the Jacobian applied to (du, dv), in O(Nm).
+    /// closed; linear contact law only, where the Jacobian depends on the configuration alone):
+    /// dacc = d(acceleration) for displacement and velocity perturbations du, dv (Nm entries each).
+    /// This is the lower half of the Jacobian applied to (du, dv), in O(Nm).
     void tangent_acceleration(const std::vector<char>& closed, const double* du, const double* dv,
                               double* dacc) const;
 
-    /// Accelerations as if exactly the contacts with closed[j] != 0 were closed (their force
-    /// linear in the gap, clearance included, even where the gap is negative): the affine
-    /// right-hand side of one contact configuration, given the ground term.
+    /// Accelerations as if exactly the contacts with closed[j] != 0 were closed (linear law
+    /// only: their force linear in the gap, clearance included, even where the gap is negative):
+    /// the affine right-hand side of one contact configuration, given the ground term.
     void affine_acceleration(const std::vector<char>& closed, double ground, const double* u,
                              const double* v, double* a) const;
 
@@ -102,6 +118,7 @@ private:
     std::vector<double> m_contact_over_mass_left;  ///< 4 pi^2 k_j / m_j for body j's left gap
     std::vector<double> m_contact_over_mass_right; ///< 4 pi^2 k_{j+1} / m_j for the right gap
     std::vector<double> m_force_gain;              ///< k_j / force_scale
+    bool m_hertz = false;                          ///< contact law is Hertz
 };
 
 /// The initial state of a run: `initial` (2 Nm finite entries) or, if empty, rest. Throws

@@ -48,6 +48,12 @@ PhysicalParameters to_physical(const ReducedParameters& p, double M, double K, d
 /// Reduced impact force -> newtons: F_phys = F_r * M * a0 * sqrt(fc) (paper eqs 14-15).
 double force_in_newtons(double reduced_force, const PhysicalParameters& p);
 
+/// How a closed contact pushes back, as a function of its penetration p >= 0.
+enum class ContactLaw {
+    linear, ///< the paper's: force k p
+    hertz,  ///< Hertz: force k p^(3/2) (k in reduced units, force per unit penetration^(3/2))
+};
+
 /// The row in the reduced equations of MODEL.md §2, stored per body and per gap so that
 /// non-uniform rows need no other code. Body i (0-based) obeys
 ///   u_i'' = -damping_i u_i' - spring_i u_i + ground(t)
@@ -61,6 +67,7 @@ struct Chain {
     std::vector<double> clearance; ///< per gap (Nm + 1 entries), reduced clearance, >= 0
     std::vector<double> contact;   ///< per gap, contact stiffness in units of K (fc, fc/2), > 0
     double force_scale = 1.0;      ///< reduced force F_j = contact_j p_j / force_scale (sqrt(fc))
+    ContactLaw law = ContactLaw::linear; ///< linear (p) or Hertz (p^(3/2)) in place of p_j
 
     /// Number of bodies.
     [[nodiscard]] int bodies() const { return static_cast<int>(mass.size()); }

@@ -17,6 +17,27 @@ std::vector<double> random_state(int n, unsigned seed, double scale) {
         x = d(gen);
     return y;
 }
+// Every Jacobian entry against central finite differences of the right-hand side, at random
+// states (almost surely off the contact kinks).
+void check_jacobian_by_differences(const Dynamics& dyn, unsigned first_seed, unsigned last_seed) {
+    const int dim = dyn.dimension();
+    std::vector<double> jac, fp(dim), fm(dim);
+    for (unsigned seed = first_seed; seed <= last_seed; ++seed) {
+        auto y = random_state(dyn.bodies(), seed, 0.6);
+        dyn.jacobian(y.data(), jac);
+        for (int c = 0; c < dim; ++c) {
+            const double h = 1e-7;
+            auto yp = y, ym = y;
+            yp[c] += h;
+            ym[c] -= h;
+            dyn.rhs(0.3, yp.data(), fp.data());
+            dyn.rhs(0.3, ym.data(), fm.data());
+            for (int r = 0; r < dim; ++r)
+                CHECK((fp[r] - fm[r]) / (2 * h) ==
+                      doctest::Approx(jac[r * dim + c]).epsilon(1e-5).scale(100));
+        }
+    }
+}
 } // namespace
 
 TEST_CASE("Jacobian trace is -4 pi eps Nm at every state (MODEL.md §5)") {
@@ -35,26 +56,7 @@ TEST_CASE("Jacobian trace is -4 pi eps Nm at every state (MODEL.md §5)") {
 
 TEST_CASE("Jacobian matches central finite differences of the right-hand side") {
     const ReducedParameters p{4, 50, 0.2, 0.1, 1.3};
-    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
-    const int dim = dyn.dimension();
-    std::vector<double> jac, fp(dim), fm(dim);
-    for (unsigned seed = 3; seed <= 8; ++seed) {
-        auto y = random_state(p.Nm, seed, 0.6);
-        dyn.jacobian(y.data(), jac);
-        for (int c = 0; c < dim; ++c) {
-            const double h = 1e-7;
-            auto yp = y, ym = y;
-            yp[c] += h;
-            ym[c] -= h;
-            dyn.rhs(0.3, yp.data(), fp.data());
-            dyn.rhs(0.3, ym.data(), fm.data());
-            for (int r = 0; r < dim; ++r) {
-                // Away from a kink (a random state is almost surely not on one).
-                CHECK((fp[r] - fm[r]) / (2 * h) ==
-                      doctest::Approx(jac[r * dim + c]).epsilon(1e-5).scale(100));
-            }
-        }
-    }
+    check_jacobian_by_differences(Dynamics(Chain::homogeneous(p), {p.f_r, 1.0}), 3, 8);
 }
 
 TEST_CASE("gaps, forces and the sign convention of MODEL.md §2") {
@@ -101,22 +103,5 @@ TEST_CASE("energy rate equals minus the damping power plus the forcing power") {
 TEST_CASE("Hertz law: the Jacobian matches finite differences of the right-hand side") {
     Chain c = Chain::homogeneous({4, 50, 0.2, 0.05, 1.3});
     c.law = ContactLaw::hertz;
-    const Dynamics dyn(c, {1.3, 1.0});
-    const int dim = dyn.dimension();
-    std::vector<double> jac, fp(dim), fm(dim);
-    for (unsigned seed = 20; seed <= 24; ++seed) {
-        auto y = random_state(4, seed, 0.6);
-        dyn.jacobian(y.data(), jac);
-        for (int col = 0; col < dim; ++col) {
-            const double h = 1e-7;
-            auto yp = y, ym = y;
-            yp[col] += h;
-            ym[col] -= h;
-            dyn.rhs(0.3, yp.data(), fp.data());
-            dyn.rhs(0.3, ym.data(), fm.data());
-            for (int r = 0; r < dim; ++r)
-                CHECK((fp[r] - fm[r]) / (2 * h) ==
-                      doctest::Approx(jac[r * dim + col]).epsilon(1e-5).scale(100));
-        }
-    }
+    check_jacobian_by_differences(Dynamics(c, {1.3, 1.0}), 20, 24);
 }

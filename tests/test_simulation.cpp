@@ -12,6 +12,19 @@
 using namespace gapchain;
 using std::numbers::pi;
 
+namespace {
+// 20 periods of an unforced, undamped row from y0 with fine rk4 steps (h omega = 0.02).
+SimulationResult free_run(const Dynamics& dyn, const std::vector<double>& y0) {
+    RunOptions o;
+    o.periods = 20;
+    o.scheme = Scheme::rk4;
+    o.step = 0.02 / dyn.max_angular_frequency();
+    o.stop_at_steady_state = false;
+    o.estimate_error = false;
+    return simulate(dyn, o, y0);
+}
+} // namespace
+
 TEST_CASE("no contact: the steady response is eq (20) in amplitude and phase") {
     for (double eps : {0.1, 0.5}) {
         for (double f_r : {0.3, 1.0, 2.2}) {
@@ -105,13 +118,7 @@ TEST_CASE("eps = 0 and no forcing: energy is conserved through impacts") {
     const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 0.0});
     std::vector<double> y0{0.6, -0.2, 0.1, -0.5, 1.0, 0.0, -2.0, 0.5};
     const double e0 = dyn.energy(y0.data());
-    RunOptions o;
-    o.periods = 20;
-    o.scheme = Scheme::rk4;
-    o.step = 0.02 / dyn.max_angular_frequency();
-    o.stop_at_steady_state = false;
-    o.estimate_error = false;
-    const SimulationResult r = simulate(dyn, o, y0);
+    const SimulationResult r = free_run(dyn, y0);
     REQUIRE(r.contact);
     long impacts = 0;
     for (const auto& c : r.per_contact)
@@ -138,13 +145,7 @@ TEST_CASE("Hertz contact: one body, eps = 0, no forcing conserves energy through
     const Dynamics dyn(c, {1.0, 0.0});
     const std::vector<double> y0{0.0, 3.0};
     const double e0 = dyn.energy(y0.data());
-    RunOptions o;
-    o.periods = 20;
-    o.scheme = Scheme::rk4;
-    o.step = 0.02 / dyn.max_angular_frequency();
-    o.stop_at_steady_state = false;
-    o.estimate_error = false;
-    const SimulationResult r = simulate(dyn, o, y0);
+    const SimulationResult r = free_run(dyn, y0);
     REQUIRE(r.contact);
     CHECK(r.per_contact[0].impacts >= 10);
     CHECK(dyn.energy(r.final_state.data()) == doctest::Approx(e0).epsilon(1e-8));

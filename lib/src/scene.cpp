@@ -187,8 +187,8 @@ Scene scene_from_json(json root, const std::vector<std::string>& overrides,
         throw SceneError("run.transient_periods: must be an integer in [0, run.periods - 1 = " +
                          std::to_string(o.periods - 1) + "], got " +
                          std::to_string(o.transient_periods));
-    o.scheme = parse_scheme(run.text(
-        "scheme", "auto", {"auto", "central_difference", "rk4", "rkf45", "rk8pd", "exact"}));
+    // The scheme names live in one place, parse_scheme(), whose message names run.scheme.
+    o.scheme = parse_scheme(run.text("scheme", "auto", {}));
     o.tolerance = run.number("tolerance", o.tolerance, 1e-12, 0.1);
     if (run.has("step")) o.step = run.number("step", 0.0, 0.0, 1e3, detail::Bound::open_low);
     o.stop_at_steady_state = run.boolean("steady_state", o.stop_at_steady_state);

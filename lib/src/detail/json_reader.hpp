@@ -81,7 +81,12 @@ public:
         if (!has(key)) return fallback;
         const auto& v = m_object.at(key);
         const std::string s = v.is_string() ? v.get<std::string>() : std::string();
-        if (!v.is_string() || std::find(choices.begin(), choices.end(), s) == choices.end())
+        if (!v.is_string())
+            throw SceneError(full(key) + ": must be a string" +
+                             (choices.empty() ? "" : ", one of " + join(choices)) + ", got " +
+                             v.dump());
+        // Empty choices: the caller validates the value itself.
+        if (!choices.empty() && std::find(choices.begin(), choices.end(), s) == choices.end())
             throw SceneError(full(key) + ": must be one of " + join(choices) + ", got " + v.dump());
         return s;
     }

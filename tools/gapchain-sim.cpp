@@ -53,9 +53,17 @@ int main(int argc, char** argv) {
         if (!out_path.empty()) write_file_atomically(out_path, to_json(r, scene));
         if (quiet) return;
         const ReducedParameters& p = scene.reduced;
-        std::printf("gapchain-sim: Nm=%d fc=%g eps=%g e_r=%g f_r=%g  (%s, h=%.3g, %ld periods)\n",
-                    p.Nm, p.fc, p.eps, p.e_r, p.f_r, std::string(to_string(r.scheme)).c_str(),
-                    r.step, r.periods_simulated);
+        if (scene.harmonic())
+            std::printf(
+                "gapchain-sim: Nm=%d fc=%g eps=%g e_r=%g f_r=%g  (%s, h=%.3g, %ld periods)\n", p.Nm,
+                p.fc, p.eps, p.e_r, p.f_r, std::string(to_string(r.scheme)).c_str(), r.step,
+                r.periods_simulated);
+        else
+            std::printf("gapchain-sim: Nm=%d fc=%g eps=%g e_r=%g under a ground-motion record, "
+                        "PGA a0 = %g m/s^2  (%s, h=%.3g, %.4g s = %ld natural periods)\n",
+                        p.Nm, p.fc, p.eps, p.e_r, scene.physical->a0,
+                        std::string(to_string(r.scheme)).c_str(), r.step, scene.record_duration,
+                        r.periods_simulated);
         std::printf("F_m = %.9g +- %.2g", r.F_m, r.F_m_error);
         if (scene.physical)
             std::printf("  (%.6g N +- %.2g N)", force_in_newtons(r.F_m, *scene.physical),

@@ -13,10 +13,11 @@ constexpr double four_pi2 = 4.0 * std::numbers::pi * std::numbers::pi;
 }
 
 Dynamics::Dynamics(Chain chain, HarmonicForcing forcing)
-    : m_chain(std::move(chain)), m_forcing(forcing) {
+    : Dynamics(std::move(chain), GroundMotion::harmonic(forcing.f_r, forcing.amplitude)) {}
+
+Dynamics::Dynamics(Chain chain, GroundMotion ground_motion)
+    : m_chain(std::move(chain)), m_ground(std::move(ground_motion)) {
     validate(m_chain);
-    detail::require_range("excitation.f_r", m_forcing.f_r, 0.0, 1e4, detail::Bound::open_low);
-    detail::require_range("excitation.amplitude", m_forcing.amplitude, 0.0, 1e6);
     m_n = m_chain.bodies();
     m_omega_max = gapchain::max_angular_frequency(m_chain);
     m_contact_over_mass_left.resize(m_n);
@@ -32,7 +33,7 @@ Dynamics::Dynamics(Chain chain, HarmonicForcing forcing)
 }
 
 double Dynamics::ground(double t) const {
-    return -four_pi2 * m_forcing.amplitude * std::cos(2.0 * std::numbers::pi * m_forcing.f_r * t);
+    return -four_pi2 * m_ground.acceleration(t);
 }
 
 void Dynamics::restoring_acceleration(double ground, const double* u, double* r) const {
@@ -60,8 +61,7 @@ void Dynamics::acceleration(double ground, const double* u, const double* v, dou
 void Dynamics::acceleration_rate(double t, const double* y, const double* a, double* jerk) const {
     const double* u = y;
     const double* v = y + m_n;
-    const double w = 2.0 * std::numbers::pi * m_forcing.f_r;
-    const double ground_rate = four_pi2 * m_forcing.amplitude * w * std::sin(w * t);
+    const double ground_rate = -four_pi2 * m_ground.acceleration_rate(t);
     // A closed contact's penetration changes at the gap rate, an open one's not at all.
     // d phi(p)/dt = phi'(p) dg/dt on a closed contact, 0 on an open one.
     auto penetration_rate = [&](int j) { return shape_slope(gap(j, u)) * gap_rate(j, v); };
@@ -162,6 +162,13 @@ void Dynamics::jacobian(const double* y, std::vector<double>& jac) const {
             at(n + right, left) += k / m_chain.mass[right];
         }
     }
+}
+
+void require_harmonic(const Dynamics& dyn, const std::string& analysis) {
+    if (!dyn.ground_motion().is_harmonic())
+        throw std::invalid_argument(analysis + ": needs harmonic forcing (excitation.type = "
+                                               "harmonic): it works per forcing period, and a "
+                                               "ground-motion record has none");
 }
 
 std::vector<double> initial_state(const Dynamics& dyn, const std::vector<double>& initial) {

@@ -25,7 +25,7 @@ class ExactPropagator final : public Stepper {
 public:
     explicit ExactPropagator(const Dynamics& dyn)
         : m_dyn(dyn), m_n(dyn.bodies()), m_dim(2 * dyn.bodies()), m_closed(dyn.gaps()),
-          m_omega(2.0 * std::numbers::pi * dyn.forcing().f_r) {}
+          m_omega(2.0 * std::numbers::pi * dyn.ground_motion().f_r()) {}
 
     void step(double t, double h, std::vector<double>& y) override {
         choose_configuration(t, y.data(), h);
@@ -104,7 +104,7 @@ private:
         Eigen::VectorXcd b = Eigen::VectorXcd::Zero(m_dim);
         const double four_pi2 = 4.0 * std::numbers::pi * std::numbers::pi;
         for (int i = 0; i < m_n; ++i)
-            b[m_n + i] = -four_pi2 * m_dyn.forcing().amplitude;
+            b[m_n + i] = -four_pi2 * m_dyn.ground_motion().amplitude();
         const Eigen::MatrixXcd shifted =
             Complex(0.0, m_omega) * Eigen::MatrixXcd::Identity(m_dim, m_dim) - a.cast<Complex>();
         conf.z = shifted.partialPivLu().solve(b);

@@ -236,6 +236,7 @@ LyapunovResult chain_lyapunov(const Dynamics& dyn, const RunOptions& options, in
                               const ProgressCallback& progress) {
     const auto start = std::chrono::steady_clock::now();
     validate(options);
+    require_harmonic(dyn, "lyapunov");
     detail::require_range("--count", count, 1, dyn.dimension());
     const StepPlan plan = plan_step(dyn, options.scheme, options.tolerance, options.step);
     auto stepper = make_stepper(plan, dyn);

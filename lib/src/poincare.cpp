@@ -96,6 +96,7 @@ void validate(const SectionSpec& spec, int bodies) {
 PoincareSampler::PoincareSampler(const Dynamics& dyn, SectionSpec spec, SectionSink sink)
     : m_dyn(dyn), m_spec(std::move(spec)), m_sink(std::move(sink)), m_state(dyn.dimension()) {
     validate(m_spec, dyn.bodies());
+    require_harmonic(dyn, "poincare");
     m_point.values.resize(m_spec.record.size());
 }
 

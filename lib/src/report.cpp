@@ -25,6 +25,10 @@ std::string to_json(const SimulationResult& r, const Scene& scene) {
     if (scene.physical) {
         j["F_m_newton"] = force_in_newtons(r.F_m, *scene.physical);
         j["F_m_error_newton"] = force_in_newtons(r.F_m_error, *scene.physical);
+        j["excitation"] = {{"harmonic", scene.harmonic()},
+                           {"a0_m_s2", scene.physical->a0},
+                           {"natural_frequency_hz", natural_frequency(*scene.physical)}};
+        if (!scene.harmonic()) j["excitation"]["duration_s"] = scene.record_duration;
     }
     json bodies = json::array();
     for (const auto& b : r.per_body) {

@@ -62,7 +62,10 @@ std::vector<double> number_array(const json& j, const std::string& key) {
 }
 
 /// The row from the model's arrays and scatter, or nothing if the model gives neither.
-std::optional<Chain> non_uniform_row(const json& model, const ReducedParameters& p) {
+// clearance_scale converts the scene's clearance entries to reduced clearances (1 for reduced
+// scenes, 4 pi^2 f0^2 / a0 for metres); damping entries are eps_i (reduced scenes only).
+std::optional<Chain> non_uniform_row(const json& model, const ReducedParameters& p,
+                                     double clearance_scale = 1.0) {
     if (!model.is_object()) return std::nullopt;
     const char* array_keys[] = {"mass", "stiffness", "damping", "clearance", "contact", "scatter"};
     bool any = false;
@@ -84,7 +87,9 @@ std::optional<Chain> non_uniform_row(const json& model, const ReducedParameters&
     std::vector<double> mass = array("mass", n, 1.0);
     std::vector<double> stiffness = array("stiffness", n, 1.0);
     std::vector<double> damping = array("damping", n, p.eps);
-    std::vector<double> clearance = array("clearance", n + 1, p.e_r);
+    std::vector<double> clearance = array("clearance", n + 1, p.e_r / clearance_scale);
+    for (double& e : clearance)
+        e *= clearance_scale;
     std::vector<double> contact = array("contact", n + 1, 1.0);
     if (model.contains("scatter")) {
         SectionReader scatter(model["scatter"], "model.scatter",
@@ -142,6 +147,13 @@ Scene scene_from_json(json root, const std::vector<std::string>& overrides,
 
     SectionReader model = top.section("model");
     SectionReader excitation = top.section("excitation");
+    const std::string type =
+        excitation.text("type", "harmonic", {"harmonic", "record", "kanai_tajimi"});
+    if (type != "harmonic" && scene.units == Units::reduced)
+        throw SceneError("excitation.type: " + type +
+                         " needs \"units\": \"physical\" (a record's time and acceleration "
+                         "carry units)");
+    double tail = 0.0; // seconds of free vibration after a record
     if (scene.units == Units::reduced) {
         model.allow({"Nm", "fc", "eps", "e_r", "mass", "stiffness", "damping", "clearance",
                      "contact", "scatter", "contact_law"});
@@ -153,8 +165,9 @@ Scene scene_from_json(json root, const std::vector<std::string>& overrides,
         p.e_r = model.number("e_r", p.e_r, 0.0, 1e6);
         p.f_r = excitation.number("f_r", p.f_r, 0.0, 1e4, detail::Bound::open_low);
     } else {
-        model.allow({"Nm", "M", "K", "C", "Kc", "e"});
-        excitation.allow({"a0", "f", "type"});
+        model.allow({"Nm", "M", "K", "C", "Kc", "e", "mass", "stiffness", "contact", "clearance",
+                     "scatter", "contact_law"});
+        excitation.allow({"a0", "type"});
         PhysicalParameters q;
         q.Nm = model.integer("Nm", q.Nm, 1, 1'000'000);
         q.M = model.number("M", q.M, 0.0, 1e12, detail::Bound::open_low);
@@ -162,12 +175,66 @@ Scene scene_from_json(json root, const std::vector<std::string>& overrides,
         q.C = model.number("C", q.C, 0.0, 1e15);
         q.Kc = model.number("Kc", q.Kc, 0.0, 1e18, detail::Bound::open_low);
         q.e = model.number("e", q.e, 0.0, 1e3);
-        q.a0 = excitation.number("a0", q.a0, 0.0, 1e6, detail::Bound::open_low);
-        q.f = excitation.number("f", q.f, 0.0, 1e6, detail::Bound::open_low);
+        if (type == "harmonic") {
+            excitation.allow({"f"});
+            q.a0 = excitation.number("a0", q.a0, 0.0, 1e6, detail::Bound::open_low);
+            q.f = excitation.number("f", q.f, 0.0, 1e6, detail::Bound::open_low);
+        } else {
+            // The reduced form takes the record's PGA as a0 (scaled to excitation.a0 if given)
+            // and one natural period as the time loop's unit (f = f0, so f_r = 1).
+            Accelerogram record;
+            if (type == "record") {
+                excitation.allow({"file", "unit", "tail"});
+                if (!excitation.has("file"))
+                    throw SceneError("excitation.file: required for excitation.type = record (a "
+                                     "two-column text/CSV file: time [s], acceleration)");
+                std::filesystem::path file = excitation.text("file", "", {});
+                if (file.is_relative() && !source.empty() && source.front() != '<')
+                    file = std::filesystem::path(source).parent_path() / file;
+                const std::string unit = excitation.text("unit", "m/s2", {"m/s2", "g"});
+                record = read_accelerogram(file.string(), unit == "g" ? 9.80665 : 1.0);
+                tail = excitation.number("tail", 0.0, 0.0, 1e5);
+            } else {
+                excitation.allow({"ground_frequency", "ground_damping", "duration",
+                                  "sample_interval", "rise", "hold", "decay", "seed"});
+                KanaiTajimi kt;
+                kt.ground_frequency =
+                    excitation.number("ground_frequency", kt.ground_frequency, 0.01, 100.0);
+                kt.ground_damping =
+                    excitation.number("ground_damping", kt.ground_damping, 0.01, 5.0);
+                kt.duration =
+                    excitation.number("duration", kt.duration, 0.0, 1e5, detail::Bound::open_low);
+                kt.sample_interval = excitation.number("sample_interval", kt.sample_interval, 0.0,
+                                                       1.0, detail::Bound::open_low);
+                kt.rise = excitation.number("rise", kt.rise, 0.0, 1e5);
+                kt.hold = excitation.number("hold", kt.hold, 0.0, 1e5);
+                kt.decay = excitation.number("decay", kt.decay, 0.0, 1e3);
+                kt.seed =
+                    static_cast<std::uint64_t>(excitation.integer("seed", 1, 0, 2'000'000'000));
+                record = kanai_tajimi_accelerogram(kt, 1.0);
+            }
+            const double pga = peak_ground_acceleration(record);
+            q.a0 = excitation.number("a0", pga, 0.0, 1e6, detail::Bound::open_low);
+            for (double& a : record.acceleration)
+                a *= q.a0 / pga;
+            const double f0 = natural_frequency(q);
+            q.f = f0;
+            scene.ground_record = GroundMotion::from_accelerogram(record, f0, q.a0);
+            scene.record_duration = record.time.back() + tail;
+        }
         scene.physical = q;
         scene.reduced = to_reduced(q);
+        if (model.text("contact_law", "linear", {}) != "linear")
+            throw SceneError("model.contact_law: only \"linear\" in physical scenes (a nonlinear "
+                             "law's stiffness unit depends on the law); write the scene in "
+                             "reduced units");
+        const double L = q.a0 / (4.0 * std::numbers::pi * std::numbers::pi * natural_frequency(q) *
+                                 natural_frequency(q));
+        if (root["model"].contains("damping"))
+            throw SceneError("model.damping: per-body damping arrays are for reduced scenes "
+                             "(eps_i); physical scenes give C");
+        scene.row = non_uniform_row(root["model"], scene.reduced, 1.0 / L);
     }
-    excitation.text("type", "harmonic", {"harmonic"});
     if (scene.units == Units::reduced) scene.row = non_uniform_row(root["model"], scene.reduced);
     if (scene.units == Units::reduced &&
         model.text("contact_law", "linear", {"linear", "hertz"}) == "hertz") {
@@ -183,6 +250,18 @@ Scene scene_from_json(json root, const std::vector<std::string>& overrides,
     RunOptions& o = scene.run;
     o.periods = run.integer("periods", 1000, 1, 1'000'000'000);
     o.transient_periods = run.integer("transient_periods", 0, 0, 999'999'999);
+    if (scene.ground_record) {
+        if (run.has("periods") || run.has("transient_periods"))
+            throw SceneError(std::string("run.") +
+                             (run.has("periods") ? "periods" : "transient_periods") +
+                             ": not used with excitation.type = " + type +
+                             " (the record's length plus excitation.tail sets the run)");
+        // The loop's unit is one natural period (reduced time 1); the run covers the record
+        // and the tail.
+        o.periods = std::max<long>(
+            1, static_cast<long>(
+                   std::ceil(scene.record_duration * natural_frequency(*scene.physical) - 1e-9)));
+    }
     if (o.transient_periods >= o.periods)
         throw SceneError("run.transient_periods: must be an integer in [0, run.periods - 1 = " +
                          std::to_string(o.periods - 1) + "], got " +
@@ -222,6 +301,42 @@ Scene scene_from_json(json root, const std::vector<std::string>& overrides,
 }
 
 } // namespace
+
+Accelerogram read_accelerogram(const std::string& path, double unit) {
+    std::ifstream in(path);
+    if (!in) throw SceneError(path + ": cannot read the accelerogram file");
+    Accelerogram record;
+    std::string line;
+    long number = 0;
+    bool header_seen = false;
+    while (std::getline(in, line)) {
+        ++number;
+        for (char& c : line)
+            if (c == ',' || c == ';' || c == '\t' || c == '\r') c = ' ';
+        const auto first = line.find_first_not_of(' ');
+        if (first == std::string::npos || line[first] == '#') continue;
+        std::istringstream fields(line);
+        double t = 0.0, a = 0.0;
+        std::string rest;
+        const bool two = static_cast<bool>(fields >> t >> a);
+        if (!two && record.time.empty() && !header_seen) {
+            header_seen = true; // one line of column names
+            continue;
+        }
+        if (!two || (fields >> rest) || !std::isfinite(t) || !std::isfinite(a))
+            throw SceneError(path + ":" + std::to_string(number) +
+                             ": expected two finite numbers (time [s], acceleration)");
+        record.time.push_back(t);
+        record.acceleration.push_back(a * unit);
+    }
+    if (in.bad()) throw SceneError(path + ": cannot read the accelerogram file");
+    try {
+        validate(record, path.c_str());
+    } catch (const std::invalid_argument& e) {
+        throw SceneError(e.what());
+    }
+    return record;
+}
 
 Scene parse_scene(std::string_view text, const std::vector<std::string>& overrides,
                   const std::string& source) {

@@ -39,6 +39,7 @@ Signal record_signal(const Dynamics& dyn, const RunOptions& options,
                      const SectionVariable& variable, int samples_per_period, RunOutcome& outcome,
                      const std::vector<double>& initial, const ProgressCallback& progress) {
     validate(options);
+    require_harmonic(dyn, "spectrum");
     const StepPlan plan = plan_for_sampling(dyn, options, samples_per_period);
     auto stepper = make_stepper(plan, dyn);
     Signal signal;

@@ -38,7 +38,8 @@ SingleRun run_once(const Dynamics& dyn, const StepPlan& plan, const RunOptions& 
     MaxForceTracker forces(dyn);
     std::vector<Observer*> observers{&forces};
     std::optional<SteadyStateDetector> steady;
-    if (options.stop_at_steady_state) {
+    // A record has no period, so no periodic steady state: it runs to its end.
+    if (options.stop_at_steady_state && dyn.ground_motion().is_harmonic()) {
         steady.emplace(dyn.dimension(), options.max_steady_period, options.steady_tolerance,
                        options.transient_periods);
         observers.push_back(&*steady);

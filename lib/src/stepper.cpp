@@ -187,15 +187,23 @@ StepPlan plan_step(const Dynamics& dyn, Scheme scheme, double tolerance,
                    std::optional<double> user_step) {
     detail::require_range("run.tolerance", tolerance, 1e-12, 0.1);
     const bool linear = dyn.chain().law == ContactLaw::linear;
+    const bool harmonic = dyn.ground_motion().is_harmonic();
     if (scheme == Scheme::automatic)
-        scheme = linear ? choose_scheme(tolerance, dyn.bodies()) : Scheme::rk4;
+        scheme = linear && harmonic ? choose_scheme(tolerance, dyn.bodies()) : Scheme::rk4;
     if (scheme == Scheme::exact && !linear)
         throw std::invalid_argument("run.scheme: exact propagates the linear contact law only; "
-                                    "use rk4, rkf45 or rk8pd with model.contact_law = hertz");
+                                    "use rk4, rkf45 or rk8pd with a nonlinear "
+                                    "model.contact_law");
+    if (scheme == Scheme::exact && !harmonic)
+        throw std::invalid_argument("run.scheme: exact needs harmonic forcing (its particular "
+                                    "solution is closed-form); use rk4, rkf45 or rk8pd with "
+                                    "a ground-motion record");
     const SchemeTraits tr = traits(scheme);
     // The fastest of the contact oscillations and the forcing sets the step's accuracy.
     const double period = dyn.period();
-    const double omega = std::max(dyn.max_angular_frequency(), 2.0 * std::numbers::pi / period);
+    const double omega =
+        std::max(dyn.max_angular_frequency(),
+                 2.0 * std::numbers::pi * dyn.ground_motion().resolved_frequency());
     const double stable = tr.stability_limit / omega;
     double h = 0.0;
     if (user_step) {

@@ -6,10 +6,12 @@
 /// A state is a flat array y = (u_0..u_{Nm-1}, v_0..v_{Nm-1}) of 2 Nm reduced displacements
 /// and velocities. Time is reduced time t = f0 t_phys.
 
+#include "gapchain/ground_motion.hpp"
 #include "gapchain/model.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 #include <vector>
 
 namespace gapchain {
@@ -21,25 +23,30 @@ struct HarmonicForcing {
     double amplitude = 1.0; ///< multiple of a0, >= 0 (0 switches the forcing off)
 };
 
-/// Equations of motion of one row under one forcing. Immutable and safe to share between
+/// Equations of motion of one row under one ground motion. Immutable and safe to share between
 /// threads; every method is O(Nm) or less.
 class Dynamics {
 public:
     /// Validates the chain and the forcing (std::invalid_argument on bad values).
     Dynamics(Chain chain, HarmonicForcing forcing);
+    /// The row under any ground motion (harmonic, record, synthetic). Validates the chain.
+    Dynamics(Chain chain, GroundMotion ground_motion);
 
     [[nodiscard]] const Chain& chain() const { return m_chain; }
-    [[nodiscard]] const HarmonicForcing& forcing() const { return m_forcing; }
+    /// What shakes the ground.
+    [[nodiscard]] const GroundMotion& ground_motion() const { return m_ground; }
     /// Number of bodies Nm.
     [[nodiscard]] int bodies() const { return m_n; }
     /// Number of contacts Nm + 1 (two walls and Nm - 1 body pairs).
     [[nodiscard]] int gaps() const { return m_n + 1; }
     /// State dimension 2 Nm.
     [[nodiscard]] int dimension() const { return 2 * m_n; }
-    /// Forcing period 1 / f_r in reduced time.
-    [[nodiscard]] double period() const { return 1.0 / m_forcing.f_r; }
+    /// The time loop's period in reduced time: 1 / f_r (harmonic) or 1 (a record; see
+    /// GroundMotion::period()).
+    [[nodiscard]] double period() const { return m_ground.period(); }
 
-    /// Ground term of every body's equation at reduced time t: -4 pi^2 A cos(2 pi f_r t).
+    /// Ground term of every body's equation at reduced time t: -4 pi^2 a(t), a(t) the ground
+    /// acceleration in units of a0 (A cos(2 pi f_r t) for harmonic forcing).
     [[nodiscard]] double ground(double t) const;
 
     /// Accelerations without the damping term (springs, contacts and ground), given the
@@ -112,7 +119,7 @@ public:
 
 private:
     Chain m_chain;
-    HarmonicForcing m_forcing;
+    GroundMotion m_ground;
     int m_n = 0;
     double m_omega_max = 0.0;
     std::vector<double> m_contact_over_mass_left;  ///< 4 pi^2 k_j / m_j for body j's left gap
@@ -120,6 +127,10 @@ private:
     std::vector<double> m_force_gain;              ///< k_j / force_scale
     bool m_hertz = false;                          ///< contact law is Hertz
 };
+
+/// Throws std::invalid_argument unless dyn's ground motion is harmonic: `analysis` (its name,
+/// e.g. "poincare") samples or averages over the forcing period, which a record does not have.
+void require_harmonic(const Dynamics& dyn, const std::string& analysis);
 
 /// The initial state of a run: `initial` (2 Nm finite entries) or, if empty, rest. Throws
 /// std::invalid_argument naming the rule otherwise.

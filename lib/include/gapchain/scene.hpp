@@ -12,6 +12,15 @@
 ///    "output": {"trajectory_every": 1}}
 /// With "units": "physical", model holds Nm, M, K, C, Kc, e and excitation holds a0, f (SI).
 ///
+/// Ground motion (physical scenes): excitation.type is "harmonic" (default; a0, f), "record"
+/// ({"file": path relative to the scene, "unit": "m/s2" | "g", "a0": PGA to scale to
+/// [m/s^2] (default: the record's own), "tail": seconds of free vibration after it}) or
+/// "kanai_tajimi" (a0 = PGA and the fields of KanaiTajimi: ground_frequency, ground_damping,
+/// duration, sample_interval, rise, hold, decay, seed). For both, a0 is the PGA, run.periods
+/// is set from the record's length (in natural periods) and sections, spectra and Lyapunov
+/// exponents refuse the scene. Physical scenes may also give the relative arrays mass,
+/// stiffness, contact, the clearance array in metres, and scatter.
+///
 /// Non-uniform rows (reduced scenes): model may also give per-body arrays "mass" (M_i / M),
 /// "stiffness" (K_i / K), "damping" (eps_i), Nm entries each, and per-gap arrays "clearance"
 /// (reduced e_r of gap j = 0..Nm, 0 the left wall) and "contact" (factor on the nominal contact
@@ -50,6 +59,8 @@ struct Scene {
     int trajectory_every = 1;                   ///< trajectory decimation in steps, >= 1
     std::string source;                         ///< file it came from, or "<built-in>"
     std::optional<Chain> row;                   ///< set for a non-uniform row (arrays, scatter)
+    std::optional<GroundMotion> ground_record;  ///< set for record / kanai_tajimi excitation
+    double record_duration = 0.0; ///< [s] record length plus tail (non-harmonic scenes)
 
     /// The row: the non-uniform one if the scene gave arrays or a scatter, else the
     /// homogeneous chain of the reduced parameters.
@@ -58,8 +69,19 @@ struct Scene {
     /// parameters refuse other rows).
     [[nodiscard]] bool uniform() const { return !row.has_value(); }
     /// The equations of motion of the scene.
-    [[nodiscard]] Dynamics dynamics() const { return Dynamics(chain(), {reduced.f_r, 1.0}); }
+    [[nodiscard]] Dynamics dynamics() const {
+        return ground_record ? Dynamics(chain(), *ground_record)
+                             : Dynamics(chain(), HarmonicForcing{reduced.f_r, 1.0});
+    }
+    /// Whether the ground motion is the paper's harmonic one.
+    [[nodiscard]] bool harmonic() const { return !ground_record.has_value(); }
 };
+
+/// Reads a ground-acceleration record: two columns (time [s], acceleration) separated by
+/// commas, semicolons or blanks; '#' comment lines, blank lines and one header line are skipped.
+/// Accelerations are multiplied by `unit` (1 for m/s^2, 9.80665 for g). Throws SceneError
+/// naming the file and line.
+Accelerogram read_accelerogram(const std::string& path, double unit = 1.0);
 
 /// Reads and validates a scene file; overrides are "section.key=value" strings applied first
 /// (value parsed as JSON, else taken as a string; nan/inf are numbers). Throws SceneError.

@@ -104,4 +104,34 @@ TEST_CASE("Hertz law: the Jacobian matches finite differences of the right-hand 
     Chain c = Chain::homogeneous({4, 50, 0.2, 0.05, 1.3});
     c.law = ContactLaw::hertz;
     check_jacobian_by_differences(Dynamics(c, {1.3, 1.0}), 20, 24);
+    // Hunt-Crossley adds velocity columns (alpha 0.4 keeps 1 + alpha g' > 0 at these states).
+    c.law = ContactLaw::hunt_crossley;
+    c.contact_damping = 0.4;
+    check_jacobian_by_differences(Dynamics(c, {1.3, 1.0}), 20, 24);
+}
+
+TEST_CASE("Hunt-Crossley: the jerk is the time derivative of the accelerations") {
+    Chain c = Chain::homogeneous({3, 80, 0.1, 0.05, 1.0});
+    c.law = ContactLaw::hunt_crossley;
+    c.contact_damping = 0.3;
+    const Dynamics dyn(c, {1.0, 1.0});
+    for (unsigned seed = 30; seed < 34; ++seed) {
+        const auto y = random_state(3, seed, 0.6);
+        std::vector<double> f(6), a(3), jerk(3), fp(6), fm(6);
+        dyn.rhs(0.2, y.data(), f.data());
+        std::copy(f.begin() + 3, f.end(), a.begin());
+        dyn.acceleration_rate(0.2, y.data(), a.data(), jerk.data());
+        // Along the flow: y(t +- h) ~ y +- h f; the accelerations' central difference.
+        const double h = 1e-6;
+        auto yp = y, ym = y;
+        for (int k = 0; k < 6; ++k) {
+            yp[k] += h * f[k];
+            ym[k] -= h * f[k];
+        }
+        dyn.rhs(0.2 + h, yp.data(), fp.data());
+        dyn.rhs(0.2 - h, ym.data(), fm.data());
+        for (int i = 0; i < 3; ++i)
+            CHECK((fp[3 + i] - fm[3 + i]) / (2 * h) ==
+                  doctest::Approx(jerk[i]).epsilon(1e-5).scale(10));
+    }
 }

@@ -153,5 +153,14 @@ TEST_CASE("model.contact_law selects the Hertz law; anything else is refused") {
     CHECK(s.chain().law == ContactLaw::hertz);
     CHECK(parse_scene("{}", {"model.contact_law=linear"}).uniform());
     CHECK(error_of("{}", {"model.contact_law=spring"})
-              .find("model.contact_law: must be one of linear, hertz") != std::string::npos);
+              .find("model.contact_law: must be one of linear, hertz, hunt_crossley") !=
+          std::string::npos);
+    const Scene hc =
+        parse_scene("{}", {"model.contact_law=hunt_crossley", "model.contact_damping=0.2"});
+    CHECK(hc.chain().law == ContactLaw::hunt_crossley);
+    CHECK(hc.chain().contact_damping == 0.2);
+    CHECK(error_of("{}", {"model.contact_damping=0.2"}).find("model.contact_damping") !=
+          std::string::npos);
+    CHECK(error_of("{}", {"model.contact_law=hunt_crossley", "model.contact_damping=-1"})
+              .find("model.contact_damping") != std::string::npos);
 }

@@ -26,7 +26,8 @@ Dynamics::Dynamics(Chain chain, GroundMotion ground_motion)
         m_contact_over_mass_left[i] = four_pi2 * m_chain.contact[i] / m_chain.mass[i];
         m_contact_over_mass_right[i] = four_pi2 * m_chain.contact[i + 1] / m_chain.mass[i];
     }
-    m_hertz = m_chain.law == ContactLaw::hertz;
+    m_hertz = m_chain.law != ContactLaw::linear;
+    m_alpha = m_chain.law == ContactLaw::hunt_crossley ? m_chain.contact_damping : 0.0;
     m_force_gain.resize(m_n + 1);
     for (int j = 0; j <= m_n; ++j)
         m_force_gain[j] = m_chain.contact[j] / m_chain.force_scale;
@@ -52,10 +53,22 @@ void Dynamics::restoring_acceleration(double ground, const double* u, double* r)
 }
 
 void Dynamics::acceleration(double ground, const double* u, const double* v, double* a) const {
-    restoring_acceleration(ground, u, a);
     const double* d = m_chain.damping.data();
-    for (int i = 0; i < m_n; ++i)
-        a[i] -= d[i] * v[i];
+    if (m_alpha == 0.0) {
+        restoring_acceleration(ground, u, a);
+        for (int i = 0; i < m_n; ++i)
+            a[i] -= d[i] * v[i];
+        return;
+    }
+    // Hunt-Crossley: every contact force also depends on its gap rate.
+    const double* s = m_chain.spring.data();
+    double p_left = contact_term(0, u, v);
+    for (int i = 0; i < m_n; ++i) {
+        const double p_right = contact_term(i + 1, u, v);
+        a[i] = ground - s[i] * u[i] - d[i] * v[i] + m_contact_over_mass_left[i] * p_left -
+               m_contact_over_mass_right[i] * p_right;
+        p_left = p_right;
+    }
 }
 
 void Dynamics::acceleration_rate(double t, const double* y, const double* a, double* jerk) const {
@@ -63,8 +76,17 @@ void Dynamics::acceleration_rate(double t, const double* y, const double* a, dou
     const double* v = y + m_n;
     const double ground_rate = -four_pi2 * m_ground.acceleration_rate(t);
     // A closed contact's penetration changes at the gap rate, an open one's not at all.
-    // d phi(p)/dt = phi'(p) dg/dt on a closed contact, 0 on an open one.
-    auto penetration_rate = [&](int j) { return shape_slope(gap(j, u)) * gap_rate(j, v); };
+    // d phi(p)/dt = phi'(p) dg/dt on a closed contact, 0 on an open one; Hunt-Crossley adds
+    // phi(p) alpha g'' while its factor 1 + alpha g' is positive (g'' from the accelerations,
+    // the same combination as the gap).
+    auto penetration_rate = [&](int j) {
+        const double g = gap(j, u);
+        const double rate = gap_rate(j, v);
+        const double factor = dissipation_factor(rate);
+        double r = shape_slope(g) * rate * factor;
+        if (m_alpha != 0.0 && factor > 0.0) r += shape(g) * m_alpha * gap_rate(j, a);
+        return r;
+    };
     double q_left = penetration_rate(0);
     for (int i = 0; i < m_n; ++i) {
         const double q_right = penetration_rate(i + 1);
@@ -84,8 +106,8 @@ double Dynamics::gap_acceleration(int j, double ground, const double* y) const {
     const double* u = y;
     const double* v = y + m_n;
     auto body_acc = [&](int i) {
-        const double p_l = shape(gap(i, u));
-        const double p_r = shape(gap(i + 1, u));
+        const double p_l = contact_term(i, u, v);
+        const double p_r = contact_term(i + 1, u, v);
         return ground - m_chain.spring[i] * u[i] - m_chain.damping[i] * v[i] +
                m_contact_over_mass_left[i] * p_l - m_contact_over_mass_right[i] * p_r;
     };
@@ -94,8 +116,8 @@ double Dynamics::gap_acceleration(int j, double ground, const double* y) const {
     return body_acc(j - 1) - body_acc(j);
 }
 
-double Dynamics::force(int j, const double* u) const {
-    return m_force_gain[j] * shape(gap(j, u));
+double Dynamics::force(int j, const double* y) const {
+    return m_force_gain[j] * contact_term(j, y, y + m_n);
 }
 
 double Dynamics::energy(const double* y) const {
@@ -154,12 +176,20 @@ void Dynamics::jacobian(const double* y, std::vector<double>& jac) const {
         if (gap(j, y) <= 0.0) continue;
         const int left = j - 1; // body whose displacement enters g_j with +1 (or none)
         const int right = j;    // body whose displacement enters g_j with -1 (or none)
-        const double k = four_pi2 * m_chain.contact[j] * shape_slope(gap(j, y));
-        if (left >= 0) at(n + left, left) -= k / m_chain.mass[left];
-        if (right < n) at(n + right, right) -= k / m_chain.mass[right];
-        if (left >= 0 && right < n) {
-            at(n + left, right) += k / m_chain.mass[left];
-            at(n + right, left) += k / m_chain.mass[right];
+        const double g = gap(j, y);
+        const double factor = dissipation_factor(gap_rate(j, y + n));
+        // d(force)/d(gap) and, for Hunt-Crossley, d(force)/d(gap rate): both enter through the
+        // same combination c_j, one in the displacement columns, one in the velocity columns.
+        const double k = four_pi2 * m_chain.contact[j] * shape_slope(g) * factor;
+        const double c = factor > 0.0 ? four_pi2 * m_chain.contact[j] * shape(g) * m_alpha : 0.0;
+        for (const auto& [col0, w] : {std::pair{0, k}, std::pair{n, c}}) {
+            if (w == 0.0) continue;
+            if (left >= 0) at(n + left, col0 + left) -= w / m_chain.mass[left];
+            if (right < n) at(n + right, col0 + right) -= w / m_chain.mass[right];
+            if (left >= 0 && right < n) {
+                at(n + left, col0 + right) += w / m_chain.mass[left];
+                at(n + right, col0 + left) += w / m_chain.mass[right];
+            }
         }
     }
 }

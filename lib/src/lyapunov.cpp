@@ -178,10 +178,16 @@ TangentObserver::TangentObserver(const Dynamics& dyn, int count, long start_peri
       m_next(dyn.dimension()), m_sum(dyn.dimension()), m_dv(dyn.bodies()) {
     // Between switches the tangent flow is exp(h J) only if J is constant there, which holds
     // for the linear law alone (a Hertz contact's stiffness varies with its penetration).
+    // Hunt-Crossley needs no saltation matrix (its force vanishes with the penetration, so the
+    // vector field does not jump at a switch) but has the same varying Jacobian.
     if (dyn.chain().law != ContactLaw::linear)
-        throw std::invalid_argument("model.contact_law: Lyapunov exponents need the linear contact "
-                                    "law (the tangent propagation assumes a constant Jacobian "
-                                    "between switches)");
+        throw std::invalid_argument(
+            "model.contact_law: Lyapunov exponents need the linear contact law (the tangent "
+            "propagation assumes a constant Jacobian between switches; a " +
+            std::string(to_string(dyn.chain().law)) +
+            " contact's stiffness varies with its "
+            "penetration), got " +
+            to_string(dyn.chain().law));
 }
 
 void TangentObserver::apply_jacobian(const double* x, double* out) const {

@@ -105,6 +105,16 @@ void validate(const Chain& c) {
     for (double k : c.contact)
         require_range("model.contact", k, 0.0, 1e12, detail::Bound::open_low);
     require_range("model.force_scale", c.force_scale, 0.0, 1e12, detail::Bound::open_low);
+    require_range("model.contact_damping", c.contact_damping, 0.0, 1e6);
+}
+
+const char* to_string(ContactLaw law) {
+    switch (law) {
+    case ContactLaw::linear: return "linear";
+    case ContactLaw::hertz: return "hertz";
+    case ContactLaw::hunt_crossley: return "hunt_crossley";
+    }
+    return "?";
 }
 
 double max_angular_frequency(const Chain& c) {

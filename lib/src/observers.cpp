@@ -26,6 +26,18 @@ void MaxForceTracker::on_step(const StepView& step) {
         const double r0 = continuous ? m_rate[j] : m_dyn.gap_rate(j, step.y0 + n);
         const double g1 = m_dyn.gap(j, step.y1);
         const double r1 = m_dyn.gap_rate(j, step.y1 + n);
+        // The gap on this step as a quintic (value, rate, acceleration at both ends); the
+        // ground terms are shared by every contact of the step.
+        auto gap_interpolant = [&](int contact) {
+            if (!have_ground) {
+                ground0 = m_dyn.ground(step.t0);
+                ground1 = m_dyn.ground(step.t1);
+                have_ground = true;
+            }
+            return detail::QuinticHermite(g0, r0, m_dyn.gap_acceleration(contact, ground0, step.y0),
+                                          g1, r1, m_dyn.gap_acceleration(contact, ground1, step.y1),
+                                          h);
+        };
         m_gap[j] = g1;
         m_rate[j] = r1;
         if (!step.recording) continue;
@@ -40,13 +52,7 @@ void MaxForceTracker::on_step(const StepView& step) {
         // A maximum inside the step: the gap rate turns from closing to opening. The bound
         // keeps the interpolation to the steps where the peak can be a penetration at all.
         if (r0 > 0.0 && r1 < 0.0 && std::max(g0, g1) + 0.5 * h * (r0 - r1) > 0.0) {
-            if (!have_ground) {
-                ground0 = m_dyn.ground(step.t0);
-                ground1 = m_dyn.ground(step.t1);
-                have_ground = true;
-            }
-            const detail::QuinticHermite g(g0, r0, m_dyn.gap_acceleration(j, ground0, step.y0), g1,
-                                           r1, m_dyn.gap_acceleration(j, ground1, step.y1), h);
+            const detail::QuinticHermite g = gap_interpolant(j);
             double tau = g.stationary_point(0.0, h);
             double inner = g.value(tau);
             // A scheme with dense output (exact) gives the peak to round-off: Newton on the
@@ -73,7 +79,40 @@ void MaxForceTracker::on_step(const StepView& step) {
             if (g0 <= 0.0 && g1 <= 0.0 && inner > 0.0) ++best.impacts; // closed and reopened
         }
         if (g0 <= 0.0 && g1 > 0.0) ++best.impacts;
-        const double force = m_dyn.force_at_penetration(j, peak);
+        double force = m_dyn.force_at_penetration(j, peak);
+        if (m_dyn.dissipative_contacts() && (peak > 0.0 || (!continuous && g0 > 0.0))) {
+            // Hunt-Crossley: damping adds to the force while the contact closes, so the force
+            // peaks before the deepest penetration. Maximise it on the step's interpolant:
+            // a grid, then golden-section search around the best grid point.
+            const detail::QuinticHermite g = gap_interpolant(j);
+            auto f = [&](double tau) {
+                return m_dyn.force_at_penetration(j, g.value(tau), g.rate(tau));
+            };
+            constexpr int grid = 16;
+            double best_tau = h;
+            force = f(h);
+            for (int k = continuous ? 1 : 0; k < grid; ++k) {
+                const double tau = h * k / grid;
+                if (f(tau) > force) {
+                    force = f(tau);
+                    best_tau = tau;
+                }
+            }
+            double lo = std::max(0.0, best_tau - h / grid), hi = std::min(h, best_tau + h / grid);
+            const double golden = 0.5 * (std::sqrt(5.0) - 1.0);
+            for (int it = 0; it < 40 && hi - lo > 1e-14 * h; ++it) {
+                const double a = hi - golden * (hi - lo), b = lo + golden * (hi - lo);
+                if (f(a) > f(b))
+                    hi = b;
+                else
+                    lo = a;
+            }
+            if (f(0.5 * (lo + hi)) > force) {
+                best_tau = 0.5 * (lo + hi);
+                force = f(best_tau);
+            }
+            peak_t = step.t0 + best_tau;
+        }
         if (force > best.force) {
             best.force = force;
             best.time = peak_t;

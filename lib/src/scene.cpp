@@ -156,7 +156,7 @@ Scene scene_from_json(json root, const std::vector<std::string>& overrides,
     double tail = 0.0; // seconds of free vibration after a record
     if (scene.units == Units::reduced) {
         model.allow({"Nm", "fc", "eps", "e_r", "mass", "stiffness", "damping", "clearance",
-                     "contact", "scatter", "contact_law"});
+                     "contact", "scatter", "contact_law", "contact_damping"});
         excitation.allow({"f_r", "type"});
         ReducedParameters& p = scene.reduced;
         p.Nm = model.integer("Nm", p.Nm, 1, 1'000'000);
@@ -236,10 +236,17 @@ Scene scene_from_json(json root, const std::vector<std::string>& overrides,
         scene.row = non_uniform_row(root["model"], scene.reduced, 1.0 / L);
     }
     if (scene.units == Units::reduced) scene.row = non_uniform_row(root["model"], scene.reduced);
-    if (scene.units == Units::reduced &&
-        model.text("contact_law", "linear", {"linear", "hertz"}) == "hertz") {
-        if (!scene.row) scene.row = Chain::homogeneous(scene.reduced);
-        scene.row->law = ContactLaw::hertz;
+    if (scene.units == Units::reduced) {
+        const std::string law =
+            model.text("contact_law", "linear", {"linear", "hertz", "hunt_crossley"});
+        if (law != "linear" && !scene.row) scene.row = Chain::homogeneous(scene.reduced);
+        if (law == "hertz") scene.row->law = ContactLaw::hertz;
+        if (law == "hunt_crossley") {
+            scene.row->law = ContactLaw::hunt_crossley;
+            scene.row->contact_damping = model.number("contact_damping", 0.0, 0.0, 1e6);
+        } else if (model.has("contact_damping")) {
+            throw SceneError("model.contact_damping: only with model.contact_law = hunt_crossley");
+        }
     }
     model.finish();
     excitation.finish();

@@ -194,6 +194,10 @@ StepPlan plan_step(const Dynamics& dyn, Scheme scheme, double tolerance,
         throw std::invalid_argument("run.scheme: exact propagates the linear contact law only; "
                                     "use rk4, rkf45 or rk8pd with a nonlinear "
                                     "model.contact_law");
+    if (scheme == Scheme::central_difference && dyn.dissipative_contacts())
+        throw std::invalid_argument("run.scheme: central_difference needs contact forces that do "
+                                    "not depend on the velocities; use rk4, rkf45 or rk8pd with "
+                                    "model.contact_law = hunt_crossley");
     if (scheme == Scheme::exact && !harmonic)
         throw std::invalid_argument("run.scheme: exact needs harmonic forcing (its particular "
                                     "solution is closed-form); use rk4, rkf45 or rk8pd with "

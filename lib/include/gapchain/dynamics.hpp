@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace gapchain {
@@ -60,6 +61,11 @@ public:
     /// y' = f(t, y) for y = (u, v); y and dydt have 2 Nm entries.
     void rhs(double t, const double* y, double* dydt) const;
 
+    /// Shape of contact j's force with its rate: phi(g_j) d(g_j') for displacements u and
+    /// velocities v.
+    [[nodiscard]] double contact_term(int j, const double* u, const double* v) const {
+        return shape(gap(j, u)) * dissipation_factor(gap_rate(j, v));
+    }
     /// Gap g_j of contact j = 0..Nm (> 0 means penetration), given the displacements u.
     [[nodiscard]] double gap(int j, const double* u) const {
         const double e = m_chain.clearance[j];
@@ -75,13 +81,21 @@ public:
     }
     /// Second time derivative of g_j at the state y (2 Nm entries) and ground term.
     [[nodiscard]] double gap_acceleration(int j, double ground, const double* y) const;
-    /// Reduced impact force of contact j: contact_j max(g_j, 0) / force_scale (eqs 14-15).
-    [[nodiscard]] double force(int j, const double* u) const;
-    /// Reduced force of contact j at penetration p >= 0: k_j phi(p) / force_scale, with
-    /// phi(p) = p (linear law) or p^(3/2) (Hertz).
-    [[nodiscard]] double force_at_penetration(int j, double p) const {
-        return m_force_gain[j] * shape(p);
+    /// Reduced impact force of contact j at state y (2 Nm entries): contact_j phi(g_j) d(g_j')
+    /// / force_scale (eqs 14-15 for the linear law).
+    [[nodiscard]] double force(int j, const double* y) const;
+    /// Reduced force of contact j at penetration p >= 0 closing at rate p' (the gap rate):
+    /// k_j phi(p) d(p') / force_scale, with phi(p) = p (linear law) or p^(3/2) (Hertz,
+    /// Hunt-Crossley) and d the Hunt-Crossley factor (1 for the elastic laws).
+    [[nodiscard]] double force_at_penetration(int j, double p, double rate = 0.0) const {
+        return m_force_gain[j] * shape(p) * dissipation_factor(rate);
     }
+    /// Hunt-Crossley's max(0, 1 + alpha p') (1 for the linear and Hertz laws).
+    [[nodiscard]] double dissipation_factor(double rate) const {
+        return m_alpha == 0.0 ? 1.0 : std::max(0.0, 1.0 + m_alpha * rate);
+    }
+    /// Whether contact forces depend on the velocities (Hunt-Crossley with alpha > 0).
+    [[nodiscard]] bool dissipative_contacts() const { return m_alpha != 0.0; }
     /// The contact law's shape phi(p) for a penetration p (0 for p <= 0).
     [[nodiscard]] double shape(double p) const {
         const double q = std::max(p, 0.0); // branch-free on the linear law's hot path
@@ -93,12 +107,12 @@ public:
         return m_hertz ? 1.5 * std::sqrt(p) : 1.0;
     }
 
-    /// Kinetic + spring + contact energy (per nominal mass); conserved when every damping is 0
-    /// and the forcing amplitude is 0 (MODEL.md §5).
+    /// Kinetic + spring + contact energy (per nominal mass); conserved when every damping is 0,
+    /// the forcing amplitude is 0 and the contacts are elastic (MODEL.md §5).
     [[nodiscard]] double energy(const double* y) const;
 
-    /// Jacobian df/dy at state y, row-major 2Nm x 2Nm into jac (resized). Contact forces depend
-    /// on positions only, so its trace is -sum(damping) at every state.
+    /// Jacobian df/dy at state y, row-major 2Nm x 2Nm into jac (resized). Elastic contact
+    /// forces depend on positions only, so then its trace is -sum(damping) at every state.
     void jacobian(const double* y, std::vector<double>& jac) const;
 
     /// Linearised accelerations for a fixed contact configuration (closed[j] != 0: contact j
@@ -125,7 +139,8 @@ private:
     std::vector<double> m_contact_over_mass_left;  ///< 4 pi^2 k_j / m_j for body j's left gap
     std::vector<double> m_contact_over_mass_right; ///< 4 pi^2 k_{j+1} / m_j for the right gap
     std::vector<double> m_force_gain;              ///< k_j / force_scale
-    bool m_hertz = false;                          ///< contact law is Hertz
+    bool m_hertz = false;                          ///< shape p^(3/2) (Hertz, Hunt-Crossley)
+    double m_alpha = 0.0;                          ///< Hunt-Crossley damping (0 otherwise)
 };
 
 /// Throws std::invalid_argument unless dyn's ground motion is harmonic: `analysis` (its name,

@@ -52,7 +52,16 @@ double force_in_newtons(double reduced_force, const PhysicalParameters& p);
 enum class ContactLaw {
     linear, ///< the paper's: force k p
     hertz,  ///< Hertz: force k p^(3/2) (k in reduced units, force per unit penetration^(3/2))
+    /// Hunt and Crossley (1975), "Coefficient of restitution interpreted as damping in
+    /// vibroimpact", J. Appl. Mech. 42: force k p^(3/2) (1 + alpha p'), clipped at 0 (no
+    /// pull), with alpha = Chain::contact_damping. Hunt and Crossley relate it to the
+    /// coefficient of restitution r at impact speed v_i by alpha = 3 (1 - r) / (2 v_i); the
+    /// force vanishes with p, so the vector field has no jump at a switch.
+    hunt_crossley,
 };
+
+/// "linear", "hertz" or "hunt_crossley".
+const char* to_string(ContactLaw law);
 
 /// The row in the reduced equations of MODEL.md §2, stored per body and per gap so that
 /// non-uniform rows need no other code. Body i (0-based) obeys
@@ -68,6 +77,8 @@ struct Chain {
     std::vector<double> contact;   ///< per gap, contact stiffness in units of K (fc, fc/2), > 0
     double force_scale = 1.0;      ///< reduced force F_j = contact_j p_j / force_scale (sqrt(fc))
     ContactLaw law = ContactLaw::linear; ///< linear (p) or Hertz (p^(3/2)) in place of p_j
+    /// Hunt-Crossley alpha [reduced time per reduced length], [0, 1e6]; used by that law only.
+    double contact_damping = 0.0;
 
     /// Number of bodies.
     [[nodiscard]] int bodies() const { return static_cast<int>(mass.size()); }

@@ -147,6 +147,24 @@ TEST_CASE("bad arrays fail with a message naming the key") {
               .find("model.scatter.sed") != std::string::npos);
 }
 
+TEST_CASE("an integer lin range gives exact integers (seeds can be swept)") {
+    const Study s = parse_study(R"({"parameters": {"model.scatter.seed": {"lin": [1, 100, 100]}},
+        "scene": {"model": {"Nm": 2, "scatter": {"clearance": 0.1}}}})");
+    for (long k = 0; k < 100; ++k)
+        CHECK(s.axes[0].values[k] == static_cast<double>(k + 1));
+}
+
+TEST_CASE("--set reaches nested keys: model.scatter.seed") {
+    const Scene a = parse_scene("{}", {"model.scatter.clearance=0.1", "model.scatter.seed=3"});
+    const Scene b = parse_scene(R"({"model": {"scatter": {"clearance": 0.1, "seed": 3}}})");
+    REQUIRE_FALSE(a.uniform());
+    CHECK(a.chain().clearance == b.chain().clearance);
+    CHECK(a.chain().clearance !=
+          parse_scene("{}", {"model.scatter.clearance=0.1"}).chain().clearance);
+    CHECK(error_of(R"({"model": {"Nm": 3}})", {"model.Nm.x=3"}).find("Nm: must be an object") !=
+          std::string::npos);
+}
+
 TEST_CASE("model.contact_law selects the Hertz law; anything else is refused") {
     const Scene s = parse_scene("{}", {"model.contact_law=hertz"});
     CHECK_FALSE(s.uniform());

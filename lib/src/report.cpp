@@ -256,6 +256,7 @@ std::string sweep_csv_header(const Study& study) {
     for (const auto& a : study.axes)
         h += ",axis:" + a.key;
     h += ",Nm,fc,eps,e_r,f_r,F_m,F_m_error,status";
+    if (parse_scene(study.scene_json).physical) h += ",F_m_newton";
     if (study.keep.steady_state) h += ",steady_state_period";
     if (study.keep.wall_time) h += ",wall_time_s";
     if (study.keep.regime) h += ",regime,period,lambda_max,lambda_max_error";
@@ -273,6 +274,7 @@ std::string sweep_csv_row(const Study& study, const SweepPointResult& r) {
     const SimulationResult& s = r.simulation;
     os << ',' << p.Nm << ',' << p.fc << ',' << p.eps << ',' << p.e_r << ',' << p.f_r << ',' << s.F_m
        << ',' << s.F_m_error << ',' << to_string(s.status);
+    if (r.F_m_newton) os << ',' << *r.F_m_newton;
     if (study.keep.steady_state)
         os << ','
            << (s.steady_state_period ? std::to_string(*s.steady_state_period) : std::string(""));

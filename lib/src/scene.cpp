@@ -23,16 +23,32 @@ using nlohmann::json;
 
 namespace {
 
-/// "section.key=value" -> json[section][key] = value.
+/// "section.key=value" -> json[section][key] = value; deeper paths ("model.scatter.seed=3")
+/// create or descend into nested objects.
 void apply_override(json& root, const std::string& assignment) {
     const auto eq = assignment.find('=');
     const auto dot = assignment.find('.');
     if (eq == std::string::npos || dot == std::string::npos || dot > eq || dot == 0 ||
         dot + 1 == eq)
         throw SceneError("--set: expected section.key=value, got \"" + assignment + "\"");
-    const std::string section = assignment.substr(0, dot);
-    const std::string key = assignment.substr(dot + 1, eq - dot - 1);
     const std::string text = assignment.substr(eq + 1);
+    json* parent = &root;
+    std::string path = assignment.substr(0, eq);
+    std::size_t split = path.find('.');
+    while (split != path.rfind('.')) {
+        const std::string part = path.substr(0, split);
+        if (part.empty()) throw SceneError("--set: empty key in \"" + assignment + "\"");
+        if (!parent->contains(part)) (*parent)[part] = json::object();
+        if (!(*parent)[part].is_object())
+            throw SceneError(part + ": must be an object to set " + path.substr(split + 1));
+        parent = &(*parent)[part];
+        path = path.substr(split + 1);
+        split = path.find('.');
+    }
+    const std::string section = path.substr(0, split);
+    const std::string key = path.substr(split + 1);
+    if (key.empty())
+        throw SceneError("--set: expected section.key=value, got \"" + assignment + "\"");
     json value;
     if (text == "nan" || text == "NaN") {
         value = std::numeric_limits<double>::quiet_NaN();
@@ -44,9 +60,10 @@ void apply_override(json& root, const std::string& assignment) {
         value = json::parse(text, nullptr, false);
         if (value.is_discarded()) value = text;
     }
-    if (!root.contains(section)) root[section] = json::object();
-    if (!root[section].is_object()) throw SceneError(section + ": must be an object to set " + key);
-    root[section][key] = value;
+    if (!parent->contains(section)) (*parent)[section] = json::object();
+    if (!(*parent)[section].is_object())
+        throw SceneError(section + ": must be an object to set " + key);
+    (*parent)[section][key] = value;
 }
 
 std::vector<double> number_array(const json& j, const std::string& key) {
@@ -388,7 +405,14 @@ std::vector<double> axis_values(const nlohmann::ordered_json& spec, const std::s
         std::vector<double> v;
         for (long k = 0; k < count; ++k) {
             const double x = count == 1 ? 0.0 : static_cast<double>(k) / (count - 1);
-            v.push_back(log ? from * std::pow(to / from, x) : from + (to - from) * x);
+            // The weighted form keeps integer ranges exact ([1, 100, 100] gives 14, not
+            // 14.000000000000002), so integer keys such as seeds can be swept.
+            const double linear =
+                count == 1
+                    ? from
+                    : (from * static_cast<double>(count - 1 - k) + to * static_cast<double>(k)) /
+                          static_cast<double>(count - 1);
+            v.push_back(log ? from * std::pow(to / from, x) : linear);
         }
         return v;
     };

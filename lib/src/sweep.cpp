@@ -141,6 +141,7 @@ void run_sweep(const Study& s, const SweepSelection& sel,
             const Scene scene = point_scene(s, r.index);
             r.parameters = scene.reduced;
             r.simulation = simulate(scene.dynamics(), scene.run, scene.initial);
+            if (scene.physical) r.F_m_newton = force_in_newtons(r.simulation.F_m, *scene.physical);
             if (s.keep.regime) {
                 if (!scene.uniform())
                     throw std::invalid_argument("keep: \"regime\" needs the paper's uniform row; "

@@ -66,6 +66,7 @@ struct SweepPointResult {
     ReducedParameters parameters;         ///< the point's reduced parameters
     SimulationResult simulation;          ///< F_m and the rest
     std::optional<Classification> regime; ///< if the study keeps the regime
+    std::optional<double> F_m_newton;     ///< F_m in newtons, for physical scenes
 };
 
 /// Which points to run: a shard of the index range, minus those already done.

@@ -93,8 +93,9 @@ void MaxForceTracker::on_step(const StepView& step) {
             force = f(h);
             for (int k = continuous ? 1 : 0; k < grid; ++k) {
                 const double tau = h * k / grid;
-                if (f(tau) > force) {
-                    force = f(tau);
+                const double value = f(tau);
+                if (value > force) {
+                    force = value;
                     best_tau = tau;
                 }
             }
@@ -107,9 +108,10 @@ void MaxForceTracker::on_step(const StepView& step) {
                 else
                     lo = a;
             }
-            if (f(0.5 * (lo + hi)) > force) {
+            const double refined = f(0.5 * (lo + hi));
+            if (refined > force) {
                 best_tau = 0.5 * (lo + hi);
-                force = f(best_tau);
+                force = refined;
             }
             peak_t = step.t0 + best_tau;
         }

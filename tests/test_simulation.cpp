@@ -223,3 +223,35 @@ TEST_CASE("Hertz contact: exact and Lyapunov exponents refuse it, rk4 and rk8pd 
     const Dynamics dyn(c, {1.1, 1.0});
     check_refused_then_rk4_agrees_with_rk8pd(dyn, Scheme::exact);
 }
+
+TEST_CASE("a run that never settles reports the window-halves spread, which covers another "
+          "scheme's F_m") {
+    // Fig 13's row at f_r = 2.6 is chaotic (bifurcation.md: chaos for f_r = 2.50-2.67).
+    const ReducedParameters p{5, 60, 0.5, 0.06, 2.6};
+    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+    RunOptions o;
+    o.periods = 400;
+    o.scheme = Scheme::rk4;
+    const SimulationResult r = simulate(dyn, o);
+    REQUIRE(r.status == RunStatus::completed);
+    CHECK_FALSE(r.steady_state_period);
+    CHECK(r.error_method == ErrorMethod::window_halves);
+    CHECK(r.F_m_error > 10.0 * o.tolerance * r.F_m);
+    // An independent scheme follows another chaotic trajectory; its maximum over the same
+    // window must lie within the reported spread (a factor 2 for a one-sample estimate).
+    o.scheme = Scheme::rk8pd;
+    o.tolerance = 1e-8;
+    o.estimate_error = false;
+    const SimulationResult ref = simulate(dyn, o);
+    MESSAGE("rk4 " << r.F_m << " +- " << r.F_m_error << ", rk8pd " << ref.F_m);
+    CHECK(std::abs(r.F_m - ref.F_m) <= 2.0 * r.F_m_error);
+
+    // A periodic point keeps the comparison run.
+    const ReducedParameters q{5, 100, 0.5, 0.5, 1.0};
+    const Dynamics periodic(Chain::homogeneous(q), {q.f_r, 1.0});
+    RunOptions po;
+    po.scheme = Scheme::rk4;
+    const SimulationResult s = simulate(periodic, po);
+    CHECK(s.steady_state_period);
+    CHECK(s.error_method == ErrorMethod::comparison_run);
+}

@@ -84,7 +84,10 @@ int main(int argc, char** argv) {
             std::printf("periodic steady state: period %d x T, reached by t = %.6g\n",
                         *r.steady_state_period, *r.steady_state_time);
         else
-            std::printf("no periodic steady state within %ld periods\n", r.periods_simulated);
+            std::printf("no periodic steady state within %ld periods%s\n", r.periods_simulated,
+                        r.error_method == ErrorMethod::window_halves
+                            ? " (error: spread between the maxima of the two window halves)"
+                            : "");
         std::printf("wall time %.4f s\n", r.wall_time_s);
     });
 }

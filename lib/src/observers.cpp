@@ -9,9 +9,9 @@
 
 namespace gapchain {
 
-MaxForceTracker::MaxForceTracker(const Dynamics& dyn)
+MaxForceTracker::MaxForceTracker(const Dynamics& dyn, long split_period)
     : m_dyn(dyn), m_max(dyn.gaps()), m_gap(dyn.gaps()), m_rate(dyn.gaps()),
-      m_scratch(dyn.dimension()) {}
+      m_scratch(dyn.dimension()), m_split_period(split_period) {}
 
 void MaxForceTracker::on_step(const StepView& step) {
     const int n = m_dyn.bodies();
@@ -50,8 +50,13 @@ void MaxForceTracker::on_step(const StepView& step) {
             peak_t = step.t0;
         }
         // A maximum inside the step: the gap rate turns from closing to opening. The bound
-        // keeps the interpolation to the steps where the peak can be a penetration at all.
-        if (r0 > 0.0 && r1 < 0.0 && std::max(g0, g1) + 0.5 * h * (r0 - r1) > 0.0) {
+        // (twice the tangent-intersection bound of a concave gap) keeps the interpolation to
+        // the steps where the peak can be a penetration at all, and, once a contact has a
+        // record, to the peaks that could beat it or that may hide a whole brief contact.
+        const double bound = std::max(g0, g1) + 0.5 * h * (r0 - r1);
+        if (r0 > 0.0 && r1 < 0.0 && bound > 0.0 &&
+            ((g0 <= 0.0 && g1 <= 0.0) || m_dyn.dissipative_contacts() ||
+             m_dyn.force_at_penetration(j, bound) > best.force)) {
             const detail::QuinticHermite g = gap_interpolant(j);
             double tau = g.stationary_point(0.0, h);
             double inner = g.value(tau);
@@ -119,6 +124,8 @@ void MaxForceTracker::on_step(const StepView& step) {
             best.force = force;
             best.time = peak_t;
         }
+        double& half = m_half_max[step.period < m_split_period ? 0 : 1];
+        half = std::max(half, force);
     }
     m_last_t = step.t1;
     m_have_previous = true;

@@ -19,6 +19,7 @@ std::string to_json(const SimulationResult& r, const Scene& scene) {
     json j;
     j["F_m"] = r.F_m;
     j["F_m_error"] = r.F_m_error;
+    j["F_m_error_method"] = to_string(r.error_method);
     j["F_m_contact"] = r.F_m_contact;
     j["F_m_time"] = r.F_m_time;
     j["contact"] = r.contact;

@@ -23,11 +23,17 @@ struct ContactMaximum {
 /// no O(h^2) step-point bias. O(Nm) memory and O(Nm) work per step.
 class MaxForceTracker final : public Observer {
 public:
-    /// dyn must outlive the tracker.
-    explicit MaxForceTracker(const Dynamics& dyn);
+    /// dyn must outlive the tracker. split_period: the recorded window is also split in two
+    /// at this forcing period (steps of periods < split_period form the first half), and the
+    /// largest force of each half is kept; -1 (default): no split.
+    explicit MaxForceTracker(const Dynamics& dyn, long split_period = -1);
     void on_step(const StepView& step) override;
     /// Per contact j = 0..Nm (0: left wall, Nm: right wall).
     [[nodiscard]] const std::vector<ContactMaximum>& contacts() const { return m_max; }
+    /// Largest force over all contacts in the recorded periods before split_period, >= 0.
+    [[nodiscard]] double first_half_max() const { return m_half_max[0]; }
+    /// Largest force over all contacts in the recorded periods from split_period on, >= 0.
+    [[nodiscard]] double second_half_max() const { return m_half_max[1]; }
 
 private:
     const Dynamics& m_dyn;
@@ -37,6 +43,8 @@ private:
     std::vector<double> m_scratch; ///< a state from the stepper's dense output
     double m_last_t = -1.0;
     bool m_have_previous = false;
+    long m_split_period;
+    double m_half_max[2] = {0.0, 0.0};
 };
 
 /// Detects a periodic steady state from the states at the forcing-period boundaries: the run

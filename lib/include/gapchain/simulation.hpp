@@ -10,6 +10,7 @@
 
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace gapchain {
@@ -38,13 +39,25 @@ struct BodyMaximum {
     double t_right = 0.0; ///< reduced time of the right maximum
 };
 
+/// How SimulationResult::F_m_error was estimated.
+enum class ErrorMethod {
+    none,           ///< not estimated (estimate_error off, or the run failed)
+    comparison_run, ///< a second run at another step (or tolerance): truncation error
+    window_halves,  ///< a run that never settled: |max over first half - max over second
+                    ///< half| of the recorded window, the sampling spread of F_m
+};
+
+/// "none", "comparison_run" or "window_halves".
+std::string_view to_string(ErrorMethod method);
+
 /// Everything one simulation reports.
 struct SimulationResult {
     double F_m = 0.0;       ///< max over contacts and recorded time of the reduced force (eq 19)
     double F_m_error = 0.0; ///< estimated absolute error of F_m (see simulate())
-    int F_m_contact = -1;   ///< contact j where F_m occurred (-1: no contact)
-    double F_m_time = 0.0;  ///< reduced time of F_m
-    bool contact = false;   ///< whether any contact ever closed while recording
+    ErrorMethod error_method = ErrorMethod::none; ///< how F_m_error was estimated
+    int F_m_contact = -1;                         ///< contact j where F_m occurred (-1: no contact)
+    double F_m_time = 0.0;                        ///< reduced time of F_m
+    bool contact = false;                    ///< whether any contact ever closed while recording
     std::vector<ContactMaximum> per_contact; ///< Nm + 1 entries, j = 0 left wall
     std::vector<BodyMaximum> per_body;       ///< Nm entries
     std::optional<int> steady_state_period;  ///< k if a periodic steady state was found
@@ -73,6 +86,10 @@ struct SimulationHooks {
 /// estimate is |F_m - F_m'|, which bounds the error of F_m for any convergence order >= 1
 /// (the true error is about |F_m - F_m'| / (2^p - 1)). In a chaotic regime it measures how
 /// much the maximum over a finite run depends on the trajectory, which is the honest figure.
+/// A harmonic run that ran its full length without settling skips the second run when the
+/// maxima over the two halves of its recorded window differ by more than 10 * tolerance *
+/// F_m: that difference, the sampling spread of the maximum, is then reported instead
+/// (error_method says which).
 SimulationResult simulate(const Dynamics& dyn, const RunOptions& options,
                           const std::vector<double>& initial = {},
                           const SimulationHooks& hooks = {});

@@ -41,30 +41,56 @@ public:
             r = r * s + k * m_c[k];
         return r / m_h;
     }
-    // Root of rate() in [lo, hi] where rate changes sign (bisection to full precision).
-    [[nodiscard]] double stationary_point(double lo, double hi) const {
-        return bisect([this](double tau) { return rate(tau); }, lo, hi);
+    // Second derivative at tau.
+    [[nodiscard]] double acceleration(double tau) const {
+        const double s = tau / m_h;
+        double r = 20.0 * m_c[5];
+        for (int k = 4; k >= 2; --k)
+            r = r * s + k * (k - 1) * m_c[k];
+        return r / (m_h * m_h);
     }
-    // Root of value() - level in [lo, hi] where it changes sign.
+    // Root of rate() in [lo, hi] where rate changes sign, to full precision.
+    [[nodiscard]] double stationary_point(double lo, double hi) const {
+        return root([this](double tau) { return rate(tau); },
+                    [this](double tau) { return acceleration(tau); }, lo, hi);
+    }
+    // Root of value() - level in [lo, hi] where it changes sign, to full precision.
     [[nodiscard]] double crossing(double level, double lo, double hi) const {
-        return bisect([this, level](double tau) { return value(tau) - level; }, lo, hi);
+        return root([this, level](double tau) { return value(tau) - level; },
+                    [this](double tau) { return rate(tau); }, lo, hi);
     }
 
 private:
-    template <typename F>
-    [[nodiscard]] double bisect(F f, double lo, double hi) const {
-        double f_lo = f(lo);
-        for (int it = 0; it < 60 && hi - lo > 1e-15 * m_h; ++it) {
-            const double mid = 0.5 * (lo + hi);
-            const double f_mid = f(mid);
-            if ((f_mid > 0.0) == (f_lo > 0.0)) {
-                lo = mid;
-                f_lo = f_mid;
-            } else {
-                hi = mid;
-            }
+    // Newton's method kept inside a shrinking sign-change bracket (as in Numerical Recipes'
+    // rtsafe): a Newton step that leaves the bracket, or that is not less than half the step
+    // before last, is replaced by bisection. The bracket guarantees convergence; Newton makes
+    // it a handful of polynomial evaluations instead of the ~50 of plain bisection, which
+    // matters because this runs once per contact switch and once per force peak.
+    template <typename F, typename D>
+    [[nodiscard]] double root(F f, D df, double lo, double hi) const {
+        // Signs as the callers test them: zero counts as not positive (a gap of exactly 0
+        // is open), so a bracket starting on a zero still looks for the sign change.
+        const bool lo_positive = f(lo) > 0.0;
+        double x = 0.5 * (lo + hi);
+        double step = hi - lo, step_before = step;
+        for (int it = 0; it < 100 && hi - lo > 1e-15 * m_h; ++it) {
+            const double fx = f(x);
+            if ((fx > 0.0) == lo_positive)
+                lo = x;
+            else
+                hi = x;
+            const double d = df(x);
+            const double newton = d != 0.0 ? x - fx / d : lo - 1.0;
+            const double next =
+                (newton > lo && newton < hi && std::abs(newton - x) <= 0.5 * std::abs(step_before))
+                    ? newton
+                    : 0.5 * (lo + hi);
+            step_before = step;
+            step = next - x;
+            x = next;
+            if (std::abs(step) <= 1e-15 * m_h) break;
         }
-        return 0.5 * (lo + hi);
+        return x;
     }
 
     double m_h;

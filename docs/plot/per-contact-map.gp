@@ -9,5 +9,7 @@ set ylabel 'contact (0 = left wall, Nm = right wall)'
 set cblabel 'max reduced force'
 set title title noenhanced
 set view map
+set autoscale xfix
+set autoscale yfix
 set palette rgbformulae 33,13,10
 plot dat using 1:2:3 with image notitle

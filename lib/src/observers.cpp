@@ -43,6 +43,7 @@ void MaxForceTracker::on_step(const StepView& step) {
         if (!step.recording) continue;
 
         ContactMaximum& best = m_max[j];
+        double& half = m_half_max[step.period < m_split_period ? 0 : 1];
         double peak = g1;
         double peak_t = step.t1;
         if (!continuous && g0 > peak) {
@@ -51,12 +52,13 @@ void MaxForceTracker::on_step(const StepView& step) {
         }
         // A maximum inside the step: the gap rate turns from closing to opening. The bound
         // (twice the tangent-intersection bound of a concave gap) keeps the interpolation to
-        // the steps where the peak can be a penetration at all, and, once a contact has a
-        // record, to the peaks that could beat it or that may hide a whole brief contact.
+        // the steps where the peak can be a penetration at all, and, once there are records,
+        // to the peaks that could beat the contact's record or its half of the window's (the
+        // second half starts below the first's records), or that may hide a brief contact.
         const double bound = std::max(g0, g1) + 0.5 * h * (r0 - r1);
         if (r0 > 0.0 && r1 < 0.0 && bound > 0.0 &&
             ((g0 <= 0.0 && g1 <= 0.0) || m_dyn.dissipative_contacts() ||
-             m_dyn.force_at_penetration(j, bound) > best.force)) {
+             m_dyn.force_at_penetration(j, bound) > std::min(best.force, half))) {
             const detail::QuinticHermite g = gap_interpolant(j);
             double tau = g.stationary_point(0.0, h);
             double inner = g.value(tau);
@@ -124,7 +126,6 @@ void MaxForceTracker::on_step(const StepView& step) {
             best.force = force;
             best.time = peak_t;
         }
-        double& half = m_half_max[step.period < m_split_period ? 0 : 1];
         half = std::max(half, force);
     }
     m_last_t = step.t1;

@@ -32,23 +32,23 @@ void apply_override(json& root, const std::string& assignment) {
         dot + 1 == eq)
         throw SceneError("--set: expected section.key=value, got \"" + assignment + "\"");
     const std::string text = assignment.substr(eq + 1);
+    // Every dotted part before the last names an object, created when missing.
+    const std::string path = assignment.substr(0, eq);
+    const auto last_dot = path.rfind('.');
+    const std::string key = path.substr(last_dot + 1);
+    if (key.empty())
+        throw SceneError("--set: expected section.key=value, got \"" + assignment + "\"");
     json* parent = &root;
-    std::string path = assignment.substr(0, eq);
-    std::size_t split = path.find('.');
-    while (split != path.rfind('.')) {
-        const std::string part = path.substr(0, split);
+    for (std::size_t start = 0; start <= last_dot;) {
+        const auto end = path.find('.', start);
+        const std::string part = path.substr(start, end - start);
         if (part.empty()) throw SceneError("--set: empty key in \"" + assignment + "\"");
         if (!parent->contains(part)) (*parent)[part] = json::object();
         if (!(*parent)[part].is_object())
-            throw SceneError(part + ": must be an object to set " + path.substr(split + 1));
+            throw SceneError(part + ": must be an object to set " + path.substr(end + 1));
         parent = &(*parent)[part];
-        path = path.substr(split + 1);
-        split = path.find('.');
+        start = end + 1;
     }
-    const std::string section = path.substr(0, split);
-    const std::string key = path.substr(split + 1);
-    if (key.empty())
-        throw SceneError("--set: expected section.key=value, got \"" + assignment + "\"");
     json value;
     if (text == "nan" || text == "NaN") {
         value = std::numeric_limits<double>::quiet_NaN();
@@ -60,10 +60,7 @@ void apply_override(json& root, const std::string& assignment) {
         value = json::parse(text, nullptr, false);
         if (value.is_discarded()) value = text;
     }
-    if (!parent->contains(section)) (*parent)[section] = json::object();
-    if (!(*parent)[section].is_object())
-        throw SceneError(section + ": must be an object to set " + key);
-    (*parent)[section][key] = value;
+    (*parent)[key] = value;
 }
 
 std::vector<double> number_array(const json& j, const std::string& key) {
@@ -402,17 +399,15 @@ std::vector<double> axis_values(const nlohmann::ordered_json& spec, const std::s
             (log && (from <= 0.0 || to <= 0.0)))
             throw SceneError(key + ": range needs count >= 1, finite ends" +
                              std::string(log ? " > 0" : ""));
+        if (count == 1) return std::vector<double>{from};
+        const double intervals = static_cast<double>(count - 1);
         std::vector<double> v;
         for (long k = 0; k < count; ++k) {
-            const double x = count == 1 ? 0.0 : static_cast<double>(k) / (count - 1);
+            const double x = static_cast<double>(k);
             // The weighted form keeps integer ranges exact ([1, 100, 100] gives 14, not
             // 14.000000000000002), so integer keys such as seeds can be swept.
-            const double linear =
-                count == 1
-                    ? from
-                    : (from * static_cast<double>(count - 1 - k) + to * static_cast<double>(k)) /
-                          static_cast<double>(count - 1);
-            v.push_back(log ? from * std::pow(to / from, x) : linear);
+            v.push_back(log ? from * std::pow(to / from, x / intervals)
+                            : (from * (intervals - x) + to * x) / intervals);
         }
         return v;
     };

@@ -1,5 +1,6 @@
 #include "gapchain/report.hpp"
 #include "gapchain/simulation.hpp"
+#include "gapchain/study.hpp"
 
 #include <doctest/doctest.h>
 

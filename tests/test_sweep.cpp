@@ -1,3 +1,4 @@
+#include "gapchain/study.hpp"
 #include "gapchain/sweep.hpp"
 
 #include <doctest/doctest.h>

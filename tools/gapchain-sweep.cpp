@@ -3,7 +3,7 @@
 #include "common/cli.hpp"
 
 #include "gapchain/report.hpp"
-#include "gapchain/sweep.hpp"
+#include "gapchain/study.hpp"
 
 #include <chrono>
 #include <cstdio>
@@ -142,13 +142,7 @@ int main(int argc, char** argv) {
         if (subset < 0 || subset > total)
             throw std::invalid_argument("--subset: must be in [0, " + std::to_string(total) +
                                         "], got " + std::to_string(subset));
-        for (long k = 0; k < subset; ++k) {
-            const long lo = k * total / subset, hi = (k + 1) * total / subset;
-            std::uint64_t h = seed * 0x9e3779b97f4a7c15ULL +
-                              static_cast<std::uint64_t>(k) * 0xbf58476d1ce4e5b9ULL;
-            h ^= h >> 31;
-            sel.subset.push_back(lo + static_cast<long>(h % static_cast<std::uint64_t>(hi - lo)));
-        }
+        sel.subset = stratified_subset(total, subset, seed);
         if (ranks.size() > 1) {
             if (sel.shards != 1)
                 throw std::invalid_argument(
@@ -179,7 +173,7 @@ int main(int argc, char** argv) {
         long periodic = 0, other = 0;
         cli::Progress progress("gapchain-sweep", ranks.rank() == 0, true);
         const auto start = std::chrono::steady_clock::now();
-        run_sweep(
+        run_study(
             study, sel,
             [&](const SweepPointResult& r) {
                 if (ranks.rank() == 0) {

@@ -1,9 +1,9 @@
 #include "gapchain/bifurcation.hpp"
 
 #include "detail/check.hpp"
+#include "detail/parallel.hpp"
+#include "gapchain/grid.hpp"
 #include "gapchain/observers.hpp"
-
-#include <omp.h>
 
 #include <algorithm>
 #include <chrono>
@@ -54,17 +54,16 @@ ReducedParameters with_value(ReducedParameters p, SweptParameter which, double v
     return p;
 }
 
-double value_at(const BifurcationOptions& o, int k) {
-    if (o.steps == 1) return o.from;
-    return o.from + (o.to - o.from) * static_cast<double>(k) / (o.steps - 1);
-}
-
 /// One value: run transient + record periods from y (updated to the end state).
 BifurcationRow diagram_row(const ReducedParameters& p, const BifurcationOptions& o,
                            std::vector<double>& y, SweepDirection direction, double value) {
     const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
-    const StepPlan plan = plan_step(dyn, o.scheme, o.tolerance);
-    auto stepper = make_stepper(plan, dyn);
+    RunOptions options;
+    options.periods = o.transient_periods + o.record_periods;
+    options.transient_periods = o.transient_periods;
+    options.scheme = o.scheme;
+    options.tolerance = o.tolerance;
+    PlannedRun planned(dyn, options, y);
     BifurcationRow row;
     row.value = value;
     row.direction = direction;
@@ -73,13 +72,56 @@ BifurcationRow diagram_row(const ReducedParameters& p, const BifurcationOptions&
                             [&row](const SectionPoint& s) { row.points.push_back(s); });
     MaxForceTracker forces(dyn);
     Observer* observers[] = {&sampler, &forces};
-    const RunSpan span{o.transient_periods + o.record_periods, o.transient_periods, 0.0};
-    const RunOutcome outcome = run(dyn, *stepper, plan, span, y, observers);
-    row.status = outcome.status;
-    for (const auto& c : forces.contacts())
-        row.F_m = std::max(row.F_m, c.force);
+    row.status = planned.run(observers).status;
+    y = planned.state();
+    row.F_m = forces.max_force();
     row.period = detect_period(row.points, o.max_period, o.period_tolerance);
     return row;
+}
+
+/// Independent mode: each value from rest, in parallel, into its own slot.
+void independent_rows(const ReducedParameters& base, const BifurcationOptions& o,
+                      const ProgressCallback& progress, BifurcationResult& result) {
+    const std::vector<double> values = linspace(o.from, o.to, o.steps);
+    result.rows.resize(values.size());
+    for (std::size_t k = 0; k < values.size(); ++k) {
+        result.rows[k].value = values[k];
+        result.rows[k].status = RunStatus::cancelled;
+    }
+    result.threads_used = detail::thread_count(o.threads);
+    long done = 0;
+    const auto end = detail::parallel_for(
+        o.steps, result.threads_used,
+        [&](long k) {
+            std::vector<double> y(2 * base.Nm, 0.0);
+            result.rows[k] = diagram_row(with_value(base, o.parameter, values[k]), o, y,
+                                         SweepDirection::up, values[k]);
+        },
+        [&](long) { return !progress || progress(static_cast<double>(++done) / o.steps); });
+    result.cancelled = end == detail::LoopEnd::cancelled;
+}
+
+/// Continuation mode: up then down, each value from the previous end state.
+void continued_rows(const ReducedParameters& base, const BifurcationOptions& o,
+                    const ProgressCallback& progress, BifurcationResult& result) {
+    const std::vector<double> values = linspace(o.from, o.to, o.steps);
+    std::vector<double> y(2 * base.Nm, 0.0);
+    const int total = 2 * o.steps;
+    int done = 0;
+    for (SweepDirection dir : {SweepDirection::up, SweepDirection::down}) {
+        for (int i = 0; i < o.steps; ++i) {
+            const int k = dir == SweepDirection::up ? i : o.steps - 1 - i;
+            result.rows.push_back(
+                diagram_row(with_value(base, o.parameter, values[k]), o, y, dir, values[k]));
+            // A run that blew up cannot seed the next value: restart that one from rest.
+            if (result.rows.back().status == RunStatus::non_finite)
+                std::fill(y.begin(), y.end(), 0.0);
+            if (progress && !progress(static_cast<double>(++done) / total)) {
+                result.cancelled = true;
+                return;
+            }
+        }
+    }
 }
 
 } // namespace
@@ -99,77 +141,15 @@ void validate(const BifurcationOptions& o, const ReducedParameters& base) {
     validate(o.section, base.Nm);
 }
 
-int detect_period(const std::vector<SectionPoint>& points, int max_period, double tolerance) {
-    const auto n = static_cast<int>(points.size());
-    double scale = 0.0;
-    for (const auto& p : points)
-        for (double v : p.values)
-            scale = std::max(scale, std::abs(v));
-    const double tol = tolerance * (1.0 + scale);
-    for (int k = 1; k <= max_period && 2 * k <= n; ++k) {
-        bool repeats = true;
-        for (int i = 0; i + k < n && repeats; ++i)
-            for (std::size_t c = 0; c < points[i].values.size(); ++c)
-                if (std::abs(points[i].values[c] - points[i + k].values[c]) > tol) {
-                    repeats = false;
-                    break;
-                }
-        if (repeats) return k;
-    }
-    return 0;
-}
-
 BifurcationResult bifurcation(const ReducedParameters& base, const BifurcationOptions& o,
                               const ProgressCallback& progress) {
     const auto start = std::chrono::steady_clock::now();
     validate(o, base);
     BifurcationResult result;
-    const int dim = 2 * base.Nm;
-    if (o.mode == SweepMode::independent) {
-        result.rows.resize(static_cast<std::size_t>(o.steps));
-        const int threads = o.threads > 0 ? o.threads : omp_get_max_threads();
-        result.threads_used = threads;
-        int done = 0;
-        bool cancelled = false;
-        std::string failure;
-        // Each value is computed from rest into its own slot, so the rows do not depend on the
-        // number of threads or on the order in which they finish.
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-        for (int k = 0; k < o.steps; ++k) {
-            try {
-                const double value = value_at(o, k);
-                std::vector<double> y(dim, 0.0);
-                result.rows[k] = diagram_row(with_value(base, o.parameter, value), o, y,
-                                             SweepDirection::up, value);
-            } catch (const std::exception& e) {
-#pragma omp critical(gapchain_bifurcation_failure)
-                failure = e.what();
-            }
-#pragma omp critical(gapchain_bifurcation_progress)
-            {
-                ++done;
-                if (progress && !cancelled)
-                    cancelled = !progress(static_cast<double>(done) / o.steps);
-            }
-        }
-        if (!failure.empty()) throw std::runtime_error(failure);
-    } else {
-        std::vector<double> y(dim, 0.0);
-        const int total = 2 * o.steps;
-        int done = 0;
-        for (SweepDirection dir : {SweepDirection::up, SweepDirection::down}) {
-            for (int i = 0; i < o.steps; ++i) {
-                const int k = dir == SweepDirection::up ? i : o.steps - 1 - i;
-                const double value = value_at(o, k);
-                result.rows.push_back(
-                    diagram_row(with_value(base, o.parameter, value), o, y, dir, value));
-                // A run that blew up cannot seed the next value: restart that one from rest.
-                if (result.rows.back().status == RunStatus::non_finite)
-                    std::fill(y.begin(), y.end(), 0.0);
-                if (progress) progress(static_cast<double>(++done) / total);
-            }
-        }
-    }
+    if (o.mode == SweepMode::independent)
+        independent_rows(base, o, progress, result);
+    else
+        continued_rows(base, o, progress, result);
     result.wall_time_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;

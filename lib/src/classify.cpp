@@ -1,14 +1,12 @@
 #include "gapchain/classify.hpp"
 
 #include "detail/check.hpp"
-#include "gapchain/bifurcation.hpp"
+#include "detail/parallel.hpp"
 #include "gapchain/lyapunov.hpp"
 #include "gapchain/observers.hpp"
 #include "gapchain/poincare.hpp"
 #include "gapchain/signal.hpp"
 #include "gapchain/spectrum.hpp"
-
-#include <omp.h>
 
 #include <algorithm>
 #include <chrono>
@@ -54,6 +52,46 @@ int distinct_values(std::vector<double> v, double tolerance) {
     return distinct;
 }
 
+/// The evidence of phase 2 (recording) that decides a non-periodic label.
+struct RecordedEvidence {
+    std::vector<SectionPoint> section;
+    Signal u1;
+    long impacts = 0;
+};
+
+/// Share of u_1's spectral power away from the forcing's harmonics and subharmonics.
+double broadband_share(const Signal& u1, double f_r) {
+    if (u1.values.size() < 256) return 0.0;
+    PsdOptions po;
+    po.sample_rate = u1.sample_rate;
+    int length = 256;
+    while (2 * length <= static_cast<int>(u1.values.size()) / 4)
+        length *= 2;
+    po.segment_length = length;
+    return spectral_content(welch_psd(u1.values, po), f_r).broadband_share;
+}
+
+/// The label of a run that did not settle: lambda_max clearly positive (chaos), clearly
+/// negative (an attracting cycle, of period > max_period if none was found) or
+/// indistinguishable from 0 (a torus).
+void label_unsettled(const ClassifyOptions& o, const RecordedEvidence& evidence, double f_r,
+                     Classification& c) {
+    c.broadband_share = broadband_share(evidence.u1, f_r);
+    const int period = detect_period(evidence.section, o.max_period, o.period_tolerance);
+    const double margin = std::max(o.chaos_threshold, 3.0 * c.lambda_max_error);
+    if (c.F_m == 0.0 && evidence.impacts == 0) {
+        c.regime = Regime::no_contact;
+        c.period = period;
+    } else if (c.lambda_max > margin) {
+        c.regime = Regime::chaotic;
+    } else if (period > 0 || c.lambda_max < -margin) {
+        c.regime = Regime::periodic;
+        c.period = period;
+    } else {
+        c.regime = Regime::quasi_periodic;
+    }
+}
+
 } // namespace
 
 Classification classify(const ReducedParameters& p, const ClassifyOptions& o) {
@@ -66,21 +104,18 @@ Classification classify(const ReducedParameters& p, const ClassifyOptions& o) {
     run_options.transient_periods = o.transient_periods;
     run_options.scheme = o.scheme;
     run_options.tolerance = o.tolerance;
-    const StepPlan plan = plan_for_sampling(dyn, run_options, o.samples_per_period);
-    auto stepper = make_stepper(plan, dyn);
+    PlannedRun planned(dyn, run_options, {}, o.samples_per_period);
 
     // Phase 1, settling: up to transient_periods, stopped as soon as a periodic steady state
     // is found. The tangent vector rides along; for a periodic point its average over this
     // phase is the evidence of contraction.
-    std::vector<double> y(dyn.dimension(), 0.0);
     TangentObserver tangent(dyn, 1, 0);
     SteadyStateDetector steady(dyn.dimension(), o.max_period, o.steady_tolerance, 0);
     Classification c;
     double t = 0.0;
     if (o.transient_periods > 0) {
         Observer* settling[] = {&steady, &tangent};
-        const RunOutcome first =
-            run(dyn, *stepper, plan, {o.transient_periods, 0, 0.0}, y, settling);
+        const RunOutcome first = planned.run({o.transient_periods, 0, 0.0}, settling);
         c.periods_run = first.periods_done;
         c.status = first.status;
         if (first.status == RunStatus::non_finite) return c;
@@ -93,59 +128,34 @@ Classification classify(const ReducedParameters& p, const ClassifyOptions& o) {
     const bool periodic_state = steady.period().has_value();
     const long record = periodic_state ? *steady.period() : o.record_periods;
     MaxForceTracker forces(dyn);
-    std::vector<SectionPoint> section;
+    RecordedEvidence evidence;
     PoincareSampler sampler(dyn, SectionSpec{},
-                            [&](const SectionPoint& s) { section.push_back(s); });
-    Signal u1;
-    SignalRecorder recorder(dyn, SectionVariable{}, dyn.period() / o.samples_per_period, u1);
+                            [&](const SectionPoint& s) { evidence.section.push_back(s); });
+    SignalRecorder recorder(dyn, SectionVariable{}, dyn.period() / o.samples_per_period,
+                            evidence.u1);
     Observer* recording[] = {&forces, &tangent, &sampler, &recorder};
-    const RunOutcome outcome = run(dyn, *stepper, plan, {record, 0, t}, y, recording);
+    const RunOutcome outcome = planned.run({record, 0, t}, recording);
     c.periods_run += outcome.periods_done;
     c.status = outcome.status;
     if (outcome.status == RunStatus::non_finite) return c;
     const LyapunovResult lyap = periodic_state ? settling_lyap : tangent.result();
     c.lambda_max = lyap.exponents.front();
     c.lambda_max_error = lyap.errors.front();
-    for (const auto& m : forces.contacts())
-        c.F_m = std::max(c.F_m, m.force);
+    c.F_m = forces.max_force();
     std::vector<double> strobe;
-    for (const auto& s : section)
+    for (const auto& s : evidence.section)
         strobe.push_back(s.values.front());
     c.section_points = static_cast<int>(strobe.size());
     c.distinct_points = distinct_values(strobe, o.period_tolerance);
-    long impacts = 0;
     for (const auto& m : forces.contacts())
-        impacts += m.impacts;
+        evidence.impacts += m.impacts;
 
     if (periodic_state) {
         c.stopped_at_steady_state = true;
         c.period = *steady.period();
-        c.regime = (c.F_m > 0.0 || impacts > 0) ? Regime::periodic : Regime::no_contact;
+        c.regime = (c.F_m > 0.0 || evidence.impacts > 0) ? Regime::periodic : Regime::no_contact;
     } else {
-        if (u1.values.size() >= 256) {
-            PsdOptions po;
-            po.sample_rate = u1.sample_rate;
-            int length = 256;
-            while (2 * length <= static_cast<int>(u1.values.size()) / 4)
-                length *= 2;
-            po.segment_length = length;
-            c.broadband_share = spectral_content(welch_psd(u1.values, po), p.f_r).broadband_share;
-        }
-        const int period = detect_period(section, o.max_period, o.period_tolerance);
-        // lambda_max is clearly positive (chaos), clearly negative (an attracting cycle, of
-        // period > max_period if none was found) or indistinguishable from 0 (a torus).
-        const double margin = std::max(o.chaos_threshold, 3.0 * c.lambda_max_error);
-        if (c.F_m == 0.0 && impacts == 0) {
-            c.regime = Regime::no_contact;
-            c.period = period;
-        } else if (c.lambda_max > margin) {
-            c.regime = Regime::chaotic;
-        } else if (period > 0 || c.lambda_max < -margin) {
-            c.regime = Regime::periodic;
-            c.period = period;
-        } else {
-            c.regime = Regime::quasi_periodic;
-        }
+        label_unsettled(o, evidence, p.f_r, c);
     }
     c.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return c;
@@ -156,9 +166,9 @@ RegimeMap regime_map(const ReducedParameters& base, const std::vector<double>& e
                      const ProgressCallback& progress) {
     const auto start = std::chrono::steady_clock::now();
     validate(o);
-    detail::require_range("--threads", threads, 0, 4096);
+    detail::require_range("threads", threads, 0, 4096);
     if (e_r.empty() || f_r.empty())
-        throw std::invalid_argument("--e_r, --f_r: need at least one value each");
+        throw std::invalid_argument("e_r, f_r: need at least one value each");
     for (double e : e_r)
         validate(ReducedParameters{base.Nm, base.fc, base.eps, e, base.f_r});
     for (double f : f_r)
@@ -168,27 +178,20 @@ RegimeMap regime_map(const ReducedParameters& base, const std::vector<double>& e
     map.f_r = f_r;
     const long cells = static_cast<long>(e_r.size() * f_r.size());
     map.cells.resize(cells);
-    map.threads_used = threads > 0 ? threads : omp_get_max_threads();
+    for (auto& cell : map.cells)
+        cell.status = RunStatus::cancelled;
+    map.threads_used = detail::thread_count(threads);
     long done = 0;
-    std::string failure;
-#pragma omp parallel for schedule(dynamic, 1) num_threads(map.threads_used)
-    for (long k = 0; k < cells; ++k) {
-        try {
+    const auto end = detail::parallel_for(
+        cells, map.threads_used,
+        [&](long k) {
             ReducedParameters p = base;
             p.e_r = e_r[k / f_r.size()];
             p.f_r = f_r[k % f_r.size()];
             map.cells[k] = classify(p, o);
-        } catch (const std::exception& e) {
-#pragma omp critical(gapchain_map_failure)
-            failure = e.what();
-        }
-#pragma omp critical(gapchain_map_progress)
-        {
-            ++done;
-            if (progress) progress(static_cast<double>(done) / cells);
-        }
-    }
-    if (!failure.empty()) throw std::runtime_error(failure);
+        },
+        [&](long) { return !progress || progress(static_cast<double>(++done) / cells); });
+    map.cancelled = end == detail::LoopEnd::cancelled;
     map.wall_time_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return map;

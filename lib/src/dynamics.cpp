@@ -8,9 +8,7 @@
 
 namespace gapchain {
 
-namespace {
-constexpr double four_pi2 = 4.0 * std::numbers::pi * std::numbers::pi;
-}
+namespace {}
 
 Dynamics::Dynamics(Chain chain, HarmonicForcing forcing)
     : Dynamics(std::move(chain), GroundMotion::harmonic(forcing.f_r, forcing.amplitude)) {}
@@ -23,8 +21,8 @@ Dynamics::Dynamics(Chain chain, GroundMotion ground_motion)
     m_contact_over_mass_left.resize(m_n);
     m_contact_over_mass_right.resize(m_n);
     for (int i = 0; i < m_n; ++i) {
-        m_contact_over_mass_left[i] = four_pi2 * m_chain.contact[i] / m_chain.mass[i];
-        m_contact_over_mass_right[i] = four_pi2 * m_chain.contact[i + 1] / m_chain.mass[i];
+        m_contact_over_mass_left[i] = four_pi_squared * m_chain.contact[i] / m_chain.mass[i];
+        m_contact_over_mass_right[i] = four_pi_squared * m_chain.contact[i + 1] / m_chain.mass[i];
     }
     m_hertz = m_chain.law != ContactLaw::linear;
     m_alpha = m_chain.law == ContactLaw::hunt_crossley ? m_chain.contact_damping : 0.0;
@@ -34,7 +32,7 @@ Dynamics::Dynamics(Chain chain, GroundMotion ground_motion)
 }
 
 double Dynamics::ground(double t) const {
-    return -four_pi2 * m_ground.acceleration(t);
+    return -four_pi_squared * m_ground.acceleration(t);
 }
 
 void Dynamics::restoring_acceleration(double ground, const double* u, double* r) const {
@@ -74,7 +72,7 @@ void Dynamics::acceleration(double ground, const double* u, const double* v, dou
 void Dynamics::acceleration_rate(double t, const double* y, const double* a, double* jerk) const {
     const double* u = y;
     const double* v = y + m_n;
-    const double ground_rate = -four_pi2 * m_ground.acceleration_rate(t);
+    const double ground_rate = -four_pi_squared * m_ground.acceleration_rate(t);
     // A closed contact's penetration changes at the gap rate, an open one's not at all.
     // d phi(p)/dt = phi'(p) dg/dt on a closed contact, 0 on an open one; Hunt-Crossley adds
     // phi(p) alpha g'' while its factor 1 + alpha g' is positive (g'' from the accelerations,
@@ -129,7 +127,8 @@ double Dynamics::energy(const double* y) const {
     for (int j = 0; j <= m_n; ++j) {
         // Potential of the contact force: p^2 / 2 (linear) or 2 p^(5/2) / 5 (Hertz).
         const double p = std::max(gap(j, u), 0.0);
-        e += four_pi2 * m_chain.contact[j] * (m_hertz ? 0.4 * p * p * std::sqrt(p) : 0.5 * p * p);
+        e += four_pi_squared * m_chain.contact[j] *
+             (m_hertz ? 0.4 * p * p * std::sqrt(p) : 0.5 * p * p);
     }
     return e;
 }
@@ -180,8 +179,9 @@ void Dynamics::jacobian(const double* y, std::vector<double>& jac) const {
         const double factor = dissipation_factor(gap_rate(j, y + n));
         // d(force)/d(gap) and, for Hunt-Crossley, d(force)/d(gap rate): both enter through the
         // same combination c_j, one in the displacement columns, one in the velocity columns.
-        const double k = four_pi2 * m_chain.contact[j] * shape_slope(g) * factor;
-        const double c = factor > 0.0 ? four_pi2 * m_chain.contact[j] * shape(g) * m_alpha : 0.0;
+        const double k = four_pi_squared * m_chain.contact[j] * shape_slope(g) * factor;
+        const double c =
+            factor > 0.0 ? four_pi_squared * m_chain.contact[j] * shape(g) * m_alpha : 0.0;
         for (const auto& [col0, w] : {std::pair{0, k}, std::pair{n, c}}) {
             if (w == 0.0) continue;
             if (left >= 0) at(n + left, col0 + left) -= w / m_chain.mass[left];

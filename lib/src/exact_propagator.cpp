@@ -102,9 +102,8 @@ private:
         conf.lambda = eigen.eigenvalues();
         conf.v_inverse = conf.v.inverse();
         Eigen::VectorXcd b = Eigen::VectorXcd::Zero(m_dim);
-        const double four_pi2 = 4.0 * std::numbers::pi * std::numbers::pi;
         for (int i = 0; i < m_n; ++i)
-            b[m_n + i] = -four_pi2 * m_dyn.ground_motion().amplitude();
+            b[m_n + i] = -four_pi_squared * m_dyn.ground_motion().amplitude();
         const Eigen::MatrixXcd shifted =
             Complex(0.0, m_omega) * Eigen::MatrixXcd::Identity(m_dim, m_dim) - a.cast<Complex>();
         conf.z = shifted.partialPivLu().solve(b);

@@ -244,14 +244,10 @@ LyapunovResult chain_lyapunov(const Dynamics& dyn, const RunOptions& options, in
     validate(options);
     require_harmonic(dyn, "lyapunov");
     detail::require_range("--count", count, 1, dyn.dimension());
-    const StepPlan plan = plan_step(dyn, options.scheme, options.tolerance, options.step);
-    auto stepper = make_stepper(plan, dyn);
+    PlannedRun planned(dyn, options, initial);
     TangentObserver tangent(dyn, count, options.transient_periods);
     Observer* observers[] = {&tangent};
-    std::vector<double> y = initial_state(dyn, initial);
-    const RunOutcome outcome =
-        run(dyn, *stepper, plan, {options.periods, options.transient_periods, 0.0}, y, observers,
-            progress);
+    const RunOutcome outcome = planned.run(observers, progress);
     LyapunovResult r = tangent.result();
     r.status = outcome.status;
     r.message = outcome.message;

@@ -76,7 +76,7 @@ Chain Chain::homogeneous(const ReducedParameters& p) {
     const auto n = static_cast<std::size_t>(p.Nm);
     Chain c;
     c.mass.assign(n, 1.0);
-    c.spring.assign(n, 4.0 * pi * pi);
+    c.spring.assign(n, four_pi_squared);
     c.damping.assign(n, 4.0 * pi * p.eps);
     c.clearance.assign(n + 1, p.e_r);
     // Two local deformations of stiffness Kc in series between bodies (MODEL.md §1).
@@ -118,15 +118,15 @@ const char* to_string(ContactLaw law) {
 }
 
 double max_angular_frequency(const Chain& c) {
-    constexpr double four_pi2 = 4.0 * std::numbers::pi * std::numbers::pi;
     const int n = c.bodies();
     // Gershgorin on M^-1 K with all contacts closed: diagonal plus the off-diagonal row sum.
     double bound = 0.0;
     for (int i = 0; i < n; ++i) {
         const double kl = c.contact[i];
         const double kr = c.contact[i + 1];
-        const double diag = c.spring[i] + four_pi2 * (kl + kr) / c.mass[i];
-        const double off = four_pi2 * ((i > 0 ? kl : 0.0) + (i + 1 < n ? kr : 0.0)) / c.mass[i];
+        const double diag = c.spring[i] + four_pi_squared * (kl + kr) / c.mass[i];
+        const double off =
+            four_pi_squared * ((i > 0 ? kl : 0.0) + (i + 1 < n ? kr : 0.0)) / c.mass[i];
         bound = std::max(bound, diag + off);
     }
     return std::sqrt(bound);

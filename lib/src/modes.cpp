@@ -34,7 +34,6 @@ std::string_view to_string(EigenMethod method) {
 
 Tridiagonal linear_chain_matrix(const Chain& c) {
     validate(c);
-    constexpr double four_pi2 = 4.0 * std::numbers::pi * std::numbers::pi;
     const int n = c.bodies();
     Tridiagonal t;
     t.diagonal.resize(n);
@@ -42,7 +41,8 @@ Tridiagonal linear_chain_matrix(const Chain& c) {
     // Chain::spring is in reduced rate units (4 pi^2 for the nominal body); K_lin is in K.
     for (int i = 0; i < n; ++i)
         t.diagonal[i] =
-            (c.spring[i] * c.mass[i] / four_pi2 + c.contact[i] + c.contact[i + 1]) / c.mass[i];
+            (c.spring[i] * c.mass[i] / four_pi_squared + c.contact[i] + c.contact[i + 1]) /
+            c.mass[i];
     for (int i = 0; i + 1 < n; ++i)
         t.off_diagonal[i] = -c.contact[i + 1] / std::sqrt(c.mass[i] * c.mass[i + 1]);
     return t;
@@ -140,7 +140,7 @@ ModalResult modal_analysis(const Chain& chain, const ModalOptions& o) {
         for (int i = 0; i < n; ++i) {
             const double off = (i > 0 ? std::abs(t.off_diagonal[i - 1]) : 0.0) +
                                (i + 1 < n ? std::abs(t.off_diagonal[i]) : 0.0);
-            lower = std::min(lower, chain.spring[i] / (4.0 * std::numbers::pi * std::numbers::pi));
+            lower = std::min(lower, chain.spring[i] / four_pi_squared);
             upper = std::max(upper, t.diagonal[i] + off);
         }
         const double sigma =

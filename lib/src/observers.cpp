@@ -132,6 +132,13 @@ void MaxForceTracker::on_step(const StepView& step) {
     m_have_previous = true;
 }
 
+double MaxForceTracker::max_force() const {
+    double f = 0.0;
+    for (const auto& c : m_max)
+        f = std::max(f, c.force);
+    return f;
+}
+
 SteadyStateDetector::SteadyStateDetector(int dimension, int max_period, double tolerance,
                                          long earliest_stop)
     : m_dim(dimension), m_max_period(max_period), m_tolerance(tolerance),

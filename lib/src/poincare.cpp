@@ -3,6 +3,7 @@
 #include "detail/check.hpp"
 #include "detail/dense_output.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -167,17 +168,33 @@ void PoincareSampler::on_step(const StepView& step) {
     emit(tc, m_state.data());
 }
 
+int detect_period(const std::vector<SectionPoint>& points, int max_period, double tolerance) {
+    const auto n = static_cast<int>(points.size());
+    double scale = 0.0;
+    for (const auto& p : points)
+        for (double v : p.values)
+            scale = std::max(scale, std::abs(v));
+    const double tol = tolerance * (1.0 + scale);
+    for (int k = 1; k <= max_period && 2 * k <= n; ++k) {
+        bool repeats = true;
+        for (int i = 0; i + k < n && repeats; ++i)
+            for (std::size_t c = 0; c < points[i].values.size(); ++c)
+                if (std::abs(points[i].values[c] - points[i + k].values[c]) > tol) {
+                    repeats = false;
+                    break;
+                }
+        if (repeats) return k;
+    }
+    return 0;
+}
+
 RunOutcome take_section(const Dynamics& dyn, const RunOptions& options, const SectionSpec& spec,
                         const SectionSink& sink, const std::vector<double>& initial,
                         const ProgressCallback& progress) {
-    validate(options);
-    const StepPlan plan = plan_step(dyn, options.scheme, options.tolerance, options.step);
-    auto stepper = make_stepper(plan, dyn);
+    PlannedRun planned(dyn, options, initial);
     PoincareSampler sampler(dyn, spec, sink);
     Observer* observers[] = {&sampler};
-    std::vector<double> y = initial_state(dyn, initial);
-    const RunSpan span{options.periods, options.transient_periods, 0.0};
-    return run(dyn, *stepper, plan, span, y, observers, progress);
+    return planned.run(observers, progress);
 }
 
 } // namespace gapchain

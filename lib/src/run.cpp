@@ -177,4 +177,54 @@ RunOutcome run(const Dynamics& dyn, Stepper& stepper, const StepPlan& plan, cons
     return out;
 }
 
+void validate(const RunOptions& o) {
+    detail::require_range("run.periods", static_cast<double>(o.periods), 1.0, 1e9);
+    if (o.transient_periods < 0 || o.transient_periods >= o.periods)
+        throw std::invalid_argument(
+            "run.transient_periods: must be an integer in [0, periods - 1 = " +
+            std::to_string(o.periods - 1) + "], got " + std::to_string(o.transient_periods));
+    detail::require_range("run.tolerance", o.tolerance, 1e-12, 0.1);
+    if (o.step) detail::require_range("run.step", *o.step, 0.0, 1e3, detail::Bound::open_low);
+    detail::require_range("run.steady_tolerance", o.steady_tolerance, 0.0, 1.0,
+                          detail::Bound::open_low);
+    detail::require_range("run.max_steady_period", o.max_steady_period, 1, 1000);
+}
+
+StepPlan plan_run(const Dynamics& dyn, const RunOptions& options, int samples_per_period) {
+    StepPlan plan = plan_step(dyn, options.scheme, options.tolerance, options.step);
+    if (samples_per_period == 0) return plan;
+    detail::require_range("samples per period", samples_per_period, 1, 10'000'000);
+    plan.steps_per_period =
+        (plan.steps_per_period + samples_per_period - 1) / samples_per_period * samples_per_period;
+    plan.step = dyn.period() / plan.steps_per_period;
+    return plan;
+}
+
+namespace {
+
+const RunOptions& validated(const RunOptions& options) {
+    validate(options);
+    return options;
+}
+
+} // namespace
+
+PlannedRun::PlannedRun(const Dynamics& dyn, const RunOptions& options,
+                       const std::vector<double>& initial, int samples_per_period)
+    : PlannedRun(dyn, options, plan_run(dyn, validated(options), samples_per_period), initial) {}
+
+PlannedRun::PlannedRun(const Dynamics& dyn, const RunOptions& options, const StepPlan& plan,
+                       const std::vector<double>& initial)
+    : m_dyn(dyn), m_span{validated(options).periods, options.transient_periods, 0.0}, m_plan(plan),
+      m_stepper(make_stepper(plan, dyn)), m_state(initial_state(dyn, initial)) {}
+
+RunOutcome PlannedRun::run(std::span<Observer* const> observers, const ProgressCallback& progress) {
+    return run(m_span, observers, progress);
+}
+
+RunOutcome PlannedRun::run(const RunSpan& span, std::span<Observer* const> observers,
+                           const ProgressCallback& progress) {
+    return gapchain::run(m_dyn, *m_stepper, m_plan, span, m_state, observers, progress);
+}
+
 } // namespace gapchain

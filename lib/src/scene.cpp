@@ -1,9 +1,9 @@
 #include "gapchain/scene.hpp"
-#include "gapchain/sweep.hpp"
 
 #include "detail/check.hpp"
 #include "detail/json_reader.hpp"
 #include "detail/random.hpp"
+#include "detail/scene_json.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -23,6 +23,16 @@ using nlohmann::json;
 
 namespace {
 
+/// json value of an override's text: JSON, else the text as a string; nan/inf are numbers.
+json override_value(const std::string& text) {
+    if (text == "nan" || text == "NaN") return std::numeric_limits<double>::quiet_NaN();
+    if (text == "inf" || text == "Inf" || text == "infinity")
+        return std::numeric_limits<double>::infinity();
+    if (text == "-inf" || text == "-Inf") return -std::numeric_limits<double>::infinity();
+    json value = json::parse(text, nullptr, false);
+    return value.is_discarded() ? json(text) : value;
+}
+
 /// "section.key=value" -> json[section][key] = value; deeper paths ("model.scatter.seed=3")
 /// create or descend into nested objects.
 void apply_override(json& root, const std::string& assignment) {
@@ -31,36 +41,8 @@ void apply_override(json& root, const std::string& assignment) {
     if (eq == std::string::npos || dot == std::string::npos || dot > eq || dot == 0 ||
         dot + 1 == eq)
         throw SceneError("--set: expected section.key=value, got \"" + assignment + "\"");
-    const std::string text = assignment.substr(eq + 1);
-    // Every dotted part before the last names an object, created when missing.
-    const std::string path = assignment.substr(0, eq);
-    const auto last_dot = path.rfind('.');
-    const std::string key = path.substr(last_dot + 1);
-    if (key.empty())
-        throw SceneError("--set: expected section.key=value, got \"" + assignment + "\"");
-    json* parent = &root;
-    for (std::size_t start = 0; start <= last_dot;) {
-        const auto end = path.find('.', start);
-        const std::string part = path.substr(start, end - start);
-        if (part.empty()) throw SceneError("--set: empty key in \"" + assignment + "\"");
-        if (!parent->contains(part)) (*parent)[part] = json::object();
-        if (!(*parent)[part].is_object())
-            throw SceneError(part + ": must be an object to set " + path.substr(end + 1));
-        parent = &(*parent)[part];
-        start = end + 1;
-    }
-    json value;
-    if (text == "nan" || text == "NaN") {
-        value = std::numeric_limits<double>::quiet_NaN();
-    } else if (text == "inf" || text == "Inf" || text == "infinity") {
-        value = std::numeric_limits<double>::infinity();
-    } else if (text == "-inf" || text == "-Inf") {
-        value = -std::numeric_limits<double>::infinity();
-    } else {
-        value = json::parse(text, nullptr, false);
-        if (value.is_discarded()) value = text;
-    }
-    (*parent)[key] = value;
+    detail::set_scene_key(root, assignment.substr(0, eq), override_value(assignment.substr(eq + 1)),
+                          "--set \"" + assignment + "\"");
 }
 
 std::vector<double> number_array(const json& j, const std::string& key) {
@@ -135,10 +117,9 @@ std::optional<Chain> non_uniform_row(const json& model, const ReducedParameters&
     check("clearance", clearance, 0.0, false);
     check("contact", contact, 0.0, true);
     Chain c = Chain::homogeneous(p);
-    const double four_pi2 = 4.0 * std::numbers::pi * std::numbers::pi;
     for (std::size_t i = 0; i < n; ++i) {
         c.mass[i] = mass[i];
-        c.spring[i] = four_pi2 * stiffness[i] / mass[i];
+        c.spring[i] = four_pi_squared * stiffness[i] / mass[i];
         c.damping[i] = 4.0 * std::numbers::pi * damping[i] * std::sqrt(stiffness[i] / mass[i]);
     }
     for (std::size_t j = 0; j <= n; ++j) {
@@ -242,8 +223,7 @@ Scene scene_from_json(json root, const std::vector<std::string>& overrides,
             throw SceneError("model.contact_law: only \"linear\" in physical scenes (a nonlinear "
                              "law's stiffness unit depends on the law); write the scene in "
                              "reduced units");
-        const double L = q.a0 / (4.0 * std::numbers::pi * std::numbers::pi * natural_frequency(q) *
-                                 natural_frequency(q));
+        const double L = q.a0 / (four_pi_squared * natural_frequency(q) * natural_frequency(q));
         if (root["model"].contains("damping"))
             throw SceneError("model.damping: per-body damping arrays are for reduced scenes "
                              "(eps_i); physical scenes give C");
@@ -368,13 +348,7 @@ Scene parse_scene(std::string_view text, const std::vector<std::string>& overrid
         // Parse errors, and number overflow (1e999), which nlohmann reports as out_of_range.
         throw SceneError(source + ": malformed JSON: " + e.what());
     }
-    try {
-        return scene_from_json(std::move(root), overrides, source);
-    } catch (const SceneError&) {
-        throw;
-    } catch (const std::invalid_argument& e) {
-        throw SceneError(e.what());
-    }
+    return detail::scene_from_parsed_json(std::move(root), overrides, source);
 }
 
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
@@ -386,156 +360,41 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
     return parse_scene(text.str(), overrides, path);
 }
 
-namespace {
+namespace detail {
 
-std::vector<double> axis_values(const nlohmann::ordered_json& spec, const std::string& key) {
-    auto range = [&](const nlohmann::ordered_json& r, bool log) {
-        if (!r.is_array() || r.size() != 3 || !r[0].is_number() || !r[1].is_number() ||
-            !r[2].is_number_integer())
-            throw SceneError(key + ": a range is [from, to, count] with an integer count");
-        const double from = r[0].get<double>(), to = r[1].get<double>();
-        const long count = r[2].get<long>();
-        if (count < 1 || count > 10'000'000 || !std::isfinite(from) || !std::isfinite(to) ||
-            (log && (from <= 0.0 || to <= 0.0)))
-            throw SceneError(key + ": range needs count >= 1, finite ends" +
-                             std::string(log ? " > 0" : ""));
-        if (count == 1) return std::vector<double>{from};
-        const double intervals = static_cast<double>(count - 1);
-        std::vector<double> v;
-        for (long k = 0; k < count; ++k) {
-            const double x = static_cast<double>(k);
-            // The weighted form keeps integer ranges exact ([1, 100, 100] gives 14, not
-            // 14.000000000000002), so integer keys such as seeds can be swept.
-            v.push_back(log ? from * std::pow(to / from, x / intervals)
-                            : (from * (intervals - x) + to * x) / intervals);
-        }
-        return v;
-    };
-    if (spec.is_array()) {
-        std::vector<double> v;
-        for (const auto& x : spec) {
-            if (!x.is_number() || !std::isfinite(x.get<double>()))
-                throw SceneError(key + ": values must be finite numbers");
-            v.push_back(x.get<double>());
-        }
-        if (v.empty()) throw SceneError(key + ": needs at least one value");
-        return v;
+void set_scene_key(json& root, const std::string& path, json value, const std::string& context) {
+    // Every dotted part before the last names an object, created when missing.
+    const auto last_dot = path.rfind('.');
+    const std::string key = path.substr(last_dot == std::string::npos ? 0 : last_dot + 1);
+    if (last_dot == std::string::npos)
+        throw SceneError(context + ": unknown key; a scene key is section.key (model.fc, "
+                                   "excitation.f_r, run.periods, ...)");
+    if (key.empty()) throw SceneError(context + ": expected section.key, got \"" + path + "\"");
+    json* parent = &root;
+    for (std::size_t start = 0; start <= last_dot;) {
+        const auto end = path.find('.', start);
+        const std::string part = path.substr(start, end - start);
+        if (part.empty()) throw SceneError(context + ": empty key in \"" + path + "\"");
+        if (!parent->contains(part)) (*parent)[part] = json::object();
+        if (!(*parent)[part].is_object())
+            throw SceneError(part + ": must be an object to set " + path.substr(end + 1));
+        parent = &(*parent)[part];
+        start = end + 1;
     }
-    if (spec.is_object() && spec.size() == 1 && spec.contains("lin"))
-        return range(spec["lin"], false);
-    if (spec.is_object() && spec.size() == 1 && spec.contains("log"))
-        return range(spec["log"], true);
-    throw SceneError(key + ": must be a list of values, {\"lin\": [from, to, count]} or "
-                           "{\"log\": [from, to, count]}");
+    (*parent)[key] = std::move(value);
 }
 
-} // namespace
-
-Study parse_study(const std::string& text, const std::string& source) {
-    using ojson = nlohmann::ordered_json;
-    ojson root;
+Scene scene_from_parsed_json(json root, const std::vector<std::string>& overrides,
+                             const std::string& source) {
     try {
-        root = ojson::parse(text);
-    } catch (const ojson::exception& e) {
-        throw SceneError(source + ": malformed JSON: " + e.what());
+        return scene_from_json(std::move(root), overrides, source);
+    } catch (const SceneError&) {
+        throw;
+    } catch (const std::invalid_argument& e) {
+        throw SceneError(e.what());
     }
-    if (!root.is_object()) throw SceneError(source + ": a study is a JSON object");
-    for (const auto& [key, value] : root.items()) {
-        (void)value;
-        if (key != "scene" && key != "parameters" && key != "sample" && key != "keep")
-            throw SceneError(key +
-                             ": unknown key; accepted keys here: scene, parameters, sample, keep");
-    }
-    Study s;
-    s.source = source;
-    if (root.contains("scene")) {
-        if (!root["scene"].is_object()) throw SceneError("scene: must be a JSON object");
-        s.scene_json = root["scene"].dump();
-    }
-    (void)parse_scene(s.scene_json, {}, source + " scene");
-    if (!root.contains("parameters") || !root["parameters"].is_object() ||
-        root["parameters"].empty())
-        throw SceneError("parameters: must be an object with at least one swept key");
-    for (const auto& [key, spec] : root["parameters"].items())
-        s.axes.push_back({key, axis_values(spec, "parameters." + key)});
-    if (root.contains("sample")) {
-        const auto& sample = root["sample"];
-        if (sample == "grid") {
-            s.sampling = Sampling::grid;
-        } else if (sample.is_object()) {
-            for (const auto& [key, value] : sample.items()) {
-                (void)value;
-                if (key != "method" && key != "samples" && key != "seed")
-                    throw SceneError("sample." + key +
-                                     ": unknown key; accepted keys here: method, samples, seed");
-            }
-            const std::string method = sample.value("method", std::string("grid"));
-            if (method == "random")
-                s.sampling = Sampling::random;
-            else if (method == "latin_hypercube")
-                s.sampling = Sampling::latin_hypercube;
-            else if (method != "grid")
-                throw SceneError("sample.method: must be grid, random or latin_hypercube, got \"" +
-                                 method + "\"");
-            if (s.sampling != Sampling::grid) {
-                if (!sample.contains("samples") || !sample["samples"].is_number_integer())
-                    throw SceneError("sample.samples: an integer in [1, 10000000] is required");
-                s.samples = sample["samples"].get<long>();
-                const long limit = s.sampling == Sampling::latin_hypercube ? 20000 : 10'000'000;
-                if (s.samples < 1 || s.samples > limit)
-                    throw SceneError("sample.samples: must be in [1, " + std::to_string(limit) +
-                                     "], got " + std::to_string(s.samples));
-                if (sample.contains("seed")) {
-                    if (!sample["seed"].is_number_unsigned())
-                        throw SceneError("sample.seed: must be a non-negative integer");
-                    s.seed = sample["seed"].get<unsigned long long>();
-                }
-            }
-        } else {
-            throw SceneError(
-                "sample: must be \"grid\" or {\"method\": ..., \"samples\": N, \"seed\": S}");
-        }
-    }
-    if (root.contains("keep")) {
-        if (!root["keep"].is_array()) throw SceneError("keep: must be a list of result names");
-        s.keep = KeptResults{false, false, false, false};
-        for (const auto& k : root["keep"]) {
-            const std::string name = k.is_string() ? k.get<std::string>() : "";
-            if (name == "F_m") continue;
-            if (name == "per_body")
-                s.keep.per_body = true;
-            else if (name == "regime")
-                s.keep.regime = true;
-            else if (name == "steady_state_period")
-                s.keep.steady_state = true;
-            else if (name == "wall_time")
-                s.keep.wall_time = true;
-            else
-                throw SceneError("keep: entries must be F_m, per_body, regime, steady_state_period "
-                                 "or wall_time, got " +
-                                 k.dump());
-        }
-    }
-    const long n = point_count(s);
-    if (n < 1 || n > 100'000'000)
-        throw SceneError("parameters: the study must have 1 .. 1e8 points");
-    // Every axis value must make a valid scene on its own: fail before any point runs.
-    for (const auto& axis : s.axes)
-        for (double v : axis.values) {
-            Study one = s;
-            one.axes = {{axis.key, {v}}};
-            one.sampling = Sampling::grid;
-            (void)point_scene(one, 0);
-        }
-    return s;
 }
 
-Study load_study(const std::string& path) {
-    std::ifstream in(path);
-    if (!in) throw SceneError(path + ": cannot read the study file");
-    std::ostringstream text;
-    text << in.rdbuf();
-    return parse_study(text.str(), path);
-}
+} // namespace detail
 
 } // namespace gapchain

@@ -26,28 +26,16 @@ void SignalRecorder::on_step(const StepView& step) {
         m_out.values.push_back(m_variable.value(m_dyn, step.t1, step.y1));
 }
 
-StepPlan plan_for_sampling(const Dynamics& dyn, const RunOptions& options, int samples_per_period) {
-    detail::require_range("samples per period", samples_per_period, 1, 10'000'000);
-    StepPlan plan = plan_step(dyn, options.scheme, options.tolerance, options.step);
-    plan.steps_per_period =
-        (plan.steps_per_period + samples_per_period - 1) / samples_per_period * samples_per_period;
-    plan.step = dyn.period() / plan.steps_per_period;
-    return plan;
-}
-
 Signal record_signal(const Dynamics& dyn, const RunOptions& options,
                      const SectionVariable& variable, int samples_per_period, RunOutcome& outcome,
                      const std::vector<double>& initial, const ProgressCallback& progress) {
     validate(options);
     require_harmonic(dyn, "spectrum");
-    const StepPlan plan = plan_for_sampling(dyn, options, samples_per_period);
-    auto stepper = make_stepper(plan, dyn);
+    PlannedRun planned(dyn, options, initial, samples_per_period);
     Signal signal;
     SignalRecorder recorder(dyn, variable, dyn.period() / samples_per_period, signal);
     Observer* observers[] = {&recorder};
-    std::vector<double> y = initial_state(dyn, initial);
-    outcome = run(dyn, *stepper, plan, {options.periods, options.transient_periods, 0.0}, y,
-                  observers, progress);
+    outcome = planned.run(observers, progress);
     return signal;
 }
 

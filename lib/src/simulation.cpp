@@ -17,24 +17,12 @@ std::string_view to_string(ErrorMethod method) {
     return "?";
 }
 
-void validate(const RunOptions& o) {
-    detail::require_range("run.periods", static_cast<double>(o.periods), 1.0, 1e9);
-    if (o.transient_periods < 0 || o.transient_periods >= o.periods)
-        throw std::invalid_argument(
-            "run.transient_periods: must be an integer in [0, periods - 1 = " +
-            std::to_string(o.periods - 1) + "], got " + std::to_string(o.transient_periods));
-    detail::require_range("run.tolerance", o.tolerance, 1e-12, 0.1);
-    if (o.step) detail::require_range("run.step", *o.step, 0.0, 1e3, detail::Bound::open_low);
-    detail::require_range("run.steady_tolerance", o.steady_tolerance, 0.0, 1.0,
-                          detail::Bound::open_low);
-    detail::require_range("run.max_steady_period", o.max_steady_period, 1, 1000);
-}
-
 namespace {
 
 struct SingleRun {
     RunOutcome outcome;
     std::vector<ContactMaximum> contacts;
+    double F_m = 0.0;
     std::optional<int> period;
     std::optional<double> period_time;
     long evaluations = 0;
@@ -42,10 +30,8 @@ struct SingleRun {
     double second_half_max = 0.0; // and in the second half
 };
 
-SingleRun run_once(const Dynamics& dyn, const StepPlan& plan, const RunOptions& options,
-                   std::vector<double>& y, const TrajectorySink& trajectory, int every,
-                   const ProgressCallback& progress) {
-    auto stepper = make_stepper(plan, dyn);
+SingleRun run_once(const Dynamics& dyn, const RunOptions& options, PlannedRun& planned,
+                   const TrajectorySink& trajectory, int every, const ProgressCallback& progress) {
     MaxForceTracker forces(dyn, options.transient_periods +
                                     (options.periods - options.transient_periods) / 2);
     std::vector<Observer*> observers{&forces};
@@ -61,53 +47,24 @@ SingleRun run_once(const Dynamics& dyn, const StepPlan& plan, const RunOptions& 
         recorder.emplace(every, trajectory);
         observers.push_back(&*recorder);
     }
-    const RunSpan span{options.periods, options.transient_periods, 0.0};
     SingleRun r;
-    r.outcome = run(dyn, *stepper, plan, span, y, observers, progress);
+    r.outcome = planned.run(observers, progress);
     r.contacts = forces.contacts();
+    r.F_m = forces.max_force();
     if (steady) {
         r.period = steady->period();
         r.period_time = steady->time();
     }
-    r.evaluations = stepper->evaluations();
+    r.evaluations = planned.evaluations();
     r.first_half_max = forces.first_half_max();
     r.second_half_max = forces.second_half_max();
     return r;
 }
 
-double max_force(const std::vector<ContactMaximum>& contacts) {
-    double f = 0.0;
-    for (const auto& c : contacts)
-        f = std::max(f, c.force);
-    return f;
-}
-
-} // namespace
-
-SimulationResult simulate(const Dynamics& dyn, const RunOptions& options,
-                          const std::vector<double>& initial, const SimulationHooks& hooks) {
-    const auto start = std::chrono::steady_clock::now();
-    validate(options);
-    const std::vector<double> y0 = initial_state(dyn, initial);
-    const StepPlan plan = plan_step(dyn, options.scheme, options.tolerance, options.step);
-
-    SimulationResult result;
-    std::vector<double> y = y0;
-    const SingleRun main = run_once(dyn, plan, options, y, hooks.trajectory,
-                                    std::max(1, hooks.trajectory_every), hooks.progress);
-    result.status = main.outcome.status;
-    result.message = main.outcome.message;
-    result.scheme = plan.scheme;
-    result.step = plan.step;
-    result.periods_simulated = main.outcome.periods_done;
-    result.steps = main.outcome.steps;
-    result.evaluations = main.evaluations;
+/// The main run's maxima, per contact and per body, and where F_m occurred.
+void report_maxima(const SingleRun& main, SimulationResult& result) {
+    const int n = static_cast<int>(main.contacts.size()) - 1;
     result.per_contact = main.contacts;
-    result.steady_state_period = main.period;
-    result.steady_state_time = main.period_time;
-    result.final_state = y;
-
-    const int n = dyn.bodies();
     result.per_body.resize(n);
     for (int i = 0; i < n; ++i) {
         result.per_body[i] = {main.contacts[i].force, main.contacts[i + 1].force,
@@ -122,62 +79,100 @@ SimulationResult simulate(const Dynamics& dyn, const RunOptions& options,
             result.F_m_time = c.time;
         }
     }
+}
 
+/// The comparison run's plan. Fixed-step schemes: twice the step (or half, if twice would
+/// break the stability limit). GSL adaptive schemes: ten times the tolerance. Exact: half the
+/// output interval (its F_m then moves only by round-off and event location).
+StepPlan comparison_plan(const Dynamics& dyn, const StepPlan& plan) {
+    StepPlan other = plan;
+    const SchemeTraits tr = traits(plan.scheme);
+    if (plan.scheme == Scheme::rkf45 || plan.scheme == Scheme::rk8pd) {
+        other.tolerance = std::min(0.1, 10.0 * plan.tolerance);
+    } else if (plan.scheme == Scheme::exact) {
+        other.steps_per_period = plan.steps_per_period * 2;
+    } else if (plan.steps_per_period >= 2 &&
+               2.0 * plan.step * dyn.max_angular_frequency() < 0.9 * tr.stability_limit) {
+        other.steps_per_period = plan.steps_per_period / 2;
+    } else {
+        other.steps_per_period = plan.steps_per_period * 2;
+    }
+    other.step = dyn.period() / other.steps_per_period;
+    return other;
+}
+
+/// F_m_error from a comparison run on another plan.
+double comparison_error(const Dynamics& dyn, const RunOptions& options, const StepPlan& plan,
+                        const std::vector<double>& initial, SimulationResult& result) {
+    const StepPlan other = comparison_plan(dyn, plan);
+    PlannedRun planned(dyn, options, other, initial);
+    const SingleRun check = run_once(dyn, options, planned, {}, 1, {});
+    result.evaluations += check.evaluations;
+    if (check.outcome.status == RunStatus::non_finite)
+        return std::numeric_limits<double>::infinity();
+    // Periodic runs converge at the scheme's order p, so the error of F_m is about
+    // |F_m - F_m'| / (2^p - 1); we report twice that. Runs that never settle (chaotic, long
+    // transients) get the raw difference: there it is not a truncation error.
+    const SchemeTraits tr = traits(plan.scheme);
+    const double diff = std::abs(result.F_m - check.F_m);
+    const double gain = std::ldexp(1.0, tr.order) - 1.0;
+    const bool periodic = result.steady_state_period && check.period && !tr.adaptive &&
+                          other.steps_per_period < plan.steps_per_period;
+    // A finer comparison run (stability fallback) differs by (1 - 2^-p) of the error.
+    const bool finer = !tr.adaptive && other.steps_per_period > plan.steps_per_period;
+    const double estimate = periodic ? 2.0 * diff / gain : (finer ? 2.0 * diff : diff);
+    // Round-off floor: F_m is never known better than a few ulps of itself; for exact, whose
+    // two runs share the same eigendecompositions and so the same round-off, the floor is what
+    // it measured against rk8pd at 1e-10 (6e-13 relative, accuracy.md).
+    const double floor = plan.scheme == Scheme::exact ? 1e-12 : 1e-14;
+    return std::max(estimate, floor * result.F_m);
+}
+
+/// F_m_error and how it was estimated.
+void estimate_error(const Dynamics& dyn, const RunOptions& options, const StepPlan& plan,
+                    const std::vector<double>& initial, const SingleRun& main,
+                    SimulationResult& result) {
+    if (!options.estimate_error) return;
     // A harmonic run that never settled (chaotic, quasi-periodic, or a steady period above
     // max_steady_period) has an F_m that depends on the window: the maxima of the two halves
     // of the recorded window differ by a sampling spread that, when it is well above the
     // scheme's truncation error (~ tolerance * F_m), is the error to report; the comparison
     // run would only measure the same spread again, at the cost of a second full-length run.
     const double half_spread = std::abs(main.first_half_max - main.second_half_max);
-    const bool sampling_dominated =
-        options.estimate_error && result.status == RunStatus::completed &&
-        dyn.ground_motion().is_harmonic() && options.periods - options.transient_periods >= 2 &&
-        half_spread > 10.0 * options.tolerance * result.F_m;
+    const bool sampling_dominated = result.status == RunStatus::completed &&
+                                    dyn.ground_motion().is_harmonic() &&
+                                    options.periods - options.transient_periods >= 2 &&
+                                    half_spread > 10.0 * options.tolerance * result.F_m;
     if (sampling_dominated) {
         result.F_m_error = half_spread;
         result.error_method = ErrorMethod::window_halves;
-    } else if (options.estimate_error && result.status != RunStatus::non_finite &&
-               result.status != RunStatus::cancelled) {
+    } else if (result.status != RunStatus::non_finite && result.status != RunStatus::cancelled) {
         result.error_method = ErrorMethod::comparison_run;
-        // The comparison run. Fixed-step schemes: twice the step (or half, if twice would
-        // break the stability limit). GSL adaptive schemes: ten times the tolerance. Exact:
-        // half the output interval (its F_m then moves only by round-off and event location).
-        StepPlan other = plan;
-        const SchemeTraits tr = traits(plan.scheme);
-        if (plan.scheme == Scheme::rkf45 || plan.scheme == Scheme::rk8pd) {
-            other.tolerance = std::min(0.1, 10.0 * plan.tolerance);
-        } else if (plan.scheme == Scheme::exact) {
-            other.steps_per_period = plan.steps_per_period * 2;
-        } else if (plan.steps_per_period >= 2 &&
-                   2.0 * plan.step * dyn.max_angular_frequency() < 0.9 * tr.stability_limit) {
-            other.steps_per_period = plan.steps_per_period / 2;
-        } else {
-            other.steps_per_period = plan.steps_per_period * 2;
-        }
-        other.step = dyn.period() / other.steps_per_period;
-        std::vector<double> y2 = y0;
-        const SingleRun check = run_once(dyn, other, options, y2, {}, 1, {});
-        result.evaluations += check.evaluations;
-        if (check.outcome.status == RunStatus::non_finite) {
-            result.F_m_error = std::numeric_limits<double>::infinity();
-        } else {
-            // Periodic runs converge at the scheme's order p, so the error of F_m is about
-            // |F_m - F_m'| / (2^p - 1); we report twice that. Runs that never settle (chaotic,
-            // long transients) get the raw difference: there it is not a truncation error.
-            const double diff = std::abs(result.F_m - max_force(check.contacts));
-            const double gain = std::ldexp(1.0, tr.order) - 1.0;
-            const bool periodic = result.steady_state_period && check.period && !tr.adaptive &&
-                                  other.steps_per_period < plan.steps_per_period;
-            // A finer comparison run (stability fallback) differs by (1 - 2^-p) of the error.
-            const bool finer = !tr.adaptive && other.steps_per_period > plan.steps_per_period;
-            const double estimate = periodic ? 2.0 * diff / gain : (finer ? 2.0 * diff : diff);
-            // Round-off floor: F_m is never known better than a few ulps of itself; for exact,
-            // whose two runs share the same eigendecompositions and so the same round-off, the
-            // floor is what it measured against rk8pd at 1e-10 (6e-13 relative, accuracy.md).
-            const double floor = plan.scheme == Scheme::exact ? 1e-12 : 1e-14;
-            result.F_m_error = std::max(estimate, floor * result.F_m);
-        }
+        result.F_m_error = comparison_error(dyn, options, plan, initial, result);
     }
+}
+
+} // namespace
+
+SimulationResult simulate(const Dynamics& dyn, const RunOptions& options,
+                          const std::vector<double>& initial, const SimulationHooks& hooks) {
+    const auto start = std::chrono::steady_clock::now();
+    PlannedRun planned(dyn, options, initial);
+    const SingleRun main = run_once(dyn, options, planned, hooks.trajectory,
+                                    std::max(1, hooks.trajectory_every), hooks.progress);
+    SimulationResult result;
+    result.status = main.outcome.status;
+    result.message = main.outcome.message;
+    result.scheme = planned.plan().scheme;
+    result.step = planned.plan().step;
+    result.periods_simulated = main.outcome.periods_done;
+    result.steps = main.outcome.steps;
+    result.evaluations = main.evaluations;
+    result.steady_state_period = main.period;
+    result.steady_state_time = main.period_time;
+    result.final_state = planned.state();
+    report_maxima(main, result);
+    estimate_error(dyn, options, planned.plan(), initial, main, result);
     result.wall_time_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;

@@ -1,9 +1,8 @@
 #include "gapchain/sweep.hpp"
 
 #include "detail/check.hpp"
+#include "detail/parallel.hpp"
 #include "detail/random.hpp"
-
-#include <omp.h>
 
 #include <algorithm>
 #include <cmath>
@@ -29,21 +28,6 @@ long latin_stratum(const Study& s, long index, std::size_t axis) {
         std::swap(perm[i], perm[j]);
     }
     return perm[index];
-}
-
-std::string full_key(const std::string& key) {
-    if (key == "Nm" || key == "fc" || key == "eps" || key == "e_r") return "model." + key;
-    if (key == "f_r") return "excitation." + key;
-    return key;
-}
-
-std::string assignment(const std::string& key, double value) {
-    char buffer[64];
-    if (value == std::floor(value) && std::abs(value) < 1e15)
-        std::snprintf(buffer, sizeof buffer, "%.0f", value);
-    else
-        std::snprintf(buffer, sizeof buffer, "%.17g", value);
-    return full_key(key) + "=" + buffer;
 }
 
 } // namespace
@@ -86,12 +70,20 @@ std::vector<double> point_values(const Study& s, long index) {
     return v;
 }
 
-Scene point_scene(const Study& s, long index) {
-    const std::vector<double> v = point_values(s, index);
-    std::vector<std::string> sets;
-    for (std::size_t a = 0; a < s.axes.size(); ++a)
-        sets.push_back(assignment(s.axes[a].key, v[a]));
-    return parse_scene(s.scene_json, sets, s.source + " point " + std::to_string(index));
+std::vector<long> stratified_subset(long total, long count, std::uint64_t seed) {
+    if (total < 0 || count < 0 || count > total)
+        throw std::invalid_argument("subset: must be in [0, " + std::to_string(total) + "], got " +
+                                    std::to_string(count));
+    std::vector<long> subset;
+    for (long k = 0; k < count; ++k) {
+        const long lo = k * total / count, hi = (k + 1) * total / count;
+        // A light multiplicative hash: kept as it is so that published subsets stay the same.
+        std::uint64_t h =
+            seed * 0x9e3779b97f4a7c15ULL + static_cast<std::uint64_t>(k) * 0xbf58476d1ce4e5b9ULL;
+        h ^= h >> 31;
+        subset.push_back(lo + static_cast<long>(h % static_cast<std::uint64_t>(hi - lo)));
+    }
+    return subset;
 }
 
 std::vector<long> pending_points(const Study& s, const SweepSelection& sel) {
@@ -118,56 +110,48 @@ std::vector<long> pending_points(const Study& s, const SweepSelection& sel) {
     return pending;
 }
 
-void run_sweep(const Study& s, const SweepSelection& sel,
-               const std::function<void(const SweepPointResult&)>& sink,
-               const ProgressCallback& progress) {
-    detail::require_range("--threads", sel.threads, 0, 4096);
-    const std::vector<long> pending = pending_points(s, sel);
-    const int threads = sel.threads > 0 ? sel.threads : omp_get_max_threads();
-    const long total = static_cast<long>(pending.size());
-    long finished = 0;
-    bool stop = false;
-    std::string failure;
-#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
-    for (long k = 0; k < total; ++k) {
-        bool skip = false;
-#pragma omp atomic read
-        skip = stop;
-        if (skip) continue;
-        try {
-            SweepPointResult r;
-            r.index = pending[k];
-            r.values = point_values(s, r.index);
-            const Scene scene = point_scene(s, r.index);
-            r.parameters = scene.reduced;
-            r.simulation = simulate(scene.dynamics(), scene.run, scene.initial);
-            if (scene.physical) r.F_m_newton = force_in_newtons(r.simulation.F_m, *scene.physical);
-            if (s.keep.regime) {
-                if (!scene.uniform())
-                    throw std::invalid_argument("keep: \"regime\" needs the paper's uniform row; "
-                                                "drop it or the model arrays and scatter");
-                ClassifyOptions co;
-                co.scheme = scene.run.scheme;
-                co.tolerance = scene.run.tolerance;
-                r.regime = classify(scene.reduced, co);
-            }
-#pragma omp critical(gapchain_sweep_sink)
-            {
-                sink(r);
-                ++finished;
-                if (progress && !progress(static_cast<double>(finished) / total)) {
-#pragma omp atomic write
-                    stop = true;
-                }
-            }
-        } catch (const std::exception& e) {
-#pragma omp critical(gapchain_sweep_failure)
-            failure = e.what();
-#pragma omp atomic write
-            stop = true;
-        }
+namespace {
+
+SweepPointResult run_point(const Study& s, const SweepPointFactory& make_point, long index) {
+    SweepPointResult r;
+    r.index = index;
+    r.values = point_values(s, index);
+    const SweepPointInput in = make_point(index);
+    r.parameters = in.reduced;
+    r.simulation = simulate(in.dynamics, in.run, in.initial);
+    if (in.physical) r.F_m_newton = force_in_newtons(r.simulation.F_m, *in.physical);
+    if (s.keep.regime) {
+        if (!in.uniform)
+            throw std::invalid_argument("keep: \"regime\" needs the paper's uniform row; drop it "
+                                        "or the model arrays and scatter");
+        ClassifyOptions co;
+        co.scheme = in.run.scheme;
+        co.tolerance = in.run.tolerance;
+        r.regime = classify(in.reduced, co);
     }
-    if (!failure.empty()) throw std::runtime_error(failure);
+    return r;
+}
+
+} // namespace
+
+SweepEnd run_sweep(const Study& s, const SweepSelection& sel, const SweepPointFactory& make_point,
+                   const std::function<void(const SweepPointResult&)>& sink,
+                   const ProgressCallback& progress) {
+    detail::require_range("threads", sel.threads, 0, 4096);
+    const std::vector<long> pending = pending_points(s, sel);
+    const long total = static_cast<long>(pending.size());
+    // A finished point waits in its slot only until the sink has taken it.
+    std::vector<std::optional<SweepPointResult>> slots(pending.size());
+    long finished = 0;
+    const auto end = detail::parallel_for(
+        total, detail::thread_count(sel.threads),
+        [&](long k) { slots[k] = run_point(s, make_point, pending[k]); },
+        [&](long k) {
+            sink(*slots[k]);
+            slots[k].reset();
+            return !progress || progress(static_cast<double>(++finished) / total);
+        });
+    return end == detail::LoopEnd::cancelled ? SweepEnd::cancelled : SweepEnd::completed;
 }
 
 } // namespace gapchain

@@ -69,11 +69,9 @@ struct BifurcationResult {
     std::vector<BifurcationRow> rows; ///< up sweep in order, then the down sweep if any
     double wall_time_s = 0.0;         ///< wall time of the whole call [s]
     int threads_used = 1;             ///< OpenMP threads that ran it
+    bool cancelled = false; ///< the progress callback stopped it; rows not run have status
+                            ///< cancelled (independent) or are missing (continuation)
 };
-
-/// Smallest k <= max_period such that every recorded value repeats k points later to
-/// tolerance * (1 + max |value|); 0 if none (or fewer than 2 k points).
-int detect_period(const std::vector<SectionPoint>& points, int max_period, double tolerance);
 
 /// Computes the diagram around base (its swept parameter is replaced by each value). Progress
 /// reports the fraction of values done (it may be called from any thread, never concurrently).

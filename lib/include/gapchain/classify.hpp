@@ -67,7 +67,9 @@ struct RegimeMap {
     std::vector<double> f_r;           ///< column values
     std::vector<Classification> cells; ///< e_r-major: cell (i, j) at i * f_r.size() + j
     double wall_time_s = 0.0;          ///< [s]
-    int threads_used = 1;
+    int threads_used = 1;              ///< OpenMP threads that ran it
+    bool cancelled = false; ///< the progress callback stopped it; cells not run have status
+                            ///< cancelled
 };
 
 /// Classifies every (e_r, f_r) around base in parallel (OpenMP, dynamic schedule; threads 0 =

@@ -9,7 +9,6 @@
 
 #include "gapchain/dynamics.hpp"
 #include "gapchain/run.hpp"
-#include "gapchain/simulation.hpp"
 
 #include <vector>
 

@@ -4,10 +4,15 @@
 /// conversions between them, and the per-body / per-gap Chain that every other layer reads.
 
 #include <cstddef>
+#include <numbers>
 #include <string>
 #include <vector>
 
 namespace gapchain {
+
+/// 4 pi^2: the reduced spring of a body (its angular frequency squared in reduced time) and the
+/// factor of every reduced force (MODEL.md §2).
+inline constexpr double four_pi_squared = 4.0 * std::numbers::pi * std::numbers::pi;
 
 /// Dimensionless parameters of a homogeneous row (paper eqs 6-13, MODEL.md §3).
 struct ReducedParameters {
@@ -76,7 +81,7 @@ struct Chain {
     std::vector<double> clearance; ///< per gap (Nm + 1 entries), reduced clearance, >= 0
     std::vector<double> contact;   ///< per gap, contact stiffness in units of K (fc, fc/2), > 0
     double force_scale = 1.0;      ///< reduced force F_j = contact_j p_j / force_scale (sqrt(fc))
-    ContactLaw law = ContactLaw::linear; ///< linear (p) or Hertz (p^(3/2)) in place of p_j
+    ContactLaw law = ContactLaw::linear; ///< linear (p), Hertz (p^(3/2)) or Hunt-Crossley
     /// Hunt-Crossley alpha [reduced time per reduced length], [0, 1e6]; used by that law only.
     double contact_damping = 0.0;
 

@@ -30,6 +30,8 @@ public:
     void on_step(const StepView& step) override;
     /// Per contact j = 0..Nm (0: left wall, Nm: right wall).
     [[nodiscard]] const std::vector<ContactMaximum>& contacts() const { return m_max; }
+    /// F_m: the largest force over all contacts while recording (eq 19), >= 0.
+    [[nodiscard]] double max_force() const;
     /// Largest force over all contacts in the recorded periods before split_period, >= 0.
     [[nodiscard]] double first_half_max() const { return m_half_max[0]; }
     /// Largest force over all contacts in the recorded periods from split_period on, >= 0.

@@ -7,7 +7,6 @@
 
 #include "gapchain/dynamics.hpp"
 #include "gapchain/run.hpp"
-#include "gapchain/simulation.hpp"
 
 #include <functional>
 #include <memory>
@@ -92,6 +91,10 @@ private:
     SectionPoint m_point;
     long m_count = 0;
 };
+
+/// Smallest k <= max_period such that every recorded value repeats k points later to
+/// tolerance * (1 + max |value|); 0 if none (or fewer than 2 k points).
+int detect_period(const std::vector<SectionPoint>& points, int max_period, double tolerance);
 
 /// Runs dyn from initial (empty: rest) over options.periods, with options.transient_periods
 /// discarded, on the step options.scheme / tolerance / step ask for, and streams the section

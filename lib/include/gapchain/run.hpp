@@ -7,6 +7,8 @@
 #include "gapchain/stepper.hpp"
 
 #include <functional>
+#include <memory>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -69,10 +71,65 @@ struct RunOutcome {
 /// Progress report: fraction done in [0, 1]; return false to cancel the run.
 using ProgressCallback = std::function<bool(double fraction_done)>;
 
+/// How to run: length, scheme, accuracy, steady-state stop. Defaults are the paper's (1000
+/// periods, transient counted).
+struct RunOptions {
+    long periods = 1000;               ///< forcing periods, 1 .. 1e9
+    long transient_periods = 0;        ///< discarded first periods, 0 .. periods - 1
+    Scheme scheme = Scheme::automatic; ///< integration scheme
+    double tolerance = 1e-4;           ///< relative accuracy asked of F_m, 1e-12 .. 0.1
+    std::optional<double> step;        ///< user step (reduced time), overrides the tolerance
+    bool stop_at_steady_state = true;  ///< stop once the state at the period repeats
+    double steady_tolerance = 1e-10;   ///< relative repeat tolerance, (0, 1)
+    int max_steady_period = 16;        ///< largest steady period tried, 1 .. 1000
+    bool estimate_error = true;        ///< estimate F_m_error (simulate(): comparison run or
+                                       ///< window halves)
+};
+
+/// Throws std::invalid_argument naming the first option outside its range.
+void validate(const RunOptions& options);
+
 /// Integrates y (2 Nm entries, updated in place) over span on plan's step grid, feeding every
 /// observer. Throws std::invalid_argument on an inconsistent span or state size.
 RunOutcome run(const Dynamics& dyn, Stepper& stepper, const StepPlan& plan, const RunSpan& span,
                std::vector<double>& y, std::span<Observer* const> observers,
                const ProgressCallback& progress = {});
+
+/// The step plan of options (plan_step on its scheme, tolerance and step); with
+/// samples_per_period >= 1, refined so that it divides the steps per period (samples then fall
+/// on step ends). 0: no refinement.
+StepPlan plan_run(const Dynamics& dyn, const RunOptions& options, int samples_per_period = 0);
+
+/// One run set up from options, the set-up every analysis shares: options validated, the step
+/// planned, the stepper made, the initial state checked. The caller runs it with the observers
+/// it needs. dyn must outlive it.
+class PlannedRun {
+public:
+    /// initial: 2 Nm entries, or empty for rest; samples_per_period as in plan_run().
+    PlannedRun(const Dynamics& dyn, const RunOptions& options,
+               const std::vector<double>& initial = {}, int samples_per_period = 0);
+    /// The same options on a given plan (a comparison run at another step).
+    PlannedRun(const Dynamics& dyn, const RunOptions& options, const StepPlan& plan,
+               const std::vector<double>& initial);
+    /// Runs options.periods from t = 0, options.transient_periods not recorded, from the
+    /// current state (updated in place).
+    RunOutcome run(std::span<Observer* const> observers, const ProgressCallback& progress = {});
+    /// Runs another span from the current state (a run in phases).
+    RunOutcome run(const RunSpan& span, std::span<Observer* const> observers,
+                   const ProgressCallback& progress = {});
+    /// The plan the run uses.
+    [[nodiscard]] const StepPlan& plan() const { return m_plan; }
+    /// The current state: the initial state, then the end state of the last run.
+    [[nodiscard]] const std::vector<double>& state() const { return m_state; }
+    /// Right-hand-side evaluations of the stepper so far.
+    [[nodiscard]] long evaluations() const { return m_stepper->evaluations(); }
+
+private:
+    const Dynamics& m_dyn;
+    RunSpan m_span;
+    StepPlan m_plan;
+    std::unique_ptr<Stepper> m_stepper;
+    std::vector<double> m_state;
+};
 
 } // namespace gapchain

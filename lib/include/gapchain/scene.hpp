@@ -29,7 +29,7 @@
 /// scatter of relative standard deviation s around those values.
 
 #include "gapchain/dynamics.hpp"
-#include "gapchain/simulation.hpp"
+#include "gapchain/run.hpp"
 
 #include <optional>
 #include <stdexcept>

@@ -6,7 +6,6 @@
 
 #include "gapchain/poincare.hpp"
 #include "gapchain/run.hpp"
-#include "gapchain/simulation.hpp"
 
 #include <vector>
 
@@ -34,10 +33,6 @@ private:
     double m_interval;
     Signal& m_out;
 };
-
-/// The step plan of options, refined so that samples_per_period (>= 1) divides the steps per
-/// period.
-StepPlan plan_for_sampling(const Dynamics& dyn, const RunOptions& options, int samples_per_period);
 
 /// Runs dyn over options (full length) and records variable samples_per_period times per
 /// forcing period after the transient. A failed run is reported in the outcome.

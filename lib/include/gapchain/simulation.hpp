@@ -6,7 +6,6 @@
 #include "gapchain/dynamics.hpp"
 #include "gapchain/observers.hpp"
 #include "gapchain/run.hpp"
-#include "gapchain/stepper.hpp"
 
 #include <optional>
 #include <string>
@@ -14,22 +13,6 @@
 #include <vector>
 
 namespace gapchain {
-
-/// How to run one simulation. Defaults are the paper's (1000 periods, transient counted).
-struct RunOptions {
-    long periods = 1000;               ///< forcing periods, 1 .. 1e9
-    long transient_periods = 0;        ///< discarded first periods, 0 .. periods - 1
-    Scheme scheme = Scheme::automatic; ///< integration scheme
-    double tolerance = 1e-4;           ///< relative accuracy asked of F_m, 1e-12 .. 0.1
-    std::optional<double> step;        ///< user step (reduced time), overrides the tolerance
-    bool stop_at_steady_state = true;  ///< stop once the state at the period repeats
-    double steady_tolerance = 1e-10;   ///< relative repeat tolerance, (0, 1)
-    int max_steady_period = 16;        ///< largest steady period tried, 1 .. 1000
-    bool estimate_error = true;        ///< second run at twice the step for F_m_error
-};
-
-/// Throws std::invalid_argument naming the first option outside its range.
-void validate(const RunOptions& options);
 
 /// The larger of the left and right contact forces one body felt.
 struct BodyMaximum {
@@ -82,14 +65,16 @@ struct SimulationHooks {
 
 /// Simulates dyn from initial (2 Nm entries; empty = rest) under options.
 ///
-/// F_m_error: when options.estimate_error, a second run at twice the step gives F_m'; the
-/// estimate is |F_m - F_m'|, which bounds the error of F_m for any convergence order >= 1
-/// (the true error is about |F_m - F_m'| / (2^p - 1)). In a chaotic regime it measures how
-/// much the maximum over a finite run depends on the trajectory, which is the honest figure.
-/// A harmonic run that ran its full length without settling skips the second run when the
-/// maxima over the two halves of its recorded window differ by more than 10 * tolerance *
-/// F_m: that difference, the sampling spread of the maximum, is then reported instead
-/// (error_method says which).
+/// F_m_error (when options.estimate_error), error_method says which:
+/// - window_halves: a harmonic run that ran its full length without settling, whose maxima over
+///   the two halves of the recorded window differ by more than 10 * tolerance * F_m, reports
+///   that difference: the sampling spread of a maximum over a finite window.
+/// - comparison_run otherwise: a second run on another plan gives F_m'. Fixed-step schemes
+///   run at twice the step (half, if twice breaks the stability limit); a periodic run then
+///   reports 2 |F_m - F_m'| / (2^p - 1) (Richardson with a safety factor of 2, p the scheme's
+///   order), others |F_m - F_m'| (2 |F_m - F_m'| for the halved step). rkf45/rk8pd compare at
+///   ten times the tolerance, exact at half the output interval. The estimate is never below a
+///   round-off floor (1e-14 F_m; 1e-12 F_m for exact).
 SimulationResult simulate(const Dynamics& dyn, const RunOptions& options,
                           const std::vector<double>& initial = {},
                           const SimulationHooks& hooks = {});

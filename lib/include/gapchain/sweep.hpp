@@ -7,9 +7,9 @@
 
 #include "gapchain/classify.hpp"
 #include "gapchain/run.hpp"
-#include "gapchain/scene.hpp"
 #include "gapchain/simulation.hpp"
 
+#include <cstdint>
 #include <functional>
 #include <optional>
 #include <string>
@@ -55,9 +55,20 @@ long point_count(const Study& study);
 /// The axis values of point `index` (0 <= index < point_count), deterministic.
 std::vector<double> point_values(const Study& study, long index);
 
-/// The scene of point `index`: the base scene with the point's values set (validated; a bad
-/// value throws SceneError naming the key).
-Scene point_scene(const Study& study, long index);
+/// What one point runs: made from the study's base scene and the point's values by the scene
+/// layer (study.hpp), so that the sweep itself knows nothing of scene files.
+struct SweepPointInput {
+    Dynamics dynamics;                          ///< the row and its ground motion
+    RunOptions run;                             ///< the run
+    std::vector<double> initial;                ///< initial state (empty: rest)
+    ReducedParameters reduced;                  ///< the five reduced numbers
+    std::optional<PhysicalParameters> physical; ///< set for physical scenes (F_m in newtons)
+    bool uniform = true;                        ///< the paper's homogeneous row (regime needs it)
+};
+
+/// Makes the input of point `index`; throws std::invalid_argument (or SceneError) naming the
+/// key of a bad value.
+using SweepPointFactory = std::function<SweepPointInput(long index)>;
 
 /// One finished point.
 struct SweepPointResult {
@@ -78,19 +89,27 @@ struct SweepSelection {
     int threads = 0;          ///< OpenMP threads (0: all)
 };
 
+/// count indices of [0, total), one in each of count equal strata, drawn by a seeded hash of
+/// the stratum (0 <= count <= total): a sample of a study that covers its whole index range.
+std::vector<long> stratified_subset(long total, long count, std::uint64_t seed);
+
 /// The indices selection would run, in index order.
 std::vector<long> pending_points(const Study& study, const SweepSelection& selection);
 
-/// Runs the pending points in parallel (OpenMP, dynamic schedule); sink is called once per
-/// finished point, one call at a time, in completion order. A point that fails numerically is
-/// reported through its result's status; bad input throws before any point runs.
-void run_sweep(const Study& study, const SweepSelection& selection,
-               const std::function<void(const SweepPointResult&)>& sink,
-               const ProgressCallback& progress = {});
+/// How a sweep ended.
+enum class SweepEnd {
+    completed, ///< every pending point ran and reached the sink
+    cancelled, ///< the progress callback stopped it; points not reported to the sink never ran
+               ///< or were dropped
+};
 
-/// Reads and validates a study file (JSON; see docs/sweep.md). Throws SceneError.
-Study load_study(const std::string& path);
-/// Parses and validates study text. Throws SceneError.
-Study parse_study(const std::string& text, const std::string& source = "<string>");
+/// Runs the pending points in parallel (OpenMP, dynamic schedule) through the library's one
+/// parallel loop; sink is called once per finished point, one call at a time, in completion
+/// order. A point that fails numerically is reported through its result's status; a bad value
+/// found at a point (or an exception of the sink) stops the sweep and is rethrown as itself.
+SweepEnd run_sweep(const Study& study, const SweepSelection& selection,
+                   const SweepPointFactory& make_point,
+                   const std::function<void(const SweepPointResult&)>& sink,
+                   const ProgressCallback& progress = {});
 
 } // namespace gapchain

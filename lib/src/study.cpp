@@ -1,0 +1,229 @@
+#include "gapchain/study.hpp"
+
+#include "detail/scene_json.hpp"
+#include "gapchain/grid.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace gapchain {
+
+using nlohmann::json;
+using ojson = nlohmann::ordered_json;
+
+namespace {
+
+std::vector<double> axis_values(const nlohmann::ordered_json& spec, const std::string& key) {
+    auto range = [&](const nlohmann::ordered_json& r, bool log) {
+        if (!r.is_array() || r.size() != 3 || !r[0].is_number() || !r[1].is_number() ||
+            !r[2].is_number_integer())
+            throw SceneError(key + ": a range is [from, to, count] with an integer count");
+        const double from = r[0].get<double>(), to = r[1].get<double>();
+        const long count = r[2].get<long>();
+        if (count < 1 || count > 10'000'000 || !std::isfinite(from) || !std::isfinite(to) ||
+            (log && (from <= 0.0 || to <= 0.0)))
+            throw SceneError(key + ": range needs count >= 1, finite ends" +
+                             std::string(log ? " > 0" : ""));
+        // linspace keeps integer ranges exact, so integer keys such as seeds can be swept.
+        return log ? logspace(from, to, count) : linspace(from, to, count);
+    };
+    if (spec.is_array()) {
+        std::vector<double> v;
+        for (const auto& x : spec) {
+            if (!x.is_number() || !std::isfinite(x.get<double>()))
+                throw SceneError(key + ": values must be finite numbers");
+            v.push_back(x.get<double>());
+        }
+        if (v.empty()) throw SceneError(key + ": needs at least one value");
+        return v;
+    }
+    if (spec.is_object() && spec.size() == 1 && spec.contains("lin"))
+        return range(spec["lin"], false);
+    if (spec.is_object() && spec.size() == 1 && spec.contains("log"))
+        return range(spec["log"], true);
+    throw SceneError(key + ": must be a list of values, {\"lin\": [from, to, count]} or "
+                           "{\"log\": [from, to, count]}");
+}
+
+/// Throws SceneError unless every key of object is one of accepted.
+void require_keys(const ojson& object, const std::string& prefix,
+                  std::initializer_list<const char*> accepted, const std::string& list) {
+    for (const auto& [key, value] : object.items()) {
+        (void)value;
+        bool known = false;
+        for (const char* a : accepted)
+            known = known || key == a;
+        if (!known) throw SceneError(prefix + key + ": unknown key; accepted keys here: " + list);
+    }
+}
+
+/// "sample": "grid" or {"method", "samples", "seed"}.
+void read_sampling(const ojson& sample, Study& s) {
+    if (sample == "grid") {
+        s.sampling = Sampling::grid;
+        return;
+    }
+    if (!sample.is_object())
+        throw SceneError(
+            "sample: must be \"grid\" or {\"method\": ..., \"samples\": N, \"seed\": S}");
+    require_keys(sample, "sample.", {"method", "samples", "seed"}, "method, samples, seed");
+    const std::string method = sample.value("method", std::string("grid"));
+    if (method == "random")
+        s.sampling = Sampling::random;
+    else if (method == "latin_hypercube")
+        s.sampling = Sampling::latin_hypercube;
+    else if (method != "grid")
+        throw SceneError("sample.method: must be grid, random or latin_hypercube, got \"" + method +
+                         "\"");
+    if (s.sampling == Sampling::grid) return;
+    if (!sample.contains("samples") || !sample["samples"].is_number_integer())
+        throw SceneError("sample.samples: an integer in [1, 10000000] is required");
+    s.samples = sample["samples"].get<long>();
+    const long limit = s.sampling == Sampling::latin_hypercube ? 20000 : 10'000'000;
+    if (s.samples < 1 || s.samples > limit)
+        throw SceneError("sample.samples: must be in [1, " + std::to_string(limit) + "], got " +
+                         std::to_string(s.samples));
+    if (sample.contains("seed")) {
+        if (!sample["seed"].is_number_unsigned())
+            throw SceneError("sample.seed: must be a non-negative integer");
+        s.seed = sample["seed"].get<unsigned long long>();
+    }
+}
+
+/// "keep": the result names a study writes (F_m always).
+KeptResults read_kept(const ojson& keep) {
+    if (!keep.is_array()) throw SceneError("keep: must be a list of result names");
+    KeptResults kept{false, false, false, false};
+    for (const auto& k : keep) {
+        const std::string name = k.is_string() ? k.get<std::string>() : "";
+        if (name == "F_m") continue;
+        if (name == "per_body")
+            kept.per_body = true;
+        else if (name == "regime")
+            kept.regime = true;
+        else if (name == "steady_state_period")
+            kept.steady_state = true;
+        else if (name == "wall_time")
+            kept.wall_time = true;
+        else
+            throw SceneError("keep: entries must be F_m, per_body, regime, steady_state_period or "
+                             "wall_time, got " +
+                             k.dump());
+    }
+    return kept;
+}
+
+/// The scene key a study axis names: Nm, fc, eps, e_r and f_r may be given short.
+std::string full_key(const std::string& key) {
+    if (key == "Nm" || key == "fc" || key == "eps" || key == "e_r") return "model." + key;
+    if (key == "f_r") return "excitation." + key;
+    return key;
+}
+
+/// An axis value as the JSON number a scene file would hold: integral values as integers (so
+/// that integer keys such as Nm or seeds accept them), others as doubles.
+json axis_value(double v) {
+    if (v == std::floor(v) && std::abs(v) < 1e15)
+        return v >= 0.0 ? json(static_cast<std::uint64_t>(v)) : json(static_cast<std::int64_t>(v));
+    return json(v);
+}
+
+/// Every axis value must make a valid scene on its own: fail before any point runs.
+void check_axis_values(const Study& s) {
+    for (const auto& axis : s.axes)
+        for (double v : axis.values) {
+            Study one = s;
+            one.axes = {{axis.key, {v}}};
+            one.sampling = Sampling::grid;
+            (void)point_scene(one, 0);
+        }
+}
+
+} // namespace
+
+Study parse_study(const std::string& text, const std::string& source) {
+    ojson root;
+    try {
+        root = ojson::parse(text);
+    } catch (const ojson::exception& e) {
+        throw SceneError(source + ": malformed JSON: " + e.what());
+    }
+    if (!root.is_object()) throw SceneError(source + ": a study is a JSON object");
+    require_keys(root, "", {"scene", "parameters", "sample", "keep"},
+                 "scene, parameters, sample, keep");
+    Study s;
+    s.source = source;
+    if (root.contains("scene")) {
+        if (!root["scene"].is_object()) throw SceneError("scene: must be a JSON object");
+        s.scene_json = root["scene"].dump();
+    }
+    (void)parse_scene(s.scene_json, {}, source + " scene");
+    if (!root.contains("parameters") || !root["parameters"].is_object() ||
+        root["parameters"].empty())
+        throw SceneError("parameters: must be an object with at least one swept key");
+    for (const auto& [key, spec] : root["parameters"].items())
+        s.axes.push_back({key, axis_values(spec, "parameters." + key)});
+    if (root.contains("sample")) read_sampling(root["sample"], s);
+    if (root.contains("keep")) s.keep = read_kept(root["keep"]);
+    const long n = point_count(s);
+    if (n < 1 || n > 100'000'000)
+        throw SceneError("parameters: the study must have 1 .. 1e8 points");
+    check_axis_values(s);
+    return s;
+}
+
+Study load_study(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) throw SceneError(path + ": cannot read the study file");
+    std::ostringstream text;
+    text << in.rdbuf();
+    return parse_study(text.str(), path);
+}
+
+struct StudyScenes::BaseScene {
+    json root;
+};
+
+StudyScenes::StudyScenes(const Study& study)
+    : m_study(study), m_base(std::make_unique<BaseScene>()) {
+    try {
+        m_base->root = json::parse(study.scene_json);
+    } catch (const json::exception& e) {
+        throw SceneError(study.source + " scene: malformed JSON: " + e.what());
+    }
+}
+
+StudyScenes::~StudyScenes() = default;
+
+Scene StudyScenes::scene(long index) const {
+    const std::vector<double> v = point_values(m_study, index);
+    json root = m_base->root;
+    for (std::size_t a = 0; a < m_study.axes.size(); ++a)
+        detail::set_scene_key(root, full_key(m_study.axes[a].key), axis_value(v[a]),
+                              "parameters." + m_study.axes[a].key);
+    return detail::scene_from_parsed_json(std::move(root), {},
+                                          m_study.source + " point " + std::to_string(index));
+}
+
+Scene point_scene(const Study& study, long index) {
+    return StudyScenes(study).scene(index);
+}
+
+SweepPointInput sweep_point_input(const Scene& scene) {
+    return {scene.dynamics(), scene.run,      scene.initial,
+            scene.reduced,    scene.physical, scene.uniform()};
+}
+
+SweepEnd run_study(const Study& study, const SweepSelection& selection,
+                   const std::function<void(const SweepPointResult&)>& sink,
+                   const ProgressCallback& progress) {
+    const StudyScenes scenes(study);
+    return run_sweep(
+        study, selection, [&](long index) { return sweep_point_input(scenes.scene(index)); }, sink,
+        progress);
+}
+
+} // namespace gapchain

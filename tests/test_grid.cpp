@@ -1,0 +1,35 @@
+#include "gapchain/grid.hpp"
+
+#include <doctest/doctest.h>
+
+#include <stdexcept>
+
+using namespace gapchain;
+
+TEST_CASE("linspace: exact ends and exact integer ranges") {
+    const auto v = linspace(0.1, 0.7, 7);
+    REQUIRE(v.size() == 7);
+    CHECK(v.front() == 0.1);
+    CHECK(v.back() == 0.7);
+    // An integer range stays integral (the naive from + (to - from) k / (n - 1) gives
+    // 14.000000000000002 at k = 13 for [1, 100, 100]).
+    const auto seeds = linspace(1, 100, 100);
+    for (int k = 0; k < 100; ++k)
+        CHECK(seeds[k] == static_cast<double>(k + 1));
+    CHECK(linspace(3.5, 9.0, 1) == std::vector<double>{3.5});
+}
+
+TEST_CASE("logspace: decades") {
+    const auto v = logspace(1.0, 1000.0, 4);
+    REQUIRE(v.size() == 4);
+    CHECK(v[0] == 1.0);
+    CHECK(v[1] == doctest::Approx(10.0).epsilon(1e-15));
+    CHECK(v[2] == doctest::Approx(100.0).epsilon(1e-15));
+    CHECK(v[3] == doctest::Approx(1000.0).epsilon(1e-15));
+}
+
+TEST_CASE("linspace and logspace refuse empty or non-finite ranges") {
+    CHECK_THROWS_AS(linspace(0, 1, 0), std::invalid_argument);
+    CHECK_THROWS_AS(linspace(0, 1.0 / 0.0, 3), std::invalid_argument);
+    CHECK_THROWS_AS(logspace(0, 1, 3), std::invalid_argument);
+}

@@ -1,0 +1,130 @@
+// The time loop (run.hpp): period boundaries, switch splitting, the steady-state stop and
+// cancellation, checked against the equations of motion and counted events.
+#include "gapchain/observers.hpp"
+#include "gapchain/run.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <vector>
+
+using namespace gapchain;
+
+namespace {
+
+/// Records what the loop hands to observers.
+class LoopLog final : public Observer {
+public:
+    void on_step(const StepView& s) override {
+        steps.push_back({s.t0, s.t1});
+        if (s.recording) ++recorded;
+    }
+    bool on_period(long n, double t, const double*) override {
+        boundaries.push_back({static_cast<double>(n), t});
+        return false;
+    }
+    std::vector<std::pair<double, double>> steps;
+    std::vector<std::pair<double, double>> boundaries;
+    long recorded = 0;
+};
+
+Dynamics row(double e_r, double f_r) {
+    return Dynamics(Chain::homogeneous({2, 100.0, 0.5, e_r, f_r}), {f_r, 1.0});
+}
+
+RunOptions rk4_options(long periods, long transient) {
+    RunOptions o;
+    o.periods = periods;
+    o.transient_periods = transient;
+    o.scheme = Scheme::rk4;
+    o.step = 1e-3;
+    return o;
+}
+
+} // namespace
+
+TEST_CASE("run: period boundaries fall on exact multiples of the forcing period") {
+    const Dynamics dyn = row(10.0, 1.25); // clearance too wide to close: no switches
+    PlannedRun planned(dyn, rk4_options(7, 2));
+    LoopLog log;
+    Observer* observers[] = {&log};
+    const RunOutcome out = planned.run(observers);
+    CHECK(out.status == RunStatus::completed);
+    CHECK(out.periods_done == 7);
+    REQUIRE(log.boundaries.size() == 8);
+    for (std::size_t n = 0; n < log.boundaries.size(); ++n)
+        CHECK(log.boundaries[n].second == doctest::Approx(n / 1.25).epsilon(1e-15));
+    // Without contact no step is split, and the transient steps are not recorded.
+    const long per_period = planned.plan().steps_per_period;
+    CHECK(static_cast<long>(log.steps.size()) == 7 * per_period);
+    CHECK(log.recorded == 5 * per_period);
+}
+
+namespace {
+
+/// Largest |gap| at the step end nearer a contact switch, over the steps that switch.
+double largest_gap_at_switches(const Dynamics& dyn, bool split) {
+    RunOptions o = rk4_options(3, 0);
+    StepPlan plan = plan_run(dyn, o);
+    plan.split_at_switches = split;
+    PlannedRun planned(dyn, o, plan, {});
+    struct GapWatch final : Observer {
+        const Dynamics& dyn;
+        double largest = 0.0;
+        long switches = 0;
+        explicit GapWatch(const Dynamics& d) : dyn(d) {}
+        void on_step(const StepView& s) override {
+            for (int j = 0; j < dyn.gaps(); ++j) {
+                const double g0 = dyn.gap(j, s.y0), g1 = dyn.gap(j, s.y1);
+                if ((g0 > 0.0) == (g1 > 0.0)) continue;
+                largest = std::max(largest, std::min(std::abs(g0), std::abs(g1)));
+                ++switches;
+            }
+        }
+    } watch(dyn);
+    Observer* observers[] = {&watch};
+    planned.run(observers);
+    REQUIRE(watch.switches >= 2); // the row does hit
+    return watch.largest;
+}
+
+} // namespace
+
+TEST_CASE("run: a step that straddles a contact switch ends on it") {
+    // From rest the ground pushes the row into the walls at e_r = 0.05: contacts close and
+    // open. With splitting every switch is a step end, located on the quintic interpolant of
+    // the gap (the gap there is ~1e-8, against ~1e-4 per step of h = 1e-3 without splitting).
+    const Dynamics dyn = row(0.05, 1.0);
+    CHECK(largest_gap_at_switches(dyn, true) < 1e-6);
+    CHECK(largest_gap_at_switches(dyn, false) > 1e-5);
+}
+
+TEST_CASE("run: the steady-state stop ends the run early, at a period boundary") {
+    const Dynamics dyn = row(10.0, 1.0); // linear, damped: periodic after the transient
+    PlannedRun planned(dyn, rk4_options(2000, 0));
+    SteadyStateDetector steady(dyn.dimension(), 4, 1e-10, 0);
+    Observer* observers[] = {&steady};
+    const RunOutcome out = planned.run(observers);
+    CHECK(out.status == RunStatus::steady_state);
+    CHECK(out.periods_done < 2000);
+    CHECK(steady.period() == 1);
+    CHECK(out.t_end == doctest::Approx(static_cast<double>(out.periods_done)).epsilon(1e-15));
+}
+
+TEST_CASE("run: a progress callback that answers false cancels at the next report") {
+    const Dynamics dyn = row(10.0, 1.0);
+    PlannedRun planned(dyn, rk4_options(1000, 0));
+    int calls = 0;
+    const RunOutcome out = planned.run({}, [&](double) { return ++calls < 3; });
+    CHECK(out.status == RunStatus::cancelled);
+    CHECK(calls == 3);
+    CHECK(out.periods_done == 3 * (1000 / 200)); // reports every periods / 200 periods
+}
+
+TEST_CASE("PlannedRun: bad options and states are refused before running") {
+    const Dynamics dyn = row(0.5, 1.0);
+    RunOptions o = rk4_options(10, 10);
+    CHECK_THROWS_AS(PlannedRun(dyn, o), std::invalid_argument);
+    o = rk4_options(10, 0);
+    CHECK_THROWS_AS(PlannedRun(dyn, o, std::vector<double>(3, 0.0)), std::invalid_argument);
+}

@@ -49,8 +49,8 @@ TEST_CASE("independent mode: identical CSVs with 1 and 2 threads") {
     const BifurcationResult one = bifurcation(fig13, o);
     o.threads = 2;
     const BifurcationResult two = bifurcation(fig13, o);
-    CHECK(points_csv(one, o.section, o.parameter) == points_csv(two, o.section, o.parameter));
-    CHECK(summary_csv(one, o.parameter) == summary_csv(two, o.parameter));
+    CHECK(points_csv(one, o.section) == points_csv(two, o.section));
+    CHECK(summary_csv(one) == summary_csv(two));
 }
 
 TEST_CASE("continuation sweeps up then down, each value from the previous end state") {
@@ -80,4 +80,46 @@ TEST_CASE("bad options name the option") {
     o = {};
     o.steps = 0;
     CHECK_THROWS_WITH_AS(validate(o, fig13), doctest::Contains("--steps"), std::invalid_argument);
+}
+
+TEST_CASE("bifurcation and regime maps: a cancelled run stops within one value per thread") {
+    const ReducedParameters base{3, 60.0, 0.5, 0.06, 3.0};
+    for (int threads : {1, 2}) {
+        BifurcationOptions o;
+        o.steps = 40;
+        o.transient_periods = 20;
+        o.record_periods = 10;
+        o.threads = threads;
+        int calls = 0;
+        const BifurcationResult r = bifurcation(base, o, [&](double) { return ++calls < 3; });
+        CHECK(r.cancelled);
+        long ran = 0;
+        for (const auto& row : r.rows)
+            ran += row.status != RunStatus::cancelled;
+        CHECK(calls == 3);
+        CHECK(ran >= 3);
+        CHECK(ran <= 3 + threads); // values already started may finish
+
+        ClassifyOptions co;
+        co.transient_periods = 10;
+        co.record_periods = 10;
+        calls = 0;
+        const RegimeMap map = regime_map(base, {0.0, 0.1, 0.2, 0.3, 0.4}, {1.0, 2.0, 3.0, 4.0}, co,
+                                         threads, [&](double) { return ++calls < 2; });
+        CHECK(map.cancelled);
+        long cells = 0;
+        for (const auto& c : map.cells)
+            cells += c.status != RunStatus::cancelled;
+        CHECK(cells >= 2);
+        CHECK(cells <= 2 + threads);
+    }
+    BifurcationOptions o;
+    o.steps = 10;
+    o.transient_periods = 20;
+    o.record_periods = 10;
+    o.mode = SweepMode::continuation;
+    int calls = 0;
+    const BifurcationResult r = bifurcation(base, o, [&](double) { return ++calls < 4; });
+    CHECK(r.cancelled);
+    CHECK(r.rows.size() == 4);
 }

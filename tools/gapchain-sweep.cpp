@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <regex>
 
 #ifdef GAPCHAIN_WITH_MPI
 #include <mpi.h>
@@ -106,115 +107,172 @@ private:
     int m_finished = 0;
 };
 
+// The command line of a sweep.
+struct SweepArguments {
+    std::string study_path;
+    std::string out = "results.csv";
+    std::string shard_text = "0/1";
+    int threads = 0;
+    long subset = 0;
+    unsigned long long seed = 1;
+};
+
+void add_arguments(CLI::App& app, SweepArguments& a) {
+    app.add_option("study", a.study_path, "Study file (JSON)")->required();
+    app.add_option("--out", a.out, "Results CSV (a .json sidecar is written next to it)")
+        ->capture_default_str();
+    app.add_option("--threads", a.threads, "OpenMP threads (0: all cores)")
+        ->check(CLI::Range(0, 4096))
+        ->capture_default_str();
+    app.add_option("--shard", a.shard_text,
+                   "Run shard i of n (index % n == i, 0 <= i < n <= 1000000), e.g. for job arrays")
+        ->capture_default_str();
+    app.add_option(
+           "--subset", a.subset,
+           "Run only K points, one drawn at random in each of K equal strata of the index range")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    app.add_option("--seed", a.seed, "Seed of --subset (a non-negative integer)")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+}
+
+// "i/n" with 0 <= i < n <= 1e6, nothing else.
+void parse_shard(const std::string& text, gapchain::SweepSelection& sel) {
+    static const std::regex shard(R"(([0-9]{1,7})/([0-9]{1,7}))");
+    std::smatch m;
+    if (std::regex_match(text, m, shard)) {
+        sel.shard = std::stoi(m[1].str());
+        sel.shards = std::stoi(m[2].str());
+        if (sel.shards >= 1 && sel.shards <= 1'000'000 && sel.shard < sel.shards) return;
+    }
+    throw std::invalid_argument("--shard: must be i/n with 0 <= i < n <= 1000000, got \"" + text +
+                                "\"");
+}
+
+gapchain::SweepSelection selection(const SweepArguments& a, const gapchain::Study& study,
+                                   const Ranks& ranks) {
+    gapchain::SweepSelection sel;
+    sel.threads = a.threads;
+    parse_shard(a.shard_text, sel);
+    const long total = gapchain::point_count(study);
+    if (a.subset > total)
+        throw std::invalid_argument("--subset: must be in [0, " + std::to_string(total) +
+                                    "], got " + std::to_string(a.subset));
+    sel.subset = gapchain::stratified_subset(total, a.subset, a.seed);
+    if (ranks.size() > 1) {
+        if (sel.shards != 1)
+            throw std::invalid_argument(
+                "--shard: not with several MPI ranks (each rank is a shard), got \"" +
+                a.shard_text + "\"");
+        sel.shard = ranks.rank();
+        sel.shards = ranks.size();
+    }
+    sel.done.assign(static_cast<std::size_t>(total), 0);
+    return sel;
+}
+
+// Periodic and other points, and their compute time, for the closing summary.
+struct SweepTally {
+    long periodic = 0, other = 0;
+    double seconds_periodic = 0.0, seconds_other = 0.0;
+    void add(const gapchain::SimulationResult& r) {
+        if (r.steady_state_period) {
+            ++periodic;
+            seconds_periodic += r.wall_time_s;
+        } else {
+            ++other;
+            seconds_other += r.wall_time_s;
+        }
+    }
+};
+
+void print_summary(const SweepTally& t, double wall, const SweepArguments& a, long total,
+                   const Ranks& ranks) {
+    const long ran = t.periodic + t.other;
+    std::printf("gapchain-sweep: %ld points in %.2f s wall (%.3g points/s)%s\n", ran, wall,
+                wall > 0 ? ran / wall : 0.0,
+                ranks.size() > 1 ? " on rank 0; the other ranks' rows are in the file too" : "");
+    if (ran > 0) {
+        std::printf("  periodic (stopped at steady state): %ld points, mean %.4f s each\n",
+                    t.periodic, t.periodic ? t.seconds_periodic / t.periodic : 0.0);
+        std::printf("  not periodic (full length):         %ld points, mean %.4f s each\n", t.other,
+                    t.other ? t.seconds_other / t.other : 0.0);
+        if (a.subset > 0)
+            std::printf("  estimate for all %ld points at this rate: %.0f s (%.1f h)\n", total,
+                        wall * total / ran, wall * total / ran / 3600.0);
+    }
+    std::printf("results in %s (sidecar %s.json)\n", a.out.c_str(), a.out.c_str());
+}
+
+// Rank 0's results file: checked against the study, opened (resuming), sidecar written.
+std::unique_ptr<gapchain::ResultLog>
+open_results(const SweepArguments& a, const gapchain::Study& study, gapchain::SweepSelection& sel) {
+    using namespace gapchain;
+    check_resume(a.out, study);
+    auto log = std::make_unique<ResultLog>(a.out, sweep_csv_header(study), point_count(study));
+    sel.done = log->done();
+    if (!std::filesystem::exists(a.out + ".json"))
+        write_file_atomically(a.out + ".json", study_json(study));
+    return log;
+}
+
+void sweep(const SweepArguments& a, Ranks& ranks) {
+    using namespace gapchain;
+    const Study study = load_study(a.study_path);
+    SweepSelection sel = selection(a, study, ranks);
+    cli::Outputs outputs({a.study_path});
+    outputs.file(a.out, "--out");
+    outputs.file(a.out + ".json", "--out (its .json sidecar)");
+    std::unique_ptr<ResultLog> log;
+    if (ranks.rank() == 0) log = open_results(a, study, sel);
+    ranks.share_done(sel.done);
+    if (ranks.rank() == 0)
+        std::fprintf(stderr,
+                     "gapchain-sweep: %ld points in the study, %ld already in %s, %zu to run%s\n",
+                     point_count(study), log->rows_found(), a.out.c_str(),
+                     pending_points(study, sel).size(), ranks.size() > 1 ? " on rank 0" : "");
+    auto append = [&](const std::string& row) { log->append(row); };
+    long from_others = 0;
+    SweepTally tally;
+    cli::Progress progress("gapchain-sweep", ranks.rank() == 0, true);
+    const auto start = std::chrono::steady_clock::now();
+    const SweepEnd end = run_study(
+        study, sel,
+        [&](const SweepPointResult& r) {
+            if (ranks.rank() == 0) {
+                log->append(sweep_csv_row(study, r));
+                from_others += ranks.collect(append, false);
+            } else {
+                ranks.send_row(sweep_csv_row(study, r));
+            }
+            tally.add(r.simulation);
+        },
+        progress.callback());
+    outputs.keep(); // rows written are done: an interrupted sweep resumes after them
+    if (end == SweepEnd::cancelled) cli::throw_if_interrupted();
+    if (ranks.rank() != 0) {
+        ranks.send_done();
+        return;
+    }
+    from_others += ranks.collect(append, true);
+    if (ranks.size() > 1)
+        std::printf("gapchain-sweep: rank 0 wrote %ld rows from the other %d ranks\n", from_others,
+                    ranks.size() - 1);
+    const double wall =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    print_summary(tally, wall, a, point_count(study), ranks);
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
-    using namespace gapchain;
     Ranks ranks(argc, argv);
     CLI::App app{"Run a study (data/studies/*.json): every point's F_m (and what the study keeps), "
                  "in parallel, streamed to a CSV. Rerunning the same command after an interruption "
                  "continues where it stopped.",
                  "gapchain-sweep"};
-    std::string study_path, out = "results.csv", shard_text = "0/1";
-    int threads = 0;
-    long subset = 0;
-    unsigned long long seed = 1;
-    app.add_option("study", study_path, "Study file (JSON)")->required();
-    app.add_option("--out", out, "Results CSV (a .json sidecar is written next to it)")
-        ->capture_default_str();
-    app.add_option("--threads", threads, "OpenMP threads (0: all cores)")->capture_default_str();
-    app.add_option("--shard", shard_text, "Run shard i of n (index % n == i), e.g. for job arrays")
-        ->capture_default_str();
-    app.add_option(
-           "--subset", subset,
-           "Run only K points, one drawn at random in each of K equal strata of the index range")
-        ->capture_default_str();
-    app.add_option("--seed", seed, "Seed of --subset")->capture_default_str();
-    return cli::run(app, argc, argv, [&] {
-        const Study study = load_study(study_path);
-        const long total = point_count(study);
-        SweepSelection sel;
-        sel.threads = threads;
-        if (std::sscanf(shard_text.c_str(), "%d/%d", &sel.shard, &sel.shards) != 2 ||
-            sel.shards < 1 || sel.shard < 0 || sel.shard >= sel.shards)
-            throw std::invalid_argument("--shard: must be i/n with 0 <= i < n, got \"" +
-                                        shard_text + "\"");
-        if (subset < 0 || subset > total)
-            throw std::invalid_argument("--subset: must be in [0, " + std::to_string(total) +
-                                        "], got " + std::to_string(subset));
-        sel.subset = stratified_subset(total, subset, seed);
-        if (ranks.size() > 1) {
-            if (sel.shards != 1)
-                throw std::invalid_argument(
-                    "--shard: not with several MPI ranks (each rank is a shard), got \"" +
-                    shard_text + "\"");
-            sel.shard = ranks.rank();
-            sel.shards = ranks.size();
-        }
-        std::unique_ptr<ResultLog> log;
-        sel.done.assign(static_cast<std::size_t>(total), 0);
-        if (ranks.rank() == 0) {
-            log = std::make_unique<ResultLog>(out, sweep_csv_header(study), total);
-            sel.done = log->done();
-            if (!std::filesystem::exists(out + ".json"))
-                write_file_atomically(out + ".json", study_json(study));
-        }
-        ranks.share_done(sel.done);
-        const std::vector<long> pending = pending_points(study, sel);
-        if (ranks.rank() == 0)
-            std::fprintf(
-                stderr,
-                "gapchain-sweep: %ld points in the study, %ld already in %s, %zu to run%s\n", total,
-                log->rows_found(), out.c_str(), pending.size(),
-                ranks.size() > 1 ? " on rank 0" : "");
-        auto append = [&](const std::string& row) { log->append(row); };
-        double seconds_periodic = 0, seconds_other = 0;
-        long from_others = 0;
-        long periodic = 0, other = 0;
-        cli::Progress progress("gapchain-sweep", ranks.rank() == 0, true);
-        const auto start = std::chrono::steady_clock::now();
-        run_study(
-            study, sel,
-            [&](const SweepPointResult& r) {
-                if (ranks.rank() == 0) {
-                    log->append(sweep_csv_row(study, r));
-                    from_others += ranks.collect(append, false);
-                } else {
-                    ranks.send_row(sweep_csv_row(study, r));
-                }
-                if (r.simulation.steady_state_period) {
-                    ++periodic;
-                    seconds_periodic += r.simulation.wall_time_s;
-                } else {
-                    ++other;
-                    seconds_other += r.simulation.wall_time_s;
-                }
-            },
-            progress.callback());
-        if (ranks.rank() != 0) {
-            ranks.send_done();
-            return;
-        }
-        from_others += ranks.collect(append, true);
-        if (ranks.size() > 1)
-            std::printf("gapchain-sweep: rank 0 wrote %ld rows from the other %d ranks\n",
-                        from_others, ranks.size() - 1);
-        const double wall =
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-        const long ran = periodic + other;
-        std::printf("gapchain-sweep: %ld points in %.2f s wall (%.3g points/s)%s\n", ran, wall,
-                    wall > 0 ? ran / wall : 0.0,
-                    ranks.size() > 1 ? " on rank 0; the other ranks' rows are in the file too"
-                                     : "");
-        if (ran > 0) {
-            std::printf("  periodic (stopped at steady state): %ld points, mean %.4f s each\n",
-                        periodic, periodic ? seconds_periodic / periodic : 0.0);
-            std::printf("  not periodic (full length):         %ld points, mean %.4f s each\n",
-                        other, other ? seconds_other / other : 0.0);
-            if (subset > 0)
-                std::printf("  estimate for all %ld points at this rate: %.0f s (%.1f h)\n", total,
-                            wall * total / ran, wall * total / ran / 3600.0);
-        }
-        std::printf("results in %s (sidecar %s.json)\n", out.c_str(), out.c_str());
-    });
+    SweepArguments arguments;
+    add_arguments(app, arguments);
+    return gapchain::cli::run(app, argc, argv, [&] { sweep(arguments, ranks); });
 }

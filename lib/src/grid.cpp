@@ -10,8 +10,7 @@ namespace {
 
 /// count values from `from` to `to`, evenly spaced in value or in log, with exact ends.
 std::vector<double> spaced(double from, double to, long count, bool log) {
-    if (count < 1)
-        throw std::invalid_argument("count: must be >= 1, got " + std::to_string(count));
+    if (count < 1) throw std::invalid_argument("count: must be >= 1, got " + std::to_string(count));
     if (!std::isfinite(from) || !std::isfinite(to) || (log && (from <= 0.0 || to <= 0.0)))
         throw std::invalid_argument(std::string("range ends: must be finite") +
                                     (log ? " and > 0" : ""));

@@ -2,9 +2,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include <atomic>
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fcntl.h>
+#include <filesystem>
 #include <fstream>
 #include <numbers>
 #include <sstream>
@@ -68,10 +72,51 @@ std::string to_json(const SimulationResult& r, const Scene& scene) {
     return j.dump(2) + "\n";
 }
 
+namespace {
+
+// The temporaries of open OutputFiles, in fixed slots that a signal handler can read without
+// allocating or locking.
+constexpr int k_temp_slots = 64;
+constexpr std::size_t k_temp_length = 4096;
+char g_temp_paths[k_temp_slots][k_temp_length];
+std::atomic<bool> g_temp_used[k_temp_slots];
+
+int register_temporary(const std::string& path) {
+    if (path.size() >= k_temp_length) return -1;
+    for (int i = 0; i < k_temp_slots; ++i) {
+        bool expected = false;
+        if (g_temp_used[i].compare_exchange_strong(expected, true)) {
+            std::memcpy(g_temp_paths[i], path.c_str(), path.size() + 1);
+            return i;
+        }
+    }
+    return -1;
+}
+
+void release_temporary(int slot) {
+    if (slot >= 0) g_temp_used[slot].store(false);
+}
+
+std::string reason() {
+    return std::strerror(errno);
+}
+
+} // namespace
+
+void remove_temporary_files() noexcept {
+    for (int i = 0; i < k_temp_slots; ++i)
+        if (g_temp_used[i].load()) ::unlink(g_temp_paths[i]);
+}
+
 OutputFile::OutputFile(std::string path) : m_path(std::move(path)) {
     m_temp = m_path + ".tmp." + std::to_string(::getpid());
+    m_slot = register_temporary(m_temp);
+    errno = 0;
     m_stream.open(m_temp, std::ios::out | std::ios::trunc);
-    if (!m_stream) throw SceneError(m_path + ": cannot open for writing");
+    if (!m_stream) {
+        release_temporary(m_slot);
+        throw SceneError(m_path + ": cannot open for writing: " + reason());
+    }
     m_stream.precision(17);
 }
 
@@ -80,16 +125,21 @@ OutputFile::~OutputFile() {
         m_stream.close();
         std::remove(m_temp.c_str());
     }
+    release_temporary(m_slot);
 }
 
 void OutputFile::commit() {
+    errno = 0;
     m_stream.flush();
     const bool ok = static_cast<bool>(m_stream);
+    const int flush_errno = errno;
     m_stream.close();
-    if (!ok || std::rename(m_temp.c_str(), m_path.c_str()) != 0) {
+    const bool closed = static_cast<bool>(m_stream) || ok;
+    if (!ok || !closed || std::rename(m_temp.c_str(), m_path.c_str()) != 0) {
+        const std::string why = flush_errno ? std::strerror(flush_errno) : reason();
         std::remove(m_temp.c_str());
         m_committed = true;
-        throw SceneError(m_path + ": cannot write the output file");
+        throw OutputError(m_path + ": cannot write the output file: " + why);
     }
     m_committed = true;
 }
@@ -100,15 +150,13 @@ void write_file_atomically(const std::string& path, const std::string& text) {
     f.commit();
 }
 
-std::string points_csv(const BifurcationResult& result, const SectionSpec& section,
-                       SweptParameter parameter) {
+std::string points_csv(const BifurcationResult& result, const SectionSpec& section) {
     std::ostringstream os;
     os.precision(12);
     os << "value,direction,point,t";
     for (const auto& v : section.record)
         os << ',' << v.name();
-    os << "\n# value is " << to_string(parameter) << "; point is " << section.record.front().name()
-       << "\n";
+    os << '\n';
     for (const auto& row : result.rows)
         for (const auto& p : row.points) {
             os << row.value << ',' << to_string(row.direction) << ',' << p.values.front() << ','
@@ -120,15 +168,36 @@ std::string points_csv(const BifurcationResult& result, const SectionSpec& secti
     return os.str();
 }
 
-std::string summary_csv(const BifurcationResult& result, SweptParameter parameter) {
+std::string summary_csv(const BifurcationResult& result) {
     std::ostringstream os;
     os.precision(12);
-    os << "value,direction,F_m,period,points,status\n# value is " << to_string(parameter)
-       << "; period 0 = not periodic\n";
+    os << "value,direction,F_m,period,points,status\n";
     for (const auto& row : result.rows)
         os << row.value << ',' << to_string(row.direction) << ',' << row.F_m << ',' << row.period
            << ',' << row.points.size() << ',' << to_string(row.status) << '\n';
     return os.str();
+}
+
+std::string to_json(const BifurcationResult& r, const BifurcationOptions& o,
+                    const ReducedParameters& base) {
+    json j;
+    j["parameter"] = to_string(o.parameter);
+    j["columns"] = {{"value", "the value of " + std::string(to_string(o.parameter))},
+                    {"point", "the section variable " + o.section.record.front().name()},
+                    {"period", "forcing periods per cycle of the section; 0 = not periodic"}};
+    j["from"] = o.from;
+    j["to"] = o.to;
+    j["steps"] = o.steps;
+    j["mode"] = o.mode == SweepMode::independent ? "independent" : "continuation";
+    j["transient_periods"] = o.transient_periods;
+    j["record_periods"] = o.record_periods;
+    j["phase"] = o.section.phase;
+    j["base"] = {
+        {"Nm", base.Nm}, {"fc", base.fc}, {"eps", base.eps}, {"e_r", base.e_r}, {"f_r", base.f_r}};
+    j["cancelled"] = r.cancelled;
+    j["threads_used"] = r.threads_used;
+    j["wall_time_s"] = r.wall_time_s;
+    return j.dump(2) + "\n";
 }
 
 std::string to_json(const ModalResult& r, int Nm, double fc) {
@@ -291,9 +360,52 @@ std::string sweep_csv_row(const Study& study, const SweepPointResult& r) {
     return os.str();
 }
 
+std::string study_fingerprint(const Study& study) {
+    nlohmann::ordered_json j;
+    j["scene"] = nlohmann::ordered_json::parse(study.scene_json);
+    for (const auto& a : study.axes)
+        j["parameters"].push_back({a.key, a.values});
+    j["sampling"] = {static_cast<int>(study.sampling), study.samples, study.seed};
+    j["columns"] = sweep_csv_header(study);
+    // FNV-1a over the canonical text: stable across runs and builds.
+    std::uint64_t h = 1469598103934665603ULL;
+    for (const unsigned char c : j.dump()) {
+        h ^= c;
+        h *= 1099511628211ULL;
+    }
+    char text[17];
+    std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(h));
+    return text;
+}
+
+void check_resume(const std::string& results_csv, const Study& study) {
+    std::error_code ec;
+    if (!std::filesystem::exists(results_csv, ec) ||
+        std::filesystem::file_size(results_csv, ec) == 0)
+        return;
+    const std::string sidecar = results_csv + ".json";
+    std::ifstream in(sidecar);
+    nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+    const std::string found =
+        j.is_object() && j.contains("fingerprint") && j["fingerprint"].is_string()
+            ? j["fingerprint"].get<std::string>()
+            : std::string();
+    if (found.empty())
+        throw SceneError(results_csv + ": exists, but its sidecar " + sidecar +
+                         " does not say which study started it; choose another --out or remove "
+                         "both files");
+    if (found != study_fingerprint(study))
+        throw SceneError(results_csv + ": was started by another study (fingerprint " + found +
+                         ", this study " + study_fingerprint(study) +
+                         "); choose another --out or remove both files");
+}
+
 std::string study_json(const Study& study) {
     nlohmann::ordered_json j;
-    j["study"] = study.source;
+    std::error_code ec;
+    const auto absolute = std::filesystem::absolute(study.source, ec);
+    j["study"] = ec ? study.source : absolute.string();
+    j["fingerprint"] = study_fingerprint(study);
     j["scene"] = nlohmann::ordered_json::parse(study.scene_json);
     for (const auto& a : study.axes)
         j["parameters"][a.key] = a.values;
@@ -344,14 +456,20 @@ ResultLog::ResultLog(const std::string& path, const std::string& header, long in
         }
     }
     m_fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_APPEND, 0644);
-    if (m_fd < 0) throw SceneError(path + ": cannot open for writing");
+    if (m_fd < 0) throw SceneError(path + ": cannot open for writing: " + reason());
     // One writer at a time: a second sweep on the same file (or a leftover process of a killed
     // one) would append points twice. The kernel drops the lock when its holder dies.
     if (::flock(m_fd, LOCK_EX | LOCK_NB) != 0)
         throw SceneError(path + ": is being written by another gapchain-sweep still running; "
                                 "wait for it or stop it first");
     if (existing.empty()) {
-        append(header);
+        try {
+            append(header);
+        } catch (const OutputError&) {
+            // A new file that cannot even take its header (disk full) is not left behind.
+            ::unlink(path.c_str());
+            throw;
+        }
     } else if (keep < existing.size() && ::ftruncate(m_fd, static_cast<off_t>(keep)) != 0) {
         throw SceneError(path + ": cannot drop the torn last row");
     }
@@ -365,7 +483,8 @@ void ResultLog::append(const std::string& line) {
     const std::string whole = line + "\n";
     const ssize_t written = ::write(m_fd, whole.data(), whole.size());
     if (written != static_cast<ssize_t>(whole.size()))
-        throw SceneError(m_path + ": cannot append a result row");
+        throw OutputError(m_path + ": cannot append a result row: " +
+                          (written < 0 ? reason() : std::string("short write (disk full?)")));
 }
 
 } // namespace gapchain

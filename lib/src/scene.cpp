@@ -7,8 +7,10 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cerrno>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -341,24 +343,33 @@ Accelerogram read_accelerogram(const std::string& path, double unit) {
 
 Scene parse_scene(std::string_view text, const std::vector<std::string>& overrides,
                   const std::string& source) {
-    json root;
-    try {
-        root = json::parse(text);
-    } catch (const json::exception& e) {
-        // Parse errors, and number overflow (1e999), which nlohmann reports as out_of_range.
-        throw SceneError(source + ": malformed JSON: " + e.what());
-    }
-    return detail::scene_from_parsed_json(std::move(root), overrides, source);
+    return detail::scene_from_parsed_json(detail::parse_json_strictly<json>(text, source),
+                                          overrides, source);
 }
 
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides) {
+    return parse_scene(detail::read_text_file(path, "scene"), overrides, path);
+}
+
+namespace detail {
+
+std::string read_text_file(const std::string& path, const std::string& what) {
+    std::error_code ec;
+    if (path.empty()) throw SceneError(what + " file: empty path");
+    if (std::filesystem::is_directory(path, ec))
+        throw SceneError(path + ": is a directory, not a " + what + " file");
+    errno = 0;
     std::ifstream in(path);
-    if (!in) throw SceneError(path + ": cannot read the scene file");
+    if (!in)
+        throw SceneError(path + ": cannot read the " + what +
+                         " file: " + (errno ? std::strerror(errno) : "unreadable"));
     std::ostringstream text;
     text << in.rdbuf();
-    if (in.bad()) throw SceneError(path + ": cannot read the scene file");
-    return parse_scene(text.str(), overrides, path);
+    if (in.bad()) throw SceneError(path + ": cannot read the " + what + " file");
+    return text.str();
 }
+
+} // namespace detail
 
 namespace detail {
 

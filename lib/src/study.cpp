@@ -1,5 +1,6 @@
 #include "gapchain/study.hpp"
 
+#include "detail/json_reader.hpp"
 #include "detail/scene_json.hpp"
 #include "gapchain/grid.hpp"
 
@@ -138,19 +139,21 @@ void check_axis_values(const Study& s) {
             Study one = s;
             one.axes = {{axis.key, {v}}};
             one.sampling = Sampling::grid;
-            (void)point_scene(one, 0);
+            const Scene scene = point_scene(one, 0);
+            if (s.keep.regime && (!scene.uniform() || !scene.harmonic()))
+                throw SceneError(std::string("keep: \"regime\" needs ") +
+                                 (scene.harmonic()
+                                      ? "the paper's uniform row with the linear contact law "
+                                        "(no model arrays, scatter or contact_law)"
+                                      : "harmonic forcing (a forcing period), not a record") +
+                                 "; drop \"regime\" from keep");
         }
 }
 
 } // namespace
 
 Study parse_study(const std::string& text, const std::string& source) {
-    ojson root;
-    try {
-        root = ojson::parse(text);
-    } catch (const ojson::exception& e) {
-        throw SceneError(source + ": malformed JSON: " + e.what());
-    }
+    const ojson root = detail::parse_json_strictly<ojson>(text, source);
     if (!root.is_object()) throw SceneError(source + ": a study is a JSON object");
     require_keys(root, "", {"scene", "parameters", "sample", "keep"},
                  "scene, parameters, sample, keep");
@@ -164,8 +167,13 @@ Study parse_study(const std::string& text, const std::string& source) {
     if (!root.contains("parameters") || !root["parameters"].is_object() ||
         root["parameters"].empty())
         throw SceneError("parameters: must be an object with at least one swept key");
-    for (const auto& [key, spec] : root["parameters"].items())
+    for (const auto& [key, spec] : root["parameters"].items()) {
+        for (const auto& axis : s.axes)
+            if (full_key(axis.key) == full_key(key))
+                throw SceneError("parameters." + key + ": parameter given twice (also as " +
+                                 axis.key + "); keep one");
         s.axes.push_back({key, axis_values(spec, "parameters." + key)});
+    }
     if (root.contains("sample")) read_sampling(root["sample"], s);
     if (root.contains("keep")) s.keep = read_kept(root["keep"]);
     const long n = point_count(s);
@@ -176,11 +184,7 @@ Study parse_study(const std::string& text, const std::string& source) {
 }
 
 Study load_study(const std::string& path) {
-    std::ifstream in(path);
-    if (!in) throw SceneError(path + ": cannot read the study file");
-    std::ostringstream text;
-    text << in.rdbuf();
-    return parse_study(text.str(), path);
+    return parse_study(detail::read_text_file(path, "study"), path);
 }
 
 struct StudyScenes::BaseScene {
@@ -213,8 +217,8 @@ Scene point_scene(const Study& study, long index) {
 }
 
 SweepPointInput sweep_point_input(const Scene& scene) {
-    return {scene.dynamics(), scene.run,      scene.initial,
-            scene.reduced,    scene.physical, scene.uniform()};
+    return {scene.dynamics(), scene.run,       scene.initial,   scene.reduced,
+            scene.physical,   scene.uniform(), scene.harmonic()};
 }
 
 SweepEnd run_study(const Study& study, const SweepSelection& selection,

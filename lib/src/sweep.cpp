@@ -112,6 +112,17 @@ std::vector<long> pending_points(const Study& s, const SweepSelection& sel) {
 
 namespace {
 
+/// A regime needs the five reduced numbers and a forcing period.
+void require_classifiable(const SweepPointInput& in) {
+    if (!in.harmonic)
+        throw std::invalid_argument("keep: \"regime\" needs harmonic forcing (a forcing period); "
+                                    "drop it for record and Kanai-Tajimi scenes");
+    if (!in.uniform)
+        throw std::invalid_argument("keep: \"regime\" needs the paper's uniform row with the "
+                                    "linear contact law; drop it, or the model arrays, scatter "
+                                    "and contact_law");
+}
+
 SweepPointResult run_point(const Study& s, const SweepPointFactory& make_point, long index) {
     SweepPointResult r;
     r.index = index;
@@ -121,9 +132,7 @@ SweepPointResult run_point(const Study& s, const SweepPointFactory& make_point, 
     r.simulation = simulate(in.dynamics, in.run, in.initial);
     if (in.physical) r.F_m_newton = force_in_newtons(r.simulation.F_m, *in.physical);
     if (s.keep.regime) {
-        if (!in.uniform)
-            throw std::invalid_argument("keep: \"regime\" needs the paper's uniform row; drop it "
-                                        "or the model arrays and scatter");
+        require_classifiable(in);
         ClassifyOptions co;
         co.scheme = in.run.scheme;
         co.tolerance = in.run.tolerance;

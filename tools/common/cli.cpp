@@ -1,10 +1,131 @@
 #include "cli.hpp"
 
+#include "gapchain/report.hpp"
+
+#include <atomic>
+#include <csignal>
 #include <cstdio>
+#include <cstring>
+#include <filesystem>
 #include <iostream>
+#include <system_error>
 #include <unistd.h>
 
 namespace gapchain::cli {
+
+namespace {
+
+std::atomic<int> g_signal{0};
+
+extern "C" void on_signal(int signal) {
+    g_signal.store(signal);
+    // The first signal cancels through the progress callbacks; a second one ends the process
+    // at once, temporaries removed (unlink is async-signal-safe).
+    std::signal(SIGINT, SIG_DFL);
+    std::signal(SIGTERM, SIG_DFL);
+    remove_temporary_files();
+}
+
+namespace fs = std::filesystem;
+
+bool same_file(const std::string& a, const std::string& b) {
+    std::error_code ec;
+    if (fs::exists(a, ec) && fs::exists(b, ec)) return fs::equivalent(a, b, ec);
+    return fs::weakly_canonical(a, ec) == fs::weakly_canonical(b, ec);
+}
+
+// The nearest existing ancestor of path must be a writable directory.
+void check_writable_parent(const std::string& path, const std::string& flag) {
+    fs::path dir = fs::absolute(path).parent_path();
+    std::error_code ec;
+    while (!dir.empty() && !fs::exists(dir, ec) && dir != dir.parent_path())
+        dir = dir.parent_path();
+    if (!fs::is_directory(dir, ec))
+        throw std::invalid_argument(flag + ": " + path + ": " + dir.string() +
+                                    " is not a directory");
+    if (::access(dir.c_str(), W_OK) != 0)
+        throw std::invalid_argument(flag + ": " + path + ": cannot write into " + dir.string() +
+                                    ": " + std::strerror(errno));
+}
+
+} // namespace
+
+Interrupted::Interrupted(int sig)
+    : std::runtime_error(std::string("interrupted by ") + (sig == SIGTERM ? "SIGTERM" : "SIGINT")),
+      signal(sig) {}
+
+bool interrupted() {
+    return g_signal.load() != 0;
+}
+
+void throw_if_interrupted() {
+    if (interrupted()) throw Interrupted(g_signal.load());
+}
+
+Outputs::Outputs(std::vector<std::string> inputs) : m_inputs(std::move(inputs)) {}
+
+Outputs::~Outputs() {
+    if (m_kept) return;
+    std::error_code ec;
+    for (auto it = m_created.rbegin(); it != m_created.rend(); ++it)
+        fs::remove_all(*it, ec);
+}
+
+void Outputs::check_distinct(const std::string& path, const std::string& flag) {
+    for (const auto& input : m_inputs)
+        if (!input.empty() && same_file(path, input))
+            throw std::invalid_argument(flag + ": " + path +
+                                        " is an input of this run; choose "
+                                        "another output path");
+    for (const auto& [other, other_flag] : m_paths)
+        if (same_file(path, other))
+            throw std::invalid_argument(flag + ": " + path + " is also the output of " +
+                                        other_flag + "; give each output its own path");
+}
+
+void Outputs::file(const std::string& path, const std::string& flag) {
+    if (path.empty()) return;
+    std::error_code ec;
+    if (fs::is_directory(path, ec))
+        throw std::invalid_argument(flag + ": " + path + " is a directory; give a file name");
+    check_distinct(path, flag);
+    check_writable_parent(path, flag);
+    m_paths.emplace_back(path, flag);
+}
+
+void Outputs::folder(const std::string& path, const std::string& flag) {
+    if (path.empty()) throw std::invalid_argument(flag + ": must name a folder");
+    std::error_code ec;
+    if (fs::exists(path, ec) && !fs::is_directory(path, ec))
+        throw std::invalid_argument(flag + ": " + path + " exists and is not a folder");
+    check_distinct(path, flag);
+    if (fs::is_directory(path, ec)) {
+        if (::access(path.c_str(), W_OK) != 0)
+            throw std::invalid_argument(flag + ": cannot write into " + path + ": " +
+                                        std::strerror(errno));
+    } else {
+        check_writable_parent(path, flag);
+    }
+    m_paths.emplace_back(path, flag);
+    m_folders.push_back(path);
+}
+
+void Outputs::create_folders() {
+    for (const auto& folder : m_folders) {
+        // Remember the outermost folder this run creates, so that a failure removes it all.
+        fs::path first_new;
+        for (fs::path p = fs::absolute(folder); !p.empty() && p != p.parent_path();
+             p = p.parent_path()) {
+            std::error_code ec;
+            if (fs::exists(p, ec)) break;
+            first_new = p;
+        }
+        std::error_code ec;
+        fs::create_directories(folder, ec);
+        if (ec) throw std::invalid_argument(folder + ": cannot create the folder: " + ec.message());
+        if (!first_new.empty()) m_created.push_back(first_new.string());
+    }
+}
 
 void add_scene_arguments(CLI::App& app, SceneArguments& args, bool required) {
     auto* opt = app.add_option("scene", args.path, "Scene file (JSON); see README.md");
@@ -18,8 +139,26 @@ Scene load(const SceneArguments& args, const std::string& default_scene_json) {
     return load_scene(args.path, args.sets);
 }
 
+void require_paper_row(const Scene& scene, const std::string& tool) {
+    if (!scene.harmonic())
+        throw SceneError("excitation.type: " + tool +
+                         " needs harmonic forcing (a forcing period); records and Kanai-Tajimi "
+                         "motion work in gapchain-sim and gapchain-sweep");
+    if (!scene.uniform()) {
+        const bool law = scene.row && scene.row->law != ContactLaw::linear;
+        throw SceneError(std::string(law ? "model.contact_law" : "model arrays and scatter") +
+                         ": " + tool +
+                         " takes the paper's uniform row with the linear law (Nm, "
+                         "fc, eps, e_r, f_r); " +
+                         (law ? "nonlinear laws" : "non-uniform rows") +
+                         " work in gapchain-sim, -poincare, -spectrum, -modes and -accuracy");
+    }
+}
+
 int run(CLI::App& app, int argc, char** argv, const std::function<void()>& body) {
     app.set_version_flag("--version", std::string(GAPCHAIN_VERSION));
+    std::signal(SIGINT, on_signal);
+    std::signal(SIGTERM, on_signal);
     try {
         app.parse(argc, argv);
     } catch (const CLI::Success& e) {
@@ -31,6 +170,12 @@ int run(CLI::App& app, int argc, char** argv, const std::function<void()>& body)
     try {
         body();
         return static_cast<int>(ExitCode::success);
+    } catch (const Interrupted& e) {
+        std::cerr << app.get_name() << ": " << e.what() << "; outputs not finished were removed\n";
+        return 128 + e.signal;
+    } catch (const std::bad_alloc&) {
+        std::cerr << app.get_name() << ": out of memory: the run is too large for this machine\n";
+        return static_cast<int>(ExitCode::failure);
     } catch (const std::invalid_argument& e) {
         std::cerr << app.get_name() << ": " << e.what() << "\n";
         return static_cast<int>(ExitCode::bad_input);
@@ -50,6 +195,7 @@ Progress::~Progress() {
 }
 
 bool Progress::update(double fraction) {
+    if (interrupted()) return false;
     if (!m_terminal && !m_lines) return true;
     const auto now = std::chrono::steady_clock::now();
     const auto every =

@@ -8,7 +8,9 @@
 
 #include <chrono>
 #include <functional>
+#include <stdexcept>
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace gapchain::cli {
@@ -19,6 +21,49 @@ enum class ExitCode : int { success = 0, failure = 1, bad_input = 2 };
 class NumericalFailure : public std::runtime_error {
 public:
     using std::runtime_error::runtime_error;
+};
+
+// SIGINT or SIGTERM arrived: the run was cancelled cleanly (exit 128 + signal).
+class Interrupted : public std::runtime_error {
+public:
+    explicit Interrupted(int signal);
+    int signal;
+};
+
+// Whether SIGINT or SIGTERM has arrived (cli::run installs the handlers; the first signal sets
+// this flag so that long runs cancel through their progress callback and clean up; a second
+// one ends the process at once).
+bool interrupted();
+// Throws Interrupted if a signal has arrived.
+void throw_if_interrupted();
+
+// The output paths of one tool run. Every path is checked when it is added, before anything
+// runs: its folder must exist (or be creatable) and be writable, it must not be an input file
+// or another output. Folders are created by create_folders(); if the run does not reach
+// keep(), the folders it created are removed again (with what was written into them).
+class Outputs {
+public:
+    // inputs: the files the run reads (scene, study), never to be overwritten.
+    explicit Outputs(std::vector<std::string> inputs);
+    ~Outputs();
+    Outputs(const Outputs&) = delete;
+    Outputs& operator=(const Outputs&) = delete;
+    // A file output given by flag (for messages); empty paths are ignored.
+    void file(const std::string& path, const std::string& flag);
+    // A folder output given by flag.
+    void folder(const std::string& path, const std::string& flag);
+    // Creates the folders not there yet (remembered for removal on failure).
+    void create_folders();
+    // The run succeeded: nothing is removed.
+    void keep() { m_kept = true; }
+
+private:
+    void check_distinct(const std::string& path, const std::string& flag);
+    std::vector<std::string> m_inputs;
+    std::vector<std::pair<std::string, std::string>> m_paths; // path, flag
+    std::vector<std::string> m_folders;
+    std::vector<std::string> m_created;
+    bool m_kept = false;
 };
 
 // The scene argument and --set overrides every scene-reading tool takes.
@@ -33,6 +78,11 @@ void add_scene_arguments(CLI::App& app, SceneArguments& args, bool required);
 // Loads args.path (or parses default_scene_json when the path is empty) with the overrides.
 Scene load(const SceneArguments& args, const std::string& default_scene_json = "{}");
 
+// Tools that take the paper's five reduced numbers and a forcing period (bifurcation,
+// classify, bounds) refuse other scenes with the rule: a record or Kanai-Tajimi excitation,
+// model arrays or scatter, a nonlinear contact law.
+void require_paper_row(const Scene& scene, const std::string& tool);
+
 // Parses the command line and runs body, mapping every error to one line on stderr and an exit
 // code: CLI11 and SceneError/std::invalid_argument -> 2, NumericalFailure and others -> 1.
 int run(CLI::App& app, int argc, char** argv, const std::function<void()>& body);
@@ -44,7 +94,7 @@ class Progress {
 public:
     Progress(std::string label, bool enabled = true, bool lines_otherwise = false);
     ~Progress();
-    // Reports a fraction in [0, 1]; always returns true (never cancels).
+    // Reports a fraction in [0, 1]; returns false (cancel) once SIGINT or SIGTERM arrived.
     bool update(double fraction);
     std::function<bool(double)> callback() {
         return [this](double f) { return update(f); };

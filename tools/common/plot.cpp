@@ -5,8 +5,35 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <sys/wait.h>
+#include <unistd.h>
 
 namespace gapchain::cli {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// The PNG files a script writes: its "set output '...'" lines.
+std::vector<std::string> outputs_of(const std::string& script) {
+    static const std::regex output(R"(set output '([^']+)')");
+    std::vector<std::string> files;
+    for (std::sregex_iterator it(script.begin(), script.end(), output), end; it != end; ++it)
+        files.push_back((*it)[1].str());
+    return files;
+}
+
+std::string first_line_of(const std::string& path) {
+    std::ifstream in(path);
+    std::string line;
+    std::getline(in, line);
+    return line;
+}
+
+} // namespace
 
 bool plot_with_gnuplot(const std::string& script_path, const std::string& script) {
     write_file_atomically(script_path, script);
@@ -17,16 +44,59 @@ bool plot_with_gnuplot(const std::string& script_path, const std::string& script
                      script_path.c_str());
         return false;
     }
-    const auto dir = std::filesystem::path(script_path).parent_path();
-    const std::string command = "cd '" + (dir.empty() ? std::string(".") : dir.string()) +
-                                "' && gnuplot '" +
-                                std::filesystem::path(script_path).filename().string() + "'";
-    if (std::system(command.c_str()) != 0) {
-        std::fprintf(stderr, "note: gnuplot failed on %s; the CSV files are complete\n",
-                     script_path.c_str());
-        return false;
+    const fs::path dir = fs::path(script_path).parent_path().empty()
+                             ? fs::path(".")
+                             : fs::path(script_path).parent_path();
+    // gnuplot's own chatter (font warnings) goes to a log that is shown only if it fails.
+    const std::string log = script_path + ".log." + std::to_string(::getpid());
+    const std::string command = "cd '" + dir.string() + "' && gnuplot '" +
+                                fs::path(script_path).filename().string() + "' 2>'" +
+                                fs::absolute(log).string() + "'";
+    for (const auto& png : outputs_of(script))
+        std::remove((dir / png).c_str());
+    const int status = std::system(command.c_str());
+    const std::string reason = first_line_of(log);
+    std::remove(log.c_str());
+    const bool ran = status != -1 && WIFEXITED(status) && WEXITSTATUS(status) == 0;
+    for (const auto& png : outputs_of(script)) {
+        std::error_code ec;
+        const auto size = fs::file_size(dir / png, ec);
+        if (!ran || ec || size == 0) {
+            std::remove((dir / png).c_str());
+            throw OutputError((dir / png).string() + ": gnuplot could not write the figure" +
+                              (reason.empty() ? std::string() : ": " + reason) +
+                              "; the CSV files are complete");
+        }
     }
     return true;
+}
+
+std::string plot_script(const std::string& name,
+                        const std::vector<std::pair<std::string, std::string>>& values) {
+    std::vector<fs::path> dirs;
+    if (const char* env = std::getenv("GAPCHAIN_PLOT_DIR")) dirs.emplace_back(env);
+    dirs.emplace_back(GAPCHAIN_SOURCE_PLOT_DIR);
+    dirs.emplace_back(GAPCHAIN_INSTALL_PLOT_DIR);
+    for (const auto& dir : dirs) {
+        std::ifstream in(dir / (name + ".gp"));
+        if (!in) continue;
+        std::ostringstream text;
+        text << in.rdbuf();
+        std::string script = text.str();
+        for (const auto& [key, value] : values)
+            for (auto at = script.find("@" + key + "@"); at != std::string::npos;
+                 at = script.find("@" + key + "@", at + value.size()))
+                script.replace(at, key.size() + 2, value);
+        return script;
+    }
+    throw std::runtime_error(name + ".gp: plot template not found (set GAPCHAIN_PLOT_DIR to the "
+                                    "folder data/plot of gapchain)");
+}
+
+bool plot_template(const std::string& folder, const std::string& name,
+                   const std::vector<std::pair<std::string, std::string>>& values) {
+    return plot_with_gnuplot((fs::path(folder) / (name + ".gp")).string(),
+                             plot_script(name, values));
 }
 
 } // namespace gapchain::cli

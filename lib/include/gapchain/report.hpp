@@ -24,16 +24,29 @@ std::string to_json(const SimulationResult& result, const Scene& scene);
 /// Writes a file so that readers never see it half-written and a failure leaves nothing:
 /// the text goes to a temporary file next to path, which is renamed over path on commit().
 /// Destroying an uncommitted OutputFile removes the temporary.
+/// An output that could not be written once the run was under way (disk full, I/O error): the
+/// message names the file and the operating system's reason. Not bad input (tools exit 1).
+class OutputError : public std::runtime_error {
+public:
+    using std::runtime_error::runtime_error;
+};
+
+/// Removes the temporary files of every OutputFile still open in this process. Async-signal-
+/// safe (only unlink(2)): for a SIGINT/SIGTERM handler.
+void remove_temporary_files() noexcept;
+
 class OutputFile {
 public:
-    /// Opens path + ".tmp.<pid>" for writing; throws SceneError if it cannot.
+    /// Opens path + ".tmp.<pid>" for writing; throws SceneError naming the path and the
+    /// system's reason if it cannot.
     explicit OutputFile(std::string path);
     ~OutputFile();
     OutputFile(const OutputFile&) = delete;
     OutputFile& operator=(const OutputFile&) = delete;
     /// The stream to write to.
     std::ostream& stream() { return m_stream; }
-    /// Flushes, closes and renames onto the final path; throws SceneError on I/O failure.
+    /// Flushes, closes and renames onto the final path; throws OutputError (file and reason) on
+    /// I/O failure, leaving neither the temporary nor a partial file.
     void commit();
 
 private:
@@ -41,6 +54,7 @@ private:
     std::string m_temp;
     std::ofstream m_stream;
     bool m_committed = false;
+    int m_slot = -1; ///< registry slot of m_temp (remove_temporary_files)
 };
 
 /// Writes text to path through an OutputFile.
@@ -48,11 +62,15 @@ void write_file_atomically(const std::string& path, const std::string& text);
 
 /// The section points of a diagram as CSV: columns value,direction,point,t,<recorded names>;
 /// `point` is the first recorded variable (the diagram's ordinate).
-std::string points_csv(const BifurcationResult& result, const SectionSpec& section,
-                       SweptParameter parameter);
+std::string points_csv(const BifurcationResult& result, const SectionSpec& section);
 
-/// One row per value and direction: value,direction,F_m,period,points,status.
-std::string summary_csv(const BifurcationResult& result, SweptParameter parameter);
+/// One row per value and direction: value,direction,F_m,period,points,status (period 0: not
+/// periodic).
+std::string summary_csv(const BifurcationResult& result);
+/// What the CSV columns of a diagram mean (which parameter `value` is, which variable `point`
+/// is) and how it was made: the JSON sidecar bifurcation.json next to them.
+std::string to_json(const BifurcationResult& result, const BifurcationOptions& options,
+                    const ReducedParameters& base);
 
 /// Modal analysis as JSON: Nm, fc, mode_numbers, frequencies, approx, rel_error, residuals,
 /// shapes (if computed), method, status, iterations, wall_time_s.
@@ -89,8 +107,16 @@ std::string work_precision_csv(const WorkPrecision& study);
 std::string sweep_csv_header(const Study& study);
 /// One CSV line (no newline) for a finished point.
 std::string sweep_csv_row(const Study& study, const SweepPointResult& result);
-/// The study and the build as JSON, for the sidecar next to the results.
+/// The study and the build as JSON, for the sidecar next to the results; it holds the study's
+/// fingerprint, so that a resumed sweep can tell that its CSV was started by the same study.
 std::string study_json(const Study& study);
+/// A hash (16 hex digits) of everything that decides a study's rows: the base scene, the axes
+/// and their values, the sampling and what is kept. Not the file name or the build.
+std::string study_fingerprint(const Study& study);
+/// Refuses (SceneError, exit 2) to resume into results_csv unless its sidecar
+/// (results_csv + ".json") holds this study's fingerprint. Nothing to check if the CSV does not
+/// exist yet or is empty.
+void check_resume(const std::string& results_csv, const Study& study);
 
 /// An append-only results file that survives kill -9 at any moment. Each row reaches the file in
 /// one write(2) of the whole line, so a killed run leaves whole rows and at most one torn last
@@ -109,7 +135,8 @@ public:
     [[nodiscard]] const std::vector<char>& done() const { return m_done; }
     /// Rows already in the file when it was opened.
     [[nodiscard]] long rows_found() const { return m_rows_found; }
-    /// Appends line + newline in a single write; throws SceneError on I/O failure.
+    /// Appends line + newline in a single write; throws OutputError (file and reason) on I/O
+    /// failure.
     void append(const std::string& line);
 
 private:

@@ -63,7 +63,8 @@ struct SweepPointInput {
     std::vector<double> initial;                ///< initial state (empty: rest)
     ReducedParameters reduced;                  ///< the five reduced numbers
     std::optional<PhysicalParameters> physical; ///< set for physical scenes (F_m in newtons)
-    bool uniform = true;                        ///< the paper's homogeneous row (regime needs it)
+    bool uniform = true;  ///< the paper's homogeneous row with the linear law (regime needs it)
+    bool harmonic = true; ///< harmonic forcing (regime needs a forcing period)
 };
 
 /// Makes the input of point `index`; throws std::invalid_argument (or SceneError) naming the

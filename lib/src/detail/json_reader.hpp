@@ -11,6 +11,7 @@
 #include <cmath>
 #include <set>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace gapchain::detail {
@@ -120,5 +121,50 @@ private:
     std::string m_path;
     std::vector<std::string> m_allowed;
 };
+
+} // namespace gapchain::detail
+
+namespace gapchain::detail {
+
+/// Parses JSON text (nlohmann::json or ordered_json) and refuses a key given twice in one
+/// object, at any depth, naming its path ("model.Nm: duplicate key"): nlohmann would keep the
+/// last silently. Malformed text throws SceneError naming source.
+template <class Json>
+Json parse_json_strictly(std::string_view text, const std::string& source) {
+    struct Level {
+        std::set<std::string> keys;
+        std::string path;
+        std::string last_key;
+    };
+    std::vector<Level> levels;
+    auto callback = [&](int, typename Json::parse_event_t event, Json& parsed) {
+        using Event = typename Json::parse_event_t;
+        if (event == Event::object_start) {
+            const std::string parent =
+                levels.empty() ? std::string() : levels.back().path + levels.back().last_key + ".";
+            levels.push_back({{}, levels.empty() ? std::string() : parent, {}});
+        } else if (event == Event::object_end) {
+            if (!levels.empty()) levels.pop_back();
+        } else if (event == Event::key && !levels.empty()) {
+            const std::string key = parsed.template get<std::string>();
+            if (!levels.back().keys.insert(key).second)
+                throw SceneError(levels.back().path + key +
+                                 ": duplicate key (given twice in one object; JSON keeps only "
+                                 "one, so the scene is ambiguous)");
+            levels.back().last_key = key;
+        }
+        return true;
+    };
+    try {
+        return Json::parse(text, callback);
+    } catch (const typename Json::exception& e) {
+        // Parse errors, and number overflow (1e999), which nlohmann reports as out_of_range.
+        throw SceneError(source + ": malformed JSON: " + e.what());
+    }
+}
+
+/// Reads a whole text file; `what` names it in messages ("scene", "study"). A directory, or a
+/// file that cannot be read, is a SceneError naming the path and the reason.
+std::string read_text_file(const std::string& path, const std::string& what);
 
 } // namespace gapchain::detail

@@ -141,20 +141,29 @@ void bench_modes(int Nm, int count) {
 int main(int argc, char** argv) {
     CLI::App app{"Benchmarks of docs/performance.md (prints figures; not a test).",
                  "gapchain-bench"};
-    app.require_subcommand(1);
+    app.require_subcommand(0, 1);
+    app.allow_extras(false);
     long periods = 1000;
     double tolerance = 1e-4;
     int threads = 0;
     auto* sim = app.add_subcommand("sim", "The three reference scenes against a plain RK4 loop");
-    sim->add_option("--periods", periods, "Forcing periods per simulation")->capture_default_str();
-    sim->add_option("--tolerance", tolerance, "Relative F_m tolerance")->capture_default_str();
+    sim->add_option("--periods", periods, "Forcing periods per simulation")
+        ->check(CLI::Range(1L, 1'000'000'000L))
+        ->capture_default_str();
+    sim->add_option("--tolerance", tolerance, "Relative F_m tolerance")
+        ->check(CLI::Range(1e-12, 0.1))
+        ->capture_default_str();
     auto* bif = app.add_subcommand("bifurcation", "The 500-value Fig 13 bifurcation diagram");
-    bif->add_option("--threads", threads, "OpenMP threads (0: all)")->capture_default_str();
+    bif->add_option("--threads", threads, "OpenMP threads (0: all)")
+        ->check(CLI::Range(0, 4096))
+        ->capture_default_str();
     int Nm = 1'000'000, modes = 10;
     auto* mod = app.add_subcommand("modes", "The lowest modes of a long chain (Spectra)");
-    mod->add_option("--Nm", Nm, "Bodies")->capture_default_str();
-    mod->add_option("--modes", modes, "Modes")->capture_default_str();
+    mod->add_option("--Nm", Nm, "Bodies")->check(CLI::Range(3, 1'000'000))->capture_default_str();
+    mod->add_option("--modes", modes, "Modes")->check(CLI::Range(1, 1000))->capture_default_str();
     return gapchain::cli::run(app, argc, argv, [&] {
+        if (app.get_subcommands().empty())
+            throw std::invalid_argument("a benchmark is required: sim, bifurcation or modes");
         if (mod->parsed()) bench_modes(Nm, modes);
         if (sim->parsed()) bench_sim(periods, tolerance);
         if (bif->parsed()) {

@@ -7,9 +7,28 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <numbers>
+
+namespace {
+
+using namespace gapchain;
+
+void print_exponents(const Scene& scene, const LyapunovResult& r, int k) {
+    const ReducedParameters& p = scene.reduced;
+    std::printf(
+        "gapchain-lyapunov: Nm=%d fc=%g eps=%g e_r=%g f_r=%g, averaged over %.4g time units\n",
+        p.Nm, p.fc, p.eps, p.e_r, p.f_r, r.averaging_time);
+    for (int i = 0; i < k; ++i)
+        std::printf("  lambda_%-3d = %+.6f +- %.2g\n", i + 1, r.exponents[i], r.errors[i]);
+    std::printf("  sum = %.10f", r.sum);
+    if (k == 2 * p.Nm && scene.uniform())
+        std::printf("  (exact: -4 pi eps Nm = %.10f)", -4.0 * std::numbers::pi * p.eps * p.Nm);
+    std::printf("\n  wall time %.3f s\n", r.wall_time_s);
+}
+
+} // namespace
 
 int main(int argc, char** argv) {
-    using namespace gapchain;
     CLI::App app{
         "Lyapunov exponents of a row (Benettin with QR re-orthonormalisation every forcing "
         "period) over the scene's run.periods, averaged after run.transient_periods.",
@@ -19,7 +38,9 @@ int main(int argc, char** argv) {
     int count = 0;
     std::string out = "lyapunov.json";
     bool no_plot = false;
-    app.add_option("--count", count, "Exponents wanted (0: all 2 Nm)")->capture_default_str();
+    app.add_option("--count", count, "Exponents wanted (0: all 2 Nm)")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
     app.add_option("--out", out, "JSON result; the history goes next to it (_history.csv, .png)")
         ->capture_default_str();
     app.add_flag("--no-plot", no_plot, "Write the JSON and CSV only");
@@ -27,46 +48,34 @@ int main(int argc, char** argv) {
         const Scene scene = cli::load(scene_args);
         const Dynamics dyn = scene.dynamics();
         const int k = count == 0 ? dyn.dimension() : count;
-        if (k < 1 || k > dyn.dimension())
+        if (k > dyn.dimension())
             throw std::invalid_argument(
                 "--count: must be in [0, 2 Nm = " + std::to_string(dyn.dimension()) + "], got " +
                 std::to_string(count));
+        const std::string stem =
+            out.size() > 5 && out.ends_with(".json") ? out.substr(0, out.size() - 5) : out;
+        cli::Outputs outputs({scene_args.path});
+        outputs.file(out, "--out");
+        outputs.file(stem + "_history.csv", "--out (its _history.csv)");
         cli::Progress progress("gapchain-lyapunov");
         const LyapunovResult r =
             chain_lyapunov(dyn, scene.run, k, scene.initial, progress.callback());
+        cli::throw_if_interrupted();
         if (r.status == RunStatus::non_finite) throw cli::NumericalFailure(r.message);
-        const std::string stem =
-            out.size() > 5 && out.ends_with(".json") ? out.substr(0, out.size() - 5) : out;
         write_file_atomically(out, to_json(r, scene.reduced, k));
         write_file_atomically(stem + "_history.csv", history_csv(r));
         if (!no_plot) {
-            const std::string csv =
-                std::filesystem::path(stem + "_history.csv").filename().string();
-            const std::string png =
-                std::filesystem::path(stem + "_convergence.png").filename().string();
-            std::string script =
-                "# Regenerate: gnuplot " +
-                std::filesystem::path(stem + "_convergence.gp").filename().string() +
-                " (in this folder)\nset terminal pngcairo size 1000,650 font 'sans,11'\n"
-                "set output '" +
-                png +
-                "'\nset datafile separator ','\nset grid\n"
-                "set xlabel 'reduced time'\nset ylabel 'running exponent estimate'\n"
-                "set key outside right\nset title 'Lyapunov exponents: convergence'\n"
-                "plot for [c=2:" +
-                std::to_string(1 + std::min(k, 8)) + "] '" + csv +
-                "' using 1:c with lines lw 1.5 title columnheader(c)\n";
-            cli::plot_with_gnuplot(stem + "_convergence.gp", script);
+            auto name = [](const std::string& path) {
+                return std::filesystem::path(path).filename().string();
+            };
+            cli::plot_with_gnuplot(
+                stem + "_convergence.gp",
+                cli::plot_script("lyapunov", {{"SCRIPT", name(stem + "_convergence.gp")},
+                                              {"PNG", name(stem + "_convergence.png")},
+                                              {"CSV", name(stem + "_history.csv")},
+                                              {"LAST", std::to_string(1 + std::min(k, 8))}}));
         }
-        const ReducedParameters& p = scene.reduced;
-        std::printf(
-            "gapchain-lyapunov: Nm=%d fc=%g eps=%g e_r=%g f_r=%g, averaged over %.4g time units\n",
-            p.Nm, p.fc, p.eps, p.e_r, p.f_r, r.averaging_time);
-        for (int i = 0; i < k; ++i)
-            std::printf("  lambda_%-3d = %+.6f +- %.2g\n", i + 1, r.exponents[i], r.errors[i]);
-        std::printf("  sum = %.10f", r.sum);
-        if (k == dyn.dimension())
-            std::printf("  (exact: -4 pi eps Nm = %.10f)", -4.0 * 3.141592653589793 * p.eps * p.Nm);
-        std::printf("\n  wall time %.3f s\n", r.wall_time_s);
+        outputs.keep();
+        print_exponents(scene, r, k);
     });
 }

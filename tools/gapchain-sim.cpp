@@ -8,8 +8,73 @@
 #include <memory>
 #include <optional>
 
+namespace {
+
+using namespace gapchain;
+
+// The trajectory CSV: t, u1..uNm, v1..vNm, one row per (decimated) step.
+TrajectorySink trajectory_sink(OutputFile& file, int bodies) {
+    auto& os = file.stream();
+    os << "t";
+    for (int i = 1; i <= bodies; ++i)
+        os << ",u" << i;
+    for (int i = 1; i <= bodies; ++i)
+        os << ",v" << i;
+    os << "\n";
+    return [&os, bodies](double t, const double* y) {
+        os << t;
+        for (int i = 0; i < 2 * bodies; ++i)
+            os << ',' << y[i];
+        os << '\n';
+    };
+}
+
+void print_where(const SimulationResult& r, int bodies) {
+    const int j = r.F_m_contact;
+    if (j < 0) {
+        std::printf("  (no contact)\n");
+        return;
+    }
+    if (j == 0)
+        std::printf("  at the left wall");
+    else if (j == bodies)
+        std::printf("  at the right wall");
+    else
+        std::printf("  between bodies %d and %d", j, j + 1);
+    std::printf(", t = %.6g\n", r.F_m_time);
+}
+
+void print_result(const Scene& scene, const SimulationResult& r) {
+    const ReducedParameters& p = scene.reduced;
+    if (scene.harmonic())
+        std::printf("gapchain-sim: Nm=%d fc=%g eps=%g e_r=%g f_r=%g  (%s, h=%.3g, %ld periods)\n",
+                    p.Nm, p.fc, p.eps, p.e_r, p.f_r, std::string(to_string(r.scheme)).c_str(),
+                    r.step, r.periods_simulated);
+    else
+        std::printf("gapchain-sim: Nm=%d fc=%g eps=%g e_r=%g under a ground-motion record, "
+                    "PGA a0 = %g m/s^2  (%s, h=%.3g, %.4g s = %ld natural periods)\n",
+                    p.Nm, p.fc, p.eps, p.e_r, scene.physical->a0,
+                    std::string(to_string(r.scheme)).c_str(), r.step, scene.record_duration,
+                    r.periods_simulated);
+    std::printf("F_m = %.9g +- %.2g", r.F_m, r.F_m_error);
+    if (scene.physical)
+        std::printf("  (%.6g N +- %.2g N)", force_in_newtons(r.F_m, *scene.physical),
+                    force_in_newtons(r.F_m_error, *scene.physical));
+    print_where(r, p.Nm);
+    if (r.steady_state_period)
+        std::printf("periodic steady state: period %d x T, reached by t = %.6g\n",
+                    *r.steady_state_period, *r.steady_state_time);
+    else
+        std::printf("no periodic steady state within %ld periods%s\n", r.periods_simulated,
+                    r.error_method == ErrorMethod::window_halves
+                        ? " (error: spread between the maxima of the two window halves)"
+                        : "");
+    std::printf("wall time %.4f s\n", r.wall_time_s);
+}
+
+} // namespace
+
 int main(int argc, char** argv) {
-    using namespace gapchain;
     CLI::App app{"Simulate a forced, damped row of bodies with clearances and report the maximal "
                  "impact force F_m with its error estimate.",
                  "gapchain-sim"};
@@ -24,70 +89,25 @@ int main(int argc, char** argv) {
 
     return cli::run(app, argc, argv, [&] {
         const Scene scene = cli::load(scene_args);
+        cli::Outputs outputs({scene_args.path});
+        outputs.file(out_path, "--out");
+        outputs.file(trajectory_path, "--trajectory");
         const Dynamics dyn = scene.dynamics();
         std::optional<OutputFile> trajectory;
         SimulationHooks hooks;
-        const int n = dyn.bodies();
         if (!trajectory_path.empty()) {
             trajectory.emplace(trajectory_path);
-            auto& os = trajectory->stream();
-            os << "t";
-            for (int i = 1; i <= n; ++i)
-                os << ",u" << i;
-            for (int i = 1; i <= n; ++i)
-                os << ",v" << i;
-            os << "\n";
-            hooks.trajectory = [&os, n](double t, const double* y) {
-                os << t;
-                for (int i = 0; i < 2 * n; ++i)
-                    os << ',' << y[i];
-                os << '\n';
-            };
+            hooks.trajectory = trajectory_sink(*trajectory, dyn.bodies());
             hooks.trajectory_every = scene.trajectory_every;
         }
         cli::Progress progress("gapchain-sim", !quiet);
         hooks.progress = progress.callback();
         const SimulationResult r = simulate(dyn, scene.run, scene.initial, hooks);
+        cli::throw_if_interrupted();
         if (r.status == RunStatus::non_finite) throw cli::NumericalFailure(r.message);
         if (trajectory) trajectory->commit();
         if (!out_path.empty()) write_file_atomically(out_path, to_json(r, scene));
-        if (quiet) return;
-        const ReducedParameters& p = scene.reduced;
-        if (scene.harmonic())
-            std::printf(
-                "gapchain-sim: Nm=%d fc=%g eps=%g e_r=%g f_r=%g  (%s, h=%.3g, %ld periods)\n", p.Nm,
-                p.fc, p.eps, p.e_r, p.f_r, std::string(to_string(r.scheme)).c_str(), r.step,
-                r.periods_simulated);
-        else
-            std::printf("gapchain-sim: Nm=%d fc=%g eps=%g e_r=%g under a ground-motion record, "
-                        "PGA a0 = %g m/s^2  (%s, h=%.3g, %.4g s = %ld natural periods)\n",
-                        p.Nm, p.fc, p.eps, p.e_r, scene.physical->a0,
-                        std::string(to_string(r.scheme)).c_str(), r.step, scene.record_duration,
-                        r.periods_simulated);
-        std::printf("F_m = %.9g +- %.2g", r.F_m, r.F_m_error);
-        if (scene.physical)
-            std::printf("  (%.6g N +- %.2g N)", force_in_newtons(r.F_m, *scene.physical),
-                        force_in_newtons(r.F_m_error, *scene.physical));
-        if (r.F_m_contact >= 0) {
-            const int j = r.F_m_contact;
-            if (j == 0)
-                std::printf("  at the left wall");
-            else if (j == n)
-                std::printf("  at the right wall");
-            else
-                std::printf("  between bodies %d and %d", j, j + 1);
-            std::printf(", t = %.6g\n", r.F_m_time);
-        } else {
-            std::printf("  (no contact)\n");
-        }
-        if (r.steady_state_period)
-            std::printf("periodic steady state: period %d x T, reached by t = %.6g\n",
-                        *r.steady_state_period, *r.steady_state_time);
-        else
-            std::printf("no periodic steady state within %ld periods%s\n", r.periods_simulated,
-                        r.error_method == ErrorMethod::window_halves
-                            ? " (error: spread between the maxima of the two window halves)"
-                            : "");
-        std::printf("wall time %.4f s\n", r.wall_time_s);
+        outputs.keep();
+        if (!quiet) print_result(scene, r);
     });
 }

@@ -4,6 +4,7 @@
 #include "gapchain/modes.hpp"
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 
@@ -62,6 +63,24 @@ double chaotic_max_force_approx(int Nm, double fc, double eps) {
 double chaotic_bound(double eps) {
     require_range("eps", eps, 0.0, 100.0, Bound::open_low);
     return std::numbers::pi / (2.0 * eps * std::sqrt(4.935));
+}
+
+AnalyticEstimates analytic_estimates(int Nm, double fc, double eps, double e_r, double f_r,
+                                     double f1) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    AnalyticEstimates a;
+    a.amplitude = single_body_amplitude(f_r, eps);
+    a.impacts = e_r < a.amplitude;
+    a.wall_contact_frequency = wall_contact_frequency(fc);
+    a.f1 = f1;
+    a.f1_approx = approx_frequency(1, Nm, fc);
+    const bool damped = eps > 0.0;
+    a.smooth_max_force = damped ? smooth_max_force(fc, eps) : nan;
+    a.smooth_bound = damped ? smooth_bound(eps) : nan;
+    a.chaotic_estimate_approx = damped ? chaotic_max_force_approx(Nm, fc, eps) : nan;
+    a.chaotic_estimate_exact = damped && f1 > eps ? chaotic_max_force(Nm, fc, eps, f1) : nan;
+    a.chaotic_bound = damped ? chaotic_bound(eps) : nan;
+    return a;
 }
 
 } // namespace gapchain

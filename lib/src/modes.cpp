@@ -106,7 +106,7 @@ ModalResult modal_analysis(const Chain& chain, const ModalOptions& o) {
     const auto start = std::chrono::steady_clock::now();
     const Tridiagonal t = linear_chain_matrix(chain);
     const int n = chain.bodies();
-    detail::require_range("--modes", o.count, 0, n);
+    detail::require_range("count", o.count, 0, n);
     detail::require_range("tolerance", o.tolerance, 0.0, 1e-2, detail::Bound::open_low);
     // Nominal fc for eq (26): the wall contact stiffness (fc for the paper's row).
     const double fc = chain.contact.front();
@@ -115,8 +115,18 @@ ModalResult modal_analysis(const Chain& chain, const ModalOptions& o) {
     if (method == EigenMethod::automatic)
         method = (n <= 2000 || count == n || 2 * count + 1 > n) ? EigenMethod::dense
                                                                 : EigenMethod::sparse;
+    detail::require_range("max_dense_bodies", o.max_dense_bodies, 1, 1'000'000);
+    if (method == EigenMethod::dense && n > o.max_dense_bodies) {
+        const double gigabytes = 8.0 * n * static_cast<double>(n) / 1e9;
+        throw std::invalid_argument(
+            "max_dense_bodies: the dense solver for Nm = " + std::to_string(n) +
+            " needs an Nm x Nm matrix (" + detail::format_number(gigabytes) + " GB) and ~" +
+            detail::format_number(static_cast<double>(n) * n * n) +
+            " operations, above the limit Nm <= " + std::to_string(o.max_dense_bodies) +
+            "; ask fewer modes (1 <= modes < Nm / 2 use the sparse solver) or raise the limit");
+    }
     if (method == EigenMethod::sparse && (o.count == 0 || 2 * count + 1 > n))
-        throw std::invalid_argument("--modes: the sparse solver needs 1 <= modes < Nm / 2, got " +
+        throw std::invalid_argument("count: the sparse solver needs 1 <= modes < Nm / 2, got " +
                                     std::to_string(o.count) + " of Nm = " + std::to_string(n) +
                                     "; use the dense solver for more");
     ModalResult r;

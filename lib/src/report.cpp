@@ -200,6 +200,22 @@ std::string to_json(const BifurcationResult& r, const BifurcationOptions& o,
     return j.dump(2) + "\n";
 }
 
+std::string mode_shapes_csv(const ModalResult& r, int Nm) {
+    std::ostringstream os;
+    os.precision(12);
+    os << "body";
+    for (int k : r.mode_numbers)
+        os << ",mode" << k;
+    os << '\n';
+    for (int i = 0; i < Nm; ++i) {
+        os << i + 1;
+        for (const auto& shape : r.shapes)
+            os << ',' << shape[i];
+        os << '\n';
+    }
+    return os.str();
+}
+
 std::string to_json(const ModalResult& r, int Nm, double fc) {
     json j;
     j["Nm"] = Nm;
@@ -307,6 +323,39 @@ std::string psd_csv(const Psd& psd, double f_r) {
     os << "f,f_over_f_r,density\n";
     for (std::size_t k = 0; k < psd.frequency.size(); ++k)
         os << psd.frequency[k] << ',' << psd.frequency[k] / f_r << ',' << psd.density[k] << '\n';
+    return os.str();
+}
+
+std::string to_json(const AnalyticEstimates& a, const Scene& scene) {
+    json j;
+    const ReducedParameters& p = scene.reduced;
+    j["parameters"] = {{"Nm", p.Nm}, {"fc", p.fc}, {"eps", p.eps}, {"e_r", p.e_r}, {"f_r", p.f_r}};
+    j["eq20_amplitude"] = a.amplitude;
+    j["impacts"] = a.impacts;
+    j["eq21_wall_contact_frequency"] = a.wall_contact_frequency;
+    j["f1"] = a.f1;
+    j["f1_eq26"] = a.f1_approx;
+    const std::pair<const char*, double> forces[] = {
+        {"eq24_smooth_max_force", a.smooth_max_force},
+        {"eq25_smooth_bound", a.smooth_bound},
+        {"eq36_chaotic_estimate", a.chaotic_estimate_approx},
+        {"eq32_34_chaotic_estimate_exact_f1", a.chaotic_estimate_exact},
+        {"eq37_chaotic_bound", a.chaotic_bound}};
+    for (const auto& [key, value] : forces) {
+        j[key] = std::isfinite(value) ? json(value) : json(nullptr);
+        if (scene.physical && std::isfinite(value))
+            j[std::string(key) + "_N"] = force_in_newtons(value, *scene.physical);
+    }
+    return j.dump(2) + "\n";
+}
+
+std::string peaks_csv(const SpectralContent& content, double f_r) {
+    std::ostringstream os;
+    os.precision(10);
+    os << "f,f_over_f_r,power,label\n";
+    for (const auto& pk : content.peaks)
+        os << pk.frequency << ',' << pk.frequency / f_r << ',' << pk.power << ',' << pk.label()
+           << '\n';
     return os.str();
 }
 

@@ -3,9 +3,12 @@
 #include "gapchain/report.hpp"
 
 #include <atomic>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <fcntl.h>
 #include <filesystem>
 #include <iostream>
 #include <system_error>
@@ -34,7 +37,8 @@ bool same_file(const std::string& a, const std::string& b) {
     return fs::weakly_canonical(a, ec) == fs::weakly_canonical(b, ec);
 }
 
-// The nearest existing ancestor of path must be a writable directory.
+// The nearest existing ancestor of path must be a directory a file can be created in: tried
+// for real with a probe file (access(2) says yes to root everywhere, even in /proc).
 void check_writable_parent(const std::string& path, const std::string& flag) {
     fs::path dir = fs::absolute(path).parent_path();
     std::error_code ec;
@@ -43,9 +47,13 @@ void check_writable_parent(const std::string& path, const std::string& flag) {
     if (!fs::is_directory(dir, ec))
         throw std::invalid_argument(flag + ": " + path + ": " + dir.string() +
                                     " is not a directory");
-    if (::access(dir.c_str(), W_OK) != 0)
-        throw std::invalid_argument(flag + ": " + path + ": cannot write into " + dir.string() +
-                                    ": " + std::strerror(errno));
+    const fs::path probe = dir / (".gapchain-probe." + std::to_string(::getpid()));
+    const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0600);
+    if (fd < 0)
+        throw std::invalid_argument(flag + ": " + path + ": cannot create files in " +
+                                    dir.string() + ": " + std::strerror(errno));
+    ::close(fd);
+    ::unlink(probe.c_str());
 }
 
 } // namespace
@@ -99,13 +107,8 @@ void Outputs::folder(const std::string& path, const std::string& flag) {
     if (fs::exists(path, ec) && !fs::is_directory(path, ec))
         throw std::invalid_argument(flag + ": " + path + " exists and is not a folder");
     check_distinct(path, flag);
-    if (fs::is_directory(path, ec)) {
-        if (::access(path.c_str(), W_OK) != 0)
-            throw std::invalid_argument(flag + ": cannot write into " + path + ": " +
-                                        std::strerror(errno));
-    } else {
-        check_writable_parent(path, flag);
-    }
+    check_writable_parent(fs::is_directory(path, ec) ? (fs::path(path) / "x").string() : path,
+                          flag);
     m_paths.emplace_back(path, flag);
     m_folders.push_back(path);
 }
@@ -128,15 +131,32 @@ void Outputs::create_folders() {
 }
 
 void add_scene_arguments(CLI::App& app, SceneArguments& args, bool required) {
-    auto* opt = app.add_option("scene", args.path, "Scene file (JSON); see README.md");
-    if (required) opt->required();
+    args.option = app.add_option("scene", args.path, "Scene file (JSON); see README.md");
+    if (required) args.option->required();
     app.add_option("--set", args.sets, "Override a scene key: section.key=value (repeatable)")
         ->allow_extra_args(false);
 }
 
 Scene load(const SceneArguments& args, const std::string& default_scene_json) {
+    if (args.path.empty() && args.option && args.option->count() > 0)
+        throw SceneError("SCENE: an empty path; give a scene file" +
+                         std::string(args.option->get_required()
+                                         ? ""
+                                         : ", or leave it out for the built-in scene"));
     if (args.path.empty()) return parse_scene(default_scene_json, args.sets, "<built-in>");
     return load_scene(args.path, args.sets);
+}
+
+CLI::Validator positive_number() {
+    return CLI::Validator(
+        [](std::string& text) -> std::string {
+            char* end = nullptr;
+            const double x = std::strtod(text.c_str(), &end);
+            if (end == text.c_str() || *end != '\0' || !std::isfinite(x) || !(x > 0.0))
+                return "must be a finite number > 0, got " + text;
+            return {};
+        },
+        "> 0");
 }
 
 void require_paper_row(const Scene& scene, const std::string& tool) {
@@ -155,7 +175,18 @@ void require_paper_row(const Scene& scene, const std::string& tool) {
     }
 }
 
-int run(CLI::App& app, int argc, char** argv, const std::function<void()>& body) {
+namespace {
+
+std::string with_flag_names(std::string message, const FlagNames& names) {
+    for (const auto& [field, flag] : names)
+        if (message.rfind(field + ":", 0) == 0) return flag + message.substr(field.size());
+    return message;
+}
+
+} // namespace
+
+int run(CLI::App& app, int argc, char** argv, const std::function<void()>& body,
+        const FlagNames& flag_names) {
     app.set_version_flag("--version", std::string(GAPCHAIN_VERSION));
     std::signal(SIGINT, on_signal);
     std::signal(SIGTERM, on_signal);
@@ -177,7 +208,7 @@ int run(CLI::App& app, int argc, char** argv, const std::function<void()>& body)
         std::cerr << app.get_name() << ": out of memory: the run is too large for this machine\n";
         return static_cast<int>(ExitCode::failure);
     } catch (const std::invalid_argument& e) {
-        std::cerr << app.get_name() << ": " << e.what() << "\n";
+        std::cerr << app.get_name() << ": " << with_flag_names(e.what(), flag_names) << "\n";
         return static_cast<int>(ExitCode::bad_input);
     } catch (const std::exception& e) {
         std::cerr << app.get_name() << ": " << e.what() << "\n";

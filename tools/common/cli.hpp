@@ -70,6 +70,7 @@ private:
 struct SceneArguments {
     std::string path;              // empty: the tool's built-in default scene
     std::vector<std::string> sets; // "section.key=value"
+    CLI::Option* option = nullptr; // the SCENE option, to tell "" from absent
 };
 
 // Adds SCENE (positional, required unless a default exists) and --set to app.
@@ -78,14 +79,24 @@ void add_scene_arguments(CLI::App& app, SceneArguments& args, bool required);
 // Loads args.path (or parses default_scene_json when the path is empty) with the overrides.
 Scene load(const SceneArguments& args, const std::string& default_scene_json = "{}");
 
+// CLI11 check: a finite number > 0 (CLI::PositiveNumber prints the whole double range).
+CLI::Validator positive_number();
+
 // Tools that take the paper's five reduced numbers and a forcing period (bifurcation,
 // classify, bounds) refuse other scenes with the rule: a record or Kanai-Tajimi excitation,
 // model arrays or scatter, a nonlinear contact law.
 void require_paper_row(const Scene& scene, const std::string& tool);
 
+// The library names its own fields in messages ("segment_length: ..."); a tool lists, for
+// each, the flag the user wrote ({"segment_length", "--segment"}) so that messages name it.
+using FlagNames = std::vector<std::pair<std::string, std::string>>;
+
 // Parses the command line and runs body, mapping every error to one line on stderr and an exit
-// code: CLI11 and SceneError/std::invalid_argument -> 2, NumericalFailure and others -> 1.
-int run(CLI::App& app, int argc, char** argv, const std::function<void()>& body);
+// code: CLI11 and SceneError/std::invalid_argument -> 2, NumericalFailure, OutputError and
+// others -> 1, SIGINT/SIGTERM -> 130/143. A message that starts with a library field of
+// flag_names starts with its flag instead.
+int run(CLI::App& app, int argc, char** argv, const std::function<void()>& body,
+        const FlagNames& flag_names = {});
 
 // Progress with rate and ETA on stderr: redrawn in place when stderr is a terminal; when it is
 // not, silent, or (lines_otherwise) a plain line every few seconds. callback() is the

@@ -35,4 +35,24 @@ double chaotic_max_force_approx(int Nm, double fc, double eps);
 /// Eq (37): the chaotic-region bound pi / (2 eps sqrt(4.935)), eps > 0.
 double chaotic_bound(double eps);
 
+/// Every estimate of the paper for one row (reduced forces; NaN where it does not exist: the
+/// force estimates need eps > 0, eq (32) needs f1 > eps).
+struct AnalyticEstimates {
+    double amplitude = 0.0;               ///< eq (20) at f_r
+    bool impacts = false;                 ///< e_r < amplitude: the free bodies reach a wall
+    double wall_contact_frequency = 0.0;  ///< eq (21)
+    double smooth_max_force = 0.0;        ///< eq (24)
+    double smooth_bound = 0.0;            ///< eq (25)
+    double chaotic_estimate_approx = 0.0; ///< eq (36), with f_1a of eq (26)
+    double chaotic_estimate_exact = 0.0;  ///< eq (32) + (34) with the exact f_1
+    double chaotic_bound = 0.0;           ///< eq (37)
+    double f1 = 0.0;                      ///< exact first linear-chain frequency (reduced)
+    double f1_approx = 0.0;               ///< f_1a of eq (26)
+};
+
+/// The estimates for a row of Nm bodies with reduced parameters (fc, eps, e_r, f_r), given its
+/// exact first linear-chain frequency f1 (modes.hpp).
+AnalyticEstimates analytic_estimates(int Nm, double fc, double eps, double e_r, double f_r,
+                                     double f1);
+
 } // namespace gapchain

@@ -43,6 +43,9 @@ struct ModalOptions {
     EigenMethod method = EigenMethod::automatic;
     bool shapes = true;       ///< also return the mode shapes
     double tolerance = 1e-12; ///< relative eigenvalue tolerance (sparse), > 0
+    /// Largest Nm the dense solver takes, 1 .. 1e6: it stores an Nm x Nm matrix (8 Nm^2 bytes)
+    /// and costs ~Nm^3 operations (Nm = 5000: 200 MB, about a minute; 20000: 3.2 GB, hours).
+    int max_dense_bodies = 5000;
 };
 
 /// Outcome of an eigen solve, as Spectra's CompInfo.

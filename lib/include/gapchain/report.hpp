@@ -4,6 +4,7 @@
 
 #include "gapchain/accuracy.hpp"
 #include "gapchain/bifurcation.hpp"
+#include "gapchain/bounds.hpp"
 #include "gapchain/classify.hpp"
 #include "gapchain/lyapunov.hpp"
 #include "gapchain/modes.hpp"
@@ -72,6 +73,9 @@ std::string summary_csv(const BifurcationResult& result);
 std::string to_json(const BifurcationResult& result, const BifurcationOptions& options,
                     const ReducedParameters& base);
 
+/// Mode shapes as CSV: body, then one column per mode (mode<k>).
+std::string mode_shapes_csv(const ModalResult& result, int Nm);
+
 /// Modal analysis as JSON: Nm, fc, mode_numbers, frequencies, approx, rel_error, residuals,
 /// shapes (if computed), method, status, iterations, wall_time_s.
 std::string to_json(const ModalResult& result, int Nm, double fc);
@@ -96,6 +100,13 @@ std::string map_csv(const RegimeMap& map);
 
 /// A PSD as CSV: f, f_over_f_r, density.
 std::string psd_csv(const Psd& psd, double f_r);
+
+/// The analytic estimates of a scene as JSON (reduced forces, and newtons for physical scenes;
+/// null where an estimate does not exist).
+std::string to_json(const AnalyticEstimates& estimates, const Scene& scene);
+
+/// The labelled spectral peaks as CSV: f,f_over_f_r,power,label.
+std::string peaks_csv(const SpectralContent& content, double f_r);
 
 /// A work-precision study as CSV: scheme (with "-nosplit" when steps were not split at
 /// switches), tolerance, step, F_m, F_m_error, final_error, l2_error, seconds, evaluations.

@@ -52,6 +52,7 @@ fi
 
 # A torn last row (a kill in the middle of a write) is dropped and redone.
 head -c -7 "$dir/full.csv" > "$dir/torn.csv"
+cp "$dir/full.csv.json" "$dir/torn.csv.json"
 "$sweep" "$study" --out "$dir/torn.csv" >/dev/null 2>&1
 diff <(rows "$dir/full.csv") <(rows "$dir/torn.csv") >/dev/null || { echo "FAIL: torn row not redone"; fail=1; }
 

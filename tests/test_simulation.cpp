@@ -4,6 +4,7 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <numbers>
@@ -61,7 +62,11 @@ TEST_CASE("one body between two walls agrees with an independent GSL rk8pd integ
         o.tolerance = 1e-8;
         o.stop_at_steady_state = false;
         const SimulationResult r = simulate(dyn, o);
-        const auto ref = reference::run({1, 30, 0.3, 0.4, f_r}, 40);
+        // MODEL.md §2: n_t = max(1, ceil(f_r ln(1 / tol) / (2 pi eps))), capped at periods / 2.
+        const long n_t = std::min(
+            20L, std::max(1L, static_cast<long>(std::ceil(f_r * std::log(1e8) / (2 * pi * 0.3)))));
+        CHECK(r.transient_periods_used == n_t);
+        const auto ref = reference::run({1, 30, 0.3, 0.4, f_r}, 40, static_cast<int>(n_t));
         CHECK(r.F_m == doctest::Approx(ref.F_m).epsilon(1e-6));
         CHECK(r.final_state[0] == doctest::Approx(ref.state[0]).epsilon(1e-6));
         CHECK(r.final_state[1] == doctest::Approx(ref.state[1]).epsilon(1e-6));
@@ -72,7 +77,8 @@ TEST_CASE("Fig 5 scene: F_m to 0.1 % of a high-resolution run, and an honest F_m
     const ReducedParameters p{5, 100, 0.5, 0.5, 1.0};
     const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
     const SimulationResult r = simulate(dyn, RunOptions{}); // the defaults: tolerance 1e-4
-    const double ref = reference::run({5, 100, 0.5, 0.5, 1.0}, 40).F_m;
+    CHECK(r.transient_periods_used == 3);                   // ceil(ln(1e4) / pi)
+    const double ref = reference::run({5, 100, 0.5, 0.5, 1.0}, 40, 3).F_m;
     MESSAGE("F_m " << r.F_m << " +- " << r.F_m_error << ", reference " << ref);
     CHECK(r.steady_state_period == 1);
     CHECK(std::abs(r.F_m - ref) < 1e-3 * ref);
@@ -231,6 +237,7 @@ TEST_CASE("a run that never settles reports the window-halves spread, which cove
     const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
     RunOptions o;
     o.periods = 400;
+    o.transient_periods = 0; // the window this check was set up and measured on
     o.scheme = Scheme::rk4;
     const SimulationResult r = simulate(dyn, o);
     REQUIRE(r.status == RunStatus::completed);
@@ -254,4 +261,29 @@ TEST_CASE("a run that never settles reports the window-halves spread, which cove
     const SimulationResult s = simulate(periodic, po);
     CHECK(s.steady_state_period);
     CHECK(s.error_method == ErrorMethod::comparison_run);
+}
+
+TEST_CASE("the default run discards the start (MODEL.md §2): Fig 4's F_m falls with fc at "
+          "f_r = 0.1") {
+    // MODEL.md §2's independent numbers: 0.426/0.538/0.546 counted, 0.252/0.144/0.089 discarded.
+    double previous = 1e9;
+    for (double fc : {1.0, 10.0, 100.0}) {
+        const ReducedParameters p{5, fc, 0.5, 0.5, 0.1};
+        const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+        RunOptions o;
+        o.periods = 10;
+        o.tolerance = 1e-6;
+        const SimulationResult r = simulate(dyn, o);
+        CHECK(r.transient_periods_used == 1); // ceil(0.1 ln(1e6) / pi) = 1
+        const double discarded = reference::run({5, fc, 0.5, 0.5, 0.1}, 10, 1).F_m;
+        RunOptions counting = o;
+        counting.transient_periods = 0;
+        const double counted = simulate(dyn, counting).F_m;
+        MESSAGE("fc " << fc << ": default " << r.F_m << ", reference " << discarded
+                      << ", start counted " << counted);
+        CHECK(r.F_m == doctest::Approx(discarded).epsilon(1e-4));
+        CHECK(r.F_m < previous);
+        CHECK(counted > 1.5 * r.F_m);
+        previous = r.F_m;
+    }
 }

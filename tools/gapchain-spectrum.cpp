@@ -65,7 +65,8 @@ int main(int argc, char** argv) {
             po.window = parse_window(window);
             po.segment_length = segment;
             const long samples =
-                (scene.run.periods - scene.run.transient_periods) * samples_per_period;
+                (scene.run.periods - with_transient_resolved(dyn, scene.run).transient_periods) *
+                samples_per_period;
             if (samples < segment)
                 throw std::invalid_argument("--segment: must be at most the recorded samples " +
                                             std::to_string(samples) +

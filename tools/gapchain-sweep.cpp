@@ -210,11 +210,19 @@ std::unique_ptr<gapchain::ResultLog>
 open_results(const SweepArguments& a, const gapchain::Study& study, gapchain::SweepSelection& sel) {
     using namespace gapchain;
     check_resume(a.out, study);
-    auto log = std::make_unique<ResultLog>(a.out, sweep_csv_header(study), point_count(study));
-    sel.done = log->done();
-    if (!std::filesystem::exists(a.out + ".json"))
-        write_file_atomically(a.out + ".json", study_json(study));
-    return log;
+    // The sidecar first: a results file is never left without the study that started it.
+    const std::string sidecar = a.out + ".json";
+    const bool new_sidecar = !std::filesystem::exists(sidecar);
+    if (new_sidecar) write_file_atomically(sidecar, study_json(study));
+    try {
+        auto log = std::make_unique<ResultLog>(a.out, sweep_csv_header(study), point_count(study));
+        sel.done = log->done();
+        return log;
+    } catch (...) {
+        std::error_code ec;
+        if (new_sidecar) std::filesystem::remove(sidecar, ec);
+        throw;
+    }
 }
 
 void sweep(const SweepArguments& a, Ranks& ranks) {

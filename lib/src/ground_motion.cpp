@@ -51,9 +51,15 @@ double peak_ground_acceleration(const Accelerogram& record) {
 void validate(const KanaiTajimi& p) {
     require_range("excitation.ground_frequency", p.ground_frequency, 0.01, 100.0);
     require_range("excitation.ground_damping", p.ground_damping, 0.01, 5.0);
-    require_range("excitation.duration", p.duration, 0.0, 1e5, Bound::open_low);
+    require_range("excitation.duration", p.duration, 0.1, 1e5);
     const double finest = std::min({1.0, p.duration / 16.0, 1.0 / (8.0 * p.ground_frequency)});
     require_range("excitation.sample_interval", p.sample_interval, 0.0, finest, Bound::open_low);
+    // The record is held in memory, 16 bytes per sample.
+    if (p.duration / p.sample_interval > 1e8)
+        throw std::invalid_argument(
+            "excitation.sample_interval: excitation.duration / sample_interval = " +
+            detail::format_number(p.duration / p.sample_interval) +
+            " samples, above the limit of 1e8 (1.6 GB); take a longer sample_interval");
     require_range("excitation.rise", p.rise, 0.0, 1e5);
     require_range("excitation.hold", p.hold, 0.0, 1e5);
     require_range("excitation.decay", p.decay, 0.0, 1e3);

@@ -245,7 +245,7 @@ LyapunovResult chain_lyapunov(const Dynamics& dyn, const RunOptions& options, in
     require_harmonic(dyn, "lyapunov");
     detail::require_range("--count", count, 1, dyn.dimension());
     PlannedRun planned(dyn, options, initial);
-    TangentObserver tangent(dyn, count, options.transient_periods);
+    TangentObserver tangent(dyn, count, planned.transient_periods());
     Observer* observers[] = {&tangent};
     const RunOutcome outcome = planned.run(observers, progress);
     LyapunovResult r = tangent.result();

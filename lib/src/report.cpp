@@ -56,6 +56,7 @@ std::string to_json(const SimulationResult& r, const Scene& scene) {
     j["scheme"] = std::string(to_string(r.scheme));
     j["step"] = r.step;
     j["periods_simulated"] = r.periods_simulated;
+    j["transient_periods_used"] = r.transient_periods_used;
     j["steps"] = r.steps;
     j["evaluations"] = r.evaluations;
     j["wall_time_s"] = r.wall_time_s;
@@ -66,7 +67,9 @@ std::string to_json(const SimulationResult& r, const Scene& scene) {
                        {"e_r", p.e_r},
                        {"f_r", p.f_r},
                        {"periods", scene.run.periods},
-                       {"transient_periods", scene.run.transient_periods},
+                       {"transient_periods", scene.run.transient_periods == auto_transient
+                                                 ? json("auto")
+                                                 : json(scene.run.transient_periods)},
                        {"tolerance", scene.run.tolerance}};
     j["scene"] = scene.source;
     return j.dump(2) + "\n";

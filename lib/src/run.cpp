@@ -179,7 +179,8 @@ RunOutcome run(const Dynamics& dyn, Stepper& stepper, const StepPlan& plan, cons
 
 void validate(const RunOptions& o) {
     detail::require_range("run.periods", static_cast<double>(o.periods), 1.0, 1e9);
-    if (o.transient_periods < 0 || o.transient_periods >= o.periods)
+    if (o.transient_periods != auto_transient &&
+        (o.transient_periods < 0 || o.transient_periods >= o.periods))
         throw std::invalid_argument(
             "run.transient_periods: must be an integer in [0, periods - 1 = " +
             std::to_string(o.periods - 1) + "], got " + std::to_string(o.transient_periods));
@@ -188,6 +189,24 @@ void validate(const RunOptions& o) {
     detail::require_range("run.steady_tolerance", o.steady_tolerance, 0.0, 1.0,
                           detail::Bound::open_low);
     detail::require_range("run.max_steady_period", o.max_steady_period, 1, 1000);
+    detail::require_range("run.max_work", o.max_work, 1.0, 1e15);
+}
+
+long default_transient_periods(const Dynamics& dyn, const RunOptions& options) {
+    if (!dyn.ground_motion().is_harmonic()) return 0;
+    const long cap = options.periods / 2;
+    const auto& damping = dyn.chain().damping;
+    const double slowest_decay = *std::min_element(damping.begin(), damping.end()) / 2.0;
+    if (!(slowest_decay > 0.0)) return cap;
+    const double periods =
+        std::ceil(dyn.ground_motion().f_r() * std::log(1.0 / options.tolerance) / slowest_decay);
+    return std::min(cap, std::max(1L, static_cast<long>(std::min(periods, 1e9))));
+}
+
+RunOptions with_transient_resolved(const Dynamics& dyn, RunOptions options) {
+    if (options.transient_periods == auto_transient)
+        options.transient_periods = default_transient_periods(dyn, options);
+    return options;
 }
 
 StepPlan plan_run(const Dynamics& dyn, const RunOptions& options, int samples_per_period) {
@@ -207,6 +226,23 @@ const RunOptions& validated(const RunOptions& options) {
     return options;
 }
 
+/// Refuses a run whose work (body-steps) exceeds options.max_work, with the estimate.
+const StepPlan& affordable(const Dynamics& dyn, const RunOptions& options, const StepPlan& plan) {
+    const double work = static_cast<double>(dyn.bodies()) * plan.steps_per_period *
+                        static_cast<double>(options.periods);
+    if (work > options.max_work)
+        throw std::invalid_argument(
+            "run.max_work: this run takes up to " + detail::format_number(work) +
+            " body-steps (Nm " + std::to_string(dyn.bodies()) + " x " +
+            std::to_string(plan.steps_per_period) + " steps per forcing period x " +
+            std::to_string(options.periods) + " periods), about " +
+            detail::format_number(work / 1e7 / 3600.0) +
+            " h at 1e7 body-steps/s; above run.max_work = " +
+            detail::format_number(options.max_work) +
+            ": shorten the run (run.periods, excitation.f_r) or raise run.max_work");
+    return plan;
+}
+
 } // namespace
 
 PlannedRun::PlannedRun(const Dynamics& dyn, const RunOptions& options,
@@ -215,8 +251,10 @@ PlannedRun::PlannedRun(const Dynamics& dyn, const RunOptions& options,
 
 PlannedRun::PlannedRun(const Dynamics& dyn, const RunOptions& options, const StepPlan& plan,
                        const std::vector<double>& initial)
-    : m_dyn(dyn), m_span{validated(options).periods, options.transient_periods, 0.0}, m_plan(plan),
-      m_stepper(make_stepper(plan, dyn)), m_state(initial_state(dyn, initial)) {}
+    : m_dyn(dyn), m_span{validated(options).periods,
+                         with_transient_resolved(dyn, options).transient_periods, 0.0},
+      m_plan(affordable(dyn, options, plan)), m_stepper(make_stepper(plan, dyn)),
+      m_state(initial_state(dyn, initial)) {}
 
 RunOutcome PlannedRun::run(std::span<Observer* const> observers, const ProgressCallback& progress) {
     return run(m_span, observers, progress);

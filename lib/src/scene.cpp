@@ -131,6 +131,185 @@ std::optional<Chain> non_uniform_row(const json& model, const ReducedParameters&
     return c;
 }
 
+/// The reduced model's five numbers (a reduced scene).
+void read_reduced_model(SectionReader& model, SectionReader& excitation, Scene& scene) {
+    model.allow({"Nm", "fc", "eps", "e_r", "mass", "stiffness", "damping", "clearance", "contact",
+                 "scatter", "contact_law", "contact_damping"});
+    excitation.allow({"f_r", "type"});
+    ReducedParameters& p = scene.reduced;
+    p.Nm = model.integer("Nm", p.Nm, 1, 1'000'000);
+    p.fc = model.number("fc", p.fc, 0.0, 1e9, detail::Bound::open_low);
+    p.eps = model.number("eps", p.eps, 0.0, 100.0);
+    p.e_r = model.number("e_r", p.e_r, 0.0, 1e6);
+    p.f_r = excitation.number("f_r", p.f_r, 0.0, 1e4, detail::Bound::open_low);
+}
+
+/// A recorded accelerogram (excitation.type = record); tail: seconds of free vibration after.
+Accelerogram read_record_excitation(SectionReader& excitation, const std::string& source,
+                                    double& tail) {
+    excitation.allow({"file", "unit", "tail"});
+    if (!excitation.has("file"))
+        throw SceneError("excitation.file: required for excitation.type = record (a "
+                         "two-column text/CSV file: time [s], acceleration)");
+    std::filesystem::path file = excitation.text("file", "", {});
+    if (file.is_relative() && !source.empty() && source.front() != '<')
+        file = std::filesystem::path(source).parent_path() / file;
+    const std::string unit = excitation.text("unit", "m/s2", {"m/s2", "g"});
+    Accelerogram record = read_accelerogram(file.string(), unit == "g" ? 9.80665 : 1.0);
+    tail = excitation.number("tail", 0.0, 0.0, 1e5);
+    return record;
+}
+
+/// A synthetic Kanai-Tajimi accelerogram (excitation.type = kanai_tajimi), unit PGA.
+Accelerogram read_kanai_tajimi_excitation(SectionReader& excitation) {
+    excitation.allow({"ground_frequency", "ground_damping", "duration", "sample_interval", "rise",
+                      "hold", "decay", "seed"});
+    KanaiTajimi kt;
+    kt.ground_frequency = excitation.number("ground_frequency", kt.ground_frequency, 0.01, 100.0);
+    kt.ground_damping = excitation.number("ground_damping", kt.ground_damping, 0.01, 5.0);
+    kt.duration = excitation.number("duration", kt.duration, 0.1, 1e5);
+    kt.sample_interval =
+        excitation.number("sample_interval", kt.sample_interval, 0.0, 1.0, detail::Bound::open_low);
+    kt.rise = excitation.number("rise", kt.rise, 0.0, 1e5);
+    kt.hold = excitation.number("hold", kt.hold, 0.0, 1e5);
+    kt.decay = excitation.number("decay", kt.decay, 0.0, 1e3);
+    kt.seed = static_cast<std::uint64_t>(excitation.integer("seed", 1, 0, 2'000'000'000));
+    return kanai_tajimi_accelerogram(kt, 1.0);
+}
+
+/// A record or synthetic ground motion of a physical scene: sets q.a0 (the PGA, or
+/// excitation.a0 to scale to), q.f = f0 and the scene's ground record and its duration.
+void read_ground_record(SectionReader& excitation, const std::string& type, Scene& scene,
+                        PhysicalParameters& q) {
+    // The reduced form takes the record's PGA as a0 and one natural period as the time loop's
+    // unit (f = f0, so f_r = 1).
+    double tail = 0.0;
+    Accelerogram record = type == "record" ? read_record_excitation(excitation, scene.source, tail)
+                                           : read_kanai_tajimi_excitation(excitation);
+    const double pga = peak_ground_acceleration(record);
+    q.a0 = excitation.number("a0", pga, 0.0, 1e6, detail::Bound::open_low);
+    for (double& a : record.acceleration)
+        a *= q.a0 / pga;
+    const double f0 = natural_frequency(q);
+    q.f = f0;
+    scene.ground_record = GroundMotion::from_accelerogram(record, f0, q.a0);
+    scene.record_duration = record.time.back() + tail;
+}
+
+/// The physical model (SI units) and its ground motion, converted to reduced form.
+void read_physical_model(SectionReader& model, SectionReader& excitation, const json& root,
+                         const std::string& type, Scene& scene) {
+    model.allow({"Nm", "M", "K", "C", "Kc", "e", "mass", "stiffness", "contact", "clearance",
+                 "scatter", "contact_law"});
+    excitation.allow({"a0", "type"});
+    PhysicalParameters q;
+    q.Nm = model.integer("Nm", q.Nm, 1, 1'000'000);
+    q.M = model.number("M", q.M, 0.0, 1e12, detail::Bound::open_low);
+    q.K = model.number("K", q.K, 0.0, 1e15, detail::Bound::open_low);
+    q.C = model.number("C", q.C, 0.0, 1e15);
+    q.Kc = model.number("Kc", q.Kc, 0.0, 1e18, detail::Bound::open_low);
+    q.e = model.number("e", q.e, 0.0, 1e3);
+    if (type == "harmonic") {
+        excitation.allow({"f"});
+        q.a0 = excitation.number("a0", q.a0, 0.0, 1e6, detail::Bound::open_low);
+        q.f = excitation.number("f", q.f, 0.0, 1e6, detail::Bound::open_low);
+    } else {
+        read_ground_record(excitation, type, scene, q);
+    }
+    scene.physical = q;
+    scene.reduced = to_reduced(q);
+    if (model.text("contact_law", "linear", {}) != "linear")
+        throw SceneError("model.contact_law: only \"linear\" in physical scenes (a nonlinear "
+                         "law's stiffness unit depends on the law); write the scene in "
+                         "reduced units");
+    const double L = q.a0 / (four_pi_squared * natural_frequency(q) * natural_frequency(q));
+    if (root["model"].contains("damping"))
+        throw SceneError("model.damping: per-body damping arrays are for reduced scenes "
+                         "(eps_i); physical scenes give C");
+    scene.row = non_uniform_row(root["model"], scene.reduced, 1.0 / L);
+}
+
+/// The row of a reduced scene: arrays, scatter and the contact law.
+void read_reduced_row(SectionReader& model, const json& root, Scene& scene) {
+    scene.row = non_uniform_row(root["model"], scene.reduced);
+    const std::string law =
+        model.text("contact_law", "linear", {"linear", "hertz", "hunt_crossley"});
+    if (law != "linear" && !scene.row) scene.row = Chain::homogeneous(scene.reduced);
+    if (law == "hertz") scene.row->law = ContactLaw::hertz;
+    if (law == "hunt_crossley") {
+        scene.row->law = ContactLaw::hunt_crossley;
+        scene.row->contact_damping = model.number("contact_damping", 0.0, 0.0, 1e6);
+    } else if (model.has("contact_damping")) {
+        throw SceneError("model.contact_damping: only with model.contact_law = hunt_crossley");
+    }
+}
+
+/// run.periods and run.transient_periods ("auto" by default, MODEL.md §2); a record's run
+/// covers the record and its tail.
+void read_run_length(SectionReader& run, const std::string& type, Scene& scene) {
+    RunOptions& o = scene.run;
+    o.periods = run.integer("periods", 1000, 1, 1'000'000'000);
+    if (run.has_text("transient_periods")) {
+        run.text("transient_periods", "auto", {"auto"});
+        o.transient_periods = auto_transient;
+    } else {
+        o.transient_periods = run.integer("transient_periods", auto_transient, 0, 999'999'999);
+    }
+    if (scene.ground_record) {
+        if (run.has("periods") || run.has("transient_periods"))
+            throw SceneError(std::string("run.") +
+                             (run.has("periods") ? "periods" : "transient_periods") +
+                             ": not used with excitation.type = " + type +
+                             " (the record's length plus excitation.tail sets the run)");
+        // The loop's unit is one natural period (reduced time 1); the run covers the record
+        // and the tail.
+        o.periods = std::max<long>(
+            1, static_cast<long>(
+                   std::ceil(scene.record_duration * natural_frequency(*scene.physical) - 1e-9)));
+    }
+    if (o.transient_periods != auto_transient && o.transient_periods >= o.periods)
+        throw SceneError("run.transient_periods: must be \"auto\" or an integer in [0, "
+                         "run.periods - 1 = " +
+                         std::to_string(o.periods - 1) + "], got " +
+                         std::to_string(o.transient_periods));
+}
+
+/// The run section: length, scheme, accuracy, steady-state stop, work limit.
+void read_run(SectionReader run, const std::string& type, Scene& scene) {
+    run.allow({"periods", "transient_periods", "scheme", "tolerance", "step", "steady_state",
+               "steady_tolerance", "max_steady_period", "estimate_error", "max_work"});
+    read_run_length(run, type, scene);
+    RunOptions& o = scene.run;
+    // The scheme names live in one place, parse_scheme(), whose message names run.scheme.
+    o.scheme = parse_scheme(run.text("scheme", "auto", {}));
+    o.tolerance = run.number("tolerance", o.tolerance, 1e-12, 0.1);
+    if (run.has("step")) o.step = run.number("step", 0.0, 0.0, 1e3, detail::Bound::open_low);
+    o.stop_at_steady_state = run.boolean("steady_state", o.stop_at_steady_state);
+    o.steady_tolerance = run.number("steady_tolerance", o.steady_tolerance, 1e-15, 1e-2);
+    o.max_steady_period = run.integer("max_steady_period", o.max_steady_period, 1, 1000);
+    o.estimate_error = run.boolean("estimate_error", o.estimate_error);
+    o.max_work = run.number("max_work", o.max_work, 1.0, 1e15);
+    run.finish();
+}
+
+/// initial.u and initial.v (Nm entries each; rest when absent).
+void read_initial(const SectionReader& top, const json& root, Scene& scene) {
+    if (!root.contains("initial")) return;
+    SectionReader initial = top.section("initial");
+    initial.allow({"u", "v"});
+    initial.finish();
+    const auto n = static_cast<std::size_t>(scene.reduced.Nm);
+    const json& ij = root["initial"];
+    std::vector<double> u(n, 0.0), v(n, 0.0);
+    if (ij.contains("u")) u = number_array(ij["u"], "initial.u");
+    if (ij.contains("v")) v = number_array(ij["v"], "initial.v");
+    if (u.size() != n || v.size() != n)
+        throw SceneError("initial.u, initial.v: must each have model.Nm = " + std::to_string(n) +
+                         " entries");
+    scene.initial = u;
+    scene.initial.insert(scene.initial.end(), v.begin(), v.end());
+}
+
 Scene scene_from_json(json root, const std::vector<std::string>& overrides,
                       const std::string& source) {
     if (!root.is_object()) throw SceneError("scene: the top level must be a JSON object");
@@ -150,155 +329,21 @@ Scene scene_from_json(json root, const std::vector<std::string>& overrides,
         throw SceneError("excitation.type: " + type +
                          " needs \"units\": \"physical\" (a record's time and acceleration "
                          "carry units)");
-    double tail = 0.0; // seconds of free vibration after a record
     if (scene.units == Units::reduced) {
-        model.allow({"Nm", "fc", "eps", "e_r", "mass", "stiffness", "damping", "clearance",
-                     "contact", "scatter", "contact_law", "contact_damping"});
-        excitation.allow({"f_r", "type"});
-        ReducedParameters& p = scene.reduced;
-        p.Nm = model.integer("Nm", p.Nm, 1, 1'000'000);
-        p.fc = model.number("fc", p.fc, 0.0, 1e9, detail::Bound::open_low);
-        p.eps = model.number("eps", p.eps, 0.0, 100.0);
-        p.e_r = model.number("e_r", p.e_r, 0.0, 1e6);
-        p.f_r = excitation.number("f_r", p.f_r, 0.0, 1e4, detail::Bound::open_low);
+        read_reduced_model(model, excitation, scene);
+        read_reduced_row(model, root, scene);
     } else {
-        model.allow({"Nm", "M", "K", "C", "Kc", "e", "mass", "stiffness", "contact", "clearance",
-                     "scatter", "contact_law"});
-        excitation.allow({"a0", "type"});
-        PhysicalParameters q;
-        q.Nm = model.integer("Nm", q.Nm, 1, 1'000'000);
-        q.M = model.number("M", q.M, 0.0, 1e12, detail::Bound::open_low);
-        q.K = model.number("K", q.K, 0.0, 1e15, detail::Bound::open_low);
-        q.C = model.number("C", q.C, 0.0, 1e15);
-        q.Kc = model.number("Kc", q.Kc, 0.0, 1e18, detail::Bound::open_low);
-        q.e = model.number("e", q.e, 0.0, 1e3);
-        if (type == "harmonic") {
-            excitation.allow({"f"});
-            q.a0 = excitation.number("a0", q.a0, 0.0, 1e6, detail::Bound::open_low);
-            q.f = excitation.number("f", q.f, 0.0, 1e6, detail::Bound::open_low);
-        } else {
-            // The reduced form takes the record's PGA as a0 (scaled to excitation.a0 if given)
-            // and one natural period as the time loop's unit (f = f0, so f_r = 1).
-            Accelerogram record;
-            if (type == "record") {
-                excitation.allow({"file", "unit", "tail"});
-                if (!excitation.has("file"))
-                    throw SceneError("excitation.file: required for excitation.type = record (a "
-                                     "two-column text/CSV file: time [s], acceleration)");
-                std::filesystem::path file = excitation.text("file", "", {});
-                if (file.is_relative() && !source.empty() && source.front() != '<')
-                    file = std::filesystem::path(source).parent_path() / file;
-                const std::string unit = excitation.text("unit", "m/s2", {"m/s2", "g"});
-                record = read_accelerogram(file.string(), unit == "g" ? 9.80665 : 1.0);
-                tail = excitation.number("tail", 0.0, 0.0, 1e5);
-            } else {
-                excitation.allow({"ground_frequency", "ground_damping", "duration",
-                                  "sample_interval", "rise", "hold", "decay", "seed"});
-                KanaiTajimi kt;
-                kt.ground_frequency =
-                    excitation.number("ground_frequency", kt.ground_frequency, 0.01, 100.0);
-                kt.ground_damping =
-                    excitation.number("ground_damping", kt.ground_damping, 0.01, 5.0);
-                kt.duration =
-                    excitation.number("duration", kt.duration, 0.0, 1e5, detail::Bound::open_low);
-                kt.sample_interval = excitation.number("sample_interval", kt.sample_interval, 0.0,
-                                                       1.0, detail::Bound::open_low);
-                kt.rise = excitation.number("rise", kt.rise, 0.0, 1e5);
-                kt.hold = excitation.number("hold", kt.hold, 0.0, 1e5);
-                kt.decay = excitation.number("decay", kt.decay, 0.0, 1e3);
-                kt.seed =
-                    static_cast<std::uint64_t>(excitation.integer("seed", 1, 0, 2'000'000'000));
-                record = kanai_tajimi_accelerogram(kt, 1.0);
-            }
-            const double pga = peak_ground_acceleration(record);
-            q.a0 = excitation.number("a0", pga, 0.0, 1e6, detail::Bound::open_low);
-            for (double& a : record.acceleration)
-                a *= q.a0 / pga;
-            const double f0 = natural_frequency(q);
-            q.f = f0;
-            scene.ground_record = GroundMotion::from_accelerogram(record, f0, q.a0);
-            scene.record_duration = record.time.back() + tail;
-        }
-        scene.physical = q;
-        scene.reduced = to_reduced(q);
-        if (model.text("contact_law", "linear", {}) != "linear")
-            throw SceneError("model.contact_law: only \"linear\" in physical scenes (a nonlinear "
-                             "law's stiffness unit depends on the law); write the scene in "
-                             "reduced units");
-        const double L = q.a0 / (four_pi_squared * natural_frequency(q) * natural_frequency(q));
-        if (root["model"].contains("damping"))
-            throw SceneError("model.damping: per-body damping arrays are for reduced scenes "
-                             "(eps_i); physical scenes give C");
-        scene.row = non_uniform_row(root["model"], scene.reduced, 1.0 / L);
-    }
-    if (scene.units == Units::reduced) scene.row = non_uniform_row(root["model"], scene.reduced);
-    if (scene.units == Units::reduced) {
-        const std::string law =
-            model.text("contact_law", "linear", {"linear", "hertz", "hunt_crossley"});
-        if (law != "linear" && !scene.row) scene.row = Chain::homogeneous(scene.reduced);
-        if (law == "hertz") scene.row->law = ContactLaw::hertz;
-        if (law == "hunt_crossley") {
-            scene.row->law = ContactLaw::hunt_crossley;
-            scene.row->contact_damping = model.number("contact_damping", 0.0, 0.0, 1e6);
-        } else if (model.has("contact_damping")) {
-            throw SceneError("model.contact_damping: only with model.contact_law = hunt_crossley");
-        }
+        read_physical_model(model, excitation, root, type, scene);
     }
     model.finish();
     excitation.finish();
-
-    SectionReader run = top.section("run");
-    run.allow({"periods", "transient_periods", "scheme", "tolerance", "step", "steady_state",
-               "steady_tolerance", "max_steady_period", "estimate_error"});
-    RunOptions& o = scene.run;
-    o.periods = run.integer("periods", 1000, 1, 1'000'000'000);
-    o.transient_periods = run.integer("transient_periods", 0, 0, 999'999'999);
-    if (scene.ground_record) {
-        if (run.has("periods") || run.has("transient_periods"))
-            throw SceneError(std::string("run.") +
-                             (run.has("periods") ? "periods" : "transient_periods") +
-                             ": not used with excitation.type = " + type +
-                             " (the record's length plus excitation.tail sets the run)");
-        // The loop's unit is one natural period (reduced time 1); the run covers the record
-        // and the tail.
-        o.periods = std::max<long>(
-            1, static_cast<long>(
-                   std::ceil(scene.record_duration * natural_frequency(*scene.physical) - 1e-9)));
-    }
-    if (o.transient_periods >= o.periods)
-        throw SceneError("run.transient_periods: must be an integer in [0, run.periods - 1 = " +
-                         std::to_string(o.periods - 1) + "], got " +
-                         std::to_string(o.transient_periods));
-    // The scheme names live in one place, parse_scheme(), whose message names run.scheme.
-    o.scheme = parse_scheme(run.text("scheme", "auto", {}));
-    o.tolerance = run.number("tolerance", o.tolerance, 1e-12, 0.1);
-    if (run.has("step")) o.step = run.number("step", 0.0, 0.0, 1e3, detail::Bound::open_low);
-    o.stop_at_steady_state = run.boolean("steady_state", o.stop_at_steady_state);
-    o.steady_tolerance = run.number("steady_tolerance", o.steady_tolerance, 1e-15, 1e-2);
-    o.max_steady_period = run.integer("max_steady_period", o.max_steady_period, 1, 1000);
-    o.estimate_error = run.boolean("estimate_error", o.estimate_error);
-    run.finish();
+    read_run(top.section("run"), type, scene);
 
     SectionReader output = top.section("output");
     output.allow({"trajectory_every"});
     scene.trajectory_every = output.integer("trajectory_every", 1, 1, 1'000'000);
     output.finish();
-
-    if (root.contains("initial")) {
-        SectionReader initial = top.section("initial");
-        initial.allow({"u", "v"});
-        initial.finish();
-        const auto n = static_cast<std::size_t>(scene.reduced.Nm);
-        const json& ij = root["initial"];
-        std::vector<double> u(n, 0.0), v(n, 0.0);
-        if (ij.contains("u")) u = number_array(ij["u"], "initial.u");
-        if (ij.contains("v")) v = number_array(ij["v"], "initial.v");
-        if (u.size() != n || v.size() != n)
-            throw SceneError("initial.u, initial.v: must each have model.Nm = " +
-                             std::to_string(n) + " entries");
-        scene.initial = u;
-        scene.initial.insert(scene.initial.end(), v.begin(), v.end());
-    }
+    read_initial(top, root, scene);
     top.finish();
     return scene;
 }

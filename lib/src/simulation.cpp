@@ -154,9 +154,11 @@ void estimate_error(const Dynamics& dyn, const RunOptions& options, const StepPl
 
 } // namespace
 
-SimulationResult simulate(const Dynamics& dyn, const RunOptions& options,
+SimulationResult simulate(const Dynamics& dyn, const RunOptions& requested,
                           const std::vector<double>& initial, const SimulationHooks& hooks) {
     const auto start = std::chrono::steady_clock::now();
+    validate(requested);
+    const RunOptions options = with_transient_resolved(dyn, requested);
     PlannedRun planned(dyn, options, initial);
     const SingleRun main = run_once(dyn, options, planned, hooks.trajectory,
                                     std::max(1, hooks.trajectory_every), hooks.progress);
@@ -166,6 +168,7 @@ SimulationResult simulate(const Dynamics& dyn, const RunOptions& options,
     result.scheme = planned.plan().scheme;
     result.step = planned.plan().step;
     result.periods_simulated = main.outcome.periods_done;
+    result.transient_periods_used = options.transient_periods;
     result.steps = main.outcome.steps;
     result.evaluations = main.evaluations;
     result.steady_state_period = main.period;

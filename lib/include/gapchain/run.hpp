@@ -71,11 +71,15 @@ struct RunOutcome {
 /// Progress report: fraction done in [0, 1]; return false to cancel the run.
 using ProgressCallback = std::function<bool(double fraction_done)>;
 
-/// How to run: length, scheme, accuracy, steady-state stop. Defaults are the paper's (1000
-/// periods, transient counted).
+/// RunOptions::transient_periods value asking for MODEL.md §2's default transient.
+inline constexpr long auto_transient = -1;
+
+/// How to run: length, scheme, accuracy, steady-state stop. Defaults are MODEL.md §2's (1000
+/// periods, the start-up transient discarded).
 struct RunOptions {
-    long periods = 1000;               ///< forcing periods, 1 .. 1e9
-    long transient_periods = 0;        ///< discarded first periods, 0 .. periods - 1
+    long periods = 1000; ///< forcing periods, 1 .. 1e9
+    /// Discarded first periods, 0 .. periods - 1, or auto_transient (default_transient_periods).
+    long transient_periods = auto_transient;
     Scheme scheme = Scheme::automatic; ///< integration scheme
     double tolerance = 1e-4;           ///< relative accuracy asked of F_m, 1e-12 .. 0.1
     std::optional<double> step;        ///< user step (reduced time), overrides the tolerance
@@ -84,10 +88,25 @@ struct RunOptions {
     int max_steady_period = 16;        ///< largest steady period tried, 1 .. 1000
     bool estimate_error = true;        ///< estimate F_m_error (simulate(): comparison run or
                                        ///< window halves)
+    /// Largest work a run may take, in body-steps (Nm x steps per period x periods), 1 ..
+    /// 1e15. About 1e7 body-steps run per second on one core, so the default 3e10 is about an
+    /// hour; a larger run is refused up front with its estimate.
+    double max_work = 3e10;
 };
 
 /// Throws std::invalid_argument naming the first option outside its range.
 void validate(const RunOptions& options);
+
+/// MODEL.md §2's default transient [forcing periods]: the time in which the slowest free
+/// vibration of the contact-free row decays below options.tolerance,
+/// n_t = max(1, ceil(f_r ln(1 / tol) / r_min)) with r_min = min_i damping_i / 2 (2 pi eps_min
+/// for the paper's row), capped at options.periods / 2 (the cap when r_min = 0); 0 for a
+/// record (no forcing period: the start is part of the motion).
+long default_transient_periods(const Dynamics& dyn, const RunOptions& options);
+
+/// options with transient_periods resolved: auto_transient replaced by
+/// default_transient_periods(), any other value kept.
+RunOptions with_transient_resolved(const Dynamics& dyn, RunOptions options);
 
 /// Integrates y (2 Nm entries, updated in place) over span on plan's step grid, feeding every
 /// observer. Throws std::invalid_argument on an inconsistent span or state size.
@@ -119,6 +138,8 @@ public:
                    const ProgressCallback& progress = {});
     /// The plan the run uses.
     [[nodiscard]] const StepPlan& plan() const { return m_plan; }
+    /// Periods run() discards first: options.transient_periods, resolved if auto.
+    [[nodiscard]] long transient_periods() const { return m_span.transient_periods; }
     /// The current state: the initial state, then the end state of the last run.
     [[nodiscard]] const std::vector<double>& state() const { return m_state; }
     /// Right-hand-side evaluations of the stepper so far.

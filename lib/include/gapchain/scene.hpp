@@ -7,7 +7,7 @@
 ///   {"units": "reduced",
 ///    "model": {"Nm": 5, "fc": 100, "eps": 0.5, "e_r": 0.5},
 ///    "excitation": {"f_r": 1.0},
-///    "run": {"periods": 1000, "transient_periods": 0, "scheme": "auto", "tolerance": 1e-4},
+///    "run": {"periods": 1000, "transient_periods": "auto", "scheme": "auto", "tolerance": 1e-4},
 ///    "initial": {"u": [...], "v": [...]},
 ///    "output": {"trajectory_every": 1}}
 /// With "units": "physical", model holds Nm, M, K, C, Kc, e and excitation holds a0, f (SI).

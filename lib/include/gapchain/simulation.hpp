@@ -50,6 +50,7 @@ struct SimulationResult {
     Scheme scheme = Scheme::rk4;             ///< concrete scheme used
     double step = 0.0;                       ///< reduced time step used
     long periods_simulated = 0;              ///< forcing periods integrated in the main run
+    long transient_periods_used = 0;         ///< first periods discarded (not in the maxima)
     long steps = 0;                          ///< steps in the main run
     long evaluations = 0;                    ///< right-hand-side evaluations, all runs
     std::vector<double> final_state;         ///< state at the end of the main run

@@ -34,6 +34,10 @@ public:
         m_allowed.insert(m_allowed.end(), keys.begin(), keys.end());
     }
     [[nodiscard]] bool has(const std::string& key) const { return m_object.contains(key); }
+    // Whether key is present and holds a string.
+    [[nodiscard]] bool has_text(const std::string& key) const {
+        return has(key) && m_object.at(key).is_string();
+    }
 
     double number(const std::string& key, double fallback, double lo, double hi,
                   Bound bound = Bound::closed) const {

@@ -56,6 +56,7 @@ int main(int argc, char** argv) {
         [&] {
             const Scene scene = cli::load(scene_args);
             const Dynamics dyn = scene.dynamics();
+            require_harmonic(dyn, "spectrum"); // before the sample count, which needs a period
             const SectionVariable var =
                 SectionVariable::parse(variable, dyn.bodies(), "--variable");
             if (var.kind == SectionVariable::Kind::time)

@@ -133,7 +133,7 @@ void add_arguments(CLI::App& app, SweepArguments& a) {
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
     app.add_option("--seed", a.seed, "Seed of --subset (a non-negative integer)")
-        ->check(CLI::NonNegativeNumber)
+        ->check(CLI::Range(0ULL, 4'294'967'295ULL))
         ->capture_default_str();
 }
 

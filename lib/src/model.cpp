@@ -43,6 +43,19 @@ ReducedParameters to_reduced(const PhysicalParameters& p) {
     r.eps = p.C / (2.0 * std::sqrt(p.K * p.M));
     r.e_r = two_pi_f0 * two_pi_f0 * p.e / p.a0;
     r.f_r = p.f / f0;
+    // The reduced numbers are derived: a value out of range names the keys the user wrote.
+    auto derived = [](const char* keys, const char* formula, double value, double lo, double hi) {
+        if (!(value >= lo && value <= hi))
+            throw std::invalid_argument(
+                std::string(keys) + ": give " + formula + " in [" + detail::format_number(lo) +
+                ", " + detail::format_number(hi) + "], got " + detail::format_number(value));
+    };
+    derived("model.Kc, model.K", "fc = Kc / K", r.fc, 1e-9, 1e9);
+    derived("model.C, model.K, model.M", "eps = C / (2 sqrt(K M))", r.eps, 0.0, 100.0);
+    derived("model.e, excitation.a0, model.K, model.M", "e_r = 4 pi^2 f0^2 e / a0", r.e_r, 0.0,
+            1e6);
+    derived("excitation.f, model.K, model.M", "f_r = f / f0 (f0 = sqrt(K / M) / (2 pi))", r.f_r,
+            1e-5, 1e4);
     validate(r);
     return r;
 }

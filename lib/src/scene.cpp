@@ -116,6 +116,21 @@ std::optional<Chain> non_uniform_row(const json& model, const ReducedParameters&
     check("mass", mass, 0.0, true);
     check("stiffness", stiffness, 0.0, true);
     check("damping", damping, 0.0, false);
+    // Relative masses and stiffnesses far from 1 would overflow the derived spring rates (the
+    // message would then name a key the user never wrote).
+    auto check_ratio = [](const char* key, const std::vector<double>& v, double hi) {
+        for (double x : v)
+            if (x < 1.0 / hi || x > hi)
+                throw SceneError(std::string("model.") + key + ": every entry must be in [" +
+                                 detail::format_number(1.0 / hi) + ", " +
+                                 detail::format_number(hi) + "], got " + detail::format_number(x));
+    };
+    check_ratio("mass", mass, 1e6);
+    check_ratio("stiffness", stiffness, 1e6);
+    for (double x : damping)
+        if (x > 100.0)
+            throw SceneError("model.damping: every entry must be in [0, 100], got " +
+                             detail::format_number(x));
     check("clearance", clearance, 0.0, false);
     check("contact", contact, 0.0, true);
     Chain c = Chain::homogeneous(p);

@@ -1,0 +1,267 @@
+#!/usr/bin/env bash
+# The 23 defect classes of the reliability probe (../shared/reports/reliability-probe-2026-11-22.md),
+# each reproduced as the report gives it and checked against what the README promises.
+# Usage: probe_classes.sh BIN_DIR SOURCE_DIR   (prints "class N: ok" or "class N: FAIL ...")
+set -u
+bin=$(cd "$1" && pwd)
+src=$(cd "$2" && pwd)
+scenes="$src/data/scenes"
+dir=$(mktemp -d)
+trap 'umount "$dir/full" 2>/dev/null; rm -rf "$dir"' EXIT
+cd "$dir" || exit 1
+failed=()
+
+# expect CLASS RC PATTERN CMD...: exit status RC, and the last stderr line matches PATTERN.
+expect() {
+    local class=$1 rc=$2 pattern=$3
+    shift 3
+    timeout -s KILL 60 "$@" >"$dir/stdout" 2>"$dir/stderr"
+    local got=$?
+    local last
+    last=$(grep -v '^gapchain-[a-z]*: [0-9]* points in the study' "$dir/stderr" | tail -n 1)
+    if [ "$got" -ne "$rc" ] || ! grep -qE -- "$pattern" <<<"$last"; then
+        echo "class $class: FAIL: $* -> exit $got (expected $rc): $last"
+        failed+=("$class")
+        return 1
+    fi
+    return 0
+}
+# one_line CLASS: the last command wrote exactly one line on stderr.
+one_line() {
+    if [ "$(wc -l <"$dir/stderr")" -ne 1 ]; then
+        echo "class $1: FAIL: $(wc -l <"$dir/stderr") stderr lines, expected one"
+        failed+=("$1")
+    fi
+}
+# absent CLASS PATH...: none of the paths exists.
+absent() {
+    local class=$1
+    shift
+    for p in "$@"; do
+        if [ -e "$p" ]; then
+            echo "class $class: FAIL: $p was left behind"
+            failed+=("$class")
+        fi
+    done
+}
+verdict() { # CLASS
+    if printf '%s\n' "${failed[@]:-}" | grep -qx "$1"; then return; fi
+    echo "class $1: ok"
+}
+
+small_study() { # PATH [periods]
+    cat >"$1" <<EOF
+{"scene": {"model": {"Nm": 3, "eps": 0.5, "fc": 60}, "excitation": {"f_r": 1.0},
+           "run": {"periods": ${2:-200}, "scheme": "rk4", "steady_state": false,
+                   "estimate_error": false}},
+ "parameters": {"e_r": {"lin": [0, 0.3, 20]}, "f_r": {"lin": [2, 4.5, 10]}},
+ "sample": "grid", "keep": ["F_m", "per_body", "steady_state_period"]}
+EOF
+}
+small_study study.json
+cp "$scenes/fig5.json" fig5.json
+seismic="$scenes/table4-experiment-seismic.json"
+
+# 1. Disk full in the middle of a sweep: exit 1 naming the file and the OS reason, no abort.
+mkdir full
+if mount -t tmpfs -o size=64k tmpfs full 2>/dev/null; then
+    dd if=/dev/zero of=full/fill bs=1k count=52 2>/dev/null
+    expect 1 1 "full/r.csv.*(No space left|disk full)" "$bin/gapchain-sweep" study.json --threads 2 --out full/r.csv
+    umount full
+else
+    echo "class 1: skipped the tmpfs part (mount not permitted here)"
+fi
+verdict 1
+
+# 2. Resuming into a CSV started by another study is refused.
+"$bin/gapchain-sweep" study.json --out two.csv >/dev/null 2>&1
+head -n 101 two.csv >two.tmp && mv two.tmp two.csv
+small_study other.json 150
+expect 2 2 "two.csv: was started by another study" "$bin/gapchain-sweep" other.json --out two.csv
+[ "$(wc -l <two.csv)" -eq 101 ] || { echo "class 2: FAIL: the CSV was changed"; failed+=(2); }
+verdict 2
+
+# 3. Tools that need a forcing period refuse record and Kanai-Tajimi scenes.
+expect 3 2 "needs harmonic forcing" "$bin/gapchain-classify" "$seismic" --out c.json
+expect 3 2 "harmonic|uniform row" "$bin/gapchain-classify" "$seismic" --map --e_r 0:1:2 --f_r 1:2:2 --out cmap
+expect 3 2 "harmonic|uniform row" "$bin/gapchain-bifurcation" "$seismic" --steps 2 --out bif
+expect 3 2 "harmonic|uniform row" "$bin/gapchain-bounds" "$seismic"
+{ printf '{"scene": '; cat "$seismic"; printf ', "parameters": {"excitation.seed": [1, 2]}, "keep": ["F_m", "regime"]}\n'; } >seismic-study.json
+expect 3 2 "regime" "$bin/gapchain-sweep" seismic-study.json --out seismic.csv
+absent 3 c.json cmap bif seismic.csv
+verdict 3
+
+# 4. Duplicate JSON keys are refused, naming the key, at every level.
+echo '{"model":{"Nm":5,"fc":60,"e_r":0.06},"run":{"periods":20},"model":{"Nm":7}}' >dup1.json
+echo '{"model":{"Nm":5,"fc":60,"fc":100},"run":{"periods":20}}' >dup2.json
+expect 4 2 "^gapchain-sim: model: duplicate key" "$bin/gapchain-sim" dup1.json --out d.json
+expect 4 2 "model.fc: duplicate key" "$bin/gapchain-sim" dup2.json --out d.json
+verdict 4
+
+# 5. modes: --Nm 0 and --fc 0 are refused, not replaced by defaults.
+expect 5 2 "--Nm" "$bin/gapchain-modes" --Nm 0 --out m.json
+expect 5 2 "--fc" "$bin/gapchain-modes" --Nm 3 --fc 0 --out m.json
+absent 5 m.json
+verdict 5
+
+# 6. Work that would take hours is refused at once, with the estimate and the key to raise.
+expect 6 2 "run.max_work|excitation.f_r" timeout 10 "$bin/gapchain-sim" fig5.json --set excitation.f_r=1e-6 --out h.json
+expect 6 2 "run.max_work|run.step" timeout 10 "$bin/gapchain-sim" fig5.json --set run.step=1e-9 --out h.json
+expect 6 2 "run.max_work" timeout 10 "$bin/gapchain-sim" "$seismic" --set excitation.duration=1e5 --out h.json
+expect 6 2 "--max-dense" timeout 10 "$bin/gapchain-modes" --Nm 20000 --out h.json
+expect 6 0 "" timeout 60 "$bin/gapchain-sim" fig5.json --set run.periods=20 --set run.max_work=1e6 --set run.max_work=1e9 --out h.json
+verdict 6
+
+# 7. An output path equal to an input or to another output is refused; the input is kept.
+cp fig5.json copy.json
+expect 7 2 "--out: .*input" "$bin/gapchain-sim" copy.json --out copy.json
+expect 7 2 "--trajectory: .*input" "$bin/gapchain-sim" copy.json --trajectory copy.json --out o.json
+expect 7 2 "--trajectory: .*--out" "$bin/gapchain-sim" copy.json --out x.csv --trajectory x.csv
+cmp -s copy.json fig5.json || { echo "class 7: FAIL: the scene was overwritten"; failed+=(7); }
+verdict 7
+
+# 8. A study giving one parameter twice is refused.
+cat >twice.json <<'EOF'
+{"scene": {"model": {"Nm": 2}, "run": {"periods": 5}},
+ "parameters": {"e_r": [0.1, 0.2], "model.e_r": [0.3]}, "sample": "grid", "keep": ["F_m"]}
+EOF
+expect 8 2 "given twice" "$bin/gapchain-sweep" twice.json --out tw.csv
+absent 8 tw.csv tw.csv.json
+verdict 8
+
+# 9. Output paths are checked before computing (a long run fails at once).
+start=$(date +%s)
+expect 9 2 "--out: /proc/x" "$bin/gapchain-sim" fig5.json --set run.periods=200000 --set run.steady_state=false --out /proc/x
+expect 9 2 "--out: /proc/x" "$bin/gapchain-lyapunov" fig5.json --set run.periods=200000 --out /proc/x/l.json
+expect 9 2 "--out: /proc/x" "$bin/gapchain-classify" fig5.json --set run.periods=200000 --out /proc/x
+[ $(($(date +%s) - start)) -le 5 ] || { echo "class 9: FAIL: took more than 5 s"; failed+=(9); }
+verdict 9
+
+# 10. SIGINT during a run removes the temporary trajectory file.
+"$bin/gapchain-sim" fig5.json --set run.periods=400000 --set run.steady_state=false \
+    --trajectory t.csv --out t.json >/dev/null 2>&1 &
+pid=$!
+sleep 1
+kill -INT "$pid"
+for _ in $(seq 1 50); do kill -0 "$pid" 2>/dev/null || break; sleep 0.1; done
+kill -KILL "$pid" 2>/dev/null
+wait "$pid"
+rc=$?
+[ "$rc" -eq 130 ] || { echo "class 10: FAIL: exit $rc after SIGINT, expected 130"; failed+=(10); }
+absent 10 t.csv t.json
+ls | grep -q '\.tmp' && { echo "class 10: FAIL: temporary left: $(ls | grep '\.tmp')"; failed+=(10); }
+verdict 10
+
+# 11. Bad sweep input is found before any file is created.
+expect 11 2 "--threads" "$bin/gapchain-sweep" study.json --threads -1 --out b11.csv
+expect 11 2 "--threads" "$bin/gapchain-sweep" study.json --threads 100000 --out b11.csv
+cat >hertz-regime.json <<'EOF'
+{"scene": {"model": {"Nm": 2, "contact_law": "hertz"}, "run": {"periods": 5}},
+ "parameters": {"e_r": [0.1, 0.2]}, "keep": ["F_m", "regime"]}
+EOF
+expect 11 2 "regime" "$bin/gapchain-sweep" hertz-regime.json --out b11.csv
+absent 11 b11.csv b11.csv.json
+verdict 11
+
+# 12. A plot that gnuplot fails to write is a failure (exit 1), never "wrote ...".
+mkdir -p fakebin
+printf '#!/bin/sh\ncat >/dev/null\nexit 1\n' >fakebin/gnuplot
+chmod +x fakebin/gnuplot
+expect 12 1 "gnuplot" env PATH="$dir/fakebin:$PATH" "$bin/gapchain-classify" fig5.json --map --e_r 0.4:0.6:2 --f_r 1:1.2:2 --transient 10 --record 20 --out map12
+printf '#!/bin/sh\ncat >/dev/null\n: > "$(ls -t /proc/$$/cwd/*.png 2>/dev/null | head -1)" 2>/dev/null\nexit 0\n' >fakebin/gnuplot
+expect 12 1 "gnuplot|PNG|png" env PATH="$dir/fakebin:$PATH" "$bin/gapchain-lyapunov" fig5.json --set run.periods=20 --out ly12.json
+verdict 12
+
+# 13. A folder tool that fails leaves no folder behind.
+expect 13 2 "harmonic" "$bin/gapchain-poincare" "$seismic" --out pc13
+expect 13 2 "harmonic" "$bin/gapchain-spectrum" "$seismic" --out sp13
+absent 13 pc13 sp13
+verdict 13
+
+# 14. Sizes that would exhaust memory are refused with the limit and the key, no bad_alloc.
+expect 14 2 "--max-dense|--modes" "$bin/gapchain-modes" --Nm 1000000 --modes 1000000 --out m14.json
+expect 14 2 "--max-dense" "$bin/gapchain-modes" --method dense --Nm 200000 --out m14.json
+echo '{"units": "physical", "excitation": {"type": "kanai_tajimi", "sample_interval": 1e-9}}' >kt14.json
+expect 14 2 "excitation.sample_interval" "$bin/gapchain-sim" kt14.json --out m14.json
+grep -q "bad_alloc\|vector::" "$dir/stderr" && { echo "class 14: FAIL: raw exception text"; failed+=(14); }
+verdict 14
+
+# 15. An unusable output folder is exit 2 with the reason, for file and folder tools alike.
+touch existing
+expect 15 2 "--out: /proc/y" "$bin/gapchain-bifurcation" --steps 2 --out /proc/y
+expect 15 2 "--out: existing" "$bin/gapchain-bifurcation" --steps 2 --out existing
+expect 15 2 "--out: /proc/y" "$bin/gapchain-sim" fig5.json --out /proc/y/r.json
+verdict 15
+
+# 16. Messages name the key the user wrote.
+echo '{"model": {"Nm": 3, "mass": [1e-300, 1, 1]}}' >m16.json
+echo '{"units": "physical", "model": {"e": 0.001}, "excitation": {"a0": 1e-300}}' >a16.json
+echo '{"units": "physical", "model": {"M": 1e-300}}' >M16.json
+echo '{"units": "physical", "excitation": {"type": "kanai_tajimi", "duration": 1e-300}}' >kt16.json
+expect 16 2 "^gapchain-sim: model.mass" "$bin/gapchain-sim" m16.json --out o16.json
+expect 16 2 "^gapchain-sim: [^:]*excitation.a0" "$bin/gapchain-sim" a16.json --out o16.json
+expect 16 2 "^gapchain-sim: [^:]*model.M" "$bin/gapchain-sim" M16.json --out o16.json
+expect 16 2 "^gapchain-sim: excitation.duration" "$bin/gapchain-sim" kt16.json --out o16.json
+expect 16 2 "^gapchain-sim: excitation.f_r" "$bin/gapchain-sim" fig5.json --set excitation.f_r=1e-12 --out o16.json
+expect 16 2 "^gapchain-sim: run.step" "$bin/gapchain-sim" fig5.json --set run.step=1e-300 --out o16.json
+verdict 16
+
+# 17. Messages name the flag, not an internal field.
+expect 17 2 "^gapchain-spectrum: --segment" "$bin/gapchain-spectrum" fig5.json --segment 1 --out sp17
+expect 17 2 "^gapchain-accuracy: --schemes" "$bin/gapchain-accuracy" fig5.json --schemes foo --out ac17
+expect 17 2 "^gapchain-modes: --fc" "$bin/gapchain-modes" "$scenes/table4-experiment-harmonic.json" --fc 3 --out m17.json
+expect 17 2 "^gapchain-lyapunov: --count" "$bin/gapchain-lyapunov" fig5.json --count 11 --out l17.json
+verdict 17
+
+# 18. An unknown study parameter is named as such.
+echo '{"scene": {"run": {"periods": 5}}, "parameters": {"foo": [1]}, "keep": ["F_m"]}' >foo.json
+expect 18 2 "parameters.foo: unknown" "$bin/gapchain-sweep" foo.json --out f18.csv
+verdict 18
+
+# 19. A directory given as the scene says so.
+mkdir -p adir
+expect 19 2 "adir: is a directory" "$bin/gapchain-sim" adir --out o19.json
+expect 19 2 "adir: is a directory" "$bin/gapchain-sweep" adir --out o19.csv
+verdict 19
+
+# 20. Malformed shards and seeds are refused.
+for shard in 1/2/3 0/1e9 0/4294967297 2/2 -1/2; do
+    expect 20 2 "--shard" "$bin/gapchain-sweep" study.json --shard "$shard" --out s20.csv
+done
+expect 20 2 "--seed" "$bin/gapchain-sweep" study.json --subset 3 --seed -1 --out s20.csv
+absent 20 s20.csv
+verdict 20
+
+# 21. The message gives the real reason.
+expect 21 2 "--trigger: must be a displacement, velocity or gap" "$bin/gapchain-poincare" fig5.json --section event --trigger t --out p21
+expect 21 2 "contact_law" "$bin/gapchain-bifurcation" --set model.contact_law=hertz --steps 2 --out b21
+expect 21 2 "contact_law" "$bin/gapchain-classify" fig5.json --set model.contact_law=hertz --out c21.json
+verdict 21
+
+# 22. Options that do not apply are refused.
+expect 22 2 "--e_r requires --map" "$bin/gapchain-classify" fig5.json --e_r 0:1:3 --out c22.json
+expect 22 2 "--grid excludes --Nm" "$bin/gapchain-modes" --grid --Nm 7 --out g22
+expect 22 2 "--grid excludes --csv" "$bin/gapchain-modes" --grid --csv x.csv --out g22
+expect 22 2 "SCENE" "$bin/gapchain-sim" ""
+verdict 22
+
+# 23. The small ones.
+expect 23 2 "frob" "$bin/gapchain-bench" frob
+start=$(date +%s)
+expect 23 2 "--threads" "$bin/gapchain-bench" bifurcation --threads -1
+[ $(($(date +%s) - start)) -le 2 ] || { echo "class 23: FAIL: --threads checked late"; failed+=(23); }
+expect 23 2 "listed twice|twice" "$bin/gapchain-accuracy" fig5.json --schemes rk4 rk4 --out a23
+expect 23 2 "--variable" "$bin/gapchain-spectrum" fig5.json --variable t --out sp23
+expect 23 0 "" "$bin/gapchain-bounds" fig5.json --out b23.json
+grep -q '"eq25_smooth_bound"' b23.json || { echo "class 23: FAIL: bounds --out wrote no JSON"; failed+=(23); }
+expect 23 0 "" "$bin/gapchain-bifurcation" --set model.e_r=50 --steps 2 --transient 5 --record 5 --no-plot --out b23
+grep -q "max F_m = 0 at" "$dir/stdout" && { echo "class 23: FAIL: no-contact line says max F_m = 0 at"; failed+=(23); }
+"$bin/gapchain-sweep" study.json --subset 2 --out s23.csv >/dev/null 2>&1
+grep -q "\"study\": \"/" s23.csv.json || { echo "class 23: FAIL: sidecar study path not absolute"; failed+=(23); }
+verdict 23
+
+if [ "${#failed[@]}" -eq 0 ]; then
+    echo "all 23 classes checked"
+    exit 0
+fi
+exit 1

@@ -262,6 +262,39 @@ std::string to_json(const LyapunovResult& r, const ReducedParameters& p, int cou
     return j.dump(2) + "\n";
 }
 
+std::string to_json(const PeriodicOrbit& orbit, const Scene& scene) {
+    nlohmann::ordered_json j;
+    j["status"] = std::string(to_string(orbit.status));
+    if (!orbit.message.empty()) j["message"] = orbit.message;
+    j["period"] = orbit.period;
+    j["minimal_period"] = orbit.minimal_period;
+    j["state"] = orbit.state;
+    j["residual"] = orbit.residual;
+    j["iterations"] = orbit.iterations;
+    j["residual_history"] = orbit.residual_history;
+    auto multipliers = nlohmann::ordered_json::array();
+    for (const auto& mu : orbit.multipliers)
+        multipliers.push_back({mu.real(), mu.imag()});
+    j["multipliers"] = multipliers;
+    j["max_multiplier"] = orbit.max_multiplier;
+    j["stable"] = orbit.stable;
+    j["liouville_error"] = orbit.liouville_error;
+    j["F_m"] = orbit.F_m;
+    auto contacts = nlohmann::ordered_json::array();
+    for (std::size_t c = 0; c < orbit.per_contact.size(); ++c)
+        contacts.push_back({{"contact", c},
+                            {"force", orbit.per_contact[c].force},
+                            {"time", orbit.per_contact[c].time},
+                            {"impacts", orbit.per_contact[c].impacts},
+                            {"max_gap", orbit.max_gap[c]}});
+    j["per_contact"] = contacts;
+    j["wall_time_s"] = orbit.wall_time_s;
+    const ReducedParameters& p = scene.reduced;
+    j["parameters"] = {{"Nm", p.Nm}, {"fc", p.fc}, {"eps", p.eps}, {"e_r", p.e_r}, {"f_r", p.f_r}};
+    j["scene"] = scene.source;
+    return j.dump(2) + "\n";
+}
+
 std::string history_csv(const LyapunovResult& r) {
     std::ostringstream os;
     os.precision(10);

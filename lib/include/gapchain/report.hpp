@@ -8,6 +8,7 @@
 #include "gapchain/classify.hpp"
 #include "gapchain/lyapunov.hpp"
 #include "gapchain/modes.hpp"
+#include "gapchain/orbit.hpp"
 #include "gapchain/scene.hpp"
 #include "gapchain/simulation.hpp"
 #include "gapchain/spectrum.hpp"
@@ -86,6 +87,11 @@ std::string grid_csv(const ApproximationGrid& grid);
 /// Lyapunov exponents as JSON: exponents, error, sum, expected_sum (-sum of the damping
 /// rates, MODEL.md §5), averaging_time, status, wall_time_s and the parameters.
 std::string to_json(const LyapunovResult& result, const ReducedParameters& p, int count);
+
+/// A periodic orbit as JSON: period, minimal_period, state, residual, iterations, multipliers
+/// ([re, im], largest modulus first), stable, liouville_error, F_m, per_contact, status,
+/// wall_time_s, and the scene's reduced parameters.
+std::string to_json(const PeriodicOrbit& orbit, const Scene& scene);
 
 /// Running estimates as CSV: t, lambda1, lambda2, ...
 std::string history_csv(const LyapunovResult& result);

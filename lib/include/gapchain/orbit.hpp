@@ -1,0 +1,91 @@
+#pragma once
+/// \file orbit.hpp
+/// Periodic orbits of the forced row by Newton shooting on the k-period stroboscopic map
+/// x = P^k(x) (phase 0 of the forcing), with the monodromy matrix dP^k/dx from the exact tangent
+/// flow between contact switches (MODEL.md §5), and their Floquet multipliers.
+
+#include "gapchain/observers.hpp"
+#include "gapchain/run.hpp"
+
+#include <complex>
+#include <string>
+#include <vector>
+
+namespace gapchain {
+
+/// How the search went.
+enum class OrbitStatus {
+    converged,     ///< |P^k(x) - x| <= tolerance (1 + |x|)
+    not_converged, ///< max_iterations reached, or the damped step stopped decreasing the residual
+    singular,      ///< M - I was singular to working precision (a multiplier at +1: a fold)
+    non_finite,    ///< the state became NaN or infinite
+};
+
+/// Name of a status, as written in results ("converged", ...).
+std::string_view to_string(OrbitStatus status);
+
+/// Options of the Newton search.
+struct OrbitOptions {
+    int period = 1;                ///< k, forcing periods of the orbit, 1 .. 1000
+    double tolerance = 1e-10;      ///< residual |P^k(x) - x| / (1 + |x|) to reach, 1e-14 .. 1e-3
+    int max_iterations = 40;       ///< Newton iterations, 1 .. 1000
+    Scheme scheme = Scheme::exact; ///< integration of P^k (exact: the row is piecewise linear)
+    double integration_tolerance = 1e-12; ///< tolerance of the scheme, 1e-14 .. 1e-3
+};
+
+/// A periodic orbit and its stability.
+struct PeriodicOrbit {
+    OrbitStatus status = OrbitStatus::not_converged;
+    std::string message;       ///< why the search failed (empty otherwise)
+    int period = 1;            ///< k asked for [forcing periods]
+    int minimal_period = 1;    ///< smallest divisor d of k with P^d(x) = x (to 1e3 x tolerance)
+    std::vector<double> state; ///< x at phase 0: u_1..u_Nm, v_1..v_Nm
+    double residual = 0.0;     ///< |P^k(x) - x| / (1 + |x|) at the end
+    int iterations = 0;        ///< Newton iterations taken
+    std::vector<double> residual_history; ///< residual before each iteration and at the end
+    /// Floquet multipliers of the k-period map (eigenvalues of the monodromy), largest modulus
+    /// first.
+    std::vector<std::complex<double>> multipliers;
+    double max_multiplier = 0.0; ///< largest modulus
+    bool stable = false;         ///< every modulus < 1
+    /// |log|prod mu| - log det| / |log det|, det = exp(-k T sum_i c_i) (Liouville, MODEL.md §5,
+    /// c_i the damping rates): the multipliers' own check, ~1e-10 or better.
+    double liouville_error = 0.0;
+    double F_m = 0.0; ///< largest reduced impact force over one orbit (located between steps)
+    std::vector<ContactMaximum> per_contact; ///< per contact j = 0..Nm over one orbit
+    std::vector<double> max_gap;             ///< per contact: largest g_j over one orbit
+    double wall_time_s = 0.0;                ///< [s]
+};
+
+/// Throws std::invalid_argument naming the first option outside its range.
+void validate(const OrbitOptions& options);
+
+/// One shooting evaluation: P^k(x), the monodromy dP^k/dx (2 Nm x 2 Nm, column-major) and the
+/// contact maxima over the k periods. A harmonic, linear-law row only.
+struct ShootingResult {
+    std::vector<double> end_state;            ///< P^k(x)
+    std::vector<double> monodromy;            ///< dP^k/dx, column-major
+    std::vector<std::vector<double>> at_ends; ///< the state at the end of periods 1..k
+    std::vector<ContactMaximum> per_contact;  ///< maxima over the k periods
+    std::vector<double> max_gap;              ///< per contact, largest g_j at step ends
+    bool finite = true;                       ///< false if the state became non-finite
+};
+
+/// Integrates k = options.period forcing periods from x at t = 0 with the tangent flow.
+ShootingResult shoot(const Dynamics& dyn, const OrbitOptions& options,
+                     const std::vector<double>& x);
+
+/// Newton shooting from start (2 Nm entries, e.g. the end state of a transient run): damped
+/// Newton on P^k(x) - x with (M - I) dx = -(P^k(x) - x), the step halved (up to 10 times) until
+/// the residual decreases. Needs harmonic forcing and the linear contact law (else
+/// std::invalid_argument); numerical outcomes are in status.
+PeriodicOrbit find_periodic_orbit(const Dynamics& dyn, const OrbitOptions& options,
+                                  const std::vector<double>& start);
+
+/// find_periodic_orbit() started from the end of a plain run of transient_periods (0 .. 1e7)
+/// forcing periods from initial (empty: rest), on options.scheme: the usual way to reach an
+/// attracting orbit's neighbourhood, where Newton converges.
+PeriodicOrbit find_periodic_orbit_after(const Dynamics& dyn, const OrbitOptions& options,
+                                        const std::vector<double>& initial, long transient_periods);
+
+} // namespace gapchain

@@ -1,0 +1,225 @@
+#include "gapchain/orbit.hpp"
+
+#include "gapchain/tangent_flow.hpp"
+
+#include "detail/check.hpp"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+#include <stdexcept>
+
+namespace gapchain {
+
+std::string_view to_string(OrbitStatus status) {
+    switch (status) {
+    case OrbitStatus::converged: return "converged";
+    case OrbitStatus::not_converged: return "not_converged";
+    case OrbitStatus::singular: return "singular";
+    case OrbitStatus::non_finite: return "non_finite";
+    }
+    return "?";
+}
+
+void validate(const OrbitOptions& o) {
+    detail::require_range("period", o.period, 1, 1000);
+    detail::require_range("tolerance", o.tolerance, 1e-14, 1e-3);
+    detail::require_range("max_iterations", o.max_iterations, 1, 1000);
+    detail::require_range("integration_tolerance", o.integration_tolerance, 1e-14, 1e-3);
+    if (o.scheme == Scheme::automatic)
+        throw std::invalid_argument("scheme: name a concrete scheme for the shooting, not auto");
+}
+
+namespace {
+
+/// The states at the period ends and the largest gap of every contact at step ends.
+struct PeriodEnds final : public Observer {
+    explicit PeriodEnds(const Dynamics& dyn) : m_dyn(dyn), m_max_gap(dyn.gaps(), -1e300) {}
+    void on_step(const StepView& step) override {
+        for (int j = 0; j < m_dyn.gaps(); ++j)
+            m_max_gap[j] = std::max(m_max_gap[j], m_dyn.gap(j, step.y1));
+    }
+    bool on_period(long n, double, const double* y) override {
+        if (n >= 1) m_states.emplace_back(y, y + m_dyn.dimension());
+        return false;
+    }
+    const Dynamics& m_dyn;
+    std::vector<double> m_max_gap;
+    std::vector<std::vector<double>> m_states;
+};
+
+using Matrix = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic>;
+using Vector = Eigen::VectorXd;
+
+Vector as_vector(const std::vector<double>& x) {
+    return Eigen::Map<const Vector>(x.data(), static_cast<Eigen::Index>(x.size()));
+}
+
+double relative_residual(const std::vector<double>& x, const std::vector<double>& end) {
+    const Vector r = as_vector(end) - as_vector(x);
+    return r.norm() / (1.0 + as_vector(x).norm());
+}
+
+/// Floquet multipliers (largest modulus first), their largest modulus and Liouville's check.
+void read_stability(const Dynamics& dyn, int period, const std::vector<double>& monodromy,
+                    PeriodicOrbit& orbit) {
+    const auto dim = static_cast<Eigen::Index>(dyn.dimension());
+    const Matrix m = Eigen::Map<const Matrix>(monodromy.data(), dim, dim);
+    const Eigen::EigenSolver<Matrix> solver(m, false);
+    orbit.multipliers.clear();
+    for (Eigen::Index i = 0; i < dim; ++i)
+        orbit.multipliers.push_back(solver.eigenvalues()[i]);
+    std::sort(orbit.multipliers.begin(), orbit.multipliers.end(),
+              [](auto a, auto b) { return std::abs(a) > std::abs(b); });
+    orbit.max_multiplier = std::abs(orbit.multipliers.front());
+    orbit.stable = orbit.max_multiplier < 1.0;
+    // det M = exp(trace J * k T) with trace J = -sum of the damping rates (MODEL.md §5).
+    const auto& c = dyn.chain().damping;
+    const double log_det = -std::accumulate(c.begin(), c.end(), 0.0) * period * dyn.period();
+    double log_product = 0.0;
+    for (const auto& mu : orbit.multipliers)
+        log_product += std::log(std::abs(mu));
+    orbit.liouville_error = std::abs(log_product - log_det) / std::max(std::abs(log_det), 1e-300);
+}
+
+/// The smallest divisor d of k whose period-end state repeats the start.
+int minimal_period(const std::vector<double>& x, const ShootingResult& s, int k, double tolerance) {
+    for (int d = 1; d < k; ++d)
+        if (k % d == 0 &&
+            relative_residual(x, s.at_ends[static_cast<std::size_t>(d) - 1]) <= 1e3 * tolerance)
+            return d;
+    return k;
+}
+
+/// The orbit's record once Newton has stopped: maxima over one orbit, stability, period.
+void describe(const Dynamics& dyn, const OrbitOptions& o, const std::vector<double>& x,
+              const ShootingResult& s, PeriodicOrbit& orbit) {
+    orbit.state = x;
+    orbit.residual = relative_residual(x, s.end_state);
+    orbit.per_contact = s.per_contact;
+    orbit.max_gap = s.max_gap;
+    orbit.F_m = 0.0;
+    for (const auto& c : s.per_contact)
+        orbit.F_m = std::max(orbit.F_m, c.force);
+    read_stability(dyn, o.period, s.monodromy, orbit);
+    orbit.minimal_period = minimal_period(x, s, o.period, o.tolerance);
+}
+
+} // namespace
+
+ShootingResult shoot(const Dynamics& dyn, const OrbitOptions& options,
+                     const std::vector<double>& x) {
+    require_harmonic(dyn, "periodic orbits");
+    RunOptions run;
+    run.periods = options.period;
+    run.transient_periods = 0;
+    run.scheme = options.scheme;
+    run.tolerance = options.integration_tolerance;
+    run.stop_at_steady_state = false;
+    run.estimate_error = false;
+    PlannedRun planned(dyn, run, x);
+    TangentFlow flow(dyn, dyn.dimension());
+    MaxForceTracker forces(dyn);
+    PeriodEnds ends(dyn);
+    Observer* observers[] = {&flow, &forces, &ends};
+    const RunOutcome outcome = planned.run(observers);
+    ShootingResult s;
+    s.end_state = planned.state();
+    s.monodromy = flow.unscaled_matrix();
+    s.at_ends = std::move(ends.m_states);
+    s.per_contact = forces.contacts();
+    s.max_gap = std::move(ends.m_max_gap);
+    s.finite = outcome.status != RunStatus::non_finite &&
+               std::all_of(s.monodromy.begin(), s.monodromy.end(),
+                           [](double v) { return std::isfinite(v); });
+    return s;
+}
+
+PeriodicOrbit find_periodic_orbit(const Dynamics& dyn, const OrbitOptions& options,
+                                  const std::vector<double>& start) {
+    const auto clock = std::chrono::steady_clock::now();
+    validate(options);
+    detail::require_length("start state", start.size(), static_cast<std::size_t>(dyn.dimension()));
+    PeriodicOrbit orbit;
+    orbit.period = options.period;
+    const auto dim = static_cast<Eigen::Index>(dyn.dimension());
+    std::vector<double> x = start;
+    ShootingResult s = shoot(dyn, options, x);
+    double residual = relative_residual(x, s.end_state);
+    auto finish = [&](OrbitStatus status, std::string message) {
+        orbit.status = status;
+        orbit.message = std::move(message);
+        orbit.residual_history.push_back(residual);
+        if (status != OrbitStatus::non_finite) describe(dyn, options, x, s, orbit);
+        orbit.wall_time_s =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - clock).count();
+        return orbit;
+    };
+    for (;;) {
+        if (!s.finite) return finish(OrbitStatus::non_finite, "the state became non-finite");
+        if (residual <= options.tolerance) return finish(OrbitStatus::converged, "");
+        if (orbit.iterations == options.max_iterations)
+            return finish(OrbitStatus::not_converged, "no convergence in " +
+                                                          std::to_string(options.max_iterations) +
+                                                          " Newton iterations");
+        orbit.residual_history.push_back(residual);
+        ++orbit.iterations;
+        const Matrix a =
+            Eigen::Map<const Matrix>(s.monodromy.data(), dim, dim) - Matrix::Identity(dim, dim);
+        const Eigen::FullPivLU<Matrix> lu(a);
+        if (!lu.isInvertible())
+            return finish(OrbitStatus::singular, "M - I is singular (a multiplier at +1)");
+        const Vector step = lu.solve(as_vector(x) - as_vector(s.end_state));
+        // Damped: halve the step until the residual decreases (the map is only piecewise
+        // smooth, so a full step can cross a switch and overshoot).
+        bool improved = false;
+        for (int halving = 0; halving <= 10 && !improved; ++halving) {
+            const double lambda = std::ldexp(1.0, -halving);
+            std::vector<double> trial(x);
+            for (Eigen::Index i = 0; i < dim; ++i)
+                trial[i] += lambda * step[i];
+            ShootingResult t = shoot(dyn, options, trial);
+            const double r = relative_residual(trial, t.end_state);
+            if (t.finite && r < residual) {
+                x = std::move(trial);
+                s = std::move(t);
+                residual = r;
+                improved = true;
+            }
+        }
+        if (!improved)
+            return finish(OrbitStatus::not_converged,
+                          "the damped Newton step no longer decreases the residual");
+    }
+}
+
+PeriodicOrbit find_periodic_orbit_after(const Dynamics& dyn, const OrbitOptions& options,
+                                        const std::vector<double>& initial,
+                                        long transient_periods) {
+    const auto clock = std::chrono::steady_clock::now();
+    validate(options);
+    detail::require_range("transient_periods", static_cast<double>(transient_periods), 0.0, 1e7);
+    std::vector<double> start =
+        initial.empty() ? std::vector<double>(dyn.dimension(), 0.0) : initial;
+    if (transient_periods > 0) {
+        RunOptions run;
+        run.periods = transient_periods;
+        run.transient_periods = 0;
+        run.scheme = options.scheme;
+        run.tolerance = std::max(options.integration_tolerance, 1e-10);
+        run.stop_at_steady_state = false;
+        run.estimate_error = false;
+        PlannedRun planned(dyn, run, start);
+        planned.run({});
+        start = planned.state();
+    }
+    PeriodicOrbit orbit = find_periodic_orbit(dyn, options, start);
+    orbit.wall_time_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - clock).count();
+    return orbit;
+}
+
+} // namespace gapchain

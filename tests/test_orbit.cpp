@@ -1,0 +1,160 @@
+#include "gapchain/orbit.hpp"
+#include "gapchain/simulation.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <complex>
+#include <numbers>
+
+using namespace gapchain;
+using std::numbers::pi;
+
+namespace {
+Dynamics row(const ReducedParameters& p) {
+    return Dynamics(Chain::homogeneous(p), HarmonicForcing{p.f_r, 1.0});
+}
+// The end state of a plain run: a start near the attractor.
+std::vector<double> settled(const Dynamics& dyn, long periods) {
+    RunOptions o;
+    o.periods = periods;
+    o.transient_periods = 0;
+    o.stop_at_steady_state = false;
+    o.estimate_error = false;
+    return simulate(dyn, o).final_state;
+}
+} // namespace
+
+TEST_CASE("a contact-free orbit: eq (20)'s state and MODEL.md's analytic multipliers") {
+    const double eps = 0.1, f_r = 0.7;
+    const ReducedParameters p{3, 100, eps, 1e3, f_r};
+    const Dynamics dyn = row(p);
+    for (int k : {1, 2}) {
+        OrbitOptions o;
+        o.period = k;
+        const PeriodicOrbit orbit = find_periodic_orbit(dyn, o, std::vector<double>(6, 0.0));
+        REQUIRE(orbit.status == OrbitStatus::converged);
+        CHECK(orbit.iterations <= 2); // the map is affine: one Newton step
+        CHECK(orbit.minimal_period == 1);
+        CHECK(orbit.F_m == 0.0);
+        const std::complex<double> H = 1.0 / std::complex<double>(1 - f_r * f_r, 2 * eps * f_r);
+        for (int i = 0; i < 3; ++i) {
+            CHECK(orbit.state[i] == doctest::Approx(-H.real()).epsilon(1e-9));
+            CHECK(orbit.state[3 + i] == doctest::Approx(2 * pi * f_r * H.imag()).epsilon(1e-9));
+        }
+        const std::complex<double> expected = std::exp(
+            2 * pi * std::complex<double>(-eps, std::sqrt(1 - eps * eps)) * double(k) / f_r);
+        REQUIRE(orbit.multipliers.size() == 6);
+        for (const auto& mu : orbit.multipliers) {
+            CHECK(std::abs(mu) == doctest::Approx(std::abs(expected)).epsilon(1e-9));
+            CHECK(std::abs(std::abs(mu.imag()) - std::abs(expected.imag())) < 1e-9);
+            CHECK(mu.real() == doctest::Approx(expected.real()).epsilon(1e-8));
+        }
+        CHECK(orbit.stable);
+        CHECK(orbit.liouville_error < 1e-10);
+    }
+}
+
+TEST_CASE("the monodromy of a contact orbit agrees with central differences of the map") {
+    const ReducedParameters p{3, 60, 0.3, 0.2, 1.3};
+    const Dynamics dyn = row(p);
+    const std::vector<double> x = settled(dyn, 30);
+    OrbitOptions o;
+    const ShootingResult s = shoot(dyn, o, x);
+    const double h = 1e-6;
+    double worst = 0.0;
+    for (int c = 0; c < 6; ++c) {
+        std::vector<double> up = x, down = x;
+        up[c] += h;
+        down[c] -= h;
+        const auto a = shoot(dyn, o, up).end_state, b = shoot(dyn, o, down).end_state;
+        for (int i = 0; i < 6; ++i)
+            worst = std::max(worst, std::abs((a[i] - b[i]) / (2 * h) - s.monodromy[c * 6 + i]));
+    }
+    MESSAGE("largest monodromy difference against central differences: " << worst);
+    CHECK(worst < 1e-5);
+}
+
+TEST_CASE("Fig 5's orbit: Liouville's product, and the F_m of the long run") {
+    const ReducedParameters p{5, 100, 0.5, 0.5, 1.0};
+    const Dynamics dyn = row(p);
+    const PeriodicOrbit orbit = find_periodic_orbit(dyn, OrbitOptions{}, settled(dyn, 5));
+    REQUIRE(orbit.status == OrbitStatus::converged);
+    CHECK(orbit.stable);
+    CHECK(orbit.minimal_period == 1);
+    CHECK(orbit.liouville_error < 1e-9);
+    double product = 1.0;
+    for (const auto& mu : orbit.multipliers)
+        product *= std::abs(mu);
+    CHECK(product == doctest::Approx(std::exp(-4 * pi * 0.5 * 5 / 1.0)).epsilon(1e-8));
+    // A long run whose recorded window starts once the approach to the orbit has died out (the
+    // impacting orbit's slowest multiplier decays slower than the contact-free rate that sets
+    // the default transient).
+    RunOptions long_run;
+    long_run.scheme = Scheme::exact;
+    long_run.tolerance = 1e-12;
+    long_run.periods = 120;
+    long_run.transient_periods = 60;
+    const SimulationResult r = simulate(dyn, long_run);
+    REQUIRE(r.steady_state_period == 1);
+    MESSAGE("orbit F_m " << orbit.F_m << ", long run " << r.F_m << " +- " << r.F_m_error);
+    CHECK(orbit.F_m == doctest::Approx(r.F_m).epsilon(1e-10));
+}
+
+TEST_CASE("one body between two walls: the orbit is the long run's steady state to 1e-10") {
+    const ReducedParameters p{1, 30, 0.3, 0.4, 1.1};
+    const Dynamics dyn = row(p);
+    RunOptions o;
+    o.periods = 400;
+    o.transient_periods = 0;
+    o.scheme = Scheme::exact;
+    o.tolerance = 1e-12;
+    o.stop_at_steady_state = false;
+    o.estimate_error = false;
+    const std::vector<double> end = simulate(dyn, o).final_state;
+    // Newton from rest stalls on this piecewise-smooth map; from a short transient it converges.
+    const PeriodicOrbit orbit = find_periodic_orbit(dyn, OrbitOptions{}, settled(dyn, 10));
+    REQUIRE(orbit.status == OrbitStatus::converged);
+    CHECK(std::abs(orbit.state[0] - end[0]) < 1e-10);
+    CHECK(std::abs(orbit.state[1] - end[1]) < 1e-10 * (1 + std::abs(end[1])));
+}
+
+TEST_CASE("Newton converges quadratically") {
+    const ReducedParameters p{5, 60, 0.5, 0.06, 3.0}; // Fig 13's period-1 window
+    const Dynamics dyn = row(p);
+    OrbitOptions o;
+    o.tolerance = 1e-13;
+    const PeriodicOrbit orbit = find_periodic_orbit(dyn, o, settled(dyn, 40));
+    REQUIRE(orbit.status == OrbitStatus::converged);
+    const auto& r = orbit.residual_history;
+    MESSAGE("residuals: " << r.size());
+    for (double x : r)
+        MESSAGE("  " << x);
+    // The last step whose start lies well above round-off: r_{n+1} <= C r_n^2.
+    int checked = 0;
+    for (std::size_t n = 0; n + 1 < r.size(); ++n) {
+        if (r[n] > 1e-3 || r[n] < 1e-10) continue;
+        CHECK(r[n + 1] <= 100.0 * r[n] * r[n] + 1e-14);
+        ++checked;
+    }
+    CHECK(checked >= 1);
+}
+
+TEST_CASE("the period-3 orbit that the repetition test read as period 6 is period 3") {
+    // Nm = 3, fc = 200, eps = 0.5, e_r = 0.03, f_r = 5.5 (issue 17): a multiplier near -1
+    // makes the approach alternate every 3 periods.
+    const ReducedParameters p{3, 200, 0.5, 0.03, 5.5};
+    const Dynamics dyn = row(p);
+    const std::vector<double> start = settled(dyn, 300);
+    OrbitOptions o;
+    o.period = 6;
+    const PeriodicOrbit six = find_periodic_orbit(dyn, o, start);
+    REQUIRE(six.status == OrbitStatus::converged);
+    CHECK(six.minimal_period == 3);
+    o.period = 3;
+    const PeriodicOrbit three = find_periodic_orbit(dyn, o, start);
+    REQUIRE(three.status == OrbitStatus::converged);
+    CHECK(three.minimal_period == 3);
+    MESSAGE("largest multiplier of the period-3 map: " << three.multipliers.front());
+    CHECK(three.stable);
+}

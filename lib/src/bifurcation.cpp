@@ -12,29 +12,10 @@
 
 namespace gapchain {
 
-SweptParameter parse_swept_parameter(std::string_view name) {
-    if (name == "f_r") return SweptParameter::f_r;
-    if (name == "e_r") return SweptParameter::e_r;
-    if (name == "fc") return SweptParameter::fc;
-    if (name == "eps") return SweptParameter::eps;
-    throw std::invalid_argument("--param: must be one of f_r, e_r, fc, eps, got \"" +
-                                std::string(name) + "\"");
-}
-
-std::string_view to_string(SweptParameter p) {
-    switch (p) {
-    case SweptParameter::f_r: return "f_r";
-    case SweptParameter::e_r: return "e_r";
-    case SweptParameter::fc: return "fc";
-    case SweptParameter::eps: return "eps";
-    }
-    return "?";
-}
-
 SweepMode parse_sweep_mode(std::string_view name) {
     if (name == "independent") return SweepMode::independent;
     if (name == "continuation") return SweepMode::continuation;
-    throw std::invalid_argument("--mode: must be independent or continuation, got \"" +
+    throw std::invalid_argument("mode: must be independent or continuation, got \"" +
                                 std::string(name) + "\"");
 }
 
@@ -43,16 +24,6 @@ std::string_view to_string(SweepDirection d) {
 }
 
 namespace {
-
-ReducedParameters with_value(ReducedParameters p, SweptParameter which, double value) {
-    switch (which) {
-    case SweptParameter::f_r: p.f_r = value; break;
-    case SweptParameter::e_r: p.e_r = value; break;
-    case SweptParameter::fc: p.fc = value; break;
-    case SweptParameter::eps: p.eps = value; break;
-    }
-    return p;
-}
 
 /// One value: run transient + record periods from y (updated to the end state).
 BifurcationRow diagram_row(const ReducedParameters& p, const BifurcationOptions& o,

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 
 namespace gapchain {
 
@@ -143,6 +144,45 @@ double max_angular_frequency(const Chain& c) {
         bound = std::max(bound, diag + off);
     }
     return std::sqrt(bound);
+}
+
+SweptParameter parse_swept_parameter(std::string_view name) {
+    if (name == "f_r") return SweptParameter::f_r;
+    if (name == "e_r") return SweptParameter::e_r;
+    if (name == "fc") return SweptParameter::fc;
+    if (name == "eps") return SweptParameter::eps;
+    throw std::invalid_argument("parameter: must be one of f_r, e_r, fc, eps, got \"" +
+                                std::string(name) + "\"");
+}
+
+std::string_view to_string(SweptParameter p) {
+    switch (p) {
+    case SweptParameter::f_r: return "f_r";
+    case SweptParameter::e_r: return "e_r";
+    case SweptParameter::fc: return "fc";
+    case SweptParameter::eps: return "eps";
+    }
+    return "?";
+}
+
+ReducedParameters with_value(ReducedParameters p, SweptParameter which, double value) {
+    switch (which) {
+    case SweptParameter::f_r: p.f_r = value; break;
+    case SweptParameter::e_r: p.e_r = value; break;
+    case SweptParameter::fc: p.fc = value; break;
+    case SweptParameter::eps: p.eps = value; break;
+    }
+    return p;
+}
+
+double value_of(const ReducedParameters& p, SweptParameter which) {
+    switch (which) {
+    case SweptParameter::f_r: return p.f_r;
+    case SweptParameter::e_r: return p.e_r;
+    case SweptParameter::fc: return p.fc;
+    case SweptParameter::eps: return p.eps;
+    }
+    return 0.0;
 }
 
 } // namespace gapchain

@@ -14,13 +14,6 @@
 
 namespace gapchain {
 
-/// The swept parameter.
-enum class SweptParameter { f_r, e_r, fc, eps };
-/// Parses "f_r", "e_r", "fc" or "eps"; throws std::invalid_argument otherwise.
-SweptParameter parse_swept_parameter(std::string_view name);
-/// The name parse_swept_parameter() reads.
-std::string_view to_string(SweptParameter p);
-
 /// How the values of a sweep are linked.
 enum class SweepMode {
     independent,  ///< each value from rest; values run in parallel (OpenMP)

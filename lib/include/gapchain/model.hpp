@@ -6,6 +6,7 @@
 #include <cstddef>
 #include <numbers>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace gapchain {
@@ -93,6 +94,18 @@ struct Chain {
     /// The paper's homogeneous row: walls fc, body-body fc/2 (MODEL.md §1). Validates p.
     static Chain homogeneous(const ReducedParameters& p);
 };
+
+/// One of the reduced numbers a diagram or a continuation varies.
+enum class SweptParameter { f_r, e_r, fc, eps };
+/// Parses "f_r", "e_r", "fc" or "eps"; throws std::invalid_argument (naming "parameter")
+/// otherwise.
+SweptParameter parse_swept_parameter(std::string_view name);
+/// The name parse_swept_parameter() reads.
+std::string_view to_string(SweptParameter p);
+/// p with the swept parameter set to value (not validated).
+ReducedParameters with_value(ReducedParameters p, SweptParameter which, double value);
+/// The swept parameter's value in p.
+double value_of(const ReducedParameters& p, SweptParameter which);
 
 /// Throws std::invalid_argument if the arrays have inconsistent lengths or invalid values.
 void validate(const Chain& chain);

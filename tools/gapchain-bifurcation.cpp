@@ -54,20 +54,19 @@ void print_summary(const gapchain::BifurcationResult& r, const gapchain::Bifurca
                 out.c_str(), plotted ? ", bifurcation.png" : "", r.wall_time_s, r.threads_used);
 }
 
-} // namespace
-
-int main(int argc, char** argv) {
-    using namespace gapchain;
-    CLI::App app{"Bifurcation diagram of a row over one parameter: section points and F_m at "
-                 "each value. Without a scene: Fig 13 of the paper (Nm=5, fc=60, e_r=0.06, "
-                 "eps=0.5).",
-                 "gapchain-bifurcation"};
-    cli::SceneArguments scene_args;
-    cli::add_scene_arguments(app, scene_args, false);
-    BifurcationOptions o;
+// The command line of a diagram.
+struct BifurcationArguments {
+    gapchain::cli::SceneArguments scene;
+    gapchain::BifurcationOptions options;
     std::string param = "f_r", mode = "independent", out_dir = "fig13", variable = "u1";
     bool no_plot = false;
-    app.add_option("--param", param, "Swept parameter: f_r, e_r, fc or eps")
+};
+
+void add_options(CLI::App& app, BifurcationArguments& a) {
+    using namespace gapchain;
+    cli::add_scene_arguments(app, a.scene, false);
+    BifurcationOptions& o = a.options;
+    app.add_option("--param", a.param, "Swept parameter: f_r, e_r, fc or eps")
         ->check(CLI::IsMember({"f_r", "e_r", "fc", "eps"}))
         ->capture_default_str();
     app.add_option("--from", o.from, "First value")->capture_default_str();
@@ -75,7 +74,7 @@ int main(int argc, char** argv) {
     app.add_option("--steps", o.steps, "Number of values (ends included)")
         ->check(CLI::Range(1, 10'000'000))
         ->capture_default_str();
-    app.add_option("--mode", mode,
+    app.add_option("--mode", a.mode,
                    "independent (parallel, from rest) or continuation (up then down)")
         ->check(CLI::IsMember({"independent", "continuation"}))
         ->capture_default_str();
@@ -85,40 +84,67 @@ int main(int argc, char** argv) {
     app.add_option("--record", o.record_periods, "Recorded periods per value")
         ->check(CLI::Range(1L, 1'000'000'000L))
         ->capture_default_str();
-    app.add_option("--variable", variable, "Section variable: u1..uN, v1..vN, g0..gN, F0..FN")
+    app.add_option("--variable", a.variable, "Section variable: u1..uN, v1..vN, g0..gN, F0..FN")
         ->capture_default_str();
     app.add_option("--phase", o.section.phase, "Stroboscopic phase in [0, 1)")
         ->capture_default_str();
     app.add_option("--threads", o.threads, "OpenMP threads (0: all cores)")
         ->check(CLI::Range(0, 4096))
         ->capture_default_str();
-    app.add_option("--out", out_dir, "Output folder")->capture_default_str();
-    app.add_flag("--no-plot", no_plot, "Write the CSV files only");
+    app.add_option("--out", a.out_dir, "Output folder")->capture_default_str();
+    app.add_flag("--no-plot", a.no_plot, "Write the CSV files only");
+}
 
+// Completes the options from the scene and the textual arguments, and checks them.
+void resolve_options(BifurcationArguments& a, const gapchain::Scene& scene) {
+    using namespace gapchain;
+    BifurcationOptions& o = a.options;
+    o.parameter = parse_swept_parameter(a.param);
+    o.mode = parse_sweep_mode(a.mode);
+    o.section.record = {SectionVariable::parse(a.variable, scene.reduced.Nm, "--variable")};
+    o.scheme = scene.run.scheme;
+    o.tolerance = scene.run.tolerance;
+    validate(o, scene.reduced);
+}
+
+// Writes points.csv, summary.csv, bifurcation.json and (unless --no-plot) the plot; returns
+// whether the plot was made.
+bool write_outputs(const gapchain::BifurcationResult& r, const BifurcationArguments& a,
+                   const gapchain::ReducedParameters& p) {
+    using namespace gapchain;
+    const std::string& out_dir = a.out_dir;
+    write_file_atomically(out_dir + "/points.csv", points_csv(r, a.options.section));
+    write_file_atomically(out_dir + "/summary.csv", summary_csv(r));
+    write_file_atomically(out_dir + "/bifurcation.json", to_json(r, a.options, p));
+    return !a.no_plot &&
+           cli::plot_template(out_dir, "bifurcation",
+                              {{"TITLE", diagram_title(p, a.param, a.mode, a.options)},
+                               {"VARIABLE", a.variable},
+                               {"PARAM", a.param}});
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    using namespace gapchain;
+    CLI::App app{"Bifurcation diagram of a row over one parameter: section points and F_m at "
+                 "each value. Without a scene: Fig 13 of the paper (Nm=5, fc=60, e_r=0.06, "
+                 "eps=0.5).",
+                 "gapchain-bifurcation"};
+    BifurcationArguments a;
+    add_options(app, a);
     return cli::run(app, argc, argv, [&] {
-        const Scene scene = cli::load(scene_args, fig13_scene);
+        const Scene scene = cli::load(a.scene, fig13_scene);
         cli::require_paper_row(scene, "gapchain-bifurcation");
-        o.parameter = parse_swept_parameter(param);
-        o.mode = parse_sweep_mode(mode);
-        o.section.record = {SectionVariable::parse(variable, scene.reduced.Nm, "--variable")};
-        o.scheme = scene.run.scheme;
-        o.tolerance = scene.run.tolerance;
-        validate(o, scene.reduced);
-        cli::Outputs outputs({scene_args.path});
-        outputs.folder(out_dir, "--out");
+        resolve_options(a, scene);
+        cli::Outputs outputs({a.scene.path});
+        outputs.folder(a.out_dir, "--out");
         cli::Progress progress("gapchain-bifurcation");
-        const BifurcationResult r = bifurcation(scene.reduced, o, progress.callback());
+        const BifurcationResult r = bifurcation(scene.reduced, a.options, progress.callback());
         cli::throw_if_interrupted();
         outputs.create_folders();
-        write_file_atomically(out_dir + "/points.csv", points_csv(r, o.section));
-        write_file_atomically(out_dir + "/summary.csv", summary_csv(r));
-        write_file_atomically(out_dir + "/bifurcation.json", to_json(r, o, scene.reduced));
-        const bool plotted =
-            !no_plot && cli::plot_template(out_dir, "bifurcation",
-                                           {{"TITLE", diagram_title(scene.reduced, param, mode, o)},
-                                            {"VARIABLE", variable},
-                                            {"PARAM", param}});
+        const bool plotted = write_outputs(r, a, scene.reduced);
         outputs.keep();
-        print_summary(r, o, param, mode, out_dir, plotted);
+        print_summary(r, a.options, a.param, a.mode, a.out_dir, plotted);
     });
 }

@@ -67,45 +67,46 @@ void print_modes(const Scene& scene, const ModalResult& r) {
     }
 }
 
-} // namespace
-
-int main(int argc, char** argv) {
-    CLI::App app{"Linear-chain modal analysis (paper Section 5): exact frequencies and mode shapes "
-                 "against the approximation f_ka of eq (26).",
-                 "gapchain-modes"};
-    cli::SceneArguments scene_args;
-    cli::add_scene_arguments(app, scene_args, false);
+// The command line: one row's modes, or with --grid eq (26) over a grid.
+struct ModesArguments {
+    cli::SceneArguments scene;
     int Nm = 0;
     double fc = 0.0;
     std::string method = "auto", end = "lowest", out, csv;
     bool no_shapes = false, grid = false;
-    ModalOptions o;
-    GridArguments g;
-    auto* grid_flag = app.add_flag("--grid", grid,
+    ModalOptions options;
+    GridArguments grid_args;
+};
+
+void add_options(CLI::App& app, ModesArguments& a) {
+    cli::add_scene_arguments(app, a.scene, false);
+    ModalOptions& o = a.options;
+    auto* grid_flag = app.add_flag("--grid", a.grid,
                                    "Evaluate eq (26) over fc in [min, max] (log) and Nm in 1..max");
     std::vector<CLI::Option*> single{
-        app.add_option("--Nm", Nm, "Number of bodies (overrides the scene)")
+        app.add_option("--Nm", a.Nm, "Number of bodies (overrides the scene)")
             ->check(CLI::Range(1, 1'000'000)),
-        app.add_option("--fc", fc, "Stiffness ratio Kc/K (overrides the scene), > 0")
+        app.add_option("--fc", a.fc, "Stiffness ratio Kc/K (overrides the scene), > 0")
             ->check(cli::positive_number()),
         app.add_option("--modes", o.count, "Number of modes (0: all)")
             ->check(CLI::NonNegativeNumber)
             ->capture_default_str(),
-        app.add_option("--end", end, "lowest or highest modes")
+        app.add_option("--end", a.end, "lowest or highest modes")
             ->check(CLI::IsMember({"lowest", "highest"}))
             ->capture_default_str(),
-        app.add_option("--method", method, "auto, dense or sparse")
+        app.add_option("--method", a.method, "auto, dense or sparse")
             ->check(CLI::IsMember({"auto", "dense", "sparse"}))
             ->capture_default_str(),
         app.add_option("--max-dense", o.max_dense_bodies,
                        "Largest Nm for the dense solver (memory 8 Nm^2 bytes, time ~Nm^3)")
             ->check(CLI::Range(1, 1'000'000))
             ->capture_default_str(),
-        app.add_flag("--no-shapes", no_shapes, "Do not compute the mode shapes"),
-        app.add_option("--csv", csv, "Mode shapes as CSV (body, then one column per mode)")};
+        app.add_flag("--no-shapes", a.no_shapes, "Do not compute the mode shapes"),
+        app.add_option("--csv", a.csv, "Mode shapes as CSV (body, then one column per mode)")};
     for (auto* option : single)
         option->excludes(grid_flag);
-    app.add_option("--out", out, "JSON result file (with --grid: an output folder)");
+    app.add_option("--out", a.out, "JSON result file (with --grid: an output folder)");
+    GridArguments& g = a.grid_args;
     app.add_option("--grid-fc-min", g.fc_min, "Grid: smallest fc")
         ->check(cli::positive_number())
         ->needs(grid_flag)
@@ -122,36 +123,54 @@ int main(int argc, char** argv) {
         ->check(CLI::Range(1, 2000))
         ->needs(grid_flag)
         ->capture_default_str();
+}
 
-    return cli::run(
-        app, argc, argv,
-        [&] {
-            cli::Outputs outputs({scene_args.path});
-            if (grid) return grid_study(g, out, outputs);
-            if (fc != 0.0 && cli::load(scene_args).units == Units::physical)
-                throw std::invalid_argument("--fc: not for a physical scene (its fc is model.Kc / "
-                                            "model.K); change those with --set");
-            if (Nm != 0) scene_args.sets.push_back("model.Nm=" + std::to_string(Nm));
-            if (fc != 0.0) {
-                std::ostringstream s;
-                s.precision(17);
-                s << "model.fc=" << fc;
-                scene_args.sets.push_back(s.str());
-            }
-            const Scene scene = cli::load(scene_args);
-            outputs.file(out, "--out");
-            outputs.file(csv, "--csv");
-            o.method = parse_eigen_method(method);
-            o.end = end == "lowest" ? SpectrumEnd::lowest : SpectrumEnd::highest;
-            o.shapes = !no_shapes || !csv.empty();
-            const ModalResult r = modal_analysis(scene.chain(), o);
-            if (r.status != ModalStatus::converged)
-                throw cli::NumericalFailure("the eigen solver did not converge");
-            if (!out.empty())
-                write_file_atomically(out, to_json(r, scene.reduced.Nm, scene.reduced.fc));
-            if (!csv.empty()) write_file_atomically(csv, mode_shapes_csv(r, scene.reduced.Nm));
-            outputs.keep();
-            print_modes(scene, r);
-        },
-        {{"count", "--modes"}, {"max_dense_bodies", "--max-dense"}});
+// The scene with --Nm and --fc applied as overrides.
+Scene load_row(ModesArguments& a) {
+    if (a.fc != 0.0 && cli::load(a.scene).units == Units::physical)
+        throw std::invalid_argument("--fc: not for a physical scene (its fc is model.Kc / "
+                                    "model.K); change those with --set");
+    if (a.Nm != 0) a.scene.sets.push_back("model.Nm=" + std::to_string(a.Nm));
+    if (a.fc != 0.0) {
+        std::ostringstream s;
+        s.precision(17);
+        s << "model.fc=" << a.fc;
+        a.scene.sets.push_back(s.str());
+    }
+    return cli::load(a.scene);
+}
+
+void write_outputs(const ModalResult& r, const ModesArguments& a, const Scene& scene) {
+    if (!a.out.empty())
+        write_file_atomically(a.out, to_json(r, scene.reduced.Nm, scene.reduced.fc));
+    if (!a.csv.empty()) write_file_atomically(a.csv, mode_shapes_csv(r, scene.reduced.Nm));
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"Linear-chain modal analysis (paper Section 5): exact frequencies and mode shapes "
+                 "against the approximation f_ka of eq (26).",
+                 "gapchain-modes"};
+    ModesArguments a;
+    add_options(app, a);
+    return cli::run(app, argc, argv,
+                    [&] {
+                        cli::Outputs outputs({a.scene.path});
+                        if (a.grid) return grid_study(a.grid_args, a.out, outputs);
+                        const Scene scene = load_row(a);
+                        outputs.file(a.out, "--out");
+                        outputs.file(a.csv, "--csv");
+                        ModalOptions& o = a.options;
+                        o.method = parse_eigen_method(a.method);
+                        o.end = a.end == "lowest" ? SpectrumEnd::lowest : SpectrumEnd::highest;
+                        o.shapes = !a.no_shapes || !a.csv.empty();
+                        const ModalResult r = modal_analysis(scene.chain(), o);
+                        if (r.status != ModalStatus::converged)
+                            throw cli::NumericalFailure("the eigen solver did not converge");
+                        write_outputs(r, a, scene);
+                        outputs.keep();
+                        print_modes(scene, r);
+                    },
+                    {{"count", "--modes"}, {"max_dense_bodies", "--max-dense"}});
 }

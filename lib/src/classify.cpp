@@ -92,6 +92,33 @@ void label_unsettled(const ClassifyOptions& o, const RecordedEvidence& evidence,
     }
 }
 
+/// The run of classify(): transient_periods, then record_periods, at the options' accuracy.
+RunOptions classify_run_options(const ClassifyOptions& o) {
+    RunOptions run_options;
+    run_options.periods = o.transient_periods + o.record_periods;
+    run_options.transient_periods = o.transient_periods;
+    run_options.scheme = o.scheme;
+    run_options.tolerance = o.tolerance;
+    return run_options;
+}
+
+/// Counts the stroboscopic section's points, and its distinct first values, into c.
+void count_section_points(const std::vector<SectionPoint>& section, double tolerance,
+                          Classification& c) {
+    std::vector<double> strobe;
+    for (const auto& s : section)
+        strobe.push_back(s.values.front());
+    c.section_points = static_cast<int>(strobe.size());
+    c.distinct_points = distinct_values(strobe, tolerance);
+}
+
+long total_impacts(const MaxForceTracker& forces) {
+    long impacts = 0;
+    for (const auto& m : forces.contacts())
+        impacts += m.impacts;
+    return impacts;
+}
+
 } // namespace
 
 Classification classify(const ReducedParameters& p, const ClassifyOptions& o) {
@@ -99,11 +126,7 @@ Classification classify(const ReducedParameters& p, const ClassifyOptions& o) {
     validate(o);
     validate(p);
     const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
-    RunOptions run_options;
-    run_options.periods = o.transient_periods + o.record_periods;
-    run_options.transient_periods = o.transient_periods;
-    run_options.scheme = o.scheme;
-    run_options.tolerance = o.tolerance;
+    const RunOptions run_options = classify_run_options(o);
     PlannedRun planned(dyn, run_options, {}, o.samples_per_period);
 
     // Phase 1, settling: up to transient_periods, stopped as soon as a periodic steady state
@@ -142,13 +165,8 @@ Classification classify(const ReducedParameters& p, const ClassifyOptions& o) {
     c.lambda_max = lyap.exponents.front();
     c.lambda_max_error = lyap.errors.front();
     c.F_m = forces.max_force();
-    std::vector<double> strobe;
-    for (const auto& s : evidence.section)
-        strobe.push_back(s.values.front());
-    c.section_points = static_cast<int>(strobe.size());
-    c.distinct_points = distinct_values(strobe, o.period_tolerance);
-    for (const auto& m : forces.contacts())
-        evidence.impacts += m.impacts;
+    count_section_points(evidence.section, o.period_tolerance, c);
+    evidence.impacts = total_impacts(forces);
 
     if (periodic_state) {
         c.stopped_at_steady_state = true;

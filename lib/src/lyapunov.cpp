@@ -101,65 +101,101 @@ LyapunovResult LyapunovAccumulator::result() const {
     return r;
 }
 
-LyapunovResult lyapunov_spectrum(const TangentSystem& sys, std::vector<double> y,
-                                 const LyapunovOptions& o) {
-    const auto start = std::chrono::steady_clock::now();
-    const int n = sys.dimension();
-    detail::require_length("initial state", y.size(), static_cast<std::size_t>(n));
+namespace {
+
+/// Throws std::invalid_argument naming the first option of lyapunov_spectrum() outside its
+/// range for a system of dimension n and an initial state of y_size entries.
+void validate_spectrum_options(const LyapunovOptions& o, int n, std::size_t y_size) {
+    detail::require_length("initial state", y_size, static_cast<std::size_t>(n));
     detail::require_range("count", o.count, 0, n);
     detail::require_range("step", o.step, 0.0, 1e6, detail::Bound::open_low);
     detail::require_range("transient", o.transient, 0.0, 1e12);
     detail::require_range("duration", o.duration, 0.0, 1e12, detail::Bound::open_low);
     detail::require_range("steps_per_orthonormalization", o.steps_per_orthonormalization, 1,
                           1'000'000);
+}
+
+/// RK4 on the augmented state z = (y, Q) of a tangent system: z' = (f(y), J(y) Q). Owns its
+/// stages, so that a step allocates nothing.
+class AugmentedRk4 {
+public:
+    /// count: columns of Q.
+    AugmentedRk4(const TangentSystem& sys, int count)
+        : m_sys(sys), m_n(sys.dimension()), m_count(count),
+          m_size(static_cast<std::size_t>(m_n) * (1 + count)), m_z(m_size), m_k1(m_size),
+          m_k2(m_size), m_k3(m_size), m_k4(m_size), m_tmp(m_size),
+          m_jac(static_cast<std::size_t>(m_n) * m_n) {}
+    /// One step of length h from t: y (n entries) and q (count columns of n) in place.
+    void step(double t, double h, std::vector<double>& y, std::vector<double>& q);
+
+private:
+    void derivative(double t, const std::vector<double>& in, std::vector<double>& out);
+
+    const TangentSystem& m_sys;
+    int m_n;
+    int m_count;
+    std::size_t m_size;
+    std::vector<double> m_z, m_k1, m_k2, m_k3, m_k4, m_tmp, m_jac;
+};
+
+void AugmentedRk4::derivative(double t, const std::vector<double>& in, std::vector<double>& out) {
+    const int n = m_n;
+    m_sys.rhs(t, in.data(), out.data());
+    m_sys.jacobian(t, in.data(), m_jac.data());
+    for (int c = 0; c < m_count; ++c) {
+        const double* col = &in[static_cast<std::size_t>(n) * (1 + c)];
+        double* dcol = &out[static_cast<std::size_t>(n) * (1 + c)];
+        for (int i = 0; i < n; ++i) {
+            double s = 0.0;
+            for (int j = 0; j < n; ++j)
+                s += m_jac[static_cast<std::size_t>(i) * n + j] * col[j];
+            dcol[i] = s;
+        }
+    }
+}
+
+void AugmentedRk4::step(double t, double h, std::vector<double>& y, std::vector<double>& q) {
+    const std::size_t m = m_size;
+    std::copy(y.begin(), y.end(), m_z.begin());
+    std::copy(q.begin(), q.end(), m_z.begin() + m_n);
+    derivative(t, m_z, m_k1);
+    for (std::size_t i = 0; i < m; ++i)
+        m_tmp[i] = m_z[i] + 0.5 * h * m_k1[i];
+    derivative(t + 0.5 * h, m_tmp, m_k2);
+    for (std::size_t i = 0; i < m; ++i)
+        m_tmp[i] = m_z[i] + 0.5 * h * m_k2[i];
+    derivative(t + 0.5 * h, m_tmp, m_k3);
+    for (std::size_t i = 0; i < m; ++i)
+        m_tmp[i] = m_z[i] + h * m_k3[i];
+    derivative(t + h, m_tmp, m_k4);
+    for (std::size_t i = 0; i < m; ++i)
+        m_z[i] += h / 6.0 * (m_k1[i] + 2 * (m_k2[i] + m_k3[i]) + m_k4[i]);
+    std::copy(m_z.begin(), m_z.begin() + m_n, y.begin());
+    std::copy(m_z.begin() + m_n, m_z.end(), q.begin());
+}
+
+} // namespace
+
+LyapunovResult lyapunov_spectrum(const TangentSystem& sys, std::vector<double> y,
+                                 const LyapunovOptions& o) {
+    const auto start = std::chrono::steady_clock::now();
+    const int n = sys.dimension();
+    validate_spectrum_options(o, n, y.size());
     const int count = o.count == 0 ? n : o.count;
     LyapunovAccumulator acc(n, count);
     std::vector<double>& q = acc.basis();
-    const std::size_t m = static_cast<std::size_t>(n) * (1 + count);
-    // Augmented state z = (y, Q); RK4 on z' = (f(y), J(y) Q).
-    std::vector<double> z(m), k1(m), k2(m), k3(m), k4(m), tmp(m),
-        jac(static_cast<std::size_t>(n) * n);
-    auto deriv = [&](double t, const std::vector<double>& in, std::vector<double>& out) {
-        sys.rhs(t, in.data(), out.data());
-        sys.jacobian(t, in.data(), jac.data());
-        for (int c = 0; c < count; ++c) {
-            const double* col = &in[static_cast<std::size_t>(n) * (1 + c)];
-            double* dcol = &out[static_cast<std::size_t>(n) * (1 + c)];
-            for (int i = 0; i < n; ++i) {
-                double s = 0.0;
-                for (int j = 0; j < n; ++j)
-                    s += jac[static_cast<std::size_t>(i) * n + j] * col[j];
-                dcol[i] = s;
-            }
-        }
-    };
+    AugmentedRk4 rk4(sys, count);
     const long transient_steps = std::lround(o.transient / o.step);
     const long total = transient_steps + std::lround(o.duration / o.step);
     double t = 0.0;
-    LyapunovResult failure;
     if (transient_steps == 0) acc.start(0.0);
     for (long s = 0; s < total; ++s) {
-        std::copy(y.begin(), y.end(), z.begin());
-        std::copy(q.begin(), q.end(), z.begin() + n);
-        const double h = o.step;
-        deriv(t, z, k1);
-        for (std::size_t i = 0; i < m; ++i)
-            tmp[i] = z[i] + 0.5 * h * k1[i];
-        deriv(t + 0.5 * h, tmp, k2);
-        for (std::size_t i = 0; i < m; ++i)
-            tmp[i] = z[i] + 0.5 * h * k2[i];
-        deriv(t + 0.5 * h, tmp, k3);
-        for (std::size_t i = 0; i < m; ++i)
-            tmp[i] = z[i] + h * k3[i];
-        deriv(t + h, tmp, k4);
-        for (std::size_t i = 0; i < m; ++i)
-            z[i] += h / 6.0 * (k1[i] + 2 * (k2[i] + k3[i]) + k4[i]);
-        std::copy(z.begin(), z.begin() + n, y.begin());
-        std::copy(z.begin() + n, z.end(), q.begin());
-        t = (s + 1) * h;
+        rk4.step(t, o.step, y, q);
+        t = (s + 1) * o.step;
         if (s + 1 == transient_steps) acc.start(t);
         if ((s + 1) % o.steps_per_orthonormalization == 0 || s + 1 == total) {
             if (!acc.orthonormalize(t, s + 1 > transient_steps)) {
+                LyapunovResult failure;
                 failure.status = RunStatus::non_finite;
                 failure.message =
                     "the tangent basis became non-finite at t = " + detail::format_number(t);
@@ -259,8 +295,11 @@ LyapunovResult chain_lyapunov(const Dynamics& dyn, const RunOptions& options, in
     return r;
 }
 
-TimeSeriesExponent largest_exponent_from_series(const std::vector<double>& x, double dt,
-                                                const TimeSeriesOptions& o) {
+namespace {
+
+/// Throws std::invalid_argument on a time step, option or sample
+/// largest_exponent_from_series() cannot take.
+void validate_series(const std::vector<double>& x, double dt, const TimeSeriesOptions& o) {
     detail::require_range("dt", dt, 0.0, 1e12, detail::Bound::open_low);
     detail::require_range("embedding", o.embedding, 1, 100);
     detail::require_range("delay", o.delay, 1, 1'000'000);
@@ -271,65 +310,88 @@ TimeSeriesExponent largest_exponent_from_series(const std::vector<double>& x, do
     detail::require_range("max_points", o.max_points, 100, 1'000'000);
     for (double v : x)
         if (!std::isfinite(v)) throw std::invalid_argument("series: every sample must be finite");
+}
+
+/// The mean period of x in samples, from its mean-crossings (n / 10 without two of them).
+long mean_period_samples(const std::vector<double>& x) {
     const long n = static_cast<long>(x.size());
-    // Mean period from the mean-crossings: the Theiler window keeps neighbours that are merely
-    // the next sample on the same trajectory out of the search.
-    long separation = o.min_separation;
-    if (separation == 0) {
-        const double mean = std::accumulate(x.begin(), x.end(), 0.0) / std::max(1L, n);
-        long crossings = 0;
-        for (long i = 1; i < n; ++i)
-            crossings += (x[i - 1] < mean) != (x[i] < mean);
-        separation = crossings > 1 ? 2 * n / crossings : n / 10;
-    }
-    const long horizon = o.horizon > 0 ? o.horizon : 4 * separation;
-    const long span = static_cast<long>(o.embedding - 1) * o.delay;
-    const long points = n - span - horizon;
-    if (points < 10 * 2 + 2 * separation)
-        throw std::invalid_argument(
-            "series: too short for embedding " + std::to_string(o.embedding) + ", delay " +
-            std::to_string(o.delay) + " and horizon " + std::to_string(horizon) + " (" +
-            std::to_string(n) + " samples)");
-    // Reference points, decimated to bound the O(P^2) neighbour search.
-    const long stride = std::max(1L, points / o.max_points);
-    auto distance2 = [&](long a, long b) {
+    const double mean = std::accumulate(x.begin(), x.end(), 0.0) / std::max(1L, n);
+    long crossings = 0;
+    for (long i = 1; i < n; ++i)
+        crossings += (x[i - 1] < mean) != (x[i] < mean);
+    return crossings > 1 ? 2 * n / crossings : n / 10;
+}
+
+/// The delay embedding of a series: point a is (x[a], x[a + delay], ..., x[a + (m - 1) delay]).
+class DelayEmbedding {
+public:
+    DelayEmbedding(const std::vector<double>& x, int embedding, int delay)
+        : m_x(x), m_embedding(embedding), m_delay(delay) {}
+    /// Squared distance between points a and b.
+    [[nodiscard]] double distance2(long a, long b) const {
         double d = 0.0;
-        for (int k = 0; k < o.embedding; ++k) {
-            const double e = x[a + k * o.delay] - x[b + k * o.delay];
+        for (int k = 0; k < m_embedding; ++k) {
+            const double e = m_x[a + k * m_delay] - m_x[b + k * m_delay];
             d += e * e;
         }
         return d;
-    };
+    }
+
+private:
+    const std::vector<double>& m_x;
+    int m_embedding;
+    int m_delay;
+};
+
+/// The reference points of the neighbour search: 0, stride, ... below points; neighbours lie
+/// more than separation samples apart.
+struct ReferencePoints {
+    long points;
+    long stride;
+    long separation;
+};
+
+/// Nearest distinct neighbour of point a outside its Theiler window, or -1.
+long nearest_neighbour(const DelayEmbedding& e, const ReferencePoints& ref, long a) {
+    long best = -1;
+    double best_d = std::numeric_limits<double>::infinity();
+    for (long b = 0; b < ref.points; b += ref.stride) {
+        if (std::abs(a - b) <= ref.separation) continue;
+        const double d = e.distance2(a, b);
+        if (d > 0.0 && d < best_d) {
+            best_d = d;
+            best = b;
+        }
+    }
+    return best;
+}
+
+/// Mean log distance of the neighbour pairs after i = 0 .. horizon samples (0 where no pair
+/// stays distinct).
+std::vector<double> mean_log_divergence(const DelayEmbedding& e, const ReferencePoints& ref,
+                                        long horizon) {
     std::vector<double> sum(horizon + 1, 0.0);
     std::vector<long> count(horizon + 1, 0);
-    for (long a = 0; a < points; a += stride) {
-        long best = -1;
-        double best_d = std::numeric_limits<double>::infinity();
-        for (long b = 0; b < points; b += stride) {
-            if (std::abs(a - b) <= separation) continue;
-            const double d = distance2(a, b);
-            if (d > 0.0 && d < best_d) {
-                best_d = d;
-                best = b;
-            }
-        }
+    for (long a = 0; a < ref.points; a += ref.stride) {
+        const long best = nearest_neighbour(e, ref, a);
         if (best < 0) continue;
         for (long i = 0; i <= horizon; ++i) {
-            const double d = distance2(a + i, best + i);
+            const double d = e.distance2(a + i, best + i);
             if (d > 0.0) {
                 sum[i] += 0.5 * std::log(d);
                 ++count[i];
             }
         }
     }
-    TimeSeriesExponent r;
-    r.sample_interval = dt;
-    r.divergence.resize(horizon + 1);
+    std::vector<double> divergence(horizon + 1);
     for (long i = 0; i <= horizon; ++i)
-        r.divergence[i] = count[i] > 0 ? sum[i] / count[i] : 0.0;
-    // Least-squares slope over the fitted range.
-    const long i0 = static_cast<long>(o.fit_from * horizon);
-    const long i1 = std::max(i0 + 2, static_cast<long>(o.fit_to * horizon));
+        divergence[i] = count[i] > 0 ? sum[i] / count[i] : 0.0;
+    return divergence;
+}
+
+/// Least-squares slope of r.divergence[i] against i dt over i0 .. i1, and its standard error,
+/// into r.lambda and r.error.
+void fit_divergence_slope(long i0, long i1, double dt, TimeSeriesExponent& r) {
     double st = 0, sy = 0, stt = 0, sty = 0;
     const double m = static_cast<double>(i1 - i0 + 1);
     for (long i = i0; i <= i1; ++i) {
@@ -345,6 +407,33 @@ TimeSeriesExponent largest_exponent_from_series(const std::vector<double>& x, do
         sse += e * e;
     }
     r.error = std::sqrt(sse / std::max(1.0, m - 2) * m / denom);
+}
+
+} // namespace
+
+TimeSeriesExponent largest_exponent_from_series(const std::vector<double>& x, double dt,
+                                                const TimeSeriesOptions& o) {
+    validate_series(x, dt, o);
+    const long n = static_cast<long>(x.size());
+    // Mean period from the mean-crossings: the Theiler window keeps neighbours that are merely
+    // the next sample on the same trajectory out of the search.
+    const long separation = o.min_separation == 0 ? mean_period_samples(x) : o.min_separation;
+    const long horizon = o.horizon > 0 ? o.horizon : 4 * separation;
+    const long span = static_cast<long>(o.embedding - 1) * o.delay;
+    const long points = n - span - horizon;
+    if (points < 10 * 2 + 2 * separation)
+        throw std::invalid_argument(
+            "series: too short for embedding " + std::to_string(o.embedding) + ", delay " +
+            std::to_string(o.delay) + " and horizon " + std::to_string(horizon) + " (" +
+            std::to_string(n) + " samples)");
+    // Reference points, decimated to bound the O(P^2) neighbour search.
+    const ReferencePoints ref{points, std::max(1L, points / o.max_points), separation};
+    TimeSeriesExponent r;
+    r.sample_interval = dt;
+    r.divergence = mean_log_divergence(DelayEmbedding(x, o.embedding, o.delay), ref, horizon);
+    const long i0 = static_cast<long>(o.fit_from * horizon);
+    const long i1 = std::max(i0 + 2, static_cast<long>(o.fit_to * horizon));
+    fit_divergence_slope(i0, i1, dt, r);
     return r;
 }
 

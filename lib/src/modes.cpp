@@ -100,17 +100,9 @@ void fill_modes(const Chain& c, const Tridiagonal& t, const Eigen::VectorXd& val
     }
 }
 
-} // namespace
-
-ModalResult modal_analysis(const Chain& chain, const ModalOptions& o) {
-    const auto start = std::chrono::steady_clock::now();
-    const Tridiagonal t = linear_chain_matrix(chain);
-    const int n = chain.bodies();
-    detail::require_range("count", o.count, 0, n);
-    detail::require_range("tolerance", o.tolerance, 0.0, 1e-2, detail::Bound::open_low);
-    // Nominal fc for eq (26): the wall contact stiffness (fc for the paper's row).
-    const double fc = chain.contact.front();
-    const int count = o.count == 0 ? n : o.count;
+/// The solver modal_analysis() uses: o.method, or for auto the dense one for small rows and
+/// many modes. Throws std::invalid_argument if the chosen solver cannot take the row.
+EigenMethod chosen_method(const ModalOptions& o, int n, int count) {
     EigenMethod method = o.method;
     if (method == EigenMethod::automatic)
         method = (n <= 2000 || count == n || 2 * count + 1 > n) ? EigenMethod::dense
@@ -129,61 +121,90 @@ ModalResult modal_analysis(const Chain& chain, const ModalOptions& o) {
         throw std::invalid_argument("count: the sparse solver needs 1 <= modes < Nm / 2, got " +
                                     std::to_string(o.count) + " of Nm = " + std::to_string(n) +
                                     "; use the dense solver for more");
-    ModalResult r;
-    r.method = method;
-    const int first_mode = o.end == SpectrumEnd::lowest ? 1 : n - count + 1;
-    if (method == EigenMethod::dense) {
-        Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> solver;
-        const Eigen::Map<const Eigen::VectorXd> d(t.diagonal.data(), n);
-        const Eigen::Map<const Eigen::VectorXd> e(t.off_diagonal.data(), n - 1);
-        solver.computeFromTridiagonal(d, e, Eigen::ComputeEigenvectors);
-        if (solver.info() != Eigen::Success) r.status = ModalStatus::not_converged;
-        const int offset = first_mode - 1;
-        fill_modes(chain, t, solver.eigenvalues().segment(offset, count),
-                   solver.eigenvectors().middleCols(offset, count), first_mode, o.shapes, fc, r);
-    } else {
-        // Shift just outside the spectrum at the wanted end, so the wanted eigenvalues become
-        // the largest of the inverted operator and are well separated even when they are
-        // clustered near 1 (large Nm). Lower bound: the smallest body spring (the contact
-        // matrix is positive definite with walls); upper bound: Gershgorin.
-        double lower = t.diagonal[0], upper = 0.0;
-        for (int i = 0; i < n; ++i) {
-            const double off = (i > 0 ? std::abs(t.off_diagonal[i - 1]) : 0.0) +
-                               (i + 1 < n ? std::abs(t.off_diagonal[i]) : 0.0);
-            lower = std::min(lower, chain.spring[i] / four_pi_squared);
-            upper = std::max(upper, t.diagonal[i] + off);
-        }
-        const double sigma =
-            o.end == SpectrumEnd::lowest ? lower * (1.0 - 1e-12) : upper * (1.0 + 1e-12);
-        detail::TridiagonalShiftSolve op(t);
-        const int ncv = std::min(n, std::max(2 * count + 1, 20));
-        Spectra::SymEigsShiftSolver<detail::TridiagonalShiftSolve> eigs(op, count, ncv, sigma);
-        eigs.init();
-        eigs.compute(Spectra::SortRule::LargestMagn, 1000, o.tolerance);
-        r.iterations = eigs.num_iterations();
-        switch (eigs.info()) {
-        case Spectra::CompInfo::Successful: r.status = ModalStatus::converged; break;
-        case Spectra::CompInfo::NotConverging: r.status = ModalStatus::not_converged; break;
-        default: r.status = ModalStatus::numerical_issue; break;
-        }
-        if (r.status == ModalStatus::converged) {
-            // Spectra returns them by decreasing |1/(lambda - sigma)|; sort ascending.
-            Eigen::VectorXd values = eigs.eigenvalues();
-            Eigen::MatrixXd vectors = eigs.eigenvectors();
-            std::vector<int> order(count);
-            for (int m = 0; m < count; ++m)
-                order[m] = m;
-            std::sort(order.begin(), order.end(),
-                      [&](int x, int y) { return values[x] < values[y]; });
-            Eigen::VectorXd sorted_values(count);
-            Eigen::MatrixXd sorted_vectors(n, count);
-            for (int m = 0; m < count; ++m) {
-                sorted_values[m] = values[order[m]];
-                sorted_vectors.col(m) = vectors.col(order[m]);
-            }
-            fill_modes(chain, t, sorted_values, sorted_vectors, first_mode, o.shapes, fc, r);
-        }
+    return method;
+}
+
+/// The modes wanted, for the whole spectrum at once (Eigen's tridiagonal solver).
+void dense_modes(const Chain& chain, const Tridiagonal& t, const ModalOptions& o, int first_mode,
+                 int count, double fc, ModalResult& r) {
+    const int n = chain.bodies();
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> solver;
+    const Eigen::Map<const Eigen::VectorXd> d(t.diagonal.data(), n);
+    const Eigen::Map<const Eigen::VectorXd> e(t.off_diagonal.data(), n - 1);
+    solver.computeFromTridiagonal(d, e, Eigen::ComputeEigenvectors);
+    if (solver.info() != Eigen::Success) r.status = ModalStatus::not_converged;
+    const int offset = first_mode - 1;
+    fill_modes(chain, t, solver.eigenvalues().segment(offset, count),
+               solver.eigenvectors().middleCols(offset, count), first_mode, o.shapes, fc, r);
+}
+
+/// A shift just outside the spectrum at the wanted end.
+// The wanted eigenvalues become the largest of the inverted operator and are well separated
+// even when they are clustered near 1 (large Nm). Lower bound: the smallest body spring (the
+// contact matrix is positive definite with walls); upper bound: Gershgorin.
+double shift_outside_spectrum(const Chain& chain, const Tridiagonal& t, SpectrumEnd end) {
+    const int n = chain.bodies();
+    double lower = t.diagonal[0], upper = 0.0;
+    for (int i = 0; i < n; ++i) {
+        const double off = (i > 0 ? std::abs(t.off_diagonal[i - 1]) : 0.0) +
+                           (i + 1 < n ? std::abs(t.off_diagonal[i]) : 0.0);
+        lower = std::min(lower, chain.spring[i] / four_pi_squared);
+        upper = std::max(upper, t.diagonal[i] + off);
     }
+    return end == SpectrumEnd::lowest ? lower * (1.0 - 1e-12) : upper * (1.0 + 1e-12);
+}
+
+/// The modes wanted, by shift-and-invert Lanczos (Spectra) at the wanted end.
+void sparse_modes(const Chain& chain, const Tridiagonal& t, const ModalOptions& o, int first_mode,
+                  int count, double fc, ModalResult& r) {
+    const int n = chain.bodies();
+    detail::TridiagonalShiftSolve op(t);
+    const int ncv = std::min(n, std::max(2 * count + 1, 20));
+    Spectra::SymEigsShiftSolver<detail::TridiagonalShiftSolve> eigs(
+        op, count, ncv, shift_outside_spectrum(chain, t, o.end));
+    eigs.init();
+    eigs.compute(Spectra::SortRule::LargestMagn, 1000, o.tolerance);
+    r.iterations = eigs.num_iterations();
+    switch (eigs.info()) {
+    case Spectra::CompInfo::Successful: r.status = ModalStatus::converged; break;
+    case Spectra::CompInfo::NotConverging: r.status = ModalStatus::not_converged; break;
+    default: r.status = ModalStatus::numerical_issue; break;
+    }
+    if (r.status != ModalStatus::converged) return;
+    // Spectra returns them by decreasing |1/(lambda - sigma)|; sort ascending.
+    Eigen::VectorXd values = eigs.eigenvalues();
+    Eigen::MatrixXd vectors = eigs.eigenvectors();
+    std::vector<int> order(count);
+    for (int m = 0; m < count; ++m)
+        order[m] = m;
+    std::sort(order.begin(), order.end(), [&](int x, int y) { return values[x] < values[y]; });
+    Eigen::VectorXd sorted_values(count);
+    Eigen::MatrixXd sorted_vectors(n, count);
+    for (int m = 0; m < count; ++m) {
+        sorted_values[m] = values[order[m]];
+        sorted_vectors.col(m) = vectors.col(order[m]);
+    }
+    fill_modes(chain, t, sorted_values, sorted_vectors, first_mode, o.shapes, fc, r);
+}
+
+} // namespace
+
+ModalResult modal_analysis(const Chain& chain, const ModalOptions& o) {
+    const auto start = std::chrono::steady_clock::now();
+    const Tridiagonal t = linear_chain_matrix(chain);
+    const int n = chain.bodies();
+    detail::require_range("count", o.count, 0, n);
+    detail::require_range("tolerance", o.tolerance, 0.0, 1e-2, detail::Bound::open_low);
+    // Nominal fc for eq (26): the wall contact stiffness (fc for the paper's row).
+    const double fc = chain.contact.front();
+    const int count = o.count == 0 ? n : o.count;
+    ModalResult r;
+    r.method = chosen_method(o, n, count);
+    const int first_mode = o.end == SpectrumEnd::lowest ? 1 : n - count + 1;
+    if (r.method == EigenMethod::dense)
+        dense_modes(chain, t, o, first_mode, count, fc, r);
+    else
+        sparse_modes(chain, t, o, first_mode, count, fc, r);
     r.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return r;
 }

@@ -13,120 +13,171 @@ MaxForceTracker::MaxForceTracker(const Dynamics& dyn, long split_period)
     : m_dyn(dyn), m_max(dyn.gaps()), m_gap(dyn.gaps()), m_rate(dyn.gaps()),
       m_scratch(dyn.dimension()), m_split_period(split_period) {}
 
+namespace {
+
+/// A contact's gap and gap rate at both ends of a step.
+struct GapEnds {
+    double g0, r0, g1, r1;
+};
+
+/// A value reached inside or at an end of a step, and the reduced time it is reached.
+struct PeakAt {
+    double value;
+    double t;
+};
+
+/// One step as MaxForceTracker scans it, contact by contact: the peaks of a contact's gap and
+/// force over the step. Holds references only, so that a step allocates nothing.
+class StepScan {
+public:
+    /// continuous: the step starts where the previous one ended. scratch: 2 Nm entries.
+    StepScan(const Dynamics& dyn, const StepView& step, bool continuous, double* scratch)
+        : m_dyn(dyn), m_step(step), m_h(step.t1 - step.t0), m_continuous(continuous),
+          m_scratch(scratch) {}
+    /// The largest force of contact j over the step and when; adds the contact's impacts in
+    /// the step to impacts. record: the smallest force that could still count.
+    PeakAt force_peak(int j, const GapEnds& e, double record, long& impacts);
+
+private:
+    /// Contact j's gap over the step as a quintic (value, rate, acceleration at both ends).
+    detail::QuinticHermite gap_interpolant(int j, const GapEnds& e);
+    /// The largest gap (deepest penetration) of contact j over the step, and when.
+    PeakAt gap_peak(int j, const GapEnds& e, double record, long& impacts);
+    /// The maximum of g, the gap of contact j, inside the step (its rate turns from > 0 to < 0).
+    PeakAt inner_gap_peak(int j, const detail::QuinticHermite& g);
+    /// The largest Hunt-Crossley force of contact j over the step, and when.
+    PeakAt dissipative_force_peak(int j, const GapEnds& e);
+
+    const Dynamics& m_dyn;
+    const StepView& m_step;
+    double m_h;
+    bool m_continuous;
+    double* m_scratch;
+    double m_ground0 = 0.0;
+    double m_ground1 = 0.0;
+    bool m_have_ground = false;
+};
+
+detail::QuinticHermite StepScan::gap_interpolant(int j, const GapEnds& e) {
+    // The ground terms are shared by every contact of the step, and most steps need none.
+    if (!m_have_ground) {
+        m_ground0 = m_dyn.ground(m_step.t0);
+        m_ground1 = m_dyn.ground(m_step.t1);
+        m_have_ground = true;
+    }
+    return detail::QuinticHermite(e.g0, e.r0, m_dyn.gap_acceleration(j, m_ground0, m_step.y0), e.g1,
+                                  e.r1, m_dyn.gap_acceleration(j, m_ground1, m_step.y1), m_h);
+}
+
+PeakAt StepScan::force_peak(int j, const GapEnds& e, double record, long& impacts) {
+    const PeakAt gap = gap_peak(j, e, record, impacts);
+    if (m_dyn.dissipative_contacts() && (gap.value > 0.0 || (!m_continuous && e.g0 > 0.0)))
+        return dissipative_force_peak(j, e);
+    return {m_dyn.force_at_penetration(j, gap.value), gap.t};
+}
+
+PeakAt StepScan::gap_peak(int j, const GapEnds& e, double record, long& impacts) {
+    PeakAt peak{e.g1, m_step.t1};
+    if (!m_continuous && e.g0 > peak.value) peak = {e.g0, m_step.t0};
+    // A maximum inside the step: the gap rate turns from closing to opening. The bound
+    // (twice the tangent-intersection bound of a concave gap) keeps the interpolation to
+    // the steps where the peak can be a penetration at all, and, once there are records,
+    // to the peaks that could beat the contact's record or its half of the window's (the
+    // second half starts below the first's records), or that may hide a brief contact.
+    const bool open_at_both_ends = e.g0 <= 0.0 && e.g1 <= 0.0;
+    const double bound = std::max(e.g0, e.g1) + 0.5 * m_h * (e.r0 - e.r1);
+    if (e.r0 > 0.0 && e.r1 < 0.0 && bound > 0.0 &&
+        (open_at_both_ends || m_dyn.dissipative_contacts() ||
+         m_dyn.force_at_penetration(j, bound) > record)) {
+        const PeakAt inner = inner_gap_peak(j, gap_interpolant(j, e));
+        if (inner.value > peak.value) peak = inner;
+        if (open_at_both_ends && inner.value > 0.0) ++impacts; // closed and reopened
+    }
+    if (e.g0 <= 0.0 && e.g1 > 0.0) ++impacts;
+    return peak;
+}
+
+PeakAt StepScan::inner_gap_peak(int j, const detail::QuinticHermite& g) {
+    const int n = m_dyn.bodies();
+    const double t0 = m_step.t0;
+    const Stepper* stepper = m_step.stepper;
+    double tau = g.stationary_point(0.0, m_h);
+    // A scheme with dense output (exact) gives the peak to round-off: Newton on the gap rate,
+    // started from the interpolant's peak.
+    if (stepper == nullptr || !stepper->dense_state(t0 + tau, m_scratch))
+        return {g.value(tau), t0 + tau};
+    for (int it = 0; it < 6; ++it) {
+        const double t = t0 + tau;
+        stepper->dense_state(t, m_scratch);
+        const double rate = m_dyn.gap_rate(j, m_scratch + n);
+        const double acc = m_dyn.gap_acceleration(j, m_dyn.ground(t), m_scratch);
+        if (acc >= 0.0) break;
+        const double dt = -rate / acc;
+        tau = std::clamp(tau + dt, 0.0, m_h);
+        if (std::abs(dt) <= 1e-14 * (1.0 + std::abs(t))) break;
+    }
+    stepper->dense_state(t0 + tau, m_scratch);
+    return {m_dyn.gap(j, m_scratch), t0 + tau};
+}
+
+// Hunt-Crossley: damping adds to the force while the contact closes, so the force peaks
+// before the deepest penetration. Maximise it on the step's interpolant: a grid, then
+// golden-section search around the best grid point.
+PeakAt StepScan::dissipative_force_peak(int j, const GapEnds& e) {
+    const double h = m_h;
+    const detail::QuinticHermite g = gap_interpolant(j, e);
+    auto f = [&](double tau) { return m_dyn.force_at_penetration(j, g.value(tau), g.rate(tau)); };
+    constexpr int grid = 16;
+    double best_tau = h;
+    double force = f(h);
+    for (int k = m_continuous ? 1 : 0; k < grid; ++k) {
+        const double tau = h * k / grid;
+        const double value = f(tau);
+        if (value > force) {
+            force = value;
+            best_tau = tau;
+        }
+    }
+    double lo = std::max(0.0, best_tau - h / grid), hi = std::min(h, best_tau + h / grid);
+    const double golden = 0.5 * (std::sqrt(5.0) - 1.0);
+    for (int it = 0; it < 40 && hi - lo > 1e-14 * h; ++it) {
+        const double a = hi - golden * (hi - lo), b = lo + golden * (hi - lo);
+        if (f(a) > f(b))
+            hi = b;
+        else
+            lo = a;
+    }
+    const double refined = f(0.5 * (lo + hi));
+    if (refined > force) {
+        best_tau = 0.5 * (lo + hi);
+        force = refined;
+    }
+    return {force, m_step.t0 + best_tau};
+}
+
+} // namespace
+
 void MaxForceTracker::on_step(const StepView& step) {
     const int n = m_dyn.bodies();
     const int gaps = m_dyn.gaps();
-    const double h = step.t1 - step.t0;
     // Values at the start are those the previous step ended on, unless the run restarted.
     const bool continuous = m_have_previous && m_last_t == step.t0;
-    double ground0 = 0.0, ground1 = 0.0;
-    bool have_ground = false;
+    StepScan scan(m_dyn, step, continuous, m_scratch.data());
     for (int j = 0; j < gaps; ++j) {
-        const double g0 = continuous ? m_gap[j] : m_dyn.gap(j, step.y0);
-        const double r0 = continuous ? m_rate[j] : m_dyn.gap_rate(j, step.y0 + n);
-        const double g1 = m_dyn.gap(j, step.y1);
-        const double r1 = m_dyn.gap_rate(j, step.y1 + n);
-        // The gap on this step as a quintic (value, rate, acceleration at both ends); the
-        // ground terms are shared by every contact of the step.
-        auto gap_interpolant = [&](int contact) {
-            if (!have_ground) {
-                ground0 = m_dyn.ground(step.t0);
-                ground1 = m_dyn.ground(step.t1);
-                have_ground = true;
-            }
-            return detail::QuinticHermite(g0, r0, m_dyn.gap_acceleration(contact, ground0, step.y0),
-                                          g1, r1, m_dyn.gap_acceleration(contact, ground1, step.y1),
-                                          h);
-        };
-        m_gap[j] = g1;
-        m_rate[j] = r1;
+        const GapEnds ends{continuous ? m_gap[j] : m_dyn.gap(j, step.y0),
+                           continuous ? m_rate[j] : m_dyn.gap_rate(j, step.y0 + n),
+                           m_dyn.gap(j, step.y1), m_dyn.gap_rate(j, step.y1 + n)};
+        m_gap[j] = ends.g1;
+        m_rate[j] = ends.r1;
         if (!step.recording) continue;
-
         ContactMaximum& best = m_max[j];
         double& half = m_half_max[step.period < m_split_period ? 0 : 1];
-        double peak = g1;
-        double peak_t = step.t1;
-        if (!continuous && g0 > peak) {
-            peak = g0;
-            peak_t = step.t0;
+        const PeakAt peak = scan.force_peak(j, ends, std::min(best.force, half), best.impacts);
+        if (peak.value > best.force) {
+            best.force = peak.value;
+            best.time = peak.t;
         }
-        // A maximum inside the step: the gap rate turns from closing to opening. The bound
-        // (twice the tangent-intersection bound of a concave gap) keeps the interpolation to
-        // the steps where the peak can be a penetration at all, and, once there are records,
-        // to the peaks that could beat the contact's record or its half of the window's (the
-        // second half starts below the first's records), or that may hide a brief contact.
-        const double bound = std::max(g0, g1) + 0.5 * h * (r0 - r1);
-        if (r0 > 0.0 && r1 < 0.0 && bound > 0.0 &&
-            ((g0 <= 0.0 && g1 <= 0.0) || m_dyn.dissipative_contacts() ||
-             m_dyn.force_at_penetration(j, bound) > std::min(best.force, half))) {
-            const detail::QuinticHermite g = gap_interpolant(j);
-            double tau = g.stationary_point(0.0, h);
-            double inner = g.value(tau);
-            // A scheme with dense output (exact) gives the peak to round-off: Newton on the
-            // gap rate, started from the interpolant's peak.
-            if (step.stepper != nullptr &&
-                step.stepper->dense_state(step.t0 + tau, m_scratch.data())) {
-                for (int it = 0; it < 6; ++it) {
-                    const double t = step.t0 + tau;
-                    step.stepper->dense_state(t, m_scratch.data());
-                    const double rate = m_dyn.gap_rate(j, m_scratch.data() + n);
-                    const double acc = m_dyn.gap_acceleration(j, m_dyn.ground(t), m_scratch.data());
-                    if (acc >= 0.0) break;
-                    const double dt = -rate / acc;
-                    tau = std::clamp(tau + dt, 0.0, h);
-                    if (std::abs(dt) <= 1e-14 * (1.0 + std::abs(t))) break;
-                }
-                step.stepper->dense_state(step.t0 + tau, m_scratch.data());
-                inner = m_dyn.gap(j, m_scratch.data());
-            }
-            if (inner > peak) {
-                peak = inner;
-                peak_t = step.t0 + tau;
-            }
-            if (g0 <= 0.0 && g1 <= 0.0 && inner > 0.0) ++best.impacts; // closed and reopened
-        }
-        if (g0 <= 0.0 && g1 > 0.0) ++best.impacts;
-        double force = m_dyn.force_at_penetration(j, peak);
-        if (m_dyn.dissipative_contacts() && (peak > 0.0 || (!continuous && g0 > 0.0))) {
-            // Hunt-Crossley: damping adds to the force while the contact closes, so the force
-            // peaks before the deepest penetration. Maximise it on the step's interpolant:
-            // a grid, then golden-section search around the best grid point.
-            const detail::QuinticHermite g = gap_interpolant(j);
-            auto f = [&](double tau) {
-                return m_dyn.force_at_penetration(j, g.value(tau), g.rate(tau));
-            };
-            constexpr int grid = 16;
-            double best_tau = h;
-            force = f(h);
-            for (int k = continuous ? 1 : 0; k < grid; ++k) {
-                const double tau = h * k / grid;
-                const double value = f(tau);
-                if (value > force) {
-                    force = value;
-                    best_tau = tau;
-                }
-            }
-            double lo = std::max(0.0, best_tau - h / grid), hi = std::min(h, best_tau + h / grid);
-            const double golden = 0.5 * (std::sqrt(5.0) - 1.0);
-            for (int it = 0; it < 40 && hi - lo > 1e-14 * h; ++it) {
-                const double a = hi - golden * (hi - lo), b = lo + golden * (hi - lo);
-                if (f(a) > f(b))
-                    hi = b;
-                else
-                    lo = a;
-            }
-            const double refined = f(0.5 * (lo + hi));
-            if (refined > force) {
-                best_tau = 0.5 * (lo + hi);
-                force = refined;
-            }
-            peak_t = step.t0 + best_tau;
-        }
-        if (force > best.force) {
-            best.force = force;
-            best.time = peak_t;
-        }
-        half = std::max(half, force);
+        half = std::max(half, peak.value);
     }
     m_last_t = step.t1;
     m_have_previous = true;

@@ -86,11 +86,9 @@ void compute_gaps(const Dynamics& dyn, const double* y, std::vector<double>& gap
         gaps[j] = dyn.gap(j, y);
 }
 
-} // namespace
-
-RunOutcome run(const Dynamics& dyn, Stepper& stepper, const StepPlan& plan, const RunSpan& span,
-               std::vector<double>& y, std::span<Observer* const> observers,
-               const ProgressCallback& progress) {
+/// Throws std::invalid_argument on a span, plan or state run() cannot take.
+void check_run_arguments(const Dynamics& dyn, const StepPlan& plan, const RunSpan& span,
+                         const std::vector<double>& y) {
     detail::require_range("run.periods", static_cast<double>(span.periods), 1.0, 1e9);
     if (span.transient_periods < 0 || span.transient_periods >= span.periods)
         throw std::invalid_argument("run.transient_periods: must be in [0, periods - 1], got " +
@@ -98,72 +96,122 @@ RunOutcome run(const Dynamics& dyn, Stepper& stepper, const StepPlan& plan, cons
     detail::require_length("initial state", y.size(), static_cast<std::size_t>(dyn.dimension()));
     if (plan.steps_per_period < 1 || !(plan.step > 0.0))
         throw std::invalid_argument("run: the step plan is empty (steps_per_period < 1)");
+}
 
+/// The steps of a run: advances the state over one step of the plan at a time, in pieces
+/// that end on contact switches, and feeds every piece to the observers. Owns the buffers the
+/// steps reuse, so that a step allocates nothing.
+class StepSequence {
+public:
+    StepSequence(const Dynamics& dyn, Stepper& stepper, const StepPlan& plan,
+                 std::vector<double>& y, std::span<Observer* const> observers)
+        : m_dyn(dyn), m_stepper(stepper), m_plan(plan), m_y(y), m_observers(observers),
+          m_y_prev(y.size()), m_gaps(dyn.gaps()), m_gaps_next(dyn.gaps()), m_scratch(y.size()) {
+        compute_gaps(dyn, y.data(), m_gaps);
+    }
+    /// Advances the state from t0 to t_end (one step of the plan in forcing period `period`);
+    /// returns the number of pieces taken.
+    long advance(double t0, double t_end, long period, bool recording);
+    /// Tells every observer that forcing period n ended at t; true if one asks to stop.
+    bool end_period(long n, double t) const;
+
+private:
+    double take_piece(double t0, double t_end, bool may_split);
+
+    const Dynamics& m_dyn;
+    Stepper& m_stepper;
+    const StepPlan& m_plan;
+    std::vector<double>& m_y;
+    std::span<Observer* const> m_observers;
+    std::vector<double> m_y_prev;
+    // Gaps at the current state, carried from step to step so each is computed once.
+    std::vector<double> m_gaps, m_gaps_next;
+    std::vector<double> m_scratch;
+};
+
+long StepSequence::advance(double t0, double t_end, long period, bool recording) {
+    // A contact switch inside a step puts a kink in the force, which costs a fourth-order
+    // scheme two orders; so a step that straddles a switch is redone in pieces that end on it.
+    // Bounded: each piece passes at least one switch.
+    long pieces = 0;
+    for (int piece = 0; piece <= 2 * m_dyn.gaps() && t0 < t_end; ++piece) {
+        const double t1 = take_piece(t0, t_end, piece < 2 * m_dyn.gaps());
+        const StepView view{t0, t1, m_y_prev.data(), m_y.data(), period, recording, &m_stepper};
+        for (Observer* o : m_observers)
+            o->on_step(view);
+        ++pieces;
+        t0 = t1;
+    }
+    return pieces;
+}
+
+/// Steps the state from t0 towards t_end, ending on the first contact switch instead when
+/// may_split and the plan splits at switches; returns where the piece ended.
+double StepSequence::take_piece(double t0, double t_end, bool may_split) {
+    std::copy(m_y.begin(), m_y.end(), m_y_prev.begin());
+    m_stepper.step(t0, t_end - t0, m_y);
+    double t1 = t_end;
+    if (m_plan.split_at_switches && may_split) {
+        const Switch s =
+            first_switch(m_dyn, t0, t_end, m_y_prev.data(), m_y.data(), m_gaps, m_gaps_next);
+        t1 = s.gap >= 0 ? refine_switch(m_dyn, m_stepper, s, t0, t_end, m_scratch) : t_end;
+        if (t1 < t_end) {
+            std::copy(m_y_prev.begin(), m_y_prev.end(), m_y.begin());
+            m_stepper.reset();
+            m_stepper.step(t0, t1 - t0, m_y);
+            m_stepper.reset();
+            compute_gaps(m_dyn, m_y.data(), m_gaps_next);
+        }
+    } else {
+        compute_gaps(m_dyn, m_y.data(), m_gaps_next);
+    }
+    m_gaps.swap(m_gaps_next);
+    return t1;
+}
+
+bool StepSequence::end_period(long n, double t) const {
+    // Every observer hears of the boundary, whatever the others answer.
+    bool stop = false;
+    for (Observer* o : m_observers)
+        stop = o->on_period(n, t, m_y.data()) || stop;
+    return stop;
+}
+
+std::string non_finite_message(double t_end, int body) {
+    return "the state became non-finite before t = " + detail::format_number(t_end) + " (body " +
+           std::to_string(body + 1) + "); the step or the parameters are out of the scheme's reach";
+}
+
+} // namespace
+
+RunOutcome run(const Dynamics& dyn, Stepper& stepper, const StepPlan& plan, const RunSpan& span,
+               std::vector<double>& y, std::span<Observer* const> observers,
+               const ProgressCallback& progress) {
+    check_run_arguments(dyn, plan, span, y);
     const int n = dyn.bodies();
     const int spp = plan.steps_per_period;
     const double h = plan.step;
     const long report_every = std::max(1L, span.periods / 200);
-    std::vector<double> y_prev(y.size());
-    // Gaps at the current state, carried from step to step so each is computed once.
-    std::vector<double> gaps(dyn.gaps()), gaps_next(dyn.gaps()), scratch(y.size());
-    compute_gaps(dyn, y.data(), gaps);
+    StepSequence steps(dyn, stepper, plan, y, observers);
     RunOutcome out;
     stepper.reset();
 
     // Times are computed from integer step counts, so period boundaries never drift.
     auto time_at = [&](long period, int k) { return span.t_start + (period * spp + k) * h; };
 
-    bool stop = false;
-    for (Observer* o : observers)
-        stop = o->on_period(0, span.t_start, y.data()) || stop;
+    steps.end_period(0, span.t_start);
     for (long p = 0; p < span.periods; ++p) {
         const bool recording = p >= span.transient_periods;
-        for (int k = 0; k < spp; ++k) {
-            const double t_end = time_at(p, k + 1);
-            double t0 = time_at(p, k);
-            // A contact switch inside a step puts a kink in the force, which costs a
-            // fourth-order scheme two orders; so a step that straddles a switch is redone in
-            // pieces that end on it. Bounded: each piece passes at least one switch.
-            for (int piece = 0; piece <= 2 * dyn.gaps() && t0 < t_end; ++piece) {
-                std::copy(y.begin(), y.end(), y_prev.begin());
-                stepper.step(t0, t_end - t0, y);
-                double t1 = t_end;
-                if (plan.split_at_switches && piece < 2 * dyn.gaps()) {
-                    const Switch s =
-                        first_switch(dyn, t0, t_end, y_prev.data(), y.data(), gaps, gaps_next);
-                    t1 = s.gap >= 0 ? refine_switch(dyn, stepper, s, t0, t_end, scratch) : t_end;
-                    if (t1 < t_end) {
-                        std::copy(y_prev.begin(), y_prev.end(), y.begin());
-                        stepper.reset();
-                        stepper.step(t0, t1 - t0, y);
-                        stepper.reset();
-                        compute_gaps(dyn, y.data(), gaps_next);
-                    }
-                } else {
-                    compute_gaps(dyn, y.data(), gaps_next);
-                }
-                gaps.swap(gaps_next);
-                const StepView view{t0, t1, y_prev.data(), y.data(), p, recording, &stepper};
-                for (Observer* o : observers)
-                    o->on_step(view);
-                ++out.steps;
-                t0 = t1;
-            }
-        }
+        for (int k = 0; k < spp; ++k)
+            out.steps += steps.advance(time_at(p, k), time_at(p, k + 1), p, recording);
         out.periods_done = p + 1;
         out.t_end = time_at(p + 1, 0);
         if (const int body = first_non_finite_body(y, n); body >= 0) {
             out.status = RunStatus::non_finite;
-            out.message =
-                "the state became non-finite before t = " + detail::format_number(out.t_end) +
-                " (body " + std::to_string(body + 1) +
-                "); the step or the parameters are out of the scheme's reach";
+            out.message = non_finite_message(out.t_end, body);
             return out;
         }
-        stop = false;
-        for (Observer* o : observers)
-            stop = o->on_period(p + 1, out.t_end, y.data()) || stop;
-        if (stop && recording) {
+        if (steps.end_period(p + 1, out.t_end) && recording) {
             out.status = RunStatus::steady_state;
             return out;
         }

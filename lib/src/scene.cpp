@@ -59,6 +59,90 @@ std::vector<double> number_array(const json& j, const std::string& key) {
     return out;
 }
 
+/// The per-body and per-gap arrays of a non-uniform row, in the scene's units.
+struct RowArrays {
+    std::vector<double> mass, stiffness, damping; ///< one per body
+    std::vector<double> clearance, contact;       ///< one per gap, Nm + 1
+};
+
+/// model[key] as size numbers (fallback each when the key is absent); bodies names the
+/// per-body size in the message.
+std::vector<double> model_array(const json& model, const char* key, std::size_t size,
+                                std::size_t bodies, double fallback) {
+    std::vector<double> v(size, fallback);
+    if (!model.contains(key)) return v;
+    const std::string full = std::string("model.") + key;
+    v = number_array(model[key], full);
+    if (v.size() != size)
+        throw SceneError(full + ": must have " + std::to_string(size) + " entries (" +
+                         (size == bodies ? "one per body" : "one per gap, Nm + 1") + "), got " +
+                         std::to_string(v.size()));
+    return v;
+}
+
+/// model.scatter: every entry of an array times 1 + s N(0, 1), one random stream per array.
+void apply_scatter(const json& scatter_json, RowArrays& a) {
+    SectionReader scatter(scatter_json, "model.scatter",
+                          {"clearance", "contact", "mass", "stiffness", "seed"});
+    scatter.finish();
+    const auto seed = static_cast<std::uint64_t>(scatter.integer("seed", 1, 0, 2'000'000'000));
+    auto spread = [&](const char* key, std::vector<double>& v, std::uint64_t stream, double floor) {
+        const double s = scatter.number(key, 0.0, 0.0, 10.0);
+        for (std::size_t i = 0; i < v.size(); ++i)
+            v[i] *= std::max(floor, 1.0 + s * detail::standard_normal(seed, stream, i));
+    };
+    // Clearances may close to zero; masses and stiffnesses must stay positive.
+    spread("clearance", a.clearance, 1, 0.0);
+    spread("contact", a.contact, 2, 1e-3);
+    spread("mass", a.mass, 3, 1e-3);
+    spread("stiffness", a.stiffness, 4, 1e-3);
+}
+
+/// Throws SceneError on the first entry out of its range.
+void check_row_arrays(const RowArrays& a) {
+    auto check = [](const char* key, const std::vector<double>& v, double lo, bool open) {
+        for (double x : v)
+            if (!(open ? x > lo : x >= lo) || !std::isfinite(x))
+                throw SceneError(std::string("model.") + key +
+                                 ": every entry must be a finite number " + (open ? "> " : ">= ") +
+                                 detail::format_number(lo) + ", got " + detail::format_number(x));
+    };
+    check("mass", a.mass, 0.0, true);
+    check("stiffness", a.stiffness, 0.0, true);
+    check("damping", a.damping, 0.0, false);
+    check("clearance", a.clearance, 0.0, false);
+    check("contact", a.contact, 0.0, true);
+    // Relative masses and stiffnesses far from 1 would overflow the derived spring rates (the
+    // message would then name a key the user never wrote).
+    auto check_bounds = [](const char* key, const std::vector<double>& v, double lo, double hi) {
+        for (double x : v)
+            if (x < lo || x > hi)
+                throw SceneError(std::string("model.") + key + ": every entry must be in [" +
+                                 detail::format_number(lo) + ", " + detail::format_number(hi) +
+                                 "], got " + detail::format_number(x));
+    };
+    check_bounds("mass", a.mass, 1e-6, 1e6);
+    check_bounds("stiffness", a.stiffness, 1e-6, 1e6);
+    check_bounds("damping", a.damping, 0.0, 100.0);
+}
+
+/// The row of p with the arrays' masses, stiffnesses, damping, clearances and contacts.
+Chain row_from_arrays(const ReducedParameters& p, const RowArrays& a) {
+    const auto n = static_cast<std::size_t>(p.Nm);
+    Chain c = Chain::homogeneous(p);
+    for (std::size_t i = 0; i < n; ++i) {
+        c.mass[i] = a.mass[i];
+        c.spring[i] = four_pi_squared * a.stiffness[i] / a.mass[i];
+        c.damping[i] =
+            4.0 * std::numbers::pi * a.damping[i] * std::sqrt(a.stiffness[i] / a.mass[i]);
+    }
+    for (std::size_t j = 0; j <= n; ++j) {
+        c.clearance[j] = a.clearance[j];
+        c.contact[j] *= a.contact[j];
+    }
+    return c;
+}
+
 /// The row from the model's arrays and scatter, or nothing if the model gives neither.
 // clearance_scale converts the scene's clearance entries to reduced clearances (1 for reduced
 // scenes, 4 pi^2 f0^2 / a0 for metres); damping entries are eps_i (reduced scenes only).
@@ -71,79 +155,17 @@ std::optional<Chain> non_uniform_row(const json& model, const ReducedParameters&
         any = any || model.contains(k);
     if (!any) return std::nullopt;
     const auto n = static_cast<std::size_t>(p.Nm);
-    auto array = [&](const char* key, std::size_t size, double fallback) {
-        std::vector<double> v(size, fallback);
-        if (!model.contains(key)) return v;
-        const std::string full = std::string("model.") + key;
-        v = number_array(model[key], full);
-        if (v.size() != size)
-            throw SceneError(full + ": must have " + std::to_string(size) + " entries (" +
-                             (size == n ? "one per body" : "one per gap, Nm + 1") + "), got " +
-                             std::to_string(v.size()));
-        return v;
-    };
-    std::vector<double> mass = array("mass", n, 1.0);
-    std::vector<double> stiffness = array("stiffness", n, 1.0);
-    std::vector<double> damping = array("damping", n, p.eps);
-    std::vector<double> clearance = array("clearance", n + 1, p.e_r / clearance_scale);
-    for (double& e : clearance)
+    RowArrays a;
+    a.mass = model_array(model, "mass", n, n, 1.0);
+    a.stiffness = model_array(model, "stiffness", n, n, 1.0);
+    a.damping = model_array(model, "damping", n, n, p.eps);
+    a.clearance = model_array(model, "clearance", n + 1, n, p.e_r / clearance_scale);
+    for (double& e : a.clearance)
         e *= clearance_scale;
-    std::vector<double> contact = array("contact", n + 1, 1.0);
-    if (model.contains("scatter")) {
-        SectionReader scatter(model["scatter"], "model.scatter",
-                              {"clearance", "contact", "mass", "stiffness", "seed"});
-        scatter.finish();
-        const auto seed = static_cast<std::uint64_t>(scatter.integer("seed", 1, 0, 2'000'000'000));
-        auto spread = [&](const char* key, std::vector<double>& v, std::uint64_t stream,
-                          double floor) {
-            const double s = scatter.number(key, 0.0, 0.0, 10.0);
-            for (std::size_t i = 0; i < v.size(); ++i)
-                v[i] *= std::max(floor, 1.0 + s * detail::standard_normal(seed, stream, i));
-        };
-        // Clearances may close to zero; masses and stiffnesses must stay positive.
-        spread("clearance", clearance, 1, 0.0);
-        spread("contact", contact, 2, 1e-3);
-        spread("mass", mass, 3, 1e-3);
-        spread("stiffness", stiffness, 4, 1e-3);
-    }
-    auto check = [](const char* key, const std::vector<double>& v, double lo, bool open) {
-        for (double x : v)
-            if (!(open ? x > lo : x >= lo) || !std::isfinite(x))
-                throw SceneError(std::string("model.") + key +
-                                 ": every entry must be a finite number " + (open ? "> " : ">= ") +
-                                 detail::format_number(lo) + ", got " + detail::format_number(x));
-    };
-    check("mass", mass, 0.0, true);
-    check("stiffness", stiffness, 0.0, true);
-    check("damping", damping, 0.0, false);
-    // Relative masses and stiffnesses far from 1 would overflow the derived spring rates (the
-    // message would then name a key the user never wrote).
-    auto check_ratio = [](const char* key, const std::vector<double>& v, double hi) {
-        for (double x : v)
-            if (x < 1.0 / hi || x > hi)
-                throw SceneError(std::string("model.") + key + ": every entry must be in [" +
-                                 detail::format_number(1.0 / hi) + ", " +
-                                 detail::format_number(hi) + "], got " + detail::format_number(x));
-    };
-    check_ratio("mass", mass, 1e6);
-    check_ratio("stiffness", stiffness, 1e6);
-    for (double x : damping)
-        if (x > 100.0)
-            throw SceneError("model.damping: every entry must be in [0, 100], got " +
-                             detail::format_number(x));
-    check("clearance", clearance, 0.0, false);
-    check("contact", contact, 0.0, true);
-    Chain c = Chain::homogeneous(p);
-    for (std::size_t i = 0; i < n; ++i) {
-        c.mass[i] = mass[i];
-        c.spring[i] = four_pi_squared * stiffness[i] / mass[i];
-        c.damping[i] = 4.0 * std::numbers::pi * damping[i] * std::sqrt(stiffness[i] / mass[i]);
-    }
-    for (std::size_t j = 0; j <= n; ++j) {
-        c.clearance[j] = clearance[j];
-        c.contact[j] *= contact[j];
-    }
-    return c;
+    a.contact = model_array(model, "contact", n + 1, n, 1.0);
+    if (model.contains("scatter")) apply_scatter(model["scatter"], a);
+    check_row_arrays(a);
+    return row_from_arrays(p, a);
 }
 
 /// The reduced model's five numbers (a reduced scene).

@@ -169,6 +169,28 @@ double accuracy_limit(Scheme scheme, double tolerance) {
     return 0.0;
 }
 
+/// The scheme a run takes: scheme itself, or automatic resolved for the row. Throws
+/// std::invalid_argument if the row's contact law or forcing rules it out.
+Scheme resolved_scheme(const Dynamics& dyn, Scheme scheme, double tolerance) {
+    const bool linear = dyn.chain().law == ContactLaw::linear;
+    const bool harmonic = dyn.ground_motion().is_harmonic();
+    if (scheme == Scheme::automatic)
+        scheme = linear && harmonic ? choose_scheme(tolerance, dyn.bodies()) : Scheme::rk4;
+    if (scheme == Scheme::exact && !linear)
+        throw std::invalid_argument("run.scheme: exact propagates the linear contact law only; "
+                                    "use rk4, rkf45 or rk8pd with a nonlinear "
+                                    "model.contact_law");
+    if (scheme == Scheme::central_difference && dyn.dissipative_contacts())
+        throw std::invalid_argument("run.scheme: central_difference needs contact forces that do "
+                                    "not depend on the velocities; use rk4, rkf45 or rk8pd with "
+                                    "model.contact_law = hunt_crossley");
+    if (scheme == Scheme::exact && !harmonic)
+        throw std::invalid_argument("run.scheme: exact needs harmonic forcing (its particular "
+                                    "solution is closed-form); use rk4, rkf45 or rk8pd with "
+                                    "a ground-motion record");
+    return scheme;
+}
+
 } // namespace
 
 std::unique_ptr<Stepper> make_stepper(const StepPlan& plan, const Dynamics& dyn) {
@@ -186,22 +208,7 @@ std::unique_ptr<Stepper> make_stepper(const StepPlan& plan, const Dynamics& dyn)
 StepPlan plan_step(const Dynamics& dyn, Scheme scheme, double tolerance,
                    std::optional<double> user_step) {
     detail::require_range("run.tolerance", tolerance, 1e-12, 0.1);
-    const bool linear = dyn.chain().law == ContactLaw::linear;
-    const bool harmonic = dyn.ground_motion().is_harmonic();
-    if (scheme == Scheme::automatic)
-        scheme = linear && harmonic ? choose_scheme(tolerance, dyn.bodies()) : Scheme::rk4;
-    if (scheme == Scheme::exact && !linear)
-        throw std::invalid_argument("run.scheme: exact propagates the linear contact law only; "
-                                    "use rk4, rkf45 or rk8pd with a nonlinear "
-                                    "model.contact_law");
-    if (scheme == Scheme::central_difference && dyn.dissipative_contacts())
-        throw std::invalid_argument("run.scheme: central_difference needs contact forces that do "
-                                    "not depend on the velocities; use rk4, rkf45 or rk8pd with "
-                                    "model.contact_law = hunt_crossley");
-    if (scheme == Scheme::exact && !harmonic)
-        throw std::invalid_argument("run.scheme: exact needs harmonic forcing (its particular "
-                                    "solution is closed-form); use rk4, rkf45 or rk8pd with "
-                                    "a ground-motion record");
+    scheme = resolved_scheme(dyn, scheme, tolerance);
     const SchemeTraits tr = traits(scheme);
     // The fastest of the contact oscillations and the forcing sets the step's accuracy.
     const double period = dyn.period();

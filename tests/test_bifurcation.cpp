@@ -73,13 +73,13 @@ TEST_CASE("continuation sweeps up then down, each value from the previous end st
           doctest::Approx(r.rows[0].points.back().values[0]).epsilon(1e-6));
 }
 
-TEST_CASE("bad options name the option") {
+TEST_CASE("bad options name the option field (the tools translate it into their flag)") {
     BifurcationOptions o;
     o.from = -1.0;
     CHECK_THROWS_WITH_AS(validate(o, fig13), doctest::Contains("f_r"), std::invalid_argument);
     o = {};
     o.steps = 0;
-    CHECK_THROWS_WITH_AS(validate(o, fig13), doctest::Contains("--steps"), std::invalid_argument);
+    CHECK_THROWS_WITH_AS(validate(o, fig13), doctest::Contains("steps: must be"), std::invalid_argument);
 }
 
 TEST_CASE("bifurcation and regime maps: a cancelled run stops within one value per thread") {

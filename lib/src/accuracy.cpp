@@ -62,13 +62,13 @@ double max_norm_difference(const std::vector<double>& a, const std::vector<doubl
 
 WorkPrecision work_precision(const Dynamics& dyn, const WorkPrecisionOptions& o) {
     const auto start = std::chrono::steady_clock::now();
-    detail::require_range("--periods", static_cast<double>(o.periods), 1.0, 1e7);
-    detail::require_range("--repeats", o.repeats, 1, 100);
+    detail::require_range("periods", static_cast<double>(o.periods), 1.0, 1e7);
+    detail::require_range("repeats", o.repeats, 1, 100);
     for (double tol : o.tolerances)
-        detail::require_range("--tolerances", tol, 1e-12, 0.1);
+        detail::require_range("tolerances", tol, 1e-12, 0.1);
     for (Scheme s : o.schemes)
         if (s == Scheme::automatic)
-            throw std::invalid_argument("--schemes: name concrete schemes, not auto");
+            throw std::invalid_argument("schemes: name concrete schemes, not auto");
     WorkPrecision study;
     StepPlan reference_plan = plan_step(dyn, Scheme::exact, 1e-12);
     reference_plan.steps_per_period *= 2;

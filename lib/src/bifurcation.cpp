@@ -98,14 +98,14 @@ void continued_rows(const ReducedParameters& base, const BifurcationOptions& o,
 } // namespace
 
 void validate(const BifurcationOptions& o, const ReducedParameters& base) {
-    detail::require_range("--steps", o.steps, 1, 10'000'000);
-    detail::require_range("--transient", static_cast<double>(o.transient_periods), 0.0, 1e9);
-    detail::require_range("--record", static_cast<double>(o.record_periods), 1.0, 1e9);
-    detail::require_range("--max-period", o.max_period, 1, 1000);
-    detail::require_range("--period-tolerance", o.period_tolerance, 0.0, 1.0,
+    detail::require_range("steps", o.steps, 1, 10'000'000);
+    detail::require_range("transient_periods", static_cast<double>(o.transient_periods), 0.0, 1e9);
+    detail::require_range("record_periods", static_cast<double>(o.record_periods), 1.0, 1e9);
+    detail::require_range("max_period", o.max_period, 1, 1000);
+    detail::require_range("period_tolerance", o.period_tolerance, 0.0, 1.0,
                           detail::Bound::open_low);
-    detail::require_range("--threads", o.threads, 0, 4096);
-    detail::require_range("--tolerance", o.tolerance, 1e-12, 0.1);
+    detail::require_range("threads", o.threads, 0, 4096);
+    detail::require_range("tolerance", o.tolerance, 1e-12, 0.1);
     // Both ends must make a valid row; validate() names the parameter and its range.
     validate(with_value(base, o.parameter, o.from));
     validate(with_value(base, o.parameter, o.to));

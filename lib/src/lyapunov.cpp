@@ -209,67 +209,31 @@ LyapunovResult lyapunov_spectrum(const TangentSystem& sys, std::vector<double> y
 }
 
 TangentObserver::TangentObserver(const Dynamics& dyn, int count, long start_period)
-    : m_dyn(dyn), m_accumulator(dyn.dimension(), count), m_start_period(start_period),
-      m_scale(dyn.max_angular_frequency()), m_closed(dyn.gaps()), m_term(dyn.dimension()),
-      m_next(dyn.dimension()), m_sum(dyn.dimension()), m_dv(dyn.bodies()) {
-    // Between switches the tangent flow is exp(h J) only if J is constant there, which holds
-    // for the linear law alone (a Hertz contact's stiffness varies with its penetration).
-    // Hunt-Crossley needs no saltation matrix (its force vanishes with the penetration, so the
-    // vector field does not jump at a switch) but has the same varying Jacobian.
-    if (dyn.chain().law != ContactLaw::linear)
-        throw std::invalid_argument(
-            "model.contact_law: Lyapunov exponents need the linear contact law (the tangent "
-            "propagation assumes a constant Jacobian between switches; a " +
-            std::string(to_string(dyn.chain().law)) +
-            " contact's stiffness varies with its "
-            "penetration), got " +
-            to_string(dyn.chain().law));
+    : m_flow(dyn, count), m_accumulator(dyn.dimension(), count), m_start_period(start_period) {
+    copy_basis_to_flow();
 }
 
-void TangentObserver::apply_jacobian(const double* x, double* out) const {
-    // Scaled coordinates x = (du, dv / w): J' = [[0, w I], [A_u / w, A_v]].
-    const int n = m_dyn.bodies();
-    const double w = m_scale;
-    for (int i = 0; i < n; ++i) {
-        out[i] = w * x[n + i];
-        m_dv[i] = w * x[n + i];
-    }
-    m_dyn.tangent_acceleration(m_closed, x, m_dv.data(), out + n);
-    for (int i = 0; i < n; ++i)
-        out[n + i] /= w;
+void TangentObserver::copy_basis_to_flow() {
+    const std::vector<double>& q = m_accumulator.basis();
+    const auto dim = static_cast<std::size_t>(m_accumulator.dimension());
+    for (int c = 0; c < m_accumulator.count(); ++c)
+        std::copy_n(q.begin() + static_cast<std::ptrdiff_t>(c * dim), dim, m_flow.column(c));
 }
 
 void TangentObserver::on_step(const StepView& step) {
-    if (!m_healthy) return;
-    const int dim = m_dyn.dimension();
-    for (int j = 0; j < m_dyn.gaps(); ++j)
-        m_closed[j] = m_dyn.gap(j, step.y0) + m_dyn.gap(j, step.y1) > 0.0 ? 1 : 0;
-    const double h = step.t1 - step.t0;
-    std::vector<double>& q = m_accumulator.basis();
-    for (int c = 0; c < m_accumulator.count(); ++c) {
-        double* col = &q[static_cast<std::size_t>(c) * dim];
-        std::copy(col, col + dim, m_term.begin());
-        std::copy(col, col + dim, m_sum.begin());
-        // exp(h J') x by its Taylor series, to round-off.
-        for (int k = 1; k <= 60; ++k) {
-            apply_jacobian(m_term.data(), m_next.data());
-            double term_norm = 0.0, sum_norm = 0.0;
-            for (int i = 0; i < dim; ++i) {
-                m_term[i] = m_next[i] * h / k;
-                m_sum[i] += m_term[i];
-                term_norm = std::max(term_norm, std::abs(m_term[i]));
-                sum_norm = std::max(sum_norm, std::abs(m_sum[i]));
-            }
-            if (term_norm <= 1e-17 * sum_norm) break;
-        }
-        std::copy(m_sum.begin(), m_sum.end(), col);
-    }
+    if (m_healthy) m_flow.on_step(step);
 }
 
 bool TangentObserver::on_period(long n, double t, const double*) {
     if (!m_healthy) return false;
+    // The flow carried the basis over the period; QR it and carry on from the new basis.
+    std::vector<double>& q = m_accumulator.basis();
+    const auto dim = static_cast<std::size_t>(m_accumulator.dimension());
+    for (int c = 0; c < m_accumulator.count(); ++c)
+        std::copy_n(m_flow.column(c), dim, q.begin() + static_cast<std::ptrdiff_t>(c * dim));
     if (!m_accumulator.orthonormalize(t, n > m_start_period)) m_healthy = false;
     if (n == m_start_period) m_accumulator.start(t);
+    copy_basis_to_flow();
     return false;
 }
 
@@ -279,7 +243,7 @@ LyapunovResult chain_lyapunov(const Dynamics& dyn, const RunOptions& options, in
     const auto start = std::chrono::steady_clock::now();
     validate(options);
     require_harmonic(dyn, "lyapunov");
-    detail::require_range("--count", count, 1, dyn.dimension());
+    detail::require_range("count", count, 1, dyn.dimension());
     PlannedRun planned(dyn, options, initial);
     TangentObserver tangent(dyn, count, planned.transient_periods());
     Observer* observers[] = {&tangent};

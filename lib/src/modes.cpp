@@ -19,7 +19,7 @@ EigenMethod parse_eigen_method(std::string_view name) {
     if (name == "auto") return EigenMethod::automatic;
     if (name == "dense") return EigenMethod::dense;
     if (name == "sparse") return EigenMethod::sparse;
-    throw std::invalid_argument("--method: must be auto, dense or sparse, got \"" +
+    throw std::invalid_argument("method: must be auto, dense or sparse, got \"" +
                                 std::string(name) + "\"");
 }
 

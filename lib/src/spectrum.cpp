@@ -18,7 +18,7 @@ namespace gapchain {
 Window parse_window(std::string_view name) {
     if (name == "hann") return Window::hann;
     if (name == "rectangular") return Window::rectangular;
-    throw std::invalid_argument("--window: must be hann or rectangular, got \"" +
+    throw std::invalid_argument("window: must be hann or rectangular, got \"" +
                                 std::string(name) + "\"");
 }
 

@@ -87,8 +87,8 @@ std::vector<long> stratified_subset(long total, long count, std::uint64_t seed) 
 }
 
 std::vector<long> pending_points(const Study& s, const SweepSelection& sel) {
-    detail::require_range("--shard", sel.shard, 0, std::max(0, sel.shards - 1));
-    detail::require_range("--shard count", sel.shards, 1, 1'000'000);
+    detail::require_range("shard", sel.shard, 0, std::max(0, sel.shards - 1));
+    detail::require_range("shard_count", sel.shards, 1, 1'000'000);
     const long n = point_count(s);
     std::vector<long> candidates;
     if (sel.subset.empty()) {

@@ -177,9 +177,30 @@ void require_paper_row(const Scene& scene, const std::string& tool) {
 
 namespace {
 
+// The library's option fields and the flags most tools give them; a tool's own list wins.
+const FlagNames common_flag_names = {
+    {"steps", "--steps"},
+    {"transient_periods", "--transient"},
+    {"record_periods", "--record"},
+    {"max_period", "--max-period"},
+    {"period_tolerance", "--period-tolerance"},
+    {"threads", "--threads"},
+    {"tolerance", "--tolerance"},
+    {"count", "--count"},
+    {"method", "--method"},
+    {"window", "--window"},
+    {"periods", "--periods"},
+    {"repeats", "--repeats"},
+    {"tolerances", "--tolerances"},
+    {"schemes", "--schemes"},
+    {"shard_count", "--shard"},
+    {"shard", "--shard"},
+};
+
 std::string with_flag_names(std::string message, const FlagNames& names) {
-    for (const auto& [field, flag] : names)
-        if (message.rfind(field + ":", 0) == 0) return flag + message.substr(field.size());
+    for (const FlagNames* list : {&names, &common_flag_names})
+        for (const auto& [field, flag] : *list)
+            if (message.rfind(field + ":", 0) == 0) return flag + message.substr(field.size());
     return message;
 }
 

@@ -89,6 +89,8 @@ void require_paper_row(const Scene& scene, const std::string& tool);
 
 // The library names its own fields in messages ("segment_length: ..."); a tool lists, for
 // each, the flag the user wrote ({"segment_length", "--segment"}) so that messages name it.
+// Fields most tools share ("transient_periods" -> "--transient", "tolerance", "threads", ...)
+// are translated by cli::run without a list.
 using FlagNames = std::vector<std::pair<std::string, std::string>>;
 
 // Parses the command line and runs body, mapping every error to one line on stderr and an exit

@@ -9,6 +9,7 @@
 
 #include "gapchain/dynamics.hpp"
 #include "gapchain/run.hpp"
+#include "gapchain/tangent_flow.hpp"
 
 #include <vector>
 
@@ -83,17 +84,16 @@ struct LyapunovOptions {
 LyapunovResult lyapunov_spectrum(const TangentSystem& system, std::vector<double> y0,
                                  const LyapunovOptions& options);
 
-/// Observer that propagates a tangent basis along a run of the row. Between two steps the
-/// contact configuration is fixed (the time loop splits steps at every switch), so the tangent
-/// flow is exp(h J) with J constant; it is applied by its Taylor series to round-off accuracy,
-/// in coordinates (du, dv / omega) that keep |h J| near h omega. The contact force is continuous
+/// Observer that propagates a tangent basis along a run of the row with TangentFlow (exp(h J)
+/// between switches, in scaled coordinates) and re-orthonormalises it every forcing period.
+/// The contact force is continuous
 /// in the gap, so the vector field is continuous across a switch and the tangent vectors need no
 /// jump (saltation) matrix there: the saltation matrix I + (f+ - f-) n^T / (n^T f-) is the
 /// identity when f+ = f- on the switching surface.
 class TangentObserver final : public Observer {
 public:
     /// dyn must outlive the observer; count in [1, 2 Nm]; averages start at the end of period
-    /// `start_period`.
+    /// `start_period`. Needs the linear contact law (std::invalid_argument otherwise).
     TangentObserver(const Dynamics& dyn, int count, long start_period);
     void on_step(const StepView& step) override;
     bool on_period(long n, double t, const double* y) override;
@@ -102,14 +102,10 @@ public:
     [[nodiscard]] bool healthy() const { return m_healthy; }
 
 private:
-    void apply_jacobian(const double* x, double* out) const;
-    const Dynamics& m_dyn;
+    void copy_basis_to_flow();
+    TangentFlow m_flow; ///< carries the basis between re-orthonormalisations
     LyapunovAccumulator m_accumulator;
     long m_start_period;
-    double m_scale; ///< omega used to scale velocities
-    std::vector<char> m_closed;
-    std::vector<double> m_term, m_next, m_sum;
-    mutable std::vector<double> m_dv; ///< scratch for apply_jacobian
     bool m_healthy = true;
 };
 

@@ -15,22 +15,19 @@ using namespace gapchain;
 // Tables 2 and 3: the paper's simulated maxima against the bounds eq (25) and eq (37).
 void print_tables() {
     const double eps[] = {0.1, 0.2, 0.3, 0.5};
+    auto row = [](const char* label, const char* format, auto&& value) {
+        std::printf("%-34s", label);
+        for (int i = 0; i < 4; ++i)
+            std::printf(format, value(i));
+        std::printf("\n");
+    };
     const double smooth_paper[] = {3.75, 2.46, 1.45, 0.93};
     const double chaotic_paper[] = {7.02, 3.88, 2.65, 1.86};
     std::printf("%-34s %8s %8s %8s %8s\n", "eps", "0.1", "0.2", "0.3", "0.5");
-    std::printf("%-34s", "Table 2: paper max F_m, smooth");
-    for (double v : smooth_paper)
-        std::printf(" %8.2f", v);
-    std::printf("\n%-34s", "1/(2 eps)  eq (25)");
-    for (double e : eps)
-        std::printf(" %8.3f", smooth_bound(e));
-    std::printf("\n%-34s", "Table 3: paper max F_m, chaotic");
-    for (double v : chaotic_paper)
-        std::printf(" %8.2f", v);
-    std::printf("\n%-34s", "pi/(2 eps sqrt(4.935))  eq (37)");
-    for (double e : eps)
-        std::printf(" %8.3f", chaotic_bound(e));
-    std::printf("\n");
+    row("Table 2: paper max F_m, smooth", " %8.2f", [&](int i) { return smooth_paper[i]; });
+    row("1/(2 eps)  eq (25)", " %8.3f", [&](int i) { return smooth_bound(eps[i]); });
+    row("Table 3: paper max F_m, chaotic", " %8.2f", [&](int i) { return chaotic_paper[i]; });
+    row("pi/(2 eps sqrt(4.935))  eq (37)", " %8.3f", [&](int i) { return chaotic_bound(eps[i]); });
 }
 
 void print_estimates(const Scene& scene, const AnalyticEstimates& a) {

@@ -64,7 +64,8 @@ struct SimulationHooks {
     ProgressCallback progress; ///< progress of the main run, if set
 };
 
-/// Simulates dyn from initial (2 Nm entries; empty = rest) under options.
+/// Simulates dyn from initial (2 Nm entries; empty = rest) under options; an auto transient is
+/// resolved by with_transient_resolved() (result.transient_periods_used).
 ///
 /// F_m_error (when options.estimate_error), error_method says which:
 /// - window_halves: a harmonic run that ran its full length without settling, whose maxima over

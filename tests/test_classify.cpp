@@ -44,3 +44,17 @@ TEST_CASE("a regime map does not depend on the number of threads") {
     CHECK(map_csv(one) == map_csv(two));
     CHECK(one.cells.size() == 12);
 }
+
+TEST_CASE("a periodic label is confirmed by Newton: the period-3 orbit the repetition test read "
+          "as 6") {
+    // Issue 17: a multiplier near -1 makes the approach alternate every 3 periods.
+    const ReducedParameters p{3, 200, 0.5, 0.03, 5.5};
+    ClassifyOptions o;
+    const Classification c = classify(p, o);
+    REQUIRE(c.regime == Regime::periodic);
+    CHECK(c.newton_confirmed);
+    CHECK(c.period == 3);
+    CHECK(c.max_multiplier == doctest::Approx(0.7313).epsilon(1e-3));
+    o.confirm_by_newton = false;
+    CHECK(classify(p, o).period == 6); // the repetition test alone, as before
+}

@@ -37,6 +37,9 @@ void classify_point(const ReducedParameters& p, const ClassifyOptions& o, const 
     std::printf("regime %s", std::string(to_string(c.regime)).c_str());
     if (c.regime == Regime::periodic)
         std::printf(" (period %d%s)", c.period, c.period == 0 ? ": longer than max" : "");
+    if (c.newton_confirmed)
+        std::printf(", confirmed by Newton: minimal period %d, largest |multiplier| %.4g", c.period,
+                    c.max_multiplier);
     std::printf("\n  lambda_max = %+.4f +- %.2g, %d distinct of %d section points, "
                 "broadband share %.3f\n",
                 c.lambda_max, c.lambda_max_error, c.distinct_points, c.section_points,

@@ -1,5 +1,7 @@
 #include "gapchain/classify.hpp"
 
+#include "gapchain/orbit.hpp"
+
 #include "detail/check.hpp"
 #include "detail/parallel.hpp"
 #include "gapchain/lyapunov.hpp"
@@ -119,6 +121,27 @@ long total_impacts(const MaxForceTracker& forces) {
     return impacts;
 }
 
+/// A periodic label checked by Newton on the k-period map from the state at the end of the run
+/// (a period boundary, so phase 0): a multiplier near -1 can make the approach repeat after 2k
+/// periods before it repeats after k; the converged orbit's minimal period settles it.
+void confirm_periodic(const Dynamics& dyn, const std::vector<double>& state, Classification& c) {
+    OrbitOptions orbit_options;
+    orbit_options.period = c.period;
+    orbit_options.tolerance = 1e-9;
+    orbit_options.max_iterations = 12;
+    PeriodicOrbit orbit = find_periodic_orbit(dyn, orbit_options, state);
+    if (orbit.status != OrbitStatus::converged) return;
+    if (orbit.minimal_period < orbit.period) {
+        // The multipliers of the minimal-period map (those of the k-map are their powers).
+        orbit_options.period = orbit.minimal_period;
+        const PeriodicOrbit minimal = find_periodic_orbit(dyn, orbit_options, orbit.state);
+        if (minimal.status == OrbitStatus::converged) orbit = minimal;
+    }
+    c.newton_confirmed = true;
+    c.period = orbit.minimal_period;
+    c.max_multiplier = orbit.max_multiplier;
+}
+
 } // namespace
 
 Classification classify(const ReducedParameters& p, const ClassifyOptions& o) {
@@ -175,6 +198,8 @@ Classification classify(const ReducedParameters& p, const ClassifyOptions& o) {
     } else {
         label_unsettled(o, evidence, p.f_r, c);
     }
+    if (o.confirm_by_newton && c.regime == Regime::periodic && c.period > 0)
+        confirm_periodic(dyn, planned.state(), c);
     c.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return c;
 }

@@ -324,6 +324,8 @@ json classification_json(const Classification& c) {
     j["section_points"] = c.section_points;
     j["broadband_share"] = c.broadband_share;
     j["stopped_at_steady_state"] = c.stopped_at_steady_state;
+    j["newton_confirmed"] = c.newton_confirmed;
+    if (c.newton_confirmed) j["max_multiplier"] = c.max_multiplier;
     j["periods_run"] = c.periods_run;
     j["status"] = std::string(to_string(c.status));
     j["wall_time_s"] = c.wall_time_s;

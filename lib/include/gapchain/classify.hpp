@@ -35,6 +35,9 @@ struct ClassifyOptions {
     int samples_per_period = 16;    ///< samples of u_1 per period for the spectrum, >= 4
     double chaos_threshold = 0.02;  ///< lambda_max must exceed this [1 / reduced time] and three
                                     ///< standard errors to count as chaos
+    /// Confirm a periodic regime by Newton shooting (orbit.hpp) from the final state: the
+    /// period becomes the orbit's minimal period, and its largest Floquet multiplier is given.
+    bool confirm_by_newton = true;
 };
 
 /// Throws std::invalid_argument naming the first invalid option.
@@ -52,7 +55,10 @@ struct Classification {
     double broadband_share = 0.0;  ///< spectral power of u_1 away from m/n f_r (n <= 4)
     double F_m = 0.0;              ///< max reduced force over the recorded periods
     bool stopped_at_steady_state = false; ///< the run ended early on a periodic steady state
-    long periods_run = 0;                 ///< periods integrated
+    bool newton_confirmed = false; ///< Newton converged on the periodic orbit (period is then its
+                                   ///< minimal period)
+    double max_multiplier = 0.0;   ///< largest Floquet multiplier modulus (when confirmed)
+    long periods_run = 0;          ///< periods integrated
     RunStatus status = RunStatus::completed;
     double wall_time_s = 0.0; ///< [s]
 };

@@ -3,6 +3,7 @@
 # no output file left behind. Usage: tool_bad_input.sh TOOL [extra args before the scene...]
 set -u
 tool=$1; shift
+extra=("$@")
 dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
 good='{"model": {"Nm": 3, "fc": 10, "eps": 0.5, "e_r": 0.5}, "excitation": {"f_r": 1.0}, "run": {"periods": 5}}'
@@ -16,7 +17,7 @@ fail=0
 check() { # name, expected key fragment, args...
     local name=$1 key=$2; shift 2
     local out="$dir/out_$name"
-    "$tool" "$@" --out "$out" >"$dir/stdout" 2>"$dir/stderr"
+    "$tool" "${extra[@]}" "$@" --out "$out" >"$dir/stdout" 2>"$dir/stderr"
     local rc=$?
     local lines; lines=$(wc -l < "$dir/stderr")
     if [ "$rc" -ne 2 ]; then echo "FAIL $name: exit $rc, expected 2"; fail=1; fi

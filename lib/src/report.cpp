@@ -262,6 +262,26 @@ std::string to_json(const LyapunovResult& r, const ReducedParameters& p, int cou
     return j.dump(2) + "\n";
 }
 
+std::string branch_csv(const ContinuationResult& result) {
+    std::ostringstream os;
+    os.precision(12);
+    os << "value,period,F_m,u1,stable,max_multiplier,branch\n";
+    for (const auto& p : result.points)
+        os << p.value << ',' << p.period << ',' << p.F_m << ',' << p.u1 << ',' << (p.stable ? 1 : 0)
+           << ',' << p.max_multiplier << ',' << p.branch << '\n';
+    return os.str();
+}
+
+std::string special_csv(const ContinuationResult& result) {
+    std::ostringstream os;
+    os.precision(12);
+    os << "type,value,period,F_m,branch,contact\n";
+    for (const auto& s : result.special)
+        os << to_string(s.type) << ',' << s.value << ',' << s.period << ',' << s.F_m << ','
+           << s.branch << ',' << s.contact << '\n';
+    return os.str();
+}
+
 std::string to_json(const PeriodicOrbit& orbit, const Scene& scene) {
     nlohmann::ordered_json j;
     j["status"] = std::string(to_string(orbit.status));

@@ -15,7 +15,7 @@ declare -A layer=(
     [run]=3
     [observers]=4 [poincare]=4 [tangent_flow]=4
     [simulation]=5 [signal]=5 [lyapunov]=5 [modes]=5 [accuracy]=5 [bifurcation]=5 [orbit]=5
-    [classify]=6 [bounds]=6
+    [classify]=6 [bounds]=6 [continuation]=6
     [sweep]=7
     [scene]=8 [study]=9 [report]=10
 )

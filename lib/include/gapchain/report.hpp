@@ -6,6 +6,7 @@
 #include "gapchain/bifurcation.hpp"
 #include "gapchain/bounds.hpp"
 #include "gapchain/classify.hpp"
+#include "gapchain/continuation.hpp"
 #include "gapchain/lyapunov.hpp"
 #include "gapchain/modes.hpp"
 #include "gapchain/orbit.hpp"
@@ -87,6 +88,12 @@ std::string grid_csv(const ApproximationGrid& grid);
 /// Lyapunov exponents as JSON: exponents, error, sum, expected_sum (-sum of the damping
 /// rates, MODEL.md §5), averaging_time, status, wall_time_s and the parameters.
 std::string to_json(const LyapunovResult& result, const ReducedParameters& p, int count);
+
+/// Continued orbits, one row per point: value,period,F_m,u1,stable,max_multiplier,branch.
+std::string branch_csv(const ContinuationResult& result);
+
+/// Located special points: type,value,period,F_m,branch,contact (-1 unless grazing).
+std::string special_csv(const ContinuationResult& result);
 
 /// A periodic orbit as JSON: period, minimal_period, state, residual, iterations, multipliers
 /// ([re, im], largest modulus first), stable, liouville_error, F_m, per_contact, status,

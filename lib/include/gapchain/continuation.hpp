@@ -1,0 +1,82 @@
+#pragma once
+/// \file continuation.hpp
+/// Pseudo-arclength continuation of the row's periodic orbits in one reduced parameter, through
+/// folds, with the special points located on the way: fold (a Floquet multiplier through +1),
+/// period doubling (through -1), Neimark-Sacker (a complex pair through the unit circle) and
+/// grazing (a contact's largest gap along the orbit through 0: the orbit's contact set changes).
+/// Optionally each period doubling switches to the doubled branch and follows it.
+
+#include "gapchain/model.hpp"
+#include "gapchain/orbit.hpp"
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace gapchain {
+
+/// Kinds of special points.
+enum class SpecialPointType { fold, period_doubling, neimark_sacker, grazing };
+
+/// Name of a kind, as written in results ("fold", "period_doubling", ...).
+std::string_view to_string(SpecialPointType type);
+
+/// What to continue and how.
+struct ContinuationOptions {
+    SweptParameter parameter = SweptParameter::f_r; ///< the continued reduced number
+    double from = 2.15;             ///< start value (the first orbit is found there)
+    double to = 4.5;                ///< the branch ends when the parameter leaves [from, to]
+    int period = 1;                 ///< k of the first branch [forcing periods], 1 .. 1000
+    double step = 0.01;             ///< first arclength step, (0, 1]
+    double max_step = 0.05;         ///< largest arclength step, [step, 1]
+    int max_points = 2000;          ///< points per branch, 1 .. 1e6
+    bool follow_doublings = false;  ///< switch to the doubled branch at each period doubling
+    int max_branches = 6;           ///< branches followed in all (with follow_doublings), 1 .. 64
+    double locate_tolerance = 1e-6; ///< special points located to this in the parameter
+    long transient_periods = 200;   ///< plain run before the first Newton search, 0 .. 1e7
+    OrbitOptions orbit;             ///< Newton and integration settings (its period is set here)
+};
+
+/// One continued orbit.
+struct BranchPoint {
+    double value = 0.0;          ///< the parameter
+    int period = 1;              ///< k of the branch
+    double F_m = 0.0;            ///< largest reduced impact force over the orbit
+    double u1 = 0.0;             ///< u_1 at phase 0
+    bool stable = false;         ///< every Floquet multiplier inside the unit circle
+    double max_multiplier = 0.0; ///< largest modulus
+    int branch = 0;              ///< branch index (0: the first)
+};
+
+/// A located special point.
+struct SpecialPoint {
+    SpecialPointType type = SpecialPointType::fold;
+    double value = 0.0; ///< the parameter, to locate_tolerance
+    int period = 1;     ///< k of the branch it lies on
+    double F_m = 0.0;   ///< F_m of the orbit there
+    int branch = 0;     ///< branch index
+    int contact = -1;   ///< the contact j = 0..Nm of a grazing, else -1
+};
+
+/// Branches and special points.
+struct ContinuationResult {
+    std::vector<BranchPoint> points;     ///< in the order computed, branch by branch
+    std::vector<SpecialPoint> special;   ///< in the order found
+    std::vector<std::string> branch_end; ///< per branch, why it ended
+    long shootings = 0;                  ///< k-period integrations with the tangent flow
+    bool cancelled = false;              ///< the progress callback asked to stop
+    double wall_time_s = 0.0;            ///< [s]
+};
+
+/// Throws std::invalid_argument naming the first option outside its range.
+void validate(const ContinuationOptions& options);
+
+/// Continues the periodic orbit of the paper's uniform row base (its swept parameter replaced
+/// by options.from) found after options.transient_periods from initial (empty: rest). Throws
+/// std::invalid_argument on bad options; numerical endings are in branch_end.
+ContinuationResult continue_orbits(const ReducedParameters& base,
+                                   const ContinuationOptions& options,
+                                   const std::vector<double>& initial = {},
+                                   const ProgressCallback& progress = {});
+
+} // namespace gapchain

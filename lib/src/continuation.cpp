@@ -1,0 +1,406 @@
+#include "gapchain/continuation.hpp"
+
+#include "detail/check.hpp"
+
+#include <Eigen/Dense>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <deque>
+#include <optional>
+#include <stdexcept>
+
+namespace gapchain {
+
+std::string_view to_string(SpecialPointType type) {
+    switch (type) {
+    case SpecialPointType::fold: return "fold";
+    case SpecialPointType::period_doubling: return "period_doubling";
+    case SpecialPointType::neimark_sacker: return "neimark_sacker";
+    case SpecialPointType::grazing: return "grazing";
+    }
+    return "?";
+}
+
+void validate(const ContinuationOptions& o) {
+    detail::require_range("period", o.period, 1, 1000);
+    detail::require_range("step", o.step, 0.0, 1.0, detail::Bound::open_low);
+    detail::require_range("max_step", o.max_step, o.step, 1.0);
+    detail::require_range("max_points", o.max_points, 1, 1'000'000);
+    detail::require_range("max_branches", o.max_branches, 1, 64);
+    detail::require_range("locate_tolerance", o.locate_tolerance, 1e-12, 1e-2);
+    detail::require_range("transient_periods", static_cast<double>(o.transient_periods), 0.0, 1e7);
+    if (!(o.from != o.to)) throw std::invalid_argument("to: must differ from from");
+    validate(o.orbit);
+}
+
+namespace {
+
+using Matrix = Eigen::MatrixXd;
+using Vector = Eigen::VectorXd;
+
+/// A converged point of a branch: z = (x, p), its unit tangent, and what the orbit shows.
+struct OrbitPoint {
+    Vector z;
+    Vector tangent;
+    ShootingResult shot;
+    std::vector<std::complex<double>> multipliers;
+    double F_m = 0.0;
+};
+
+/// The continuation of one branch: the extended system F(x, p) = P^k(x; p) - x.
+class BranchTracer {
+public:
+    BranchTracer(const ReducedParameters& base, const ContinuationOptions& o, int period)
+        : m_base(base), m_o(o), m_orbit(o.orbit) {
+        m_orbit.period = period;
+    }
+
+    [[nodiscard]] int dimension() const { return 2 * m_base.Nm; }
+    [[nodiscard]] long shootings() const { return m_shootings; }
+
+    ShootingResult shoot_at(const Vector& x, double p) {
+        ++m_shootings;
+        const ReducedParameters q = with_value(m_base, m_o.parameter, p);
+        const Dynamics dyn(Chain::homogeneous(q), {q.f_r, 1.0});
+        return shoot(dyn, m_orbit, std::vector<double>(x.data(), x.data() + x.size()));
+    }
+
+    /// The Jacobian [M - I, dF/dp] (n x (n + 1)); dF/dp by central differences.
+    Matrix jacobian(const Vector& z, const ShootingResult& s) {
+        const Eigen::Index n = dimension();
+        const double p = z[n];
+        const double h = 1e-6 * std::max(1.0, std::abs(p));
+        const Vector x = z.head(n);
+        const ShootingResult up = shoot_at(x, p + h), down = shoot_at(x, p - h);
+        Matrix j(n, n + 1);
+        j.leftCols(n) = Eigen::Map<const Matrix>(s.monodromy.data(), n, n) - Matrix::Identity(n, n);
+        for (Eigen::Index i = 0; i < n; ++i)
+            j(i, n) = (up.end_state[i] - down.end_state[i]) / (2 * h);
+        return j;
+    }
+
+    /// Newton on [F(z); t . (z - predicted)] = 0 from predicted; nothing if it fails.
+    std::optional<OrbitPoint> correct(const Vector& predicted, const Vector& t) {
+        const Eigen::Index n = dimension();
+        Vector z = predicted;
+        for (int it = 0; it < 12; ++it) {
+            ShootingResult s = shoot_at(z.head(n), z[n]);
+            if (!s.finite) return std::nullopt;
+            const Vector r = Eigen::Map<const Vector>(s.end_state.data(), n) - z.head(n);
+            const Matrix j = jacobian(z, s);
+            if (r.norm() <= m_orbit.tolerance * (1.0 + z.head(n).norm()))
+                return finish(z, t, std::move(s), j);
+            Matrix a(n + 1, n + 1);
+            a.topRows(n) = j;
+            a.row(n) = t.transpose();
+            Vector rhs(n + 1);
+            rhs.head(n) = -r;
+            rhs[n] = -t.dot(z - predicted);
+            z += a.fullPivLu().solve(rhs);
+            if (!z.allFinite()) return std::nullopt;
+        }
+        return std::nullopt;
+    }
+
+private:
+    /// The converged point: its tangent (oriented along t), multipliers and F_m.
+    OrbitPoint finish(const Vector& z, const Vector& t, ShootingResult s, const Matrix& j) {
+        const Eigen::Index n = dimension();
+        OrbitPoint point;
+        point.z = z;
+        Matrix a(n + 1, n + 1);
+        a.topRows(n) = j;
+        a.row(n) = t.transpose();
+        Vector e = Vector::Zero(n + 1);
+        e[n] = 1.0;
+        point.tangent = a.fullPivLu().solve(e).normalized();
+        const Matrix m = Eigen::Map<const Matrix>(s.monodromy.data(), n, n);
+        const Eigen::EigenSolver<Matrix> solver(m, false);
+        for (Eigen::Index i = 0; i < n; ++i)
+            point.multipliers.push_back(solver.eigenvalues()[i]);
+        std::sort(point.multipliers.begin(), point.multipliers.end(),
+                  [](auto x, auto y) { return std::abs(x) > std::abs(y); });
+        for (const auto& c : s.per_contact)
+            point.F_m = std::max(point.F_m, c.force);
+        point.shot = std::move(s);
+        return point;
+    }
+
+    ReducedParameters m_base;
+    const ContinuationOptions& m_o;
+    OrbitOptions m_orbit;
+    long m_shootings = 0;
+};
+
+// Test functions whose sign change between two points reveals a special point.
+double fold_test(const OrbitPoint& a) {
+    return a.tangent[a.tangent.size() - 1];
+}
+double doubling_test(const OrbitPoint& a) {
+    double product = 1.0; // det(M + I) = prod (mu + 1): a complex pair gives |mu + 1|^2 > 0
+    for (const auto& mu : a.multipliers)
+        product *= std::abs(mu.imag()) > 1e-12 ? std::abs(mu + 1.0) : mu.real() + 1.0;
+    return product;
+}
+/// Largest |mu| - 1 over complex pairs; nothing if there is no pair.
+std::optional<double> torus_test(const OrbitPoint& a) {
+    std::optional<double> largest;
+    for (const auto& mu : a.multipliers)
+        if (std::abs(mu.imag()) > 1e-9 * std::abs(mu))
+            largest = std::max(largest.value_or(-1.0), std::abs(mu) - 1.0);
+    return largest;
+}
+bool stable(const OrbitPoint& a) {
+    return std::abs(a.multipliers.front()) < 1.0;
+}
+
+} // namespace
+
+namespace {
+
+/// One branch traced from a first point along its tangent, special points located on the way.
+class BranchWalk {
+public:
+    BranchWalk(BranchTracer& tracer, const ContinuationOptions& o, int period, int branch,
+               ContinuationResult& result)
+        : m_tracer(tracer), m_o(o), m_period(period), m_branch(branch), m_result(result) {}
+
+    /// Doublings found (point, on which side the doubled branch lies) for branch switching.
+    std::vector<std::pair<OrbitPoint, double>> doublings;
+    /// The corrector failed before the branch left the range (a non-smooth corner).
+    bool stuck = false;
+    /// The parameter value reached farthest in the direction from -> to.
+    double farthest = 0.0;
+
+    /// Walks from first until the parameter leaves [from, to], max_points or a failure.
+    void walk(OrbitPoint first, const ProgressCallback& progress) {
+        const Eigen::Index n = m_tracer.dimension();
+        const double lo = std::min(m_o.from, m_o.to), hi = std::max(m_o.from, m_o.to);
+        OrbitPoint a = std::move(first);
+        farthest = a.z[n];
+        record(a);
+        double ds = m_o.step;
+        for (int count = 1; count < m_o.max_points; ++count) {
+            std::optional<OrbitPoint> b;
+            while (!b && ds >= 1e-7) {
+                b = m_tracer.correct(a.z + ds * a.tangent, a.tangent);
+                if (!b) ds /= 2;
+            }
+            if (!b) {
+                stuck = true;
+                return end("the corrector failed at the smallest step (1e-7) at " +
+                           std::string(to_string(m_o.parameter)) + " = " + std::to_string(a.z[n]));
+            }
+            detect(a, *b, ds);
+            a = std::move(*b);
+            record(a);
+            ds = std::min(1.5 * ds, m_o.max_step);
+            const double p = a.z[n];
+            farthest = m_o.to > m_o.from ? std::max(farthest, p) : std::min(farthest, p);
+            if (progress && !progress(std::min(1.0, std::abs(p - m_o.from) / (hi - lo)))) {
+                m_result.cancelled = true;
+                return end("cancelled");
+            }
+            if (p < lo || p > hi) return end("left the parameter range");
+        }
+        end("max_points reached");
+    }
+
+private:
+    void end(const std::string& why) { m_result.branch_end.push_back(why); }
+
+    void record(const OrbitPoint& a) {
+        const Eigen::Index n = m_tracer.dimension();
+        m_result.points.push_back({a.z[n], m_period, a.F_m, a.z[0], stable(a),
+                                   std::abs(a.multipliers.front()), m_branch});
+    }
+
+    /// Bisection on the arclength fraction until the parameter is known to locate_tolerance.
+    template <class Test>
+    OrbitPoint locate(const OrbitPoint& a, const OrbitPoint& b, double ds, Test test) {
+        const Eigen::Index n = m_tracer.dimension();
+        double s_lo = 0.0, s_hi = 1.0;
+        const bool sign_lo = test(a) > 0;
+        OrbitPoint lo_point = a, hi_point = b;
+        for (int it = 0; it < 60 && std::abs(hi_point.z[n] - lo_point.z[n]) > m_o.locate_tolerance;
+             ++it) {
+            const double s = 0.5 * (s_lo + s_hi);
+            std::optional<OrbitPoint> mid = m_tracer.correct(a.z + s * ds * a.tangent, a.tangent);
+            if (!mid) break;
+            if ((test(*mid) > 0) == sign_lo) {
+                s_lo = s;
+                lo_point = std::move(*mid);
+            } else {
+                s_hi = s;
+                hi_point = std::move(*mid);
+            }
+        }
+        return std::abs(test(lo_point)) < std::abs(test(hi_point)) ? lo_point : hi_point;
+    }
+
+    void add(SpecialPointType type, const OrbitPoint& at, int contact = -1) {
+        m_result.special.push_back(
+            {type, at.z[m_tracer.dimension()], m_period, at.F_m, m_branch, contact});
+    }
+
+    void detect(const OrbitPoint& a, const OrbitPoint& b, double ds) {
+        if ((fold_test(a) > 0) != (fold_test(b) > 0))
+            add(SpecialPointType::fold, locate(a, b, ds, fold_test));
+        if ((doubling_test(a) > 0) != (doubling_test(b) > 0)) {
+            const OrbitPoint at = locate(a, b, ds, doubling_test);
+            add(SpecialPointType::period_doubling, at);
+            // The doubled orbit lies where the k-orbit is unstable.
+            const Eigen::Index n = m_tracer.dimension();
+            const double side = (stable(a) ? b.z[n] - a.z[n] : a.z[n] - b.z[n]) > 0 ? 1.0 : -1.0;
+            doublings.emplace_back(at, side);
+        }
+        const auto ta = torus_test(a), tb = torus_test(b);
+        if (ta && tb && (*ta > 0) != (*tb > 0))
+            add(SpecialPointType::neimark_sacker,
+                locate(a, b, ds, [](const OrbitPoint& x) { return torus_test(x).value_or(-1.0); }));
+        // A grazing changes the orbit's contact set: some local maximum of a gap passes 0, so
+        // the contact's closings per orbit change (the largest gap alone misses a second,
+        // smaller impact appearing or vanishing).
+        for (std::size_t j = 0; j < a.shot.per_contact.size(); ++j) {
+            const long impacts = a.shot.per_contact[j].impacts;
+            if (impacts == b.shot.per_contact[j].impacts) continue;
+            add(SpecialPointType::grazing,
+                locate(a, b, ds,
+                       [j, impacts](const OrbitPoint& x) {
+                           return x.shot.per_contact[j].impacts == impacts ? 1.0 : -1.0;
+                       }),
+                static_cast<int>(j));
+        }
+    }
+
+    BranchTracer& m_tracer;
+    const ContinuationOptions& m_o;
+    int m_period;
+    int m_branch;
+    ContinuationResult& m_result;
+};
+
+/// The first point of a branch at fixed p from x (pseudo-arclength along the parameter axis).
+std::optional<OrbitPoint> first_point(BranchTracer& tracer, const std::vector<double>& x, double p,
+                                      double direction) {
+    const Eigen::Index n = tracer.dimension();
+    Vector z(n + 1);
+    for (Eigen::Index i = 0; i < n; ++i)
+        z[i] = x[static_cast<std::size_t>(i)];
+    z[n] = p;
+    Vector t = Vector::Zero(n + 1);
+    t[n] = direction;
+    return tracer.correct(z, t);
+}
+
+/// The doubled orbit next to a period doubling: Newton on the 2k-map from the k-orbit displaced
+/// along the multiplier -1's eigenvector, a little into the side where it exists.
+std::optional<std::vector<double>> doubled_orbit(const ReducedParameters& base,
+                                                 const ContinuationOptions& o, int period,
+                                                 const OrbitPoint& at, double side, double& p) {
+    const Eigen::Index n = static_cast<Eigen::Index>(2 * base.Nm);
+    const Matrix m = Eigen::Map<const Matrix>(at.shot.monodromy.data(), n, n);
+    const Eigen::EigenSolver<Matrix> solver(m, true);
+    Eigen::Index k = 0;
+    for (Eigen::Index i = 1; i < n; ++i)
+        if (std::abs(solver.eigenvalues()[i] + 1.0) < std::abs(solver.eigenvalues()[k] + 1.0))
+            k = i;
+    const Vector v = solver.eigenvectors().col(k).real().normalized();
+    OrbitOptions orbit = o.orbit;
+    orbit.period = 2 * period;
+    for (double offset : {0.2 * o.step, 0.5 * o.step, o.step}) {
+        p = at.z[n] + side * offset;
+        const ReducedParameters q = with_value(base, o.parameter, p);
+        const Dynamics dyn(Chain::homogeneous(q), {q.f_r, 1.0});
+        for (double a : {0.02, -0.02, 0.1, -0.1}) {
+            std::vector<double> x(static_cast<std::size_t>(n));
+            for (Eigen::Index i = 0; i < n; ++i)
+                x[i] = at.z[i] + a * (1.0 + at.z.head(n).norm()) * v[i];
+            const PeriodicOrbit found = find_periodic_orbit(dyn, orbit, x);
+            if (found.status == OrbitStatus::converged && found.minimal_period == 2 * period)
+                return found.state;
+        }
+    }
+    return std::nullopt;
+}
+
+/// Past a non-smooth corner the corrector cannot turn: the branch restarts beyond it, one
+/// max_step past the farthest value reached, from a fresh transient run (possibly another orbit
+/// of the same period: the CSV gives it its own branch index). The state and the value.
+std::optional<std::pair<std::vector<double>, double>>
+restart_beyond(const ReducedParameters& base, const ContinuationOptions& options,
+               const std::vector<double>& initial, double farthest) {
+    const double direction = options.to > options.from ? 1.0 : -1.0;
+    const double p = farthest + direction * options.max_step;
+    if ((p - options.from) * (p - options.to) >= 0.0) return std::nullopt;
+    OrbitOptions orbit = options.orbit;
+    orbit.period = options.period;
+    const ReducedParameters q = with_value(base, options.parameter, p);
+    const Dynamics dyn(Chain::homogeneous(q), {q.f_r, 1.0});
+    const PeriodicOrbit again =
+        find_periodic_orbit_after(dyn, orbit, initial, options.transient_periods);
+    if (again.status != OrbitStatus::converged || again.minimal_period != orbit.period)
+        return std::nullopt;
+    return std::make_pair(again.state, p);
+}
+
+} // namespace
+
+ContinuationResult continue_orbits(const ReducedParameters& base,
+                                   const ContinuationOptions& options,
+                                   const std::vector<double>& initial,
+                                   const ProgressCallback& progress) {
+    const auto clock = std::chrono::steady_clock::now();
+    validate(options);
+    const ReducedParameters start = with_value(base, options.parameter, options.from);
+    validate(start);
+    validate(with_value(base, options.parameter, options.to));
+    ContinuationResult result;
+    const double direction = options.to > options.from ? 1.0 : -1.0;
+    OrbitOptions orbit = options.orbit;
+    orbit.period = options.period;
+    const Dynamics dyn(Chain::homogeneous(start), {start.f_r, 1.0});
+    const PeriodicOrbit found =
+        find_periodic_orbit_after(dyn, orbit, initial, options.transient_periods);
+    struct Pending {
+        std::vector<double> x;
+        double p;
+        int period;
+        double direction;
+    };
+    std::deque<Pending> pending;
+    if (found.status == OrbitStatus::converged)
+        pending.push_back({found.state, options.from, options.period, direction});
+    else
+        result.branch_end.push_back("no orbit found at the start: " + found.message);
+    for (int branch = 0; !pending.empty() && branch < options.max_branches && !result.cancelled;
+         ++branch) {
+        const Pending next = pending.front();
+        pending.pop_front();
+        BranchTracer tracer(base, options, next.period);
+        std::optional<OrbitPoint> first = first_point(tracer, next.x, next.p, next.direction);
+        if (!first) {
+            result.branch_end.push_back("the first point did not converge");
+            continue;
+        }
+        BranchWalk walk(tracer, options, next.period, branch, result);
+        walk.walk(std::move(*first), branch == 0 ? progress : ProgressCallback{});
+        result.shootings += tracer.shootings();
+        if (walk.stuck && next.period == options.period)
+            if (auto restart = restart_beyond(base, options, initial, walk.farthest))
+                pending.push_front({restart->first, restart->second, options.period, direction});
+        if (!options.follow_doublings) continue;
+        for (const auto& [at, side] : walk.doublings) {
+            double p = 0.0;
+            if (auto x = doubled_orbit(base, options, next.period, at, side, p))
+                pending.push_back({*x, p, 2 * next.period, side});
+        }
+    }
+    result.wall_time_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - clock).count();
+    return result;
+}
+
+} // namespace gapchain

@@ -1,0 +1,127 @@
+// gapchain-continue: pseudo-arclength continuation of periodic orbits in one reduced parameter,
+// with folds, period doublings, Neimark-Sacker and grazing points located on the way:
+// DIR/branch.csv, DIR/special.csv and DIR/branch.png.
+#include "common/cli.hpp"
+#include "common/plot.hpp"
+
+#include "gapchain/continuation.hpp"
+#include "gapchain/report.hpp"
+
+#include <cstdio>
+#include <filesystem>
+
+namespace {
+
+using namespace gapchain;
+
+struct ContinueArguments {
+    cli::SceneArguments scene;
+    ContinuationOptions options;
+    std::string param = "f_r";
+    std::string overlay; // a gapchain-bifurcation summary.csv drawn underneath
+    std::string out_dir = "continuation";
+    bool no_plot = false;
+};
+
+void add_options(CLI::App& app, ContinueArguments& a) {
+    ContinuationOptions& o = a.options;
+    cli::add_scene_arguments(app, a.scene, true);
+    app.add_option("--param", a.param, "Continued parameter")
+        ->check(CLI::IsMember({"f_r", "e_r", "fc", "eps"}))
+        ->capture_default_str();
+    app.add_option("--from", o.from, "Start value (the first orbit is found there)")->required();
+    app.add_option("--to", o.to, "End value")->required();
+    app.add_option("--period", o.period, "k: forcing periods of the first orbit")
+        ->check(CLI::Range(1, 1000))
+        ->capture_default_str();
+    app.add_option("--step", o.step, "First arclength step")
+        ->check(CLI::Range(1e-6, 1.0))
+        ->capture_default_str();
+    app.add_option("--max-step", o.max_step, "Largest arclength step")
+        ->check(CLI::Range(1e-6, 1.0))
+        ->capture_default_str();
+    app.add_option("--max-points", o.max_points, "Points per branch")
+        ->check(CLI::Range(1, 1'000'000))
+        ->capture_default_str();
+    app.add_flag("--follow-doublings", o.follow_doublings,
+                 "At each period doubling, switch to the doubled branch and follow it");
+    app.add_option("--max-branches", o.max_branches, "Branches followed in all")
+        ->check(CLI::Range(1, 64))
+        ->capture_default_str();
+    app.add_option("--transient", o.transient_periods,
+                   "Periods run from the scene's initial state before the first Newton search")
+        ->check(CLI::Range(0L, 10'000'000L))
+        ->capture_default_str();
+    app.add_option("--overlay", a.overlay,
+                   "A gapchain-bifurcation summary.csv of the same line, drawn underneath")
+        ->check(CLI::ExistingFile);
+    app.add_option("--out", a.out_dir, "Output folder")->capture_default_str();
+    app.add_flag("--no-plot", a.no_plot, "Write the CSV files only");
+}
+
+void print_summary(const ContinuationResult& r, const ContinueArguments& a) {
+    std::printf("gapchain-continue: %s from %g to %g: %zu orbits on %zu branches, %ld shootings, "
+                "%.2f s\n",
+                a.param.c_str(), a.options.from, a.options.to, r.points.size(), r.branch_end.size(),
+                r.shootings, r.wall_time_s);
+    for (std::size_t b = 0; b < r.branch_end.size(); ++b)
+        std::printf("  branch %zu ended: %s\n", b, r.branch_end[b].c_str());
+    for (const auto& s : r.special) {
+        std::printf("  %-16s %s = %.8f  (period %d, F_m %.5g, branch %d",
+                    std::string(to_string(s.type)).c_str(), a.param.c_str(), s.value, s.period,
+                    s.F_m, s.branch);
+        if (s.contact >= 0) std::printf(", contact %d", s.contact);
+        std::printf(")\n");
+    }
+    std::printf("wrote %s/branch.csv, special.csv\n", a.out_dir.c_str());
+}
+
+bool write_outputs(const ContinuationResult& r, const ContinueArguments& a,
+                   const ReducedParameters& p) {
+    write_file_atomically(a.out_dir + "/branch.csv", branch_csv(r));
+    write_file_atomically(a.out_dir + "/special.csv", special_csv(r));
+    const std::string overlay =
+        a.overlay.empty() ? "" : std::filesystem::absolute(a.overlay).string();
+    char title[160];
+    std::snprintf(title, sizeof title, "Periodic orbits: Nm=%d fc=%g eps=%g e_r=%g f_r=%g", p.Nm,
+                  p.fc, p.eps, p.e_r, p.f_r);
+    return !a.no_plot &&
+           cli::plot_template(a.out_dir, "branch",
+                              {{"TITLE", title}, {"PARAM", a.param}, {"OVERLAY", overlay}});
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"Continue the periodic orbits of a row in one reduced parameter (pseudo-"
+                 "arclength, Newton shooting with the exact monodromy), locating folds, period "
+                 "doublings, Neimark-Sacker and grazing points.",
+                 "gapchain-continue"};
+    ContinueArguments a;
+    add_options(app, a);
+    return cli::run(app, argc, argv,
+                    [&] {
+                        const Scene scene = cli::load(a.scene);
+                        cli::require_paper_row(scene, "gapchain-continue");
+                        a.options.parameter = parse_swept_parameter(a.param);
+                        validate(a.options);
+                        cli::Outputs outputs({a.scene.path, a.overlay});
+                        outputs.folder(a.out_dir, "--out");
+                        cli::Progress progress("gapchain-continue");
+                        const ContinuationResult r = continue_orbits(
+                            scene.reduced, a.options, scene.initial, progress.callback());
+                        cli::throw_if_interrupted();
+                        outputs.create_folders();
+                        write_outputs(r, a, scene.reduced);
+                        outputs.keep();
+                        print_summary(r, a);
+                    },
+                    {{"transient_periods", "--transient"},
+                     {"max_points", "--max-points"},
+                     {"max_branches", "--max-branches"},
+                     {"step", "--step"},
+                     {"max_step", "--max-step"},
+                     {"from", "--from"},
+                     {"to", "--to"},
+                     {"period", "--period"}});
+}

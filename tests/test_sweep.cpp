@@ -1,9 +1,15 @@
 #include "gapchain/study.hpp"
 #include "gapchain/sweep.hpp"
 
+#include "detail/parallel.hpp"
+
 #include <doctest/doctest.h>
 
+#include <atomic>
+#include <chrono>
 #include <set>
+#include <stdexcept>
+#include <thread>
 
 using namespace gapchain;
 
@@ -67,4 +73,19 @@ TEST_CASE("the paper-scale study has 430,080 points") {
         below += e < 0.3;
     CHECK(below >= 15);
     CHECK(s.axes[4].values.size() == 56);
+}
+
+TEST_CASE("the parallel loop rethrows a worker's bad input as itself, and stops the others") {
+    for (int threads : {1, 2}) {
+        std::atomic<long> ran{0};
+        // Each index takes a millisecond, as a point of a study takes far longer than the stop.
+        auto body = [&](long k) {
+            ++ran;
+            std::this_thread::sleep_for(std::chrono::milliseconds(1));
+            if (k == 3) throw std::invalid_argument("model.fc: must be > 0, got -1");
+        };
+        CHECK_THROWS_AS(detail::parallel_for(1000, threads, body, [](long) { return true; }),
+                        std::invalid_argument);
+        CHECK(ran.load() <= 4 + 2 * threads); // those started before the failure, no more
+    }
 }

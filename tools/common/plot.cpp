@@ -26,11 +26,13 @@ std::vector<std::string> outputs_of(const std::string& script) {
     return files;
 }
 
-std::string first_line_of(const std::string& path) {
+// gnuplot ends its log with the error itself (after blank lines and the offending command).
+std::string last_line_of(const std::string& path) {
     std::ifstream in(path);
-    std::string line;
-    std::getline(in, line);
-    return line;
+    std::string line, last;
+    while (std::getline(in, line))
+        if (line.find_first_not_of(" \t\r^") != std::string::npos) last = line;
+    return last;
 }
 
 } // namespace
@@ -55,7 +57,7 @@ bool plot_with_gnuplot(const std::string& script_path, const std::string& script
     for (const auto& png : outputs_of(script))
         std::remove((dir / png).c_str());
     const int status = std::system(command.c_str());
-    const std::string reason = first_line_of(log);
+    const std::string reason = last_line_of(log);
     std::remove(log.c_str());
     const bool ran = status != -1 && WIFEXITED(status) && WEXITSTATUS(status) == 0;
     for (const auto& png : outputs_of(script)) {
@@ -65,7 +67,7 @@ bool plot_with_gnuplot(const std::string& script_path, const std::string& script
             std::remove((dir / png).c_str());
             throw OutputError((dir / png).string() + ": gnuplot could not write the figure" +
                               (reason.empty() ? std::string() : ": " + reason) +
-                              "; the CSV files are complete");
+                              "; --no-plot writes the CSV files without it");
         }
     }
     return true;

@@ -287,3 +287,29 @@ TEST_CASE("the default run discards the start (MODEL.md §2): Fig 4's F_m falls 
         previous = r.F_m;
     }
 }
+
+TEST_CASE("multistability check: flags a start-dependent F_m, costs nothing on a plain orbit") {
+    // Issue 19's row: chaotic transients of hundreds of periods before a period-3 orbit, so the
+    // maximum over the recorded window depends on the start.
+    const ReducedParameters p{2, 200, 0.1, 0.351, 0.626};
+    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+    const SimulationResult r = simulate(dyn, RunOptions{});
+    CHECK(r.twin_checked);
+    CHECK(r.multistable);
+    CHECK(r.F_m_error >= std::abs(r.F_m - r.F_m_twin));
+    CHECK(std::abs(r.F_m - r.F_m_twin) > 1e-3);
+    RunOptions off;
+    off.multistability_check = false;
+    const SimulationResult unchecked = simulate(dyn, off);
+    CHECK_FALSE(unchecked.twin_checked);
+    CHECK(unchecked.F_m == r.F_m);
+    CHECK(unchecked.F_m_error < r.F_m_error);
+
+    // Fig 5's scene settles within a few periods: no twin run at all.
+    const ReducedParameters fig5{5, 100, 0.5, 0.5, 1.0};
+    const Dynamics dyn5(Chain::homogeneous(fig5), {fig5.f_r, 1.0});
+    const SimulationResult plain = simulate(dyn5, RunOptions{});
+    CHECK(plain.steady_state_period == 1);
+    CHECK_FALSE(plain.twin_checked);
+    CHECK_FALSE(plain.multistable);
+}

@@ -69,6 +69,11 @@ void print_result(const Scene& scene, const SimulationResult& r) {
                     r.error_method == ErrorMethod::window_halves
                         ? " (error: spread between the maxima of the two window halves)"
                         : "");
+    if (r.multistable)
+        std::printf("multistable: a start moved by 1e-8 gives F_m = %.6g, so the answer depends "
+                    "on the start (F_m_error covers the difference); run gapchain-attractors for "
+                    "the F_m of each attractor\n",
+                    r.F_m_twin);
     std::printf("wall time %.4f s\n", r.wall_time_s);
 }
 

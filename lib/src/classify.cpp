@@ -129,14 +129,8 @@ void confirm_periodic(const Dynamics& dyn, const std::vector<double>& state, Cla
     orbit_options.period = c.period;
     orbit_options.tolerance = 1e-9;
     orbit_options.max_iterations = 12;
-    PeriodicOrbit orbit = find_periodic_orbit(dyn, orbit_options, state);
+    const PeriodicOrbit orbit = find_minimal_periodic_orbit(dyn, orbit_options, state);
     if (orbit.status != OrbitStatus::converged) return;
-    if (orbit.minimal_period < orbit.period) {
-        // The multipliers of the minimal-period map (those of the k-map are their powers).
-        orbit_options.period = orbit.minimal_period;
-        const PeriodicOrbit minimal = find_periodic_orbit(dyn, orbit_options, orbit.state);
-        if (minimal.status == OrbitStatus::converged) orbit = minimal;
-    }
     c.newton_confirmed = true;
     c.period = orbit.minimal_period;
     c.max_multiplier = orbit.max_multiplier;

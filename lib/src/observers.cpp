@@ -199,7 +199,7 @@ SteadyStateDetector::SteadyStateDetector(int dimension, int max_period, double t
     detail::require_range("run.steady_tolerance", tolerance, 0.0, 1.0, detail::Bound::open_low);
 }
 
-bool SteadyStateDetector::matches(long a, long b) const {
+double SteadyStateDetector::distance(long a, long b) const {
     const auto& ya = m_ring[a % m_ring.size()];
     const auto& yb = m_ring[b % m_ring.size()];
     double scale = 1.0;
@@ -208,12 +208,20 @@ bool SteadyStateDetector::matches(long a, long b) const {
         scale = std::max(scale, std::abs(ya[i]));
         diff = std::max(diff, std::abs(ya[i] - yb[i]));
     }
-    return diff <= m_tolerance * scale;
+    return diff / scale;
+}
+
+bool SteadyStateDetector::matches(long a, long b) const {
+    return distance(a, b) <= m_tolerance;
 }
 
 bool SteadyStateDetector::on_period(long n, double t, const double* y) {
     std::copy(y, y + m_dim, m_ring[n % m_ring.size()].begin());
     if (m_period) return n >= m_earliest_stop + *m_period;
+    bool far = n > m_max_period;
+    for (int k = 1; k <= m_max_period && far; ++k)
+        far = distance(n, n - k) > far_distance;
+    if (far) m_last_far = n;
     for (int k = 1; k <= m_max_period; ++k) {
         if (n - 1 - k < 0) break;
         if (matches(n, n - k) && matches(n - 1, n - 1 - k)) {

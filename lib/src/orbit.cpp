@@ -101,6 +101,7 @@ void describe(const Dynamics& dyn, const OrbitOptions& o, const std::vector<doub
     orbit.residual = relative_residual(x, s.end_state);
     orbit.per_contact = s.per_contact;
     orbit.max_gap = s.max_gap;
+    orbit.period_ends = s.at_ends;
     orbit.F_m = 0.0;
     for (const auto& c : s.per_contact)
         orbit.F_m = std::max(orbit.F_m, c.force);
@@ -194,6 +195,20 @@ PeriodicOrbit find_periodic_orbit(const Dynamics& dyn, const OrbitOptions& optio
             return finish(OrbitStatus::not_converged,
                           "the damped Newton step no longer decreases the residual");
     }
+}
+
+PeriodicOrbit find_minimal_periodic_orbit(const Dynamics& dyn, const OrbitOptions& options,
+                                          const std::vector<double>& start) {
+    PeriodicOrbit orbit = find_periodic_orbit(dyn, options, start);
+    if (orbit.status != OrbitStatus::converged || orbit.minimal_period == orbit.period)
+        return orbit;
+    OrbitOptions minimal_options = options;
+    minimal_options.period = orbit.minimal_period;
+    PeriodicOrbit minimal = find_periodic_orbit(dyn, minimal_options, orbit.state);
+    if (minimal.status != OrbitStatus::converged) return orbit;
+    minimal.wall_time_s += orbit.wall_time_s;
+    minimal.iterations += orbit.iterations;
+    return minimal;
 }
 
 PeriodicOrbit find_periodic_orbit_after(const Dynamics& dyn, const OrbitOptions& options,

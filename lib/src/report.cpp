@@ -2,6 +2,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cmath>
@@ -19,6 +20,15 @@ namespace gapchain {
 
 using nlohmann::json;
 
+namespace {
+
+/// The five reduced parameters, as every JSON result gives them.
+nlohmann::json parameters_json(const ReducedParameters& p) {
+    return {{"Nm", p.Nm}, {"fc", p.fc}, {"eps", p.eps}, {"e_r", p.e_r}, {"f_r", p.f_r}};
+}
+
+} // namespace
+
 std::string to_json(const SimulationResult& r, const Scene& scene) {
     json j;
     j["F_m"] = r.F_m;
@@ -27,6 +37,8 @@ std::string to_json(const SimulationResult& r, const Scene& scene) {
     j["F_m_contact"] = r.F_m_contact;
     j["F_m_time"] = r.F_m_time;
     j["contact"] = r.contact;
+    j["multistable"] = r.multistable;
+    if (r.twin_checked) j["F_m_twin"] = r.F_m_twin;
     if (scene.physical) {
         j["F_m_newton"] = force_in_newtons(r.F_m, *scene.physical);
         j["F_m_error_newton"] = force_in_newtons(r.F_m_error, *scene.physical);
@@ -258,7 +270,7 @@ std::string to_json(const LyapunovResult& r, const ReducedParameters& p, int cou
     j["units"] = "1 / reduced time";
     j["status"] = std::string(to_string(r.status));
     j["wall_time_s"] = r.wall_time_s;
-    j["parameters"] = {{"Nm", p.Nm}, {"fc", p.fc}, {"eps", p.eps}, {"e_r", p.e_r}, {"f_r", p.f_r}};
+    j["parameters"] = parameters_json(p);
     return j.dump(2) + "\n";
 }
 
@@ -279,6 +291,99 @@ std::string special_csv(const ContinuationResult& result) {
     for (const auto& s : result.special)
         os << to_string(s.type) << ',' << s.value << ',' << s.period << ',' << s.F_m << ','
            << s.branch << ',' << s.contact << '\n';
+    return os.str();
+}
+
+namespace {
+
+void attractor_row(std::ostream& os, const Attractor& a) {
+    os << a.id << ',' << to_string(a.regime) << ',' << a.period << ',' << a.F_m << ','
+       << a.F_m_error << ',' << a.lambda_max << ',' << a.lambda_max_error << ',' << a.basin_fraction
+       << ',' << a.basin_fraction_error << ',' << a.samples << ',' << a.slice_points << '\n';
+}
+
+} // namespace
+
+std::string attractors_csv(const AttractorSet& set) {
+    std::ostringstream os;
+    os.precision(12);
+    os << "id,regime,period,F_m,F_m_error,lambda_max,lambda_max_error,basin_fraction,"
+          "basin_fraction_error,samples,slice_points\n";
+    for (const auto& a : set.attractors)
+        attractor_row(os, a);
+    return os.str();
+}
+
+std::string to_json(const AttractorSet& set, const AttractorOptions& o,
+                    const ReducedParameters& p) {
+    nlohmann::ordered_json j;
+    j["F_m_max"] = set.F_m_max;
+    j["F_m_max_attractor"] = set.F_m_max_id;
+    j["attractor_count"] = set.attractors.size();
+    auto list = nlohmann::ordered_json::array();
+    for (const auto& a : set.attractors)
+        list.push_back({{"id", a.id},
+                        {"regime", to_string(a.regime)},
+                        {"period", a.period},
+                        {"newton_confirmed", a.newton_confirmed},
+                        {"max_multiplier", a.max_multiplier},
+                        {"F_m", a.F_m},
+                        {"F_m_error", a.F_m_error},
+                        {"lambda_max", a.lambda_max},
+                        {"lambda_max_error", a.lambda_max_error},
+                        {"basin_fraction", a.basin_fraction},
+                        {"basin_fraction_error", a.basin_fraction_error},
+                        {"samples", a.samples},
+                        {"slice_points", a.slice_points},
+                        {"initial_state", a.initial_state},
+                        {"state", a.state}});
+    j["attractors"] = list;
+    j["samples"] = o.samples;
+    j["failed"] = set.failed;
+    j["seed"] = o.seed;
+    j["box"] = o.box;
+    j["amplitude"] = set.amplitude;
+    j["parameters"] = parameters_json(p);
+    j["threads"] = set.threads_used;
+    j["wall_time_s"] = set.wall_time_s;
+    return j.dump(2) + "\n";
+}
+
+std::string basin_slice_csv(const AttractorSet& set) {
+    std::ostringstream os;
+    os.precision(12);
+    os << "x,y,attractor\n";
+    const std::size_t nx = set.slice_first.size();
+    for (std::size_t k = 0; k < set.slice_attractor.size(); ++k)
+        os << set.slice_first[k % nx] << ',' << set.slice_second[k / nx] << ','
+           << set.slice_attractor[k] << '\n';
+    return os.str();
+}
+
+std::string fractions_csv(const FractionContinuation& c) {
+    std::ostringstream os;
+    os.precision(12);
+    os << "value";
+    for (int label = 0; label < c.label_count; ++label)
+        os << ",fraction_" << label << ",fraction_error_" << label << ",F_m_" << label << ",period_"
+           << label;
+    os << '\n';
+    for (std::size_t k = 0; k < c.sets.size(); ++k) {
+        os << c.values[k];
+        const auto& labels = c.labels[k];
+        for (int label = 0; label < c.label_count; ++label) {
+            const auto it = std::find(labels.begin(), labels.end(), label);
+            if (it == labels.end()) {
+                os << ",0,0,0,-1";
+                continue;
+            }
+            const Attractor& a =
+                c.sets[k].attractors[static_cast<std::size_t>(it - labels.begin())];
+            os << ',' << a.basin_fraction << ',' << a.basin_fraction_error << ',' << a.F_m << ','
+               << (a.period > 0 ? a.period : -1);
+        }
+        os << '\n';
+    }
     return os.str();
 }
 
@@ -310,7 +415,7 @@ std::string to_json(const PeriodicOrbit& orbit, const Scene& scene) {
     j["per_contact"] = contacts;
     j["wall_time_s"] = orbit.wall_time_s;
     const ReducedParameters& p = scene.reduced;
-    j["parameters"] = {{"Nm", p.Nm}, {"fc", p.fc}, {"eps", p.eps}, {"e_r", p.e_r}, {"f_r", p.f_r}};
+    j["parameters"] = parameters_json(p);
     j["scene"] = scene.source;
     return j.dump(2) + "\n";
 }
@@ -355,7 +460,7 @@ json classification_json(const Classification& c) {
 
 std::string to_json(const Classification& c, const ReducedParameters& p) {
     json j = classification_json(c);
-    j["parameters"] = {{"Nm", p.Nm}, {"fc", p.fc}, {"eps", p.eps}, {"e_r", p.e_r}, {"f_r", p.f_r}};
+    j["parameters"] = parameters_json(p);
     return j.dump(2) + "\n";
 }
 
@@ -387,7 +492,7 @@ std::string psd_csv(const Psd& psd, double f_r) {
 std::string to_json(const AnalyticEstimates& a, const Scene& scene) {
     json j;
     const ReducedParameters& p = scene.reduced;
-    j["parameters"] = {{"Nm", p.Nm}, {"fc", p.fc}, {"eps", p.eps}, {"e_r", p.e_r}, {"f_r", p.f_r}};
+    j["parameters"] = parameters_json(p);
     j["eq20_amplitude"] = a.amplitude;
     j["impacts"] = a.impacts;
     j["eq21_wall_contact_frequency"] = a.wall_contact_frequency;

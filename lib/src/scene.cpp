@@ -314,7 +314,8 @@ void read_run_length(SectionReader& run, const std::string& type, Scene& scene) 
 /// The run section: length, scheme, accuracy, steady-state stop, work limit.
 void read_run(SectionReader run, const std::string& type, Scene& scene) {
     run.allow({"periods", "transient_periods", "scheme", "tolerance", "step", "steady_state",
-               "steady_tolerance", "max_steady_period", "estimate_error", "max_work"});
+               "steady_tolerance", "max_steady_period", "estimate_error", "max_work",
+               "multistability_check"});
     read_run_length(run, type, scene);
     RunOptions& o = scene.run;
     // The scheme names live in one place, parse_scheme(), whose message names run.scheme.
@@ -326,6 +327,7 @@ void read_run(SectionReader run, const std::string& type, Scene& scene) {
     o.max_steady_period = run.integer("max_steady_period", o.max_steady_period, 1, 1000);
     o.estimate_error = run.boolean("estimate_error", o.estimate_error);
     o.max_work = run.number("max_work", o.max_work, 1.0, 1e15);
+    o.multistability_check = run.boolean("multistability_check", o.multistability_check);
     run.finish();
 }
 

@@ -28,10 +28,12 @@ struct SingleRun {
     long evaluations = 0;
     double first_half_max = 0.0;  // largest force in the first half of the recorded window
     double second_half_max = 0.0; // and in the second half
+    long last_far_period = -1;    // see SteadyStateDetector::last_far_period()
 };
 
 SingleRun run_once(const Dynamics& dyn, const RunOptions& options, PlannedRun& planned,
-                   const TrajectorySink& trajectory, int every, const ProgressCallback& progress) {
+                   const TrajectorySink& trajectory, int every, const ProgressCallback& progress,
+                   const std::vector<Observer*>& extra = {}) {
     MaxForceTracker forces(dyn, options.transient_periods +
                                     (options.periods - options.transient_periods) / 2);
     std::vector<Observer*> observers{&forces};
@@ -47,6 +49,7 @@ SingleRun run_once(const Dynamics& dyn, const RunOptions& options, PlannedRun& p
         recorder.emplace(every, trajectory);
         observers.push_back(&*recorder);
     }
+    observers.insert(observers.end(), extra.begin(), extra.end());
     SingleRun r;
     r.outcome = planned.run(observers, progress);
     r.contacts = forces.contacts();
@@ -54,6 +57,7 @@ SingleRun run_once(const Dynamics& dyn, const RunOptions& options, PlannedRun& p
     if (steady) {
         r.period = steady->period();
         r.period_time = steady->time();
+        r.last_far_period = steady->last_far_period();
     }
     r.evaluations = planned.evaluations();
     r.first_half_max = forces.first_half_max();
@@ -152,6 +156,51 @@ void estimate_error(const Dynamics& dyn, const RunOptions& options, const StepPl
     }
 }
 
+/// Whether a run needs the twin check: it never settled, or it stayed far from every cycle
+/// (SteadyStateDetector::far_distance) for more than four times the contact-free row's decay
+/// time to that distance. A start-up that decays onto a stable orbit is far for about one such
+/// time (two to four near bifurcations, where the orbit attracts slowly; measured on Fig 13's
+/// line); a chaotic transient that wanders before it is captured, for many.
+bool settled_late(const Dynamics& dyn, const RunOptions& options, const SingleRun& main) {
+    if (!options.stop_at_steady_state) return false;
+    if (main.outcome.status == RunStatus::completed) return true;
+    if (main.outcome.status != RunStatus::steady_state || main.last_far_period < 0) return false;
+    RunOptions free_decay = options;
+    free_decay.tolerance = SteadyStateDetector::far_distance;
+    return main.last_far_period > 4 * default_transient_periods(dyn, free_decay);
+}
+
+/// The twin run of the multistability check (see simulate()).
+void check_multistability(const Dynamics& dyn, const RunOptions& options,
+                          const std::vector<double>& initial, const SingleRun& main,
+                          SimulationResult& result) {
+    if (!options.multistability_check || !dyn.ground_motion().is_harmonic() ||
+        !settled_late(dyn, options, main))
+        return;
+    std::vector<double> start =
+        initial.empty() ? std::vector<double>(dyn.dimension(), 0.0) : initial;
+    double scale = 1.0;
+    for (double x : start)
+        scale = std::max(scale, std::abs(x));
+    start[0] += 1e-8 * scale;
+    PlannedRun planned(dyn, options, start);
+    const SingleRun twin = run_once(dyn, options, planned, {}, 1, {});
+    result.evaluations += twin.evaluations;
+    if (twin.outcome.status == RunStatus::non_finite || twin.outcome.status == RunStatus::cancelled)
+        return;
+    result.twin_checked = true;
+    result.F_m_twin = twin.F_m;
+    const double twin_spread = twin.outcome.status == RunStatus::completed
+                                   ? std::abs(twin.first_half_max - twin.second_half_max)
+                                   : 0.0;
+    const double difference = std::abs(twin.F_m - result.F_m);
+    const double allowed = std::max({3.0 * result.F_m_error, 3.0 * twin_spread, 1e-6 * result.F_m});
+    if (difference > allowed) {
+        result.multistable = true;
+        result.F_m_error = std::max(result.F_m_error, difference);
+    }
+}
+
 } // namespace
 
 SimulationResult simulate(const Dynamics& dyn, const RunOptions& requested,
@@ -160,8 +209,9 @@ SimulationResult simulate(const Dynamics& dyn, const RunOptions& requested,
     validate(requested);
     const RunOptions options = with_transient_resolved(dyn, requested);
     PlannedRun planned(dyn, options, initial);
-    const SingleRun main = run_once(dyn, options, planned, hooks.trajectory,
-                                    std::max(1, hooks.trajectory_every), hooks.progress);
+    const SingleRun main =
+        run_once(dyn, options, planned, hooks.trajectory, std::max(1, hooks.trajectory_every),
+                 hooks.progress, hooks.observers);
     SimulationResult result;
     result.status = main.outcome.status;
     result.message = main.outcome.message;
@@ -176,6 +226,8 @@ SimulationResult simulate(const Dynamics& dyn, const RunOptions& requested,
     result.final_state = planned.state();
     report_maxima(main, result);
     estimate_error(dyn, options, planned.plan(), initial, main, result);
+    if (result.status == RunStatus::completed || result.status == RunStatus::steady_state)
+        check_multistability(dyn, options, initial, main, result);
     result.wall_time_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;

@@ -16,8 +16,9 @@ declare -A layer=(
     [observers]=4 [poincare]=4 [tangent_flow]=4
     [simulation]=5 [signal]=5 [lyapunov]=5 [modes]=5 [accuracy]=5 [bifurcation]=5 [orbit]=5
     [classify]=6 [bounds]=6 [continuation]=6
-    [sweep]=7
-    [scene]=8 [study]=9 [report]=10
+    [attractors]=7
+    [sweep]=8
+    [scene]=9 [study]=10 [report]=11
 )
 bad=0
 for f in include/gapchain/*.hpp src/*.cpp; do

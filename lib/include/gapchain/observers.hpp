@@ -64,8 +64,16 @@ public:
     [[nodiscard]] std::optional<int> period() const { return m_period; }
     /// Reduced time at which it was found.
     [[nodiscard]] std::optional<double> time() const { return m_time; }
+    /// The last period n whose state was farther than far_distance (relative) from every one of
+    /// the max_period states before it: when the run was last far from any cycle it could be
+    /// on. -1 if none.
+    [[nodiscard]] long last_far_period() const { return m_last_far; }
+    /// The relative distance last_far_period() uses.
+    static constexpr double far_distance = 1e-3;
 
 private:
+    /// max |y_a - y_b| / max(1, max |y_a|) over the state.
+    [[nodiscard]] double distance(long a, long b) const;
     [[nodiscard]] bool matches(long a, long b) const;
     int m_dim;
     int m_max_period;
@@ -74,6 +82,7 @@ private:
     std::vector<std::vector<double>> m_ring; ///< boundary states, n modulo (max_period + 2)
     std::optional<int> m_period;
     std::optional<double> m_time;
+    long m_last_far = -1;
 };
 
 /// Receives (t, y) samples of a recorded trajectory.

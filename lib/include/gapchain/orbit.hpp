@@ -54,7 +54,10 @@ struct PeriodicOrbit {
     double F_m = 0.0; ///< largest reduced impact force over one orbit (located between steps)
     std::vector<ContactMaximum> per_contact; ///< per contact j = 0..Nm over one orbit
     std::vector<double> max_gap;             ///< per contact: largest g_j over one orbit
-    double wall_time_s = 0.0;                ///< [s]
+    /// The orbit's stroboscopic points: the state at the end of periods 1..k (the last one is
+    /// P^k(x), which equals state to the residual).
+    std::vector<std::vector<double>> period_ends;
+    double wall_time_s = 0.0; ///< [s]
 };
 
 /// Throws std::invalid_argument naming the first option outside its range.
@@ -81,6 +84,13 @@ ShootingResult shoot(const Dynamics& dyn, const OrbitOptions& options,
 /// std::invalid_argument); numerical outcomes are in status.
 PeriodicOrbit find_periodic_orbit(const Dynamics& dyn, const OrbitOptions& options,
                                   const std::vector<double>& start);
+
+/// find_periodic_orbit() on the k-period map, then, if the orbit's minimal period d is below k,
+/// again on the d-period map from the converged state, so that the multipliers, stability and
+/// period_ends are those of the minimal period (the k-map's multipliers are their (k/d)-th
+/// powers). The first result is returned if the second search fails.
+PeriodicOrbit find_minimal_periodic_orbit(const Dynamics& dyn, const OrbitOptions& options,
+                                          const std::vector<double>& start);
 
 /// find_periodic_orbit() started from the end of a plain run of transient_periods (0 .. 1e7)
 /// forcing periods from initial (empty: rest), on options.scheme: the usual way to reach an

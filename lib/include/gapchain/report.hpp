@@ -3,6 +3,7 @@
 /// Scene output: result structs -> JSON and CSV, and files that appear whole or not at all.
 
 #include "gapchain/accuracy.hpp"
+#include "gapchain/attractors.hpp"
 #include "gapchain/bifurcation.hpp"
 #include "gapchain/bounds.hpp"
 #include "gapchain/classify.hpp"
@@ -94,6 +95,24 @@ std::string branch_csv(const ContinuationResult& result);
 
 /// Located special points: type,value,period,F_m,branch,contact (-1 unless grazing).
 std::string special_csv(const ContinuationResult& result);
+
+/// Attractors, one row each: id,regime,period,F_m,F_m_error,lambda_max,lambda_max_error,
+/// basin_fraction,basin_fraction_error,samples,slice_points.
+std::string attractors_csv(const AttractorSet& set);
+
+/// Attractors as JSON: F_m_max (the design value) and its attractor, each attractor with its
+/// row of attractors_csv(), max_multiplier, initial_state and state, the search's options and
+/// the scene's reduced parameters.
+std::string to_json(const AttractorSet& set, const AttractorOptions& options,
+                    const ReducedParameters& p);
+
+/// The basin slice: x,y,attractor (-1: the run failed), one row per start.
+std::string basin_slice_csv(const AttractorSet& set);
+
+/// Basin fractions along a line, one row per value: value, then for every label L the columns
+/// fraction_L, fraction_error_L, F_m_L, period_L (0 and -1 for period where L is absent or not
+/// periodic), so that a plot can stack the fractions.
+std::string fractions_csv(const FractionContinuation& continuation);
 
 /// A periodic orbit as JSON: period, minimal_period, state, residual, iterations, multipliers
 /// ([re, im], largest modulus first), stable, liouville_error, F_m, per_contact, status,

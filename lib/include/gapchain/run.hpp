@@ -88,6 +88,9 @@ struct RunOptions {
     int max_steady_period = 16;        ///< largest steady period tried, 1 .. 1000
     bool estimate_error = true;        ///< estimate F_m_error (simulate(): comparison run or
                                        ///< window halves)
+    /// simulate(): when the run settled late or never, run a twin from a start moved by 1e-8
+    /// and flag the answer multistable if its F_m differs beyond the error estimate.
+    bool multistability_check = true;
     /// Largest work a run may take, in body-steps (Nm x steps per period x periods), 1 ..
     /// 1e15. About 1e7 body-steps run per second on one core, so the default 3e10 is about an
     /// hour; a larger run is refused up front with its estimate.

@@ -54,14 +54,22 @@ struct SimulationResult {
     long steps = 0;                          ///< steps in the main run
     long evaluations = 0;                    ///< right-hand-side evaluations, all runs
     std::vector<double> final_state;         ///< state at the end of the main run
-    double wall_time_s = 0.0;                ///< wall time of the whole call [s]
+    /// Whether the twin run of the multistability check ran (see simulate()).
+    bool twin_checked = false;
+    /// The twin run's F_m disagreed with F_m beyond the error estimate: the answer depends on
+    /// the start (several attractors, or a transient longer than the run); F_m_error then
+    /// covers |F_m - F_m_twin|. gapchain-attractors gives the F_m of each attractor.
+    bool multistable = false;
+    double F_m_twin = 0.0;    ///< the twin run's F_m (when twin_checked)
+    double wall_time_s = 0.0; ///< wall time of the whole call [s]
 };
 
 /// Optional streams of one simulation.
 struct SimulationHooks {
-    TrajectorySink trajectory; ///< receives (decimated) states of the main run, if set
-    int trajectory_every = 1;  ///< decimation in steps, >= 1
-    ProgressCallback progress; ///< progress of the main run, if set
+    TrajectorySink trajectory;        ///< receives (decimated) states of the main run, if set
+    int trajectory_every = 1;         ///< decimation in steps, >= 1
+    ProgressCallback progress;        ///< progress of the main run, if set
+    std::vector<Observer*> observers; ///< further observers of the main run (not owned)
 };
 
 /// Simulates dyn from initial (2 Nm entries; empty = rest) under options; an auto transient is
@@ -77,6 +85,14 @@ struct SimulationHooks {
 ///   order), others |F_m - F_m'| (2 |F_m - F_m'| for the halved step). rkf45/rk8pd compare at
 ///   ten times the tolerance, exact at half the output interval. The estimate is never below a
 ///   round-off floor (1e-14 F_m; 1e-12 F_m for exact).
+///
+/// Multistability check (options.multistability_check, harmonic forcing): a run that did not
+/// settle quickly - no steady state, or one reached only after the state stayed far (1e-3,
+/// relative) from every cycle for longer than it then took to converge, the mark of a chaotic
+/// transient - is repeated from the start with u_1 moved by 1e-8 max(1, |x0|). If the twin's
+/// F_m differs from F_m by more than max(3 F_m_error, 3 twin spread, 1e-6 F_m), the result is
+/// multistable and F_m_error is raised to that difference. A quickly settled run (the usual
+/// periodic point) costs nothing more.
 SimulationResult simulate(const Dynamics& dyn, const RunOptions& options,
                           const std::vector<double>& initial = {},
                           const SimulationHooks& hooks = {});

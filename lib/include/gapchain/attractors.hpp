@@ -1,0 +1,129 @@
+#pragma once
+/// \file attractors.hpp
+/// Coexisting attractors of the forced row: many starts, each run to its steady state (or to
+/// the end of its run), grouped into attractors, with the F_m of each, its regime and period,
+/// its basin fraction with a sampling error, and the design value F_m_max over them.
+///
+/// Starts are drawn uniformly in a box scaled by the contact-free amplitude A of eq (20):
+/// u_i in [-box A, box A], v_i in [-box 2 pi f_r A, box 2 pi f_r A] (reduced units: A is the
+/// amplitude a free body would have, the natural scale of the motion).
+///
+/// Grouping. A start whose run reaches a periodic steady state is Newton-confirmed
+/// (orbit.hpp); two periodic starts share an attractor when their orbits have the same minimal
+/// period and pass through the same stroboscopic points (to 1e-6, relative). A start that does
+/// not settle keeps the stroboscopic points of its last section_points periods; it joins an
+/// attractor whose points it matches by a two-sample nearest-neighbour test: the median distance
+/// from each of its points to the other cloud is at most overlap_factor times the larger median
+/// nearest-neighbour distance inside either cloud. Two windows of one ergodic attractor sample
+/// the same invariant measure, so their clouds interleave at the clouds' own point spacing;
+/// disjoint attractors are separated by a distance that does not shrink as points are added.
+/// A run that ends within 1e-2 (scaled) of a stable periodic attractor's points is still
+/// converging to it and joins it.
+
+#include "gapchain/classify.hpp"
+#include "gapchain/model.hpp"
+#include "gapchain/run.hpp"
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+namespace gapchain {
+
+/// A two-variable slice of the basins: a resolution x resolution grid of starts over two state
+/// variables, the others at rest.
+struct BasinSlice {
+    int first = 0;       ///< state index of the x axis, 0 .. 2 Nm - 1 (u_1..u_Nm, v_1..v_Nm)
+    int second = 1;      ///< state index of the y axis, 0 .. 2 Nm - 1, not first
+    int resolution = 50; ///< grid points per axis, 2 .. 2000
+};
+
+/// How attractors are searched.
+struct AttractorOptions {
+    long samples = 200;              ///< random starts for the basin fractions, 1 .. 1e7
+    std::uint64_t seed = 1;          ///< seed of the starts
+    double box = 1.0;                ///< half-width of the box of starts, in units of A, (0, 100]
+    RunOptions run;                  ///< each start's run (steady-state stop on to finish early)
+    int section_points = 200;        ///< stroboscopic points kept of a run that does not settle,
+                                     ///< 20 .. 100000 (at most the recorded periods)
+    double overlap_factor = 3.0;     ///< nearest-neighbour test factor, 1 .. 100
+    long lyapunov_periods = 300;     ///< periods of the lambda_max run of a non-periodic attractor,
+                                     ///< 10 .. 1e6
+    double chaos_threshold = 0.02;   ///< lambda_max above this and 3 errors: chaotic [1 / time]
+    std::optional<BasinSlice> slice; ///< also run the starts of this slice
+    int threads = 0;                 ///< OpenMP threads (0: all); results do not depend on it
+};
+
+/// Throws std::invalid_argument naming the first option outside its range (Nm: the row's).
+void validate(const AttractorOptions& options, int Nm);
+
+/// One attractor.
+struct Attractor {
+    int id = 0;                       ///< 0, 1, ... in order of discovery (start index order)
+    Regime regime = Regime::periodic; ///< periodic, quasi-periodic or chaotic (or no-contact)
+    int period = 0;                   ///< minimal period [forcing periods]; 0 if not periodic
+    bool newton_confirmed = false;    ///< periodic: the orbit converged under Newton
+    double max_multiplier = 0.0;      ///< periodic: largest Floquet multiplier modulus
+    double F_m = 0.0;                 ///< largest reduced impact force on the attractor
+    /// A confirmed orbit: |F_m (exact propagator) - F_m (rk8pd at 1e-10)| on the orbit; an
+    /// unconfirmed periodic one: |its F_m - the run's F_m over the recorded window|; otherwise
+    /// the window-halves sampling spread of the member whose F_m is the largest (F_m).
+    double F_m_error = 0.0;
+    double lambda_max = 0.0;           ///< largest Lyapunov exponent [1 / reduced time]
+    double lambda_max_error = 0.0;     ///< its standard error (0 for a Newton-confirmed orbit)
+    double basin_fraction = 0.0;       ///< share of the random starts that reach it
+    double basin_fraction_error = 0.0; ///< binomial standard error sqrt(p (1 - p) / N)
+    long samples = 0;                  ///< random starts that reach it
+    long slice_points = 0;             ///< slice starts that reach it
+    std::vector<double> initial_state; ///< the first start that reached it (2 Nm)
+    std::vector<double> state;         ///< a state on it at phase 0 (the orbit's, if periodic)
+    /// Stroboscopic points that identify it: the orbit's, or the first member's last points.
+    std::vector<std::vector<double>> section;
+};
+
+/// The attractors found.
+struct AttractorSet {
+    std::vector<Attractor> attractors;
+    double F_m_max = 0.0;              ///< the design value: the largest F_m over the attractors
+    int F_m_max_id = -1;               ///< the attractor it belongs to (-1: none)
+    std::vector<int> sample_attractor; ///< per random start: attractor id, -1 if its run failed
+    long failed = 0;                   ///< starts whose run failed (non-finite)
+    std::vector<int> slice_attractor;  ///< resolution^2, second axis slowest; -1: failed
+    std::vector<double> slice_first;   ///< the slice's x values
+    std::vector<double> slice_second;  ///< the slice's y values
+    double amplitude = 0.0;            ///< A of eq (20), the box's unit
+    double wall_time_s = 0.0;          ///< [s]
+    int threads_used = 1;
+    bool cancelled = false; ///< progress asked to stop; nothing was grouped
+};
+
+/// The starts of options (random ones, then the slice's) in the order they are grouped.
+std::vector<std::vector<double>> attractor_starts(const ReducedParameters& p,
+                                                  const AttractorOptions& options);
+
+/// Searches the attractors of the paper's row p (harmonic forcing, linear law) from the starts
+/// of attractor_starts(), in parallel; progress gets the fraction of starts run.
+AttractorSet find_attractors(const ReducedParameters& p, const AttractorOptions& options,
+                             const ProgressCallback& progress = {});
+
+/// Basin fractions along one parameter: find_attractors() at each value, attractors matched
+/// from one value to the next (same period class, nearest centroid of the section points within
+/// 0.2 A), so that a label follows an attractor across the line.
+struct FractionContinuation {
+    SweptParameter parameter = SweptParameter::f_r;
+    std::vector<double> values;
+    std::vector<AttractorSet> sets;       ///< per value
+    std::vector<std::vector<int>> labels; ///< per value, per attractor: its global label
+    int label_count = 0;                  ///< global labels used
+    double wall_time_s = 0.0;             ///< [s]
+    bool cancelled = false;
+};
+
+/// find_attractors() at every value of `parameter` (each set in parallel over its starts).
+FractionContinuation continue_basin_fractions(const ReducedParameters& base,
+                                              SweptParameter parameter,
+                                              const std::vector<double>& values,
+                                              const AttractorOptions& options,
+                                              const ProgressCallback& progress = {});
+
+} // namespace gapchain

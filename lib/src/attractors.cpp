@@ -1,0 +1,510 @@
+#include "gapchain/attractors.hpp"
+
+#include "gapchain/bounds.hpp"
+#include "gapchain/lyapunov.hpp"
+#include "gapchain/orbit.hpp"
+#include "gapchain/simulation.hpp"
+
+#include "detail/check.hpp"
+#include "detail/parallel.hpp"
+#include "detail/random.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <deque>
+#include <numbers>
+#include <stdexcept>
+
+namespace gapchain {
+
+void validate(const AttractorOptions& o, int Nm) {
+    detail::require_range("samples", static_cast<double>(o.samples), 1.0, 1e7);
+    detail::require_range("box", o.box, 0.0, 100.0, detail::Bound::open_low);
+    detail::require_range("section_points", o.section_points, 20, 100000);
+    detail::require_range("overlap_factor", o.overlap_factor, 1.0, 100.0);
+    detail::require_range("lyapunov_periods", static_cast<double>(o.lyapunov_periods), 10.0, 1e6);
+    detail::require_range("chaos_threshold", o.chaos_threshold, 0.0, 1e3);
+    detail::require_range("threads", o.threads, 0, 4096);
+    validate(o.run);
+    if (o.slice) {
+        detail::require_range("slice.first", o.slice->first, 0, 2 * Nm - 1);
+        detail::require_range("slice.second", o.slice->second, 0, 2 * Nm - 1);
+        detail::require_range("slice.resolution", o.slice->resolution, 2, 2000);
+        if (o.slice->first == o.slice->second)
+            throw std::invalid_argument("slice: the two state variables must differ, got " +
+                                        std::to_string(o.slice->first) + " twice");
+    }
+}
+
+namespace {
+
+using Points = std::vector<std::vector<double>>;
+
+/// Share of a cloud's diameter within which two clouds count as one: a torus or a chaotic set
+/// sampled over two windows can leave gaps between the windows' points (slow drift along a
+/// nearly resonant torus, intermittency) far larger than the point spacing, but not a tenth of
+/// its size; attractors this close are not told apart.
+constexpr double coarse_resolution = 0.05;
+
+/// Keeps the states at the last `capacity` period ends of the recorded window.
+class SectionRing final : public Observer {
+public:
+    explicit SectionRing(std::size_t capacity) : m_capacity(capacity) {}
+    void on_step(const StepView& step) override { m_recording = step.recording; }
+    bool on_period(long n, double, const double* y) override {
+        if (n == 0 || !m_recording) return false;
+        m_points.emplace_back(y, y + m_dimension);
+        if (m_points.size() > m_capacity) m_points.pop_front();
+        return false;
+    }
+    void set_dimension(int dimension) { m_dimension = dimension; }
+    [[nodiscard]] Points points() const { return {m_points.begin(), m_points.end()}; }
+
+private:
+    std::size_t m_capacity;
+    int m_dimension = 0;
+    bool m_recording = false;
+    std::deque<std::vector<double>> m_points;
+};
+
+/// The row's natural scales: u in units of A, v in units of 2 pi f_r A.
+struct StateScale {
+    double u = 1.0;
+    double v = 1.0;
+    int Nm = 1;
+    [[nodiscard]] double of(int i) const { return i < Nm ? u : v; }
+};
+
+/// max_i |a_i - b_i| / scale_i.
+double scaled_distance(const std::vector<double>& a, const std::vector<double>& b,
+                       const StateScale& scale) {
+    double d = 0.0;
+    for (std::size_t i = 0; i < a.size(); ++i)
+        d = std::max(d, std::abs(a[i] - b[i]) / scale.of(static_cast<int>(i)));
+    return d;
+}
+
+/// What one start's run ended on.
+struct StartOutcome {
+    bool failed = false;
+    bool periodic = false;
+    int period = 0;
+    bool newton = false;
+    double max_multiplier = 0.0;
+    double F_m = 0.0;          // the orbit's (Newton) or the run's
+    double run_F_m = 0.0;      // over the run's recorded window
+    double spread = 0.0;       // the run's F_m_error
+    std::vector<double> state; // on the attractor at phase 0
+    Points section;            // the orbit's points, or the run's last ones
+};
+
+RunOptions start_run_options(const AttractorOptions& o) {
+    RunOptions run = o.run;
+    run.multistability_check = false;
+    run.estimate_error = true;
+    return run;
+}
+
+StartOutcome run_start(const Dynamics& dyn, const AttractorOptions& o,
+                       const std::vector<double>& start) {
+    SectionRing ring(static_cast<std::size_t>(o.section_points));
+    ring.set_dimension(dyn.dimension());
+    SimulationHooks hooks;
+    hooks.observers.push_back(&ring);
+    const SimulationResult r = simulate(dyn, start_run_options(o), start, hooks);
+    StartOutcome s;
+    if (r.status == RunStatus::non_finite || r.status == RunStatus::cancelled) {
+        s.failed = true;
+        return s;
+    }
+    s.run_F_m = s.F_m = r.F_m;
+    s.spread = r.F_m_error;
+    s.state = r.final_state;
+    s.section = ring.points();
+    if (!r.steady_state_period) return s;
+    s.periodic = true;
+    s.period = *r.steady_state_period;
+    OrbitOptions orbit_options;
+    orbit_options.period = s.period;
+    orbit_options.tolerance = 1e-9;
+    orbit_options.max_iterations = 12;
+    const PeriodicOrbit orbit = find_minimal_periodic_orbit(dyn, orbit_options, r.final_state);
+    if (orbit.status == OrbitStatus::converged) {
+        s.newton = true;
+        s.period = orbit.minimal_period;
+        s.max_multiplier = orbit.max_multiplier;
+        s.F_m = orbit.F_m;
+        s.state = orbit.state;
+        s.section = orbit.period_ends;
+    } else {
+        const auto k =
+            static_cast<std::ptrdiff_t>(std::min<std::size_t>(s.period, s.section.size()));
+        s.section.erase(s.section.begin(), s.section.end() - k);
+    }
+    return s;
+}
+
+/// Whether two periodic orbits of the same period pass through the same points.
+bool same_orbit(const Points& a, const Points& b, const StateScale& scale) {
+    if (a.size() != b.size() || a.empty()) return false;
+    for (const auto& x : b)
+        if (scaled_distance(a.front(), x, scale) <= 1e-6) return true;
+    return false;
+}
+
+/// Median over a's points of the distance to the nearest point of b (skipping the point itself
+/// when a and b are the same cloud).
+double median_nearest(const Points& a, const Points& b, const StateScale& scale, bool same) {
+    std::vector<double> nearest;
+    nearest.reserve(a.size());
+    for (std::size_t i = 0; i < a.size(); ++i) {
+        double best = std::numeric_limits<double>::infinity();
+        for (std::size_t j = 0; j < b.size(); ++j)
+            if (!same || i != j) best = std::min(best, scaled_distance(a[i], b[j], scale));
+        nearest.push_back(best);
+    }
+    auto mid = nearest.begin() + static_cast<std::ptrdiff_t>(nearest.size() / 2);
+    std::nth_element(nearest.begin(), mid, nearest.end());
+    return *mid;
+}
+
+/// Largest distance between two points of a cloud (scaled).
+double diameter(const Points& a, const StateScale& scale) {
+    double d = 0.0;
+    for (std::size_t i = 0; i < a.size(); ++i)
+        for (std::size_t j = i + 1; j < a.size(); ++j)
+            d = std::max(d, scaled_distance(a[i], a[j], scale));
+    return d;
+}
+
+/// The two-sample nearest-neighbour test of the header.
+bool clouds_overlap(const Points& a, const Points& b, const StateScale& scale, double factor) {
+    if (a.size() < 2 || b.size() < 2) return false;
+    const double inner =
+        std::max(median_nearest(a, a, scale, true), median_nearest(b, b, scale, true));
+    const double size = std::max(diameter(a, scale), diameter(b, scale));
+    const double limit = std::max(factor * inner, coarse_resolution * size);
+    return median_nearest(a, b, scale, false) <= limit &&
+           median_nearest(b, a, scale, false) <= limit;
+}
+
+/// A run that ends this close (scaled) to a stable orbit's point is in its linear neighbourhood
+/// and converging to it, however slowly (Fig 13's line at f_r = 3.2: a period-15 orbit with
+/// |mu| = 0.94 takes thousands of periods to reach the steady-state test's 1e-10).
+constexpr double converging_distance = 1e-2;
+
+/// Whether a run that did not settle ended close to the stable periodic attractor a.
+bool converging_to(const StartOutcome& s, const Attractor& a, const StateScale& scale) {
+    if (a.period == 0 || a.max_multiplier >= 1.0 || s.state.empty()) return false;
+    for (const auto& x : a.section)
+        if (scaled_distance(s.state, x, scale) <= converging_distance) return true;
+    return false;
+}
+
+/// Whether two sample maxima of F_m can come from one attractor: within three times the larger
+/// of their sampling spreads (and 1e-3 relative, for windows that barely spread).
+bool forces_agree(const StartOutcome& s, const StartOutcome& representative) {
+    const double spread = std::max(s.spread, representative.spread);
+    return std::abs(s.F_m - representative.F_m) <=
+           3.0 * spread + 1e-3 * std::max(s.F_m, representative.F_m);
+}
+
+/// Whether s reached attractor a, whose first member was `representative`.
+bool belongs(const StartOutcome& s, const Attractor& a, const StartOutcome& representative,
+             const StateScale& scale, double factor) {
+    if (s.periodic) return a.period == s.period && same_orbit(a.section, s.section, scale);
+    if (a.period != 0) return converging_to(s, a, scale);
+    return forces_agree(s, representative) && clouds_overlap(a.section, s.section, scale, factor);
+}
+
+Attractor new_attractor(const StartOutcome& s, const std::vector<double>& start, int id) {
+    Attractor a;
+    a.id = id;
+    a.period = s.periodic ? s.period : 0;
+    a.newton_confirmed = s.newton;
+    a.max_multiplier = s.max_multiplier;
+    a.F_m = s.F_m;
+    // A periodic attractor's error is set in characterise() once it is known to be confirmed.
+    a.F_m_error = s.periodic ? std::abs(s.F_m - s.run_F_m) : s.spread;
+    a.initial_state = start;
+    a.state = s.state;
+    a.section = s.section;
+    return a;
+}
+
+/// A non-periodic attractor's F_m is the largest of its members' sample maxima, with that
+/// member's sampling spread.
+void add_member(Attractor& a, const StartOutcome& s) {
+    if (a.period != 0 || s.F_m <= a.F_m) return;
+    a.F_m = s.F_m;
+    a.F_m_error = s.spread;
+}
+
+/// Groups the outcomes: periodic ones first, so that a run still converging to an orbit joins
+/// it whatever the order of the starts.
+std::vector<int> group_outcomes(const std::vector<StartOutcome>& outcomes,
+                                const std::vector<std::vector<double>>& starts,
+                                const StateScale& scale, double factor,
+                                std::vector<Attractor>& attractors) {
+    std::vector<int> label(outcomes.size(), -1);
+    std::vector<std::size_t> representative; // per attractor: its first member
+    for (int pass = 0; pass < 2; ++pass) {
+        for (std::size_t k = 0; k < outcomes.size(); ++k) {
+            const StartOutcome& s = outcomes[k];
+            if (s.failed || s.periodic != (pass == 0)) continue;
+            for (auto& a : attractors)
+                if (belongs(s, a, outcomes[representative[static_cast<std::size_t>(a.id)]], scale,
+                            factor)) {
+                    label[k] = a.id;
+                    add_member(a, s);
+                    break;
+                }
+            if (label[k] < 0) {
+                label[k] = static_cast<int>(attractors.size());
+                attractors.push_back(new_attractor(s, starts[k], label[k]));
+                representative.push_back(k);
+            }
+        }
+    }
+    return label;
+}
+
+/// The error of a confirmed orbit's F_m (exact propagator): its difference from the same
+/// orbit's F_m on rk8pd at 1e-10, an independent scheme; never below 1e-12 F_m.
+double orbit_force_error(const Dynamics& dyn, const Attractor& a) {
+    OrbitOptions check;
+    check.period = a.period;
+    check.scheme = Scheme::rk8pd;
+    check.integration_tolerance = 1e-10;
+    const ShootingResult s = shoot(dyn, check, a.state);
+    double F_m = 0.0;
+    for (const auto& c : s.per_contact)
+        F_m = std::max(F_m, c.force);
+    return std::max(std::abs(F_m - a.F_m), 1e-12 * a.F_m);
+}
+
+/// lambda_max and the regime of each attractor: from the multipliers of a confirmed orbit,
+/// else from a tangent run on the attractor.
+void characterise(const Dynamics& dyn, const ReducedParameters& p, const AttractorOptions& o,
+                  std::vector<Attractor>& attractors, int threads) {
+    detail::parallel_for(
+        static_cast<long>(attractors.size()), threads,
+        [&](long k) {
+            Attractor& a = attractors[static_cast<std::size_t>(k)];
+            if (a.period != 0 && a.newton_confirmed) {
+                a.lambda_max = std::log(a.max_multiplier) * p.f_r / a.period;
+                a.F_m_error = orbit_force_error(dyn, a);
+                a.regime = a.F_m > 0.0 ? Regime::periodic : Regime::no_contact;
+                return;
+            }
+            if (a.period != 0) {
+                a.regime = a.F_m > 0.0 ? Regime::periodic : Regime::no_contact;
+                return;
+            }
+            RunOptions run = o.run;
+            run.periods = o.lyapunov_periods;
+            run.transient_periods = o.lyapunov_periods / 10;
+            run.stop_at_steady_state = false;
+            const LyapunovResult l = chain_lyapunov(dyn, run, 1, a.state);
+            a.lambda_max = l.exponents.empty() ? 0.0 : l.exponents.front();
+            a.lambda_max_error = l.errors.empty() ? 0.0 : l.errors.front();
+            const double margin = std::max(o.chaos_threshold, 3.0 * a.lambda_max_error);
+            a.regime = a.F_m == 0.0            ? Regime::no_contact
+                       : a.lambda_max > margin ? Regime::chaotic
+                                               : Regime::quasi_periodic;
+        },
+        [](long) { return true; });
+}
+
+void count_members(const std::vector<int>& labels, long random_starts, AttractorSet& set) {
+    for (std::size_t k = 0; k < labels.size(); ++k) {
+        const int id = labels[k];
+        const bool random = static_cast<long>(k) < random_starts;
+        if (id < 0) {
+            if (random) ++set.failed;
+            continue;
+        }
+        Attractor& a = set.attractors[static_cast<std::size_t>(id)];
+        (random ? a.samples : a.slice_points) += 1;
+    }
+    const auto n = static_cast<double>(random_starts);
+    for (auto& a : set.attractors) {
+        a.basin_fraction = static_cast<double>(a.samples) / n;
+        a.basin_fraction_error = std::sqrt(a.basin_fraction * (1.0 - a.basin_fraction) / n);
+        if (a.F_m > set.F_m_max || set.F_m_max_id < 0) {
+            set.F_m_max = a.F_m;
+            set.F_m_max_id = a.id;
+        }
+    }
+    set.sample_attractor.assign(labels.begin(), labels.begin() + random_starts);
+    set.slice_attractor.assign(labels.begin() + random_starts, labels.end());
+}
+
+StateScale state_scale(const ReducedParameters& p) {
+    const double A = single_body_amplitude(p.f_r, p.eps);
+    return {A, 2.0 * std::numbers::pi * p.f_r * A, p.Nm};
+}
+
+std::vector<double> axis_values(const AttractorOptions& o, const StateScale& scale, int index) {
+    const int r = o.slice->resolution;
+    const double half = o.box * scale.of(index);
+    std::vector<double> v(static_cast<std::size_t>(r));
+    for (int i = 0; i < r; ++i)
+        v[static_cast<std::size_t>(i)] = -half + 2.0 * half * i / (r - 1);
+    return v;
+}
+
+} // namespace
+
+std::vector<std::vector<double>> attractor_starts(const ReducedParameters& p,
+                                                  const AttractorOptions& o) {
+    validate(p);
+    validate(o, p.Nm);
+    const StateScale scale = state_scale(p);
+    const int dim = 2 * p.Nm;
+    std::vector<std::vector<double>> starts;
+    for (long k = 0; k < o.samples; ++k) {
+        std::vector<double> x(static_cast<std::size_t>(dim));
+        for (int i = 0; i < dim; ++i) {
+            const double u = detail::unit_interval(detail::hash3(o.seed, k, i));
+            x[static_cast<std::size_t>(i)] = o.box * scale.of(i) * (2.0 * u - 1.0);
+        }
+        starts.push_back(std::move(x));
+    }
+    if (!o.slice) return starts;
+    const auto xs = axis_values(o, scale, o.slice->first);
+    const auto ys = axis_values(o, scale, o.slice->second);
+    for (double y : ys)
+        for (double x : xs) {
+            std::vector<double> s(static_cast<std::size_t>(dim), 0.0);
+            s[static_cast<std::size_t>(o.slice->first)] = x;
+            s[static_cast<std::size_t>(o.slice->second)] = y;
+            starts.push_back(std::move(s));
+        }
+    return starts;
+}
+
+AttractorSet find_attractors(const ReducedParameters& p, const AttractorOptions& o,
+                             const ProgressCallback& progress) {
+    const auto clock = std::chrono::steady_clock::now();
+    const std::vector<std::vector<double>> starts = attractor_starts(p, o);
+    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+    const StateScale scale = state_scale(p);
+    AttractorSet set;
+    set.amplitude = scale.u;
+    set.threads_used = detail::thread_count(o.threads);
+    std::vector<StartOutcome> outcomes(starts.size());
+    long done = 0;
+    const auto end = detail::parallel_for(
+        static_cast<long>(starts.size()), set.threads_used,
+        [&](long k) { outcomes[k] = run_start(dyn, o, starts[k]); },
+        [&](long) {
+            ++done;
+            return !progress || progress(static_cast<double>(done) / starts.size());
+        });
+    if (end == detail::LoopEnd::cancelled) {
+        set.cancelled = true;
+        return set;
+    }
+    const auto labels = group_outcomes(outcomes, starts, scale, o.overlap_factor, set.attractors);
+    characterise(dyn, p, o, set.attractors, set.threads_used);
+    count_members(labels, o.samples, set);
+    if (o.slice) {
+        set.slice_first = axis_values(o, scale, o.slice->first);
+        set.slice_second = axis_values(o, scale, o.slice->second);
+    }
+    set.wall_time_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - clock).count();
+    return set;
+}
+
+namespace {
+
+/// Mean of an attractor's section points, in scaled coordinates.
+std::vector<double> centroid(const Attractor& a, const StateScale& scale) {
+    std::vector<double> c(a.section.front().size(), 0.0);
+    for (const auto& x : a.section)
+        for (std::size_t i = 0; i < c.size(); ++i)
+            c[i] += x[i] / scale.of(static_cast<int>(i)) / static_cast<double>(a.section.size());
+    return c;
+}
+
+/// Labels for `next`'s attractors: the previous one nearest by centroid (within 0.2, scaled),
+/// each previous label used once, nearest pairs first; a new label otherwise.
+std::vector<int> match_labels(const AttractorSet& previous, const std::vector<int>& previous_labels,
+                              const AttractorSet& next, const StateScale& previous_scale,
+                              const StateScale& next_scale, int& label_count) {
+    struct Pair {
+        double distance;
+        std::size_t from, to;
+    };
+    std::vector<Pair> pairs;
+    for (std::size_t i = 0; i < previous.attractors.size(); ++i)
+        for (std::size_t j = 0; j < next.attractors.size(); ++j) {
+            const auto a = centroid(previous.attractors[i], previous_scale);
+            const auto b = centroid(next.attractors[j], next_scale);
+            double d = 0.0;
+            for (std::size_t m = 0; m < a.size(); ++m)
+                d = std::max(d, std::abs(a[m] - b[m]));
+            if (d <= 0.2) pairs.push_back({d, i, j});
+        }
+    std::sort(pairs.begin(), pairs.end(),
+              [](const Pair& x, const Pair& y) { return x.distance < y.distance; });
+    std::vector<int> labels(next.attractors.size(), -1);
+    std::vector<char> used(previous.attractors.size(), 0);
+    for (const Pair& pr : pairs)
+        if (!used[pr.from] && labels[pr.to] < 0) {
+            used[pr.from] = 1;
+            labels[pr.to] = previous_labels[pr.from];
+        }
+    for (int& l : labels)
+        if (l < 0) l = label_count++;
+    return labels;
+}
+
+} // namespace
+
+FractionContinuation continue_basin_fractions(const ReducedParameters& base,
+                                              SweptParameter parameter,
+                                              const std::vector<double>& values,
+                                              const AttractorOptions& options,
+                                              const ProgressCallback& progress) {
+    const auto clock = std::chrono::steady_clock::now();
+    if (values.empty()) throw std::invalid_argument("steps: at least one value, got none");
+    for (double v : values) {
+        validate(with_value(base, parameter, v));
+        validate(options, base.Nm);
+    }
+    FractionContinuation fc;
+    fc.parameter = parameter;
+    for (std::size_t k = 0; k < values.size(); ++k) {
+        const ReducedParameters p = with_value(base, parameter, values[k]);
+        const auto n = static_cast<double>(values.size());
+        AttractorSet set = find_attractors(p, options, [&](double f) {
+            return !progress || progress((static_cast<double>(k) + f) / n);
+        });
+        if (set.cancelled) {
+            fc.cancelled = true;
+            break;
+        }
+        std::vector<int> labels;
+        if (k == 0) {
+            for (const auto& a : set.attractors)
+                labels.push_back(a.id);
+            fc.label_count = static_cast<int>(labels.size());
+        } else {
+            const ReducedParameters q = with_value(base, parameter, values[k - 1]);
+            labels = match_labels(fc.sets.back(), fc.labels.back(), set, state_scale(q),
+                                  state_scale(p), fc.label_count);
+        }
+        fc.values.push_back(values[k]);
+        fc.sets.push_back(std::move(set));
+        fc.labels.push_back(std::move(labels));
+    }
+    fc.wall_time_s =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - clock).count();
+    return fc;
+}
+
+} // namespace gapchain

@@ -1,0 +1,173 @@
+#include "gapchain/attractors.hpp"
+
+#include "gapchain/simulation.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <numbers>
+
+using namespace gapchain;
+
+namespace {
+
+// Nm = 1 between the walls, e_r = 0.6, f_r = 1.2: two period-1 orbits, one hitting each wall.
+const ReducedParameters mirror_pair{1, 100, 0.1, 0.6, 1.2};
+
+AttractorOptions short_runs(long samples, std::uint64_t seed) {
+    AttractorOptions o;
+    o.samples = samples;
+    o.seed = seed;
+    o.box = 2.0;
+    o.run.periods = 600;
+    return o;
+}
+
+// The state of the row after half a forcing period from x (exact propagator, 64 steps).
+std::vector<double> half_period_later(const ReducedParameters& p, const std::vector<double>& x) {
+    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+    RunOptions o;
+    o.periods = 1;
+    o.transient_periods = 0;
+    o.scheme = Scheme::exact;
+    o.step = 1.0 / p.f_r / 64.0;
+    o.stop_at_steady_state = false;
+    o.estimate_error = false;
+    std::vector<double> half;
+    SimulationHooks hooks;
+    hooks.trajectory = [&](double t, const double* y) {
+        if (std::abs(t - 0.5 / p.f_r) < 1e-12) half.assign(y, y + 2 * p.Nm);
+    };
+    simulate(dyn, o, x, hooks);
+    REQUIRE(half.size() == 2u * p.Nm);
+    return half;
+}
+
+} // namespace
+
+TEST_CASE("a contact-free row has one attractor, decaying at the rate 2 pi eps of MODEL.md §5") {
+    const ReducedParameters p{2, 100, 0.1, 20.0, 1.3};
+    const AttractorSet set = find_attractors(p, short_runs(40, 3));
+    REQUIRE(set.attractors.size() == 1);
+    const Attractor& a = set.attractors.front();
+    CHECK(a.regime == Regime::no_contact);
+    CHECK(a.period == 1);
+    CHECK(a.F_m == 0.0);
+    CHECK(a.basin_fraction == 1.0);
+    // Every free mode decays as exp(-2 pi eps t) (reduced time; underdamped, any frequency).
+    CHECK(a.lambda_max == doctest::Approx(-2.0 * std::numbers::pi * p.eps).epsilon(1e-6));
+    // The orbit is eq (20)'s response: u = -A cos(2 pi f_r t - phi) for each body.
+    const double w = 2.0 * std::numbers::pi * p.f_r;
+    const double A = std::hypot(1.0 - p.f_r * p.f_r, 2.0 * p.eps * p.f_r);
+    const double u0 = -(1.0 - p.f_r * p.f_r) / (A * A);
+    const double v0 = -w * (2.0 * p.eps * p.f_r) / (A * A);
+    CHECK(a.state[0] == doctest::Approx(u0).epsilon(1e-8));
+    CHECK(a.state[2] == doctest::Approx(v0).epsilon(1e-8));
+}
+
+TEST_CASE("mirror-image orbits are two attractors of equal F_m and equal basin fractions") {
+    const AttractorSet set = find_attractors(mirror_pair, short_runs(400, 1));
+    REQUIRE(set.attractors.size() == 2);
+    const Attractor& a = set.attractors[0];
+    const Attractor& b = set.attractors[1];
+    CHECK(a.period == 1);
+    CHECK(b.period == 1);
+    CHECK(a.newton_confirmed);
+    CHECK(b.newton_confirmed);
+    // The mirror u -> -u(t + T/2) maps one orbit onto the other (MODEL.md §5).
+    const std::vector<double> mirrored_a = half_period_later(mirror_pair, a.state);
+    CHECK(-mirrored_a[0] == doctest::Approx(b.state[0]).epsilon(1e-7));
+    CHECK(-mirrored_a[1] == doctest::Approx(b.state[1]).epsilon(1e-7));
+    CHECK(std::abs(a.state[1] - b.state[1]) > 1.0);
+    CHECK(a.F_m == doctest::Approx(b.F_m).epsilon(1e-8));
+    CHECK(a.F_m_error < 1e-9);
+    CHECK(a.basin_fraction + b.basin_fraction == doctest::Approx(1.0));
+    const double sigma = std::hypot(a.basin_fraction_error, b.basin_fraction_error);
+    CHECK(std::abs(a.basin_fraction - b.basin_fraction) < 3.0 * sigma);
+    CHECK(set.F_m_max == std::max(a.F_m, b.F_m));
+}
+
+TEST_CASE("basin fractions scatter over seeds as their reported error, which falls as 1/sqrt(N)") {
+    auto seed_spread = [](long n, double& reported) {
+        double sum = 0.0, sum2 = 0.0;
+        const int seeds = 10;
+        reported = 0.0;
+        for (int s = 0; s < seeds; ++s) {
+            const AttractorSet set = find_attractors(mirror_pair, short_runs(n, 100 + s));
+            REQUIRE(set.attractors.size() == 2);
+            // The attractor hitting the left wall: u_1 < 0 at the phase-0 point with v_1 < 0.
+            const Attractor& a =
+                set.attractors[0].state[1] < 0.0 ? set.attractors[0] : set.attractors[1];
+            sum += a.basin_fraction;
+            sum2 += a.basin_fraction * a.basin_fraction;
+            reported += a.basin_fraction_error / seeds;
+        }
+        return std::sqrt((sum2 - sum * sum / seeds) / (seeds - 1));
+    };
+    double reported_small = 0.0, reported_large = 0.0;
+    const double small = seed_spread(25, reported_small);
+    const double large = seed_spread(400, reported_large);
+    CHECK(reported_small / reported_large == doctest::Approx(4.0).epsilon(0.15));
+    // The sample standard deviation of 10 seeds is within a factor 2 of sigma (chi-square, 9
+    // degrees of freedom: 99 % of draws fall in [0.48, 1.55] sigma).
+    CHECK(small / reported_small > 0.45);
+    CHECK(small / reported_small < 1.6);
+    CHECK(large / reported_large > 0.45);
+    CHECK(large / reported_large < 1.6);
+}
+
+TEST_CASE("results do not depend on the number of threads") {
+    AttractorOptions o = short_runs(60, 7);
+    o.slice = BasinSlice{0, 1, 6};
+    o.threads = 1;
+    const AttractorSet one = find_attractors(mirror_pair, o);
+    o.threads = 2;
+    const AttractorSet two = find_attractors(mirror_pair, o);
+    CHECK(one.sample_attractor == two.sample_attractor);
+    CHECK(one.slice_attractor == two.slice_attractor);
+    REQUIRE(one.attractors.size() == two.attractors.size());
+    for (std::size_t k = 0; k < one.attractors.size(); ++k)
+        CHECK(one.attractors[k].F_m == two.attractors[k].F_m);
+    CHECK(one.slice_attractor.size() == 36);
+}
+
+TEST_CASE("Fig 13's line at f_r = 3.2: the torus of F_m 0.385 coexists with a weaker attractor") {
+    AttractorOptions o = short_runs(60, 1);
+    o.box = 1.0;
+    o.run.periods = 1500;
+    o.run.transient_periods = 750;
+    const AttractorSet set = find_attractors({5, 60, 0.5, 0.06, 3.2}, o);
+    REQUIRE(set.attractors.size() >= 2);
+    // The torus found from u = (0.5, -0.5, 0.5, -0.5, 0.5) by a plain run (issue 19).
+    SimulationResult torus;
+    {
+        const Dynamics dyn(Chain::homogeneous({5, 60, 0.5, 0.06, 3.2}), {3.2, 1.0});
+        RunOptions r;
+        r.periods = 600;
+        r.transient_periods = 300;
+        torus = simulate(dyn, r, {0.5, -0.5, 0.5, -0.5, 0.5, 0, 0, 0, 0, 0});
+    }
+    CHECK(set.F_m_max == doctest::Approx(torus.F_m).epsilon(1e-3));
+    double weakest = set.F_m_max;
+    for (const auto& a : set.attractors)
+        weakest = std::min(weakest, a.F_m);
+    CHECK(weakest < 0.75 * set.F_m_max);
+}
+
+TEST_CASE("bad options are refused naming the option") {
+    AttractorOptions o;
+    o.samples = 0;
+    CHECK_THROWS_WITH_AS(find_attractors(mirror_pair, o), doctest::Contains("samples"),
+                         std::invalid_argument);
+    o = AttractorOptions{};
+    o.box = -1.0;
+    CHECK_THROWS_WITH_AS(find_attractors(mirror_pair, o), doctest::Contains("box"),
+                         std::invalid_argument);
+    o = AttractorOptions{};
+    o.slice = BasinSlice{0, 0, 10};
+    CHECK_THROWS_WITH_AS(find_attractors(mirror_pair, o), doctest::Contains("slice"),
+                         std::invalid_argument);
+    o.slice = BasinSlice{0, 2, 10}; // Nm = 1: state indices 0 and 1 only
+    CHECK_THROWS_WITH_AS(find_attractors(mirror_pair, o), doctest::Contains("slice.second"),
+                         std::invalid_argument);
+}

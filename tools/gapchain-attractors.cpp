@@ -1,0 +1,217 @@
+// gapchain-attractors: the coexisting attractors of a row from many starts, with F_m, regime and
+// basin fraction of each and the design value F_m_max: DIR/attractors.csv, attractors.json,
+// and optionally a basin slice (basins.csv, basins.png) or basin fractions along a parameter
+// (fractions.csv, fractions.png).
+#include "common/cli.hpp"
+#include "common/plot.hpp"
+
+#include "gapchain/attractors.hpp"
+#include "gapchain/report.hpp"
+
+#include <cstdio>
+#include <stdexcept>
+
+namespace {
+
+using namespace gapchain;
+
+struct AttractorArguments {
+    cli::SceneArguments scene;
+    AttractorOptions options;
+    long long seed = 1;
+    std::string grid; // "u1,v1": the slice's two state variables
+    int resolution = 50;
+    std::string param; // basin fractions along this parameter
+    double from = 0.0;
+    double to = 0.0;
+    int steps = 0;
+    std::string out_dir = "attractors";
+    bool no_plot = false;
+};
+
+void add_options(CLI::App& app, AttractorArguments& a) {
+    AttractorOptions& o = a.options;
+    cli::add_scene_arguments(app, a.scene, true);
+    app.add_option("--samples", o.samples, "Random starts (basin fractions)")
+        ->check(CLI::Range(1L, 10'000'000L))
+        ->capture_default_str();
+    app.add_option("--seed", a.seed, "Seed of the random starts")
+        ->check(CLI::Range(0LL, 1LL << 62))
+        ->capture_default_str();
+    app.add_option("--box", o.box,
+                   "Half-width of the box of starts, in units of the contact-free amplitude A of "
+                   "eq (20) (u in [-box A, box A], v in [-box 2 pi f_r A, box 2 pi f_r A])")
+        ->check(CLI::Range(1e-9, 100.0))
+        ->capture_default_str();
+    app.add_option("--grid", a.grid,
+                   "Basin slice over two state variables, e.g. u1,v1 (the others at rest)");
+    app.add_option("--resolution", a.resolution, "Slice grid points per axis")
+        ->check(CLI::Range(2, 2000))
+        ->capture_default_str();
+    app.add_option("--section-points", o.section_points,
+                   "Stroboscopic points kept of a run that does not settle")
+        ->check(CLI::Range(20, 100000))
+        ->capture_default_str();
+    app.add_option("--param", a.param, "Basin fractions along this parameter")
+        ->check(CLI::IsMember({"f_r", "e_r", "fc", "eps"}));
+    app.add_option("--from", a.from, "First value of --param");
+    app.add_option("--to", a.to, "Last value of --param");
+    app.add_option("--steps", a.steps, "Values of --param")->check(CLI::Range(1, 10000));
+    app.add_option("--threads", o.threads, "OpenMP threads (0: all)")
+        ->check(CLI::Range(0, 4096))
+        ->capture_default_str();
+    app.add_option("--out", a.out_dir, "Output folder")->capture_default_str();
+    app.add_flag("--no-plot", a.no_plot, "Write the CSV and JSON files only");
+}
+
+/// "u3" -> 2, "v1" -> Nm (state indices).
+int state_index(const std::string& name, int Nm) {
+    const auto bad = [&] {
+        return std::invalid_argument("--grid: expected two of u1..u" + std::to_string(Nm) +
+                                     ", v1..v" + std::to_string(Nm) +
+                                     " separated by a comma, got \"" + name + "\"");
+    };
+    if (name.size() < 2 || (name[0] != 'u' && name[0] != 'v')) throw bad();
+    int body = 0;
+    for (std::size_t i = 1; i < name.size(); ++i) {
+        if (name[i] < '0' || name[i] > '9' || body > 100000) throw bad();
+        body = 10 * body + (name[i] - '0');
+    }
+    if (body < 1 || body > Nm) throw bad();
+    return (name[0] == 'u' ? 0 : Nm) + body - 1;
+}
+
+std::optional<BasinSlice> parse_slice(const AttractorArguments& a, int Nm) {
+    if (a.grid.empty()) return std::nullopt;
+    const auto comma = a.grid.find(',');
+    if (comma == std::string::npos)
+        throw std::invalid_argument(
+            "--grid: expected two state variables separated by a comma (e.g. u1,v1), got \"" +
+            a.grid + "\"");
+    BasinSlice slice;
+    slice.first = state_index(a.grid.substr(0, comma), Nm);
+    slice.second = state_index(a.grid.substr(comma + 1), Nm);
+    slice.resolution = a.resolution;
+    if (slice.first == slice.second)
+        throw std::invalid_argument("--grid: two different state variables, got \"" + a.grid +
+                                    "\"");
+    return slice;
+}
+
+/// --param needs --from, --to and --steps, and excludes --grid.
+void check_line(const CLI::App& app, const AttractorArguments& a) {
+    const bool line = !a.param.empty();
+    for (const char* flag : {"--from", "--to", "--steps"})
+        if (line != (app.count(flag) > 0))
+            throw std::invalid_argument(line ? std::string(flag) + ": required with --param"
+                                             : std::string(flag) + ": applies only with --param");
+    if (line && !a.grid.empty())
+        throw std::invalid_argument("--grid: not with --param (a slice is drawn at one point)");
+    if (!line && app.count("--resolution") > 0 && a.grid.empty())
+        throw std::invalid_argument("--resolution: applies only with --grid");
+}
+
+std::vector<double> line_values(const AttractorArguments& a) {
+    std::vector<double> v;
+    for (int k = 0; k < a.steps; ++k)
+        v.push_back(a.steps == 1 ? a.from : a.from + (a.to - a.from) * k / (a.steps - 1));
+    return v;
+}
+
+void print_set(const AttractorSet& s, const AttractorOptions& o) {
+    std::printf("%zu attractor(s) from %ld starts (%ld failed), %.2f s on %d threads\n",
+                s.attractors.size(), o.samples, s.failed, s.wall_time_s, s.threads_used);
+    for (const auto& a : s.attractors) {
+        std::printf("  #%d %-14s", a.id, std::string(to_string(a.regime)).c_str());
+        if (a.period > 0)
+            std::printf(" period %-3d", a.period);
+        else
+            std::printf("           ");
+        std::printf(" F_m = %.6g +- %.2g  lambda_max = %+.3g  basin %.3f +- %.3f\n", a.F_m,
+                    a.F_m_error, a.lambda_max, a.basin_fraction, a.basin_fraction_error);
+    }
+    if (s.F_m_max_id >= 0)
+        std::printf("design value F_m_max = %.6g (attractor #%d)\n", s.F_m_max, s.F_m_max_id);
+}
+
+std::string title_of(const ReducedParameters& p) {
+    char title[160];
+    std::snprintf(title, sizeof title, "Nm=%d fc=%g eps=%g e_r=%g f_r=%g", p.Nm, p.fc, p.eps, p.e_r,
+                  p.f_r);
+    return title;
+}
+
+void run_point(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs) {
+    cli::Progress progress("gapchain-attractors");
+    const AttractorSet set = find_attractors(scene.reduced, a.options, progress.callback());
+    cli::throw_if_interrupted();
+    outputs.create_folders();
+    write_file_atomically(a.out_dir + "/attractors.csv", attractors_csv(set));
+    write_file_atomically(a.out_dir + "/attractors.json", to_json(set, a.options, scene.reduced));
+    if (a.options.slice) {
+        write_file_atomically(a.out_dir + "/basins.csv", basin_slice_csv(set));
+        const auto comma = a.grid.find(',');
+        if (!a.no_plot)
+            cli::plot_template(a.out_dir, "basins",
+                               {{"TITLE", "Basins: " + title_of(scene.reduced)},
+                                {"XLABEL", a.grid.substr(0, comma)},
+                                {"YLABEL", a.grid.substr(comma + 1)},
+                                {"COUNT", std::to_string(set.attractors.size())}});
+    }
+    outputs.keep();
+    std::printf("gapchain-attractors: %s\n", title_of(scene.reduced).c_str());
+    print_set(set, a.options);
+    std::printf("wrote %s/attractors.csv, attractors.json%s\n", a.out_dir.c_str(),
+                a.options.slice ? ", basins.csv" : "");
+}
+
+void run_line(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs) {
+    cli::Progress progress("gapchain-attractors");
+    const FractionContinuation c =
+        continue_basin_fractions(scene.reduced, parse_swept_parameter(a.param), line_values(a),
+                                 a.options, progress.callback());
+    cli::throw_if_interrupted();
+    outputs.create_folders();
+    write_file_atomically(a.out_dir + "/fractions.csv", fractions_csv(c));
+    if (!a.no_plot)
+        cli::plot_template(a.out_dir, "fractions",
+                           {{"TITLE", "Basin fractions: " + title_of(scene.reduced)},
+                            {"PARAM", a.param},
+                            {"COUNT", std::to_string(c.label_count)}});
+    outputs.keep();
+    std::printf("gapchain-attractors: %s from %g to %g (%d values): %d attractor labels, %.2f s\n",
+                a.param.c_str(), a.from, a.to, a.steps, c.label_count, c.wall_time_s);
+    std::printf("wrote %s/fractions.csv\n", a.out_dir.c_str());
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"Find the coexisting attractors of a row from many starts: F_m, regime, period "
+                 "and basin fraction of each, and the design value F_m_max.",
+                 "gapchain-attractors"};
+    AttractorArguments a;
+    add_options(app, a);
+    return cli::run(app, argc, argv,
+                    [&] {
+                        const Scene scene = cli::load(a.scene);
+                        cli::require_paper_row(scene, "gapchain-attractors");
+                        check_line(app, a);
+                        a.options.run = scene.run;
+                        a.options.seed = static_cast<std::uint64_t>(a.seed);
+                        a.options.slice = parse_slice(a, scene.reduced.Nm);
+                        validate(a.options, scene.reduced.Nm);
+                        cli::Outputs outputs({a.scene.path});
+                        outputs.folder(a.out_dir, "--out");
+                        if (a.param.empty())
+                            run_point(scene, a, outputs);
+                        else
+                            run_line(scene, a, outputs);
+                    },
+                    {{"samples", "--samples"},
+                     {"box", "--box"},
+                     {"section_points", "--section-points"},
+                     {"threads", "--threads"},
+                     {"slice.resolution", "--resolution"},
+                     {"steps", "--steps"}});
+}

@@ -79,7 +79,8 @@ TEST_CASE("bad options name the option field (the tools translate it into their 
     CHECK_THROWS_WITH_AS(validate(o, fig13), doctest::Contains("f_r"), std::invalid_argument);
     o = {};
     o.steps = 0;
-    CHECK_THROWS_WITH_AS(validate(o, fig13), doctest::Contains("steps: must be"), std::invalid_argument);
+    CHECK_THROWS_WITH_AS(validate(o, fig13), doctest::Contains("steps: must be"),
+                         std::invalid_argument);
 }
 
 TEST_CASE("bifurcation and regime maps: a cancelled run stops within one value per thread") {

@@ -89,3 +89,24 @@ TEST_CASE("the parallel loop rethrows a worker's bad input as itself, and stops 
         CHECK(ran.load() <= 4 + 2 * threads); // those started before the failure, no more
     }
 }
+
+TEST_CASE("a study with \"attractors\": F_m_max over the starts is never below the run's F_m") {
+    // Fig 13's line at f_r = 3.2 (a torus of F_m 0.385 beside weaker attractors, issue 19) and a
+    // contact-free point (eq (20): A = 0.041 < e_r at f_r = 5).
+    const Study s = parse_study(R"({"scene": {"model": {"Nm": 5, "fc": 60, "eps": 0.5, "e_r": 0.06},
+                                              "run": {"periods": 600, "transient_periods": 300}},
+                                    "parameters": {"f_r": [3.2, 5.0]}, "attractors": 24})");
+    const StudyScenes scenes(s);
+    std::vector<SweepPointResult> results(2);
+    run_sweep(
+        s, {}, [&](long i) { return sweep_point_input(scenes.scene(i)); },
+        [&](const SweepPointResult& r) { results[static_cast<std::size_t>(r.index)] = r; });
+    REQUIRE(results[0].F_m_max);
+    CHECK(*results[0].F_m_max >= results[0].simulation.F_m);
+    CHECK(*results[0].F_m_max == doctest::Approx(0.3853).epsilon(1e-3));
+    CHECK(results[0].attractors_found >= 2);
+    CHECK(*results[1].F_m_max == 0.0);
+    CHECK(results[1].attractors_found == 1);
+    CHECK_THROWS_WITH_AS(parse_study(R"({"parameters": {"fc": [1]}, "attractors": -3})"),
+                         doctest::Contains("attractors"), SceneError);
+}

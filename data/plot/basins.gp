@@ -1,16 +1,19 @@
 # gapchain-attractors' basin slice. Regenerate: gnuplot basins.gp (in the output folder).
-# One colour per attractor id (attractors.csv); white: the run failed.
+# One colour per attractor id (attractors.csv, ids 0-9 distinct, then repeating); white: the run
+# failed.
 set terminal pngcairo size 900,800 font 'sans,11'
 set output 'basins.png'
 set datafile separator ','
-set title '@TITLE@'
+set title '@TITLE@ (@COUNT@ attractors)'
 set xlabel '@XLABEL@ (reduced)'
 set ylabel '@YLABEL@ (reduced)'
-count = @COUNT@
-set palette maxcolors (count > 0 ? count : 1)
-set palette defined (0 '#1f77b4', 1 '#d62728', 2 '#2ca02c', 3 '#ff7f0e', 4 '#9467bd', 5 '#8c564b', 6 '#e377c2', 7 '#7f7f7f', 8 '#bcbd22', 9 '#17becf')
-set cbrange [-0.5:(count > 0 ? count : 1) - 0.5]
-set cbtics 1
-set cblabel 'attractor id'
+array R[10] = [31, 214, 44, 255, 148, 140, 227, 127, 188, 23]
+array G[10] = [119, 39, 160, 127, 103, 86, 119, 127, 189, 190]
+array B[10] = [180, 40, 44, 14, 189, 75, 194, 127, 34, 207]
+red(id) = id < 0 ? 255 : R[int(id) % 10 + 1]
+green(id) = id < 0 ? 255 : G[int(id) % 10 + 1]
+blue(id) = id < 0 ? 255 : B[int(id) % 10 + 1]
 set autoscale fix
-plot 'basins.csv' every ::1 using 1:2:($3 >= 0 ? $3 : 1/0) with image notitle
+set key outside right
+plot 'basins.csv' every ::1 using 1:2:(red($3)):(green($3)):(blue($3)) with rgbimage notitle, \
+     for [i=0:(@COUNT@ < 10 ? @COUNT@ : 10) - 1] NaN with boxes fs solid lc rgb sprintf('#%02x%02x%02x', R[i+1], G[i+1], B[i+1]) title sprintf('attractor %d', i)

@@ -145,12 +145,16 @@ StartOutcome run_start(const Dynamics& dyn, const AttractorOptions& o,
     return s;
 }
 
-/// Whether two periodic orbits of the same period pass through the same points.
-bool same_orbit(const Points& a, const Points& b, const StateScale& scale) {
-    if (a.size() != b.size() || a.empty()) return false;
-    for (const auto& x : b)
-        if (scaled_distance(a.front(), x, scale) <= 1e-6) return true;
-    return false;
+/// Whether two periodic orbits pass through the same points: each one's first point within
+/// tolerance of one of the other's.
+bool same_orbit(const Points& a, const Points& b, const StateScale& scale, double tolerance) {
+    if (a.empty() || b.empty()) return false;
+    const auto near = [&](const std::vector<double>& x, const Points& cloud) {
+        return std::any_of(cloud.begin(), cloud.end(), [&](const std::vector<double>& y) {
+            return scaled_distance(x, y, scale) <= tolerance;
+        });
+    };
+    return near(a.front(), b) && near(b.front(), a);
 }
 
 /// Median over a's points of the distance to the nearest point of b (skipping the point itself
@@ -210,12 +214,23 @@ bool forces_agree(const StartOutcome& s, const StartOutcome& representative) {
            3.0 * spread + 1e-3 * std::max(s.F_m, representative.F_m);
 }
 
-/// Whether s reached attractor a, whose first member was `representative`.
+/// Whether s reached attractor a, whose first member was `representative`. Two Newton orbits
+/// match to 1e-6 with equal minimal periods; a steady state Newton did not confirm is the run's
+/// discrete orbit, off the exact one by the run's truncation error, and its detected period may
+/// be a multiple of the minimal one: it matches to 10 x the run's tolerance, with either period
+/// dividing the other.
 bool belongs(const StartOutcome& s, const Attractor& a, const StartOutcome& representative,
-             const StateScale& scale, double factor) {
-    if (s.periodic) return a.period == s.period && same_orbit(a.section, s.section, scale);
+             const StateScale& scale, const AttractorOptions& o) {
+    if (s.periodic && a.period != 0) {
+        if (s.newton && a.newton_confirmed)
+            return a.period == s.period && same_orbit(a.section, s.section, scale, 1e-6);
+        return (a.period % s.period == 0 || s.period % a.period == 0) &&
+               same_orbit(a.section, s.section, scale, 10.0 * o.run.tolerance);
+    }
+    if (s.periodic) return false;
     if (a.period != 0) return converging_to(s, a, scale);
-    return forces_agree(s, representative) && clouds_overlap(a.section, s.section, scale, factor);
+    return forces_agree(s, representative) &&
+           clouds_overlap(a.section, s.section, scale, o.overlap_factor);
 }
 
 Attractor new_attractor(const StartOutcome& s, const std::vector<double>& start, int id) {
@@ -241,21 +256,27 @@ void add_member(Attractor& a, const StartOutcome& s) {
     a.F_m_error = s.spread;
 }
 
-/// Groups the outcomes: periodic ones first, so that a run still converging to an orbit joins
-/// it whatever the order of the starts.
+/// Which pass of group_outcomes() takes an outcome: Newton orbits, other steady states, then
+/// runs that did not settle.
+int grouping_pass(const StartOutcome& s) {
+    return s.periodic ? (s.newton ? 0 : 1) : 2;
+}
+
+/// Groups the outcomes in grouping_pass() order, so that an unconfirmed steady state or a run
+/// still converging joins a Newton orbit whatever the order of the starts.
 std::vector<int> group_outcomes(const std::vector<StartOutcome>& outcomes,
                                 const std::vector<std::vector<double>>& starts,
-                                const StateScale& scale, double factor,
+                                const StateScale& scale, const AttractorOptions& o,
                                 std::vector<Attractor>& attractors) {
     std::vector<int> label(outcomes.size(), -1);
     std::vector<std::size_t> representative; // per attractor: its first member
-    for (int pass = 0; pass < 2; ++pass) {
+    for (int pass = 0; pass < 3; ++pass) {
         for (std::size_t k = 0; k < outcomes.size(); ++k) {
             const StartOutcome& s = outcomes[k];
-            if (s.failed || s.periodic != (pass == 0)) continue;
+            if (s.failed || grouping_pass(s) != pass) continue;
             for (auto& a : attractors)
                 if (belongs(s, a, outcomes[representative[static_cast<std::size_t>(a.id)]], scale,
-                            factor)) {
+                            o)) {
                     label[k] = a.id;
                     add_member(a, s);
                     break;
@@ -407,7 +428,7 @@ AttractorSet find_attractors(const ReducedParameters& p, const AttractorOptions&
         set.cancelled = true;
         return set;
     }
-    const auto labels = group_outcomes(outcomes, starts, scale, o.overlap_factor, set.attractors);
+    const auto labels = group_outcomes(outcomes, starts, scale, o, set.attractors);
     characterise(dyn, p, o, set.attractors, set.threads_used);
     count_members(labels, o.samples, set);
     if (o.slice) {

@@ -537,8 +537,9 @@ std::string sweep_csv_header(const Study& study) {
     std::string h = "index";
     for (const auto& a : study.axes)
         h += ",axis:" + a.key;
-    h += ",Nm,fc,eps,e_r,f_r,F_m,F_m_error,status";
+    h += ",Nm,fc,eps,e_r,f_r,F_m,F_m_error,status,multistable";
     if (parse_scene(study.scene_json).physical) h += ",F_m_newton";
+    if (study.attractor_starts > 0) h += ",F_m_max,attractors";
     if (study.keep.steady_state) h += ",steady_state_period";
     if (study.keep.wall_time) h += ",wall_time_s";
     if (study.keep.regime) h += ",regime,period,lambda_max,lambda_max_error";
@@ -555,8 +556,10 @@ std::string sweep_csv_row(const Study& study, const SweepPointResult& r) {
     const ReducedParameters& p = r.parameters;
     const SimulationResult& s = r.simulation;
     os << ',' << p.Nm << ',' << p.fc << ',' << p.eps << ',' << p.e_r << ',' << p.f_r << ',' << s.F_m
-       << ',' << s.F_m_error << ',' << to_string(s.status);
+       << ',' << s.F_m_error << ',' << to_string(s.status) << ',' << (s.multistable ? 1 : 0);
     if (r.F_m_newton) os << ',' << *r.F_m_newton;
+    if (study.attractor_starts > 0)
+        os << ',' << (r.F_m_max ? *r.F_m_max : s.F_m) << ',' << r.attractors_found;
     if (study.keep.steady_state)
         os << ','
            << (s.steady_state_period ? std::to_string(*s.steady_state_period) : std::string(""));
@@ -579,6 +582,7 @@ std::string study_fingerprint(const Study& study) {
         j["parameters"].push_back({a.key, a.values});
     j["sampling"] = {static_cast<int>(study.sampling), study.samples, study.seed};
     j["columns"] = sweep_csv_header(study);
+    j["attractors"] = study.attractor_starts;
     // FNV-1a over the canonical text: stable across runs and builds.
     std::uint64_t h = 1469598103934665603ULL;
     for (const unsigned char c : j.dump()) {

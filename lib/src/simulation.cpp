@@ -190,11 +190,15 @@ void check_multistability(const Dynamics& dyn, const RunOptions& options,
         return;
     result.twin_checked = true;
     result.F_m_twin = twin.F_m;
-    const double twin_spread = twin.outcome.status == RunStatus::completed
-                                   ? std::abs(twin.first_half_max - twin.second_half_max)
-                                   : 0.0;
+    // Each run's own sampling spread (its window halves), whether or not F_m_error was asked.
+    const auto spread = [](const SingleRun& r) {
+        return r.outcome.status == RunStatus::completed
+                   ? std::abs(r.first_half_max - r.second_half_max)
+                   : 0.0;
+    };
     const double difference = std::abs(twin.F_m - result.F_m);
-    const double allowed = std::max({3.0 * result.F_m_error, 3.0 * twin_spread, 1e-6 * result.F_m});
+    const double allowed = std::max(
+        {3.0 * result.F_m_error, 3.0 * spread(main), 3.0 * spread(twin), 1e-6 * result.F_m});
     if (difference > allowed) {
         result.multistable = true;
         result.F_m_error = std::max(result.F_m_error, difference);

@@ -18,8 +18,8 @@ namespace gapchain {
 Window parse_window(std::string_view name) {
     if (name == "hann") return Window::hann;
     if (name == "rectangular") return Window::rectangular;
-    throw std::invalid_argument("window: must be hann or rectangular, got \"" +
-                                std::string(name) + "\"");
+    throw std::invalid_argument("window: must be hann or rectangular, got \"" + std::string(name) +
+                                "\"");
 }
 
 namespace {

@@ -94,6 +94,14 @@ void read_sampling(const ojson& sample, Study& s) {
     }
 }
 
+/// "attractors": starts per point for F_m_max, an integer in [0, 10000].
+long read_attractor_starts(const ojson& value) {
+    if (!value.is_number_integer() || value.get<long long>() < 0 || value.get<long long>() > 10000)
+        throw SceneError("attractors: starts per point, an integer in [0, 10000], got " +
+                         value.dump());
+    return static_cast<long>(value.get<long long>());
+}
+
 /// "keep": the result names a study writes (F_m always).
 KeptResults read_kept(const ojson& keep) {
     if (!keep.is_array()) throw SceneError("keep: must be a list of result names");
@@ -140,13 +148,14 @@ void check_axis_values(const Study& s) {
             one.axes = {{axis.key, {v}}};
             one.sampling = Sampling::grid;
             const Scene scene = point_scene(one, 0);
-            if (s.keep.regime && (!scene.uniform() || !scene.harmonic()))
-                throw SceneError(std::string("keep: \"regime\" needs ") +
-                                 (scene.harmonic()
-                                      ? "the paper's uniform row with the linear contact law "
+            if ((s.keep.regime || s.attractor_starts > 0) &&
+                (!scene.uniform() || !scene.harmonic()))
+                throw SceneError(
+                    std::string(s.keep.regime ? "keep: \"regime\"" : "attractors") + " needs " +
+                    (scene.harmonic() ? "the paper's uniform row with the linear contact law "
                                         "(no model arrays, scatter or contact_law)"
                                       : "harmonic forcing (a forcing period), not a record") +
-                                 "; drop \"regime\" from keep");
+                    (s.keep.regime ? "; drop \"regime\" from keep" : "; drop \"attractors\""));
         }
 }
 
@@ -155,8 +164,8 @@ void check_axis_values(const Study& s) {
 Study parse_study(const std::string& text, const std::string& source) {
     const ojson root = detail::parse_json_strictly<ojson>(text, source);
     if (!root.is_object()) throw SceneError(source + ": a study is a JSON object");
-    require_keys(root, "", {"scene", "parameters", "sample", "keep"},
-                 "scene, parameters, sample, keep");
+    require_keys(root, "", {"scene", "parameters", "sample", "keep", "attractors"},
+                 "scene, parameters, sample, keep, attractors");
     Study s;
     s.source = source;
     if (root.contains("scene")) {
@@ -176,6 +185,7 @@ Study parse_study(const std::string& text, const std::string& source) {
     }
     if (root.contains("sample")) read_sampling(root["sample"], s);
     if (root.contains("keep")) s.keep = read_kept(root["keep"]);
+    if (root.contains("attractors")) s.attractor_starts = read_attractor_starts(root["attractors"]);
     const long n = point_count(s);
     if (n < 1 || n > 100'000'000)
         throw SceneError("parameters: the study must have 1 .. 1e8 points");

@@ -112,15 +112,15 @@ std::vector<long> pending_points(const Study& s, const SweepSelection& sel) {
 
 namespace {
 
-/// A regime needs the five reduced numbers and a forcing period.
-void require_classifiable(const SweepPointInput& in) {
+/// A regime (or an attractor search) needs the five reduced numbers and a forcing period.
+void require_classifiable(const SweepPointInput& in, const std::string& what) {
     if (!in.harmonic)
-        throw std::invalid_argument("keep: \"regime\" needs harmonic forcing (a forcing period); "
-                                    "drop it for record and Kanai-Tajimi scenes");
+        throw std::invalid_argument(what + " needs harmonic forcing (a forcing period); "
+                                           "drop it for record and Kanai-Tajimi scenes");
     if (!in.uniform)
-        throw std::invalid_argument("keep: \"regime\" needs the paper's uniform row with the "
-                                    "linear contact law; drop it, or the model arrays, scatter "
-                                    "and contact_law");
+        throw std::invalid_argument(what + " needs the paper's uniform row with the linear "
+                                           "contact law; drop it, or the model arrays, scatter "
+                                           "and contact_law");
 }
 
 SweepPointResult run_point(const Study& s, const SweepPointFactory& make_point, long index) {
@@ -132,11 +132,22 @@ SweepPointResult run_point(const Study& s, const SweepPointFactory& make_point, 
     r.simulation = simulate(in.dynamics, in.run, in.initial);
     if (in.physical) r.F_m_newton = force_in_newtons(r.simulation.F_m, *in.physical);
     if (s.keep.regime) {
-        require_classifiable(in);
+        require_classifiable(in, "keep: \"regime\"");
         ClassifyOptions co;
         co.scheme = in.run.scheme;
         co.tolerance = in.run.tolerance;
         r.regime = classify(in.reduced, co);
+    }
+    if (s.attractor_starts > 0) {
+        require_classifiable(in, "attractors");
+        AttractorOptions ao;
+        ao.samples = s.attractor_starts;
+        ao.seed = static_cast<std::uint64_t>(index);
+        ao.run = in.run;
+        ao.threads = 1; // the sweep is already parallel over points
+        const AttractorSet set = find_attractors(in.reduced, ao);
+        r.F_m_max = std::max(set.F_m_max, r.simulation.F_m);
+        r.attractors_found = static_cast<int>(set.attractors.size());
     }
     return r;
 }

@@ -90,7 +90,8 @@ struct SimulationHooks {
 /// settle quickly - no steady state, or one reached only after the state stayed far (1e-3,
 /// relative) from every cycle for longer than it then took to converge, the mark of a chaotic
 /// transient - is repeated from the start with u_1 moved by 1e-8 max(1, |x0|). If the twin's
-/// F_m differs from F_m by more than max(3 F_m_error, 3 twin spread, 1e-6 F_m), the result is
+/// F_m differs from F_m by more than max(3 F_m_error, 3 x either run's window-halves spread,
+/// 1e-6 F_m), the result is
 /// multistable and F_m_error is raised to that difference. A quickly settled run (the usual
 /// periodic point) costs nothing more.
 SimulationResult simulate(const Dynamics& dyn, const RunOptions& options,

@@ -5,6 +5,7 @@
 /// result per point as it finishes. Every point is computed independently from its index, so
 /// results do not depend on the thread count, the order or the shard.
 
+#include "gapchain/attractors.hpp"
 #include "gapchain/classify.hpp"
 #include "gapchain/run.hpp"
 #include "gapchain/simulation.hpp"
@@ -46,6 +47,9 @@ struct Study {
     long samples = 0;            ///< random / Latin hypercube: number of points
     unsigned long long seed = 1; ///< random / Latin hypercube seed
     KeptResults keep;
+    /// "attractors": starts per point for the design value F_m_max (attractors.hpp; the paper's
+    /// uniform row only), 0 (off) .. 10000; the starts are seeded by the point's index.
+    long attractor_starts = 0;
     std::string source; ///< file it came from
 };
 
@@ -78,6 +82,8 @@ struct SweepPointResult {
     ReducedParameters parameters;         ///< the point's reduced parameters
     SimulationResult simulation;          ///< F_m and the rest
     std::optional<Classification> regime; ///< if the study keeps the regime
+    std::optional<double> F_m_max;        ///< design value over the attractors (attractors > 0)
+    int attractors_found = 0;             ///< attractors found (attractors > 0)
     std::optional<double> F_m_newton;     ///< F_m in newtons, for physical scenes
 };
 

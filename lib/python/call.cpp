@@ -94,6 +94,15 @@ py::array_t<double> matrix(const std::vector<double>& data, std::size_t rows, st
     return out;
 }
 
+py::dict per_contact_dict(const std::vector<ContactMaximum>& contacts) {
+    using C = ContactMaximum;
+    py::dict d;
+    d["force"] = column<double>(contacts, [](const C& c) { return c.force; });
+    d["time"] = column<double>(contacts, [](const C& c) { return c.time; });
+    d["impacts"] = column<long>(contacts, [](const C& c) { return c.impacts; });
+    return d;
+}
+
 py::dict run_dict(const Scene& scene) {
     py::dict d;
     d["periods"] = scene.run.periods;

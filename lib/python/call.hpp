@@ -3,6 +3,7 @@
 // parsing, so validation and messages are the tools'), a long call run with the GIL released
 // that reports progress and stops on KeyboardInterrupt, and NumPy arrays of results.
 
+#include "gapchain/observers.hpp"
 #include "gapchain/run.hpp"
 #include "gapchain/scene.hpp"
 #include "gapchain/study.hpp"
@@ -78,6 +79,9 @@ py::array strings(const std::vector<T>& items, F field) {
         out.append(py::str(std::string(field(item))));
     return py::module_::import("numpy").attr("array")(out, py::arg("dtype") = "str");
 }
+
+// Contact maxima as a dict of arrays force, time, impacts (one entry per contact j = 0..Nm).
+py::dict per_contact_dict(const std::vector<ContactMaximum>& contacts);
 
 // The run options of a scene as a dict (periods, transient_periods, scheme, tolerance), for
 // results to say how they were made.

@@ -74,12 +74,7 @@ py::dict orbit_py(const py::object& scene_arg, int period, long transient, doubl
     d["stable"] = r.stable;
     d["liouville_error"] = r.liouville_error;
     d["F_m"] = r.F_m;
-    py::dict contacts;
-    using C = ContactMaximum;
-    contacts["force"] = column<double>(r.per_contact, [](const C& c) { return c.force; });
-    contacts["time"] = column<double>(r.per_contact, [](const C& c) { return c.time; });
-    contacts["impacts"] = column<long>(r.per_contact, [](const C& c) { return c.impacts; });
-    d["per_contact"] = contacts;
+    d["per_contact"] = per_contact_dict(r.per_contact);
     d["max_gap"] = array(r.max_gap);
     d["wall_time_s"] = r.wall_time_s;
     return d;

@@ -42,14 +42,6 @@ run (the run options), F_m_newton (physical scenes), and with trajectory=True tr
 Bad input raises ValueError naming the key; numerical outcomes are in "status". The GIL is
 released while it runs; Ctrl-C (KeyboardInterrupt) stops it.)";
 
-py::dict per_contact_dict(const std::vector<ContactMaximum>& contacts) {
-    py::dict d;
-    d["force"] = column<double>(contacts, [](const ContactMaximum& c) { return c.force; });
-    d["time"] = column<double>(contacts, [](const ContactMaximum& c) { return c.time; });
-    d["impacts"] = column<long>(contacts, [](const ContactMaximum& c) { return c.impacts; });
-    return d;
-}
-
 py::dict result_dict(const SimulationResult& r, const Scene& scene) {
     py::dict d;
     d["F_m"] = r.F_m;

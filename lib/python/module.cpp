@@ -3,6 +3,9 @@
 #include "call.hpp"
 
 PYBIND11_MODULE(_gapchain, m) {
+    // Each docstring starts with the call as the README writes it (keyword defaults, **keys).
+    pybind11::options options;
+    options.disable_function_signatures();
     m.doc() = "gapchain's compiled library functions (use the package gapchain).";
     m.attr("__version__") = GAPCHAIN_VERSION;
     gapchain::python::register_simulate(m);

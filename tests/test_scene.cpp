@@ -46,6 +46,18 @@ TEST_CASE("the documented keys are read, and --set overrides them") {
               parse_scheme(scheme));
 }
 
+TEST_CASE("short keys get their section; unknown short keys are refused by name") {
+    CHECK(scene_key("fc") == "model.fc");
+    CHECK(scene_key("f_r") == "excitation.f_r");
+    CHECK(scene_key("periods") == "run.periods");
+    CHECK(scene_key("trajectory_every") == "output.trajectory_every");
+    CHECK(scene_key("model.scatter.seed") == "model.scatter.seed");
+    CHECK_THROWS_WITH_AS(scene_key("springiness"), doctest::Contains("springiness: unknown key"),
+                         SceneError);
+    CHECK_THROWS_WITH_AS(scene_key("x", "parameters.x"),
+                         doctest::Contains("parameters.x: unknown key"), SceneError);
+}
+
 TEST_CASE("physical scenes convert to reduced parameters") {
     const Scene s = parse_scene(R"({"units": "physical",
         "model": {"Nm": 2, "M": 1.0, "K": 39.47841760435743, "C": 1.2566370614359172, "Kc": 3947.841760435743, "e": 0.01},

@@ -17,6 +17,8 @@
 #include <numbers>
 #include <sstream>
 #include <unistd.h>
+#include <utility>
+#include <vector>
 
 namespace gapchain {
 
@@ -423,6 +425,27 @@ Accelerogram read_accelerogram(const std::string& path, double unit) {
         throw SceneError(e.what());
     }
     return record;
+}
+
+std::string scene_key(const std::string& key, const std::string& context) {
+    if (key.find('.') != std::string::npos) return key;
+    static const std::vector<std::pair<std::string, std::vector<std::string>>> sections = {
+        {"model", {"Nm", "fc", "eps", "e_r"}},
+        {"excitation", {"f_r"}},
+        {"run",
+         {"periods", "transient_periods", "scheme", "tolerance", "step", "steady_state",
+          "steady_tolerance", "max_steady_period", "estimate_error", "max_work"}},
+        {"output", {"trajectory_every"}}};
+    std::string list;
+    for (const auto& [section, keys] : sections)
+        for (const auto& k : keys) {
+            if (k == key) return section + "." + key;
+            list += (list.empty() ? "" : ", ") + k;
+        }
+    throw SceneError((context.empty() ? key : context) +
+                     ": unknown key; a scene key is section.key (model.fc, excitation.f_r, "
+                     "run.periods, ...) or one of the short keys " +
+                     list);
 }
 
 Scene parse_scene(std::string_view text, const std::vector<std::string>& overrides,

@@ -125,11 +125,9 @@ KeptResults read_kept(const ojson& keep) {
     return kept;
 }
 
-/// The scene key a study axis names: Nm, fc, eps, e_r and f_r may be given short.
+/// The scene key a study axis names (short keys: scene_key()).
 std::string full_key(const std::string& key) {
-    if (key == "Nm" || key == "fc" || key == "eps" || key == "e_r") return "model." + key;
-    if (key == "f_r") return "excitation." + key;
-    return key;
+    return scene_key(key, "parameters." + key);
 }
 
 /// An axis value as the JSON number a scene file would hold: integral values as integers (so

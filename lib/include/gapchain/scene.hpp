@@ -87,6 +87,13 @@ Accelerogram read_accelerogram(const std::string& path, double unit = 1.0);
 /// (value parsed as JSON, else taken as a string; nan/inf are numbers). Throws SceneError.
 Scene load_scene(const std::string& path, const std::vector<std::string>& overrides = {});
 
+/// The dotted scene key ("section.key") of key. A dotted key is returned as it is; a short key
+/// gets its section: Nm, fc, eps, e_r (model.), f_r (excitation.), periods, transient_periods,
+/// scheme, tolerance, step, steady_state, steady_tolerance, max_steady_period, estimate_error,
+/// max_work (run.) and trajectory_every (output.). Any other key throws SceneError naming it
+/// (prefixed by context if not empty).
+std::string scene_key(const std::string& key, const std::string& context = "");
+
 /// Parses and validates scene text (see load_scene). Throws SceneError.
 Scene parse_scene(std::string_view text, const std::vector<std::string>& overrides = {},
                   const std::string& source = "<string>");

@@ -1,0 +1,320 @@
+// gapchain.modes, bifurcation, poincare, spectrum and lyapunov: the analyses of one row.
+#include "call.hpp"
+
+#include "gapchain/bifurcation.hpp"
+#include "gapchain/lyapunov.hpp"
+#include "gapchain/modes.hpp"
+#include "gapchain/poincare.hpp"
+#include "gapchain/signal.hpp"
+#include "gapchain/spectrum.hpp"
+
+#include <pybind11/stl.h>
+
+namespace gapchain::python {
+
+namespace {
+
+constexpr const char* modes_doc =
+    R"(modes(Nm=5, fc=100, *, count=0, end="lowest", method="auto", shapes=True, scene=None, **keys) -> dict
+
+Natural frequencies and mode shapes of the linear chain (e_r = 0, every contact acting both
+ways; paper Section 5) against the paper's approximation eq (26),
+f_ka = sqrt(1 + fc (k/Nm)^2 (4.935 - 2.935 (k/Nm)^1.81)): gapchain-modes in-process.
+
+Nm      bodies, 1 .. 1e6;  fc  stiffness ratio Kc/K, (0, 1e9]
+count   modes wanted, 0 .. Nm (0: all, dense solver only)
+end     "lowest" or "highest" modes;  method "auto", "dense" or "sparse"
+shapes  also return the mode shapes (phi^T M phi = 1)
+scene, **keys   a scene (dict or path) and scene keys for a non-uniform row.
+
+Returns a dict: mode (int k, 1-based), frequency (reduced f_k = f/f0), approx (eq 26),
+rel_error ((f_ka - f_k) / f_k), residual, shapes (Nm x modes float64, column k the shape of
+mode k), method, status ("converged", ...), iterations, wall_time_s.)";
+
+constexpr const char* bifurcation_doc =
+    R"(bifurcation(scene=None, *, param="f_r", from_=2.0, to=4.5, steps=500, mode="independent", transient=200, record=100, variable="u1", phase=0.0, threads=0, progress=None, **keys) -> dict
+
+Bifurcation diagram of the paper's uniform row over one parameter: at each value a transient
+is discarded, then the stroboscopic section points (phase in [0, 1) of the forcing period) of
+`variable` and F_m are recorded and the period detected. gapchain-bifurcation in-process.
+
+param     "f_r", "e_r", "fc" or "eps";  from_, to  first and last value;  steps >= 1 values
+mode      "independent" (each value from rest, in parallel) or "continuation" (up then down)
+transient discarded periods per value, >= 0;  record  recorded periods per value, >= 1
+variable  u1..uNm, v1..vNm, g0..gNm, F0..FNm;  threads OpenMP threads (0: all cores)
+progress  callable(fraction of values done)
+scene, **keys  the row (Nm, fc, eps, e_r, f_r; scheme and tolerance are used).
+
+Returns a dict of columns, one row per value and direction: value, direction ("up"/"down"),
+F_m, period (0: not periodic), points (section points recorded), status; and "points": a dict
+of columns value, direction, t (reduced time), point (the variable) of every section point;
+wall_time_s, threads_used, cancelled.)";
+
+constexpr const char* poincare_doc =
+    R"(poincare(scene=None, *, section="stroboscopic", phase=0.0, trigger="u1", level=0.0, direction="up", record=("u1", "v1"), progress=None, **keys) -> dict
+
+Poincare section of the scene's run (run.periods after run.transient_periods), points located
+on the dense output between steps: gapchain-poincare in-process.
+
+section    "stroboscopic" (once per forcing period at phase in [0, 1)) or "event" (trigger
+           crossing level in direction "up", "down" or "both")
+trigger    u1..uNm, v1..vNm or g0..gNm (event sections)
+record     names of the recorded values: u1..uNm, v1..vNm, g0..gNm, F0..FNm or t
+
+Returns a dict: t ((n,) reduced times), points ((n, len(record)) float64), names (record),
+status, message.)";
+
+constexpr const char* spectrum_doc =
+    R"(spectrum(scene=None, *, variable="u1", samples_per_period=32, segment=4096, window="hann", order=4, progress=None, **keys) -> dict
+
+Power spectral density (Welch, FFTW) of a variable over the scene's run.periods after
+run.transient_periods, peaks labelled as (sub)harmonics m/n f_r: gapchain-spectrum in-process.
+
+variable  u1..uNm, v1..vNm, g0..gNm or F0..FNm;  samples_per_period  >= 2
+segment   Welch segment length in samples, 8 .. 2^24 and at most the recorded samples
+window    "hann" or "rectangular";  order  largest subharmonic order n labelled, >= 1
+
+Returns a dict: frequency ((n,) cycles per reduced time unit), f_over_f_r, density
+(signal^2 per unit frequency), df, segments, broadband_share (power away from m/n f_r, [0, 1]),
+peaks (dict of columns frequency, power, numerator, denominator, label), sample_rate, status.)";
+
+constexpr const char* lyapunov_doc =
+    R"(lyapunov(scene=None, *, count=0, progress=None, **keys) -> dict
+
+Lyapunov exponents of a row (Benettin, QR every forcing period) over the scene's run.periods,
+averaged after run.transient_periods: gapchain-lyapunov in-process.
+
+count  exponents wanted, 0 .. 2 Nm (0: all 2 Nm)
+
+Returns a dict: exponents (largest first, per unit reduced time), errors (standard errors),
+sum (-4 pi eps Nm for the paper's row when count = 2 Nm), averaging_time, history (dict: t, and
+exponents (n x count) running estimates), status, message, wall_time_s.)";
+
+py::dict modes_py(const py::object& Nm, const py::object& fc, int count, const std::string& end,
+                  const std::string& method, bool shapes, const py::object& scene_arg,
+                  py::kwargs keys) {
+    keys["Nm"] = Nm;
+    keys["fc"] = fc;
+    const Scene scene = to_scene(scene_arg, keys);
+    ModalOptions o;
+    o.count = count;
+    o.end =
+        choice(end, "end", {"lowest", "highest"}) == 0 ? SpectrumEnd::lowest : SpectrumEnd::highest;
+    o.method = parse_eigen_method(method);
+    o.shapes = shapes;
+    const ModalResult r = Call().run([&] { return modal_analysis(scene.chain(), o); });
+    py::dict d;
+    d["mode"] = column<int>(r.mode_numbers, [](int k) { return k; });
+    d["frequency"] = array(r.frequencies);
+    d["approx"] = array(r.approx);
+    d["rel_error"] = array(r.rel_error);
+    d["residual"] = array(r.residuals);
+    const std::size_t n = static_cast<std::size_t>(scene.reduced.Nm);
+    std::vector<double> s(n * r.shapes.size());
+    for (std::size_t k = 0; k < r.shapes.size(); ++k)
+        for (std::size_t i = 0; i < n; ++i)
+            s[i * r.shapes.size() + k] = r.shapes[k][i];
+    d["shapes"] = matrix(s, r.shapes.empty() ? 0 : n, r.shapes.size());
+    d["method"] = std::string(to_string(r.method));
+    d["status"] = r.status == ModalStatus::converged       ? "converged"
+                  : r.status == ModalStatus::not_converged ? "not_converged"
+                                                           : "numerical_issue";
+    d["iterations"] = r.iterations;
+    d["wall_time_s"] = r.wall_time_s;
+    return d;
+}
+
+py::dict section_points_dict(const BifurcationResult& r) {
+    std::vector<std::pair<const BifurcationRow*, const SectionPoint*>> all;
+    for (const auto& row : r.rows)
+        for (const auto& p : row.points)
+            all.emplace_back(&row, &p);
+    using Item = std::pair<const BifurcationRow*, const SectionPoint*>;
+    py::dict d;
+    d["value"] = column<double>(all, [](const Item& i) { return i.first->value; });
+    d["direction"] = strings(all, [](const Item& i) { return to_string(i.first->direction); });
+    d["t"] = column<double>(all, [](const Item& i) { return i.second->t; });
+    d["point"] = column<double>(all, [](const Item& i) { return i.second->values.at(0); });
+    return d;
+}
+
+py::dict bifurcation_dict(const BifurcationResult& r) {
+    using Row = BifurcationRow;
+    py::dict d;
+    d["value"] = column<double>(r.rows, [](const Row& w) { return w.value; });
+    d["direction"] = strings(r.rows, [](const Row& w) { return to_string(w.direction); });
+    d["F_m"] = column<double>(r.rows, [](const Row& w) { return w.F_m; });
+    d["period"] = column<int>(r.rows, [](const Row& w) { return w.period; });
+    d["points"] = column<long>(r.rows, [](const Row& w) { return w.points.size(); });
+    d["status"] = strings(r.rows, [](const Row& w) { return to_string(w.status); });
+    d["section"] = section_points_dict(r);
+    d["wall_time_s"] = r.wall_time_s;
+    d["threads_used"] = r.threads_used;
+    d["cancelled"] = r.cancelled;
+    return d;
+}
+
+py::dict bifurcation_py(const py::object& scene_arg, const std::string& param, double from,
+                        double to, int steps, const std::string& mode, long transient, long record,
+                        const std::string& variable, double phase, int threads,
+                        const py::object& progress, const py::kwargs& keys) {
+    const Scene scene = to_scene(scene_arg, keys);
+    BifurcationOptions o;
+    o.parameter = parse_swept_parameter(param);
+    o.from = from, o.to = to, o.steps = steps;
+    o.mode = parse_sweep_mode(mode);
+    o.transient_periods = transient, o.record_periods = record;
+    o.section.record = {SectionVariable::parse(variable, scene.reduced.Nm, "variable")};
+    o.section.phase = phase;
+    o.threads = threads;
+    o.scheme = scene.run.scheme;
+    o.tolerance = scene.run.tolerance;
+    validate(o, scene.reduced);
+    Call call(progress);
+    const BifurcationResult r =
+        call.run([&] { return bifurcation(scene.reduced, o, call.callback()); });
+    return bifurcation_dict(r);
+}
+
+SectionSpec section_spec(const std::string& section, double phase, const std::string& trigger,
+                         double level, const std::string& direction,
+                         const std::vector<std::string>& record, int bodies) {
+    SectionSpec spec;
+    spec.kind = choice(section, "section", {"stroboscopic", "event"}) == 0
+                    ? SectionSpec::Kind::stroboscopic
+                    : SectionSpec::Kind::event;
+    spec.phase = phase;
+    spec.trigger = SectionVariable::parse(trigger, bodies, "trigger");
+    spec.level = level;
+    spec.direction =
+        static_cast<CrossingDirection>(choice(direction, "direction", {"up", "down", "both"}));
+    spec.record.clear();
+    for (const auto& name : record)
+        spec.record.push_back(SectionVariable::parse(name, bodies, "record"));
+    validate(spec, bodies);
+    return spec;
+}
+
+py::dict poincare_py(const py::object& scene_arg, const std::string& section, double phase,
+                     const std::string& trigger, double level, const std::string& direction,
+                     const std::vector<std::string>& record, const py::object& progress,
+                     const py::kwargs& keys) {
+    const Scene scene = to_scene(scene_arg, keys);
+    const Dynamics dyn = scene.dynamics();
+    const SectionSpec spec =
+        section_spec(section, phase, trigger, level, direction, record, dyn.bodies());
+    std::vector<double> t, values;
+    const SectionSink sink = [&](const SectionPoint& p) {
+        t.push_back(p.t);
+        values.insert(values.end(), p.values.begin(), p.values.end());
+    };
+    Call call(progress);
+    const RunOutcome outcome = call.run(
+        [&] { return take_section(dyn, scene.run, spec, sink, scene.initial, call.callback()); });
+    py::dict d;
+    d["t"] = array(t);
+    d["points"] = matrix(values, t.size(), record.size());
+    d["names"] = record;
+    d["status"] = std::string(to_string(outcome.status));
+    d["message"] = outcome.message;
+    return d;
+}
+
+py::dict peaks_dict(const SpectralContent& content) {
+    using Peak = SpectralPeak;
+    py::dict d;
+    d["frequency"] = column<double>(content.peaks, [](const Peak& p) { return p.frequency; });
+    d["power"] = column<double>(content.peaks, [](const Peak& p) { return p.power; });
+    d["numerator"] = column<int>(content.peaks, [](const Peak& p) { return p.numerator; });
+    d["denominator"] = column<int>(content.peaks, [](const Peak& p) { return p.denominator; });
+    d["label"] = strings(content.peaks, [](const Peak& p) { return p.label(); });
+    return d;
+}
+
+py::dict spectrum_py(const py::object& scene_arg, const std::string& variable,
+                     int samples_per_period, int segment, const std::string& window, int order,
+                     const py::object& progress, const py::kwargs& keys) {
+    const Scene scene = to_scene(scene_arg, keys);
+    const Dynamics dyn = scene.dynamics();
+    const SectionVariable var = SectionVariable::parse(variable, dyn.bodies(), "variable");
+    PsdOptions po;
+    po.window = parse_window(window);
+    po.segment_length = segment;
+    Call call(progress);
+    RunOutcome outcome;
+    const Signal signal = call.run([&] {
+        return record_signal(dyn, scene.run, var, samples_per_period, outcome, scene.initial,
+                             call.callback());
+    });
+    py::dict d;
+    d["status"] = std::string(to_string(outcome.status));
+    if (outcome.status != RunStatus::completed) return d;
+    po.sample_rate = signal.sample_rate;
+    const Psd psd = welch_psd(signal.values, po);
+    const SpectralContent content = spectral_content(psd, scene.reduced.f_r, order);
+    std::vector<double> ratio;
+    for (double f : psd.frequency)
+        ratio.push_back(f / scene.reduced.f_r);
+    d["frequency"] = array(psd.frequency);
+    d["f_over_f_r"] = array(ratio);
+    d["density"] = array(psd.density);
+    d["df"] = psd.df;
+    d["segments"] = psd.segments;
+    d["broadband_share"] = content.broadband_share;
+    d["peaks"] = peaks_dict(content);
+    d["sample_rate"] = signal.sample_rate;
+    return d;
+}
+
+py::dict lyapunov_py(const py::object& scene_arg, int count, const py::object& progress,
+                     const py::kwargs& keys) {
+    const Scene scene = to_scene(scene_arg, keys);
+    const Dynamics dyn = scene.dynamics();
+    const int k = count == 0 ? dyn.dimension() : count;
+    Call call(progress);
+    const LyapunovResult r =
+        call.run([&] { return chain_lyapunov(dyn, scene.run, k, scene.initial, call.callback()); });
+    py::dict d;
+    d["exponents"] = array(r.exponents);
+    d["errors"] = array(r.errors);
+    d["sum"] = r.sum;
+    d["averaging_time"] = r.averaging_time;
+    std::vector<double> running;
+    for (const auto& s : r.history)
+        running.insert(running.end(), s.exponents.begin(), s.exponents.end());
+    py::dict history;
+    history["t"] = column<double>(r.history, [](const LyapunovSample& s) { return s.t; });
+    history["exponents"] = matrix(running, r.history.size(), r.exponents.size());
+    d["history"] = history;
+    d["status"] = std::string(to_string(r.status));
+    d["message"] = r.message;
+    d["wall_time_s"] = r.wall_time_s;
+    return d;
+}
+
+} // namespace
+
+void register_analyses(py::module_& m) {
+    m.def("modes", &modes_py, modes_doc, py::arg("Nm") = 5, py::arg("fc") = 100, py::kw_only(),
+          py::arg("count") = 0, py::arg("end") = "lowest", py::arg("method") = "auto",
+          py::arg("shapes") = true, py::arg("scene") = py::none());
+    const BifurcationOptions b;
+    m.def("bifurcation", &bifurcation_py, bifurcation_doc, py::arg("scene") = py::none(),
+          py::kw_only(), py::arg("param") = "f_r", py::arg("from_") = b.from, py::arg("to") = b.to,
+          py::arg("steps") = b.steps, py::arg("mode") = "independent",
+          py::arg("transient") = b.transient_periods, py::arg("record") = b.record_periods,
+          py::arg("variable") = "u1", py::arg("phase") = 0.0, py::arg("threads") = 0,
+          py::arg("progress") = py::none());
+    m.def("poincare", &poincare_py, poincare_doc, py::arg("scene") = py::none(), py::kw_only(),
+          py::arg("section") = "stroboscopic", py::arg("phase") = 0.0, py::arg("trigger") = "u1",
+          py::arg("level") = 0.0, py::arg("direction") = "up",
+          py::arg("record") = std::vector<std::string>{"u1", "v1"},
+          py::arg("progress") = py::none());
+    m.def("spectrum", &spectrum_py, spectrum_doc, py::arg("scene") = py::none(), py::kw_only(),
+          py::arg("variable") = "u1", py::arg("samples_per_period") = 32, py::arg("segment") = 4096,
+          py::arg("window") = "hann", py::arg("order") = 4, py::arg("progress") = py::none());
+    m.def("lyapunov", &lyapunov_py, lyapunov_doc, py::arg("scene") = py::none(), py::kw_only(),
+          py::arg("count") = 0, py::arg("progress") = py::none());
+}
+
+} // namespace gapchain::python

@@ -1,0 +1,118 @@
+#include "call.hpp"
+
+#include <pybind11/stl.h>
+
+#include <cstring>
+
+namespace gapchain::python {
+
+namespace {
+
+// A keyword's value as the text of a "section.key=value" override: floats by repr (which
+// round-trips and writes nan / inf as the scene parser reads them), bools and integers as
+// JSON, everything else through json.dumps (strings, lists, dicts).
+std::string override_text(const py::handle& value) {
+    if (py::isinstance<py::bool_>(value)) return value.cast<bool>() ? "true" : "false";
+    const py::module_ numbers = py::module_::import("numbers");
+    if (py::isinstance(value, numbers.attr("Integral")))
+        return py::str(py::int_(py::reinterpret_borrow<py::object>(value)));
+    if (py::isinstance(value, numbers.attr("Real")))
+        return py::repr(py::float_(py::reinterpret_borrow<py::object>(value)));
+    return py::module_::import("json").attr("dumps")(value).cast<std::string>();
+}
+
+// A str or os.PathLike as a path string, or nothing.
+std::optional<std::string> as_path(const py::object& object) {
+    if (py::isinstance<py::str>(object)) return object.cast<std::string>();
+    if (py::hasattr(object, "__fspath__"))
+        return py::module_::import("os").attr("fspath")(object).cast<std::string>();
+    return std::nullopt;
+}
+
+std::string json_text(const py::object& dict) {
+    return py::module_::import("json").attr("dumps")(dict).cast<std::string>();
+}
+
+std::string type_name(const py::object& object) {
+    return py::str(py::type::of(object).attr("__name__"));
+}
+
+} // namespace
+
+Scene to_scene(const py::object& scene, const py::kwargs& keys) {
+    std::vector<std::string> overrides;
+    for (const auto& [key, value] : keys)
+        overrides.push_back(scene_key(key.cast<std::string>()) + "=" + override_text(value));
+    if (scene.is_none()) return parse_scene("{}", overrides, "<built-in>");
+    if (py::isinstance<py::dict>(scene)) return parse_scene(json_text(scene), overrides, "<dict>");
+    if (const auto path = as_path(scene)) return load_scene(*path, overrides);
+    throw SceneError("scene: must be None, a dict or the path of a scene file, got " +
+                     type_name(scene));
+}
+
+Study to_study(const py::object& study) {
+    if (py::isinstance<py::dict>(study)) return parse_study(json_text(study), "<dict>");
+    if (const auto path = as_path(study)) return load_study(*path);
+    throw SceneError("study: must be a dict or the path of a study file, got " + type_name(study));
+}
+
+ProgressCallback Call::callback() {
+    return [this](double fraction) {
+        py::gil_scoped_acquire acquire;
+        if (m_error) return false;
+        try {
+            if (PyErr_CheckSignals() != 0) throw py::error_already_set();
+            if (!m_progress.is_none()) m_progress(fraction);
+        } catch (py::error_already_set& e) {
+            m_error.emplace(std::move(e));
+            return false;
+        }
+        return true;
+    };
+}
+
+int choice(const std::string& value, const std::string& keyword,
+           const std::vector<std::string>& names) {
+    std::string list;
+    for (std::size_t i = 0; i < names.size(); ++i) {
+        if (names[i] == value) return static_cast<int>(i);
+        list += (i ? ", " : "") + names[i];
+    }
+    throw std::invalid_argument(keyword + ": must be one of " + list + ", got \"" + value + "\"");
+}
+
+py::array_t<double> array(const std::vector<double>& values) {
+    py::array_t<double> out(static_cast<py::ssize_t>(values.size()));
+    if (!values.empty())
+        std::memcpy(out.mutable_data(), values.data(), values.size() * sizeof(double));
+    return out;
+}
+
+py::array_t<double> matrix(const std::vector<double>& data, std::size_t rows, std::size_t cols) {
+    py::array_t<double> out({static_cast<py::ssize_t>(rows), static_cast<py::ssize_t>(cols)});
+    if (rows * cols > 0) std::memcpy(out.mutable_data(), data.data(), rows * cols * sizeof(double));
+    return out;
+}
+
+py::dict per_contact_dict(const std::vector<ContactMaximum>& contacts) {
+    using C = ContactMaximum;
+    py::dict d;
+    d["force"] = column<double>(contacts, [](const C& c) { return c.force; });
+    d["time"] = column<double>(contacts, [](const C& c) { return c.time; });
+    d["impacts"] = column<long>(contacts, [](const C& c) { return c.impacts; });
+    return d;
+}
+
+py::dict run_dict(const Scene& scene) {
+    py::dict d;
+    d["periods"] = scene.run.periods;
+    d["transient_periods"] = scene.run.transient_periods == auto_transient
+                                 ? py::object(py::str("auto"))
+                                 : py::object(py::int_(scene.run.transient_periods));
+    d["scheme"] = std::string(to_string(scene.run.scheme));
+    d["tolerance"] = scene.run.tolerance;
+    d["source"] = scene.source;
+    return d;
+}
+
+} // namespace gapchain::python

@@ -1,0 +1,96 @@
+#pragma once
+// What every binding shares: Python arguments -> a Scene (through the library's scene
+// parsing, so validation and messages are the tools'), a long call run with the GIL released
+// that reports progress and stops on KeyboardInterrupt, and NumPy arrays of results.
+
+#include "gapchain/observers.hpp"
+#include "gapchain/run.hpp"
+#include "gapchain/scene.hpp"
+#include "gapchain/study.hpp"
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <optional>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace gapchain::python {
+
+namespace py = pybind11;
+
+// The scene of a call: scene is None (the paper's defaults), a dict (a scene as JSON) or a
+// path (str or os.PathLike) to a scene file; keys are scene keys, short (fc, f_r, periods)
+// or dotted (run.tolerance), applied as overrides. Bad input throws SceneError.
+Scene to_scene(const py::object& scene, const py::kwargs& keys);
+
+// A study: a dict (the study as JSON) or a path to a study file. Bad input throws SceneError.
+Study to_study(const py::object& study);
+
+// One long library call: run() releases the GIL around it; callback() is the library's
+// ProgressCallback, which takes the GIL, checks for signals (KeyboardInterrupt) and calls the
+// user's progress(fraction) if given, and cancels the run on a Python exception, which run()
+// raises once the library has returned.
+class Call {
+public:
+    explicit Call(py::object progress = py::none()) : m_progress(std::move(progress)) {}
+    [[nodiscard]] ProgressCallback callback();
+    template <class F>
+    auto run(F&& body) {
+        auto result = [&] {
+            py::gil_scoped_release release;
+            return body();
+        }();
+        if (m_error) throw std::move(*m_error);
+        return result;
+    }
+
+private:
+    py::object m_progress;
+    std::optional<py::error_already_set> m_error;
+};
+
+// The index of value among names (a keyword's choices, for enums the library has no parser
+// for); std::invalid_argument naming the keyword otherwise.
+int choice(const std::string& value, const std::string& keyword,
+           const std::vector<std::string>& names);
+
+// 1-D float64 array of values.
+py::array_t<double> array(const std::vector<double>& values);
+// rows x cols float64 array of row-major data.
+py::array_t<double> matrix(const std::vector<double>& data, std::size_t rows, std::size_t cols);
+
+// One column of a table: field(item) of every item, as a 1-D array of R.
+template <class R, class T, class F>
+py::array_t<R> column(const std::vector<T>& items, F field) {
+    py::array_t<R> out(static_cast<py::ssize_t>(items.size()));
+    auto view = out.template mutable_unchecked<1>();
+    for (std::size_t i = 0; i < items.size(); ++i)
+        view(static_cast<py::ssize_t>(i)) = static_cast<R>(field(items[i]));
+    return out;
+}
+
+// One column of strings (a NumPy array of str).
+template <class T, class F>
+py::array strings(const std::vector<T>& items, F field) {
+    py::list out;
+    for (const auto& item : items)
+        out.append(py::str(std::string(field(item))));
+    return py::module_::import("numpy").attr("array")(out, py::arg("dtype") = "str");
+}
+
+// Contact maxima as a dict of arrays force, time, impacts (one entry per contact j = 0..Nm).
+py::dict per_contact_dict(const std::vector<ContactMaximum>& contacts);
+
+// The run options of a scene as a dict (periods, transient_periods, scheme, tolerance), for
+// results to say how they were made.
+py::dict run_dict(const Scene& scene);
+
+// Registration of each group of functions (one source file each).
+void register_simulate(py::module_& m);
+void register_analyses(py::module_& m);
+void register_regimes(py::module_& m);
+void register_orbits(py::module_& m);
+
+} // namespace gapchain::python

@@ -1,0 +1,60 @@
+"""gapchain: forced, damped rows of bodies with clearances, from Python.
+
+The compiled library (C++) in-process: scenes as dicts, keyword arguments or scene files,
+results as dicts of NumPy arrays. Reduced units as in the README: time t = f0 t_phys (in
+natural periods, f0 = sqrt(K/M) / (2 pi)), frequencies f_r = f / f0, forces F = k_j p_j /
+sqrt(fc) (F_m, eq 19); see help() of each function and docs/python.md.
+
+Functions: simulate, modes, bifurcation, poincare, spectrum, lyapunov, classify, regime_map,
+sweep, orbit, continuation. Bad input raises ValueError naming the key; numerical outcomes
+are in each result's "status".
+"""
+
+import sys
+
+
+def _import_numpy():
+    """NumPy comes from Debian's python3-numpy (tools/dev/deps.sh), installed into
+    /usr/lib/python3/dist-packages. A Python that does not search that folder (a pyenv or
+    venv CPython of the same major.minor version) is pointed at it once; nothing else is
+    added to sys.path."""
+    try:
+        import numpy
+        return numpy
+    except ImportError:
+        pass
+    import glob
+    debian = "/usr/lib/python3/dist-packages"
+    tag = "cpython-%d%d-" % sys.version_info[:2]
+    built_for_us = glob.glob(debian + "/numpy/core/_multiarray_umath." + tag + "*.so")
+    if built_for_us and debian not in sys.path:
+        sys.path.append(debian)
+        try:
+            import numpy
+            return numpy
+        except ImportError:
+            pass
+    raise ImportError("gapchain needs NumPy for this Python (%s): install Debian's "
+                      "python3-numpy (sudo apt-get install python3-numpy), which serves the "
+                      "CPython version of /usr/bin/python3" % sys.executable)
+
+
+_import_numpy()
+
+from ._gapchain import (  # noqa: E402  (after NumPy is importable)
+    __version__,
+    bifurcation,
+    classify,
+    continuation,
+    lyapunov,
+    modes,
+    orbit,
+    poincare,
+    regime_map,
+    simulate,
+    spectrum,
+    sweep,
+)
+
+__all__ = ["simulate", "modes", "bifurcation", "poincare", "spectrum", "lyapunov", "classify",
+           "regime_map", "sweep", "orbit", "continuation", "__version__"]

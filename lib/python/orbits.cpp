@@ -1,0 +1,147 @@
+// gapchain.orbit and continuation: periodic orbits by Newton shooting, and their branches.
+#include "call.hpp"
+
+#include "gapchain/continuation.hpp"
+#include "gapchain/orbit.hpp"
+
+#include <pybind11/complex.h>
+#include <pybind11/stl.h>
+
+namespace gapchain::python {
+
+namespace {
+
+constexpr const char* orbit_doc =
+    R"(orbit(scene=None, *, period=1, transient=200, tolerance=1e-10, max_iterations=40, scheme="exact", **keys) -> dict
+
+A periodic orbit of the row by Newton shooting on the k-period stroboscopic map x = P^k(x)
+(phase 0 of the forcing), started after a plain run of `transient` periods from the scene's
+initial state; Floquet multipliers from the exact tangent flow: gapchain-orbit in-process.
+Harmonic forcing and the linear contact law only.
+
+period          k, forcing periods of the orbit, 1 .. 1000
+transient       periods run before the search, 0 .. 1e7
+tolerance       residual |P^k(x) - x| / (1 + |x|) to reach, 1e-14 .. 1e-3
+max_iterations  Newton iterations, 1 .. 1000;  scheme  integration of P^k (default exact)
+
+Returns a dict: status ("converged", "not_converged", "singular", "non_finite"), message,
+period, minimal_period, state (2 Nm: u then v at phase 0), residual, iterations,
+residual_history, multipliers (complex128, largest modulus first), max_multiplier, stable,
+liouville_error, F_m (over one orbit), per_contact (dict: force, time, impacts), max_gap,
+wall_time_s.)";
+
+constexpr const char* continuation_doc =
+    R"(continuation(scene=None, *, param="f_r", from_=2.15, to=4.5, period=1, step=0.01, max_step=0.05, max_points=2000, follow_doublings=False, max_branches=6, transient=200, progress=None, **keys) -> dict
+
+Pseudo-arclength continuation of the paper's uniform row's periodic orbits in one reduced
+parameter, through folds, with folds, period doublings, Neimark-Sacker and grazing points
+located on the way: gapchain-continue in-process.
+
+param       "f_r", "e_r", "fc" or "eps";  from_  start value (the first orbit is found there)
+to          the branch ends when the parameter leaves [from_, to]
+period      k of the first branch, 1 .. 1000;  step  first arclength step, (0, 1]
+max_step    largest arclength step, [step, 1];  max_points  points per branch, 1 .. 1e6
+follow_doublings  switch to the doubled branch at each period doubling (max_branches, 1 .. 64)
+transient   periods run before the first Newton search, 0 .. 1e7
+progress    callable(fraction)
+
+Returns a dict: points (dict of columns value, period, F_m, u1, stable, max_multiplier, branch),
+special (dict of columns type, value, period, F_m, branch, contact (-1 unless grazing)),
+branch_end (why each branch ended), shootings, cancelled, wall_time_s.)";
+
+py::dict orbit_py(const py::object& scene_arg, int period, long transient, double tolerance,
+                  int max_iterations, const std::string& scheme, const py::kwargs& keys) {
+    const Scene scene = to_scene(scene_arg, keys);
+    const Dynamics dyn = scene.dynamics();
+    OrbitOptions o;
+    o.period = period;
+    o.tolerance = tolerance;
+    o.max_iterations = max_iterations;
+    o.scheme = parse_scheme(scheme);
+    const PeriodicOrbit r =
+        Call().run([&] { return find_periodic_orbit_after(dyn, o, scene.initial, transient); });
+    py::dict d;
+    d["status"] = std::string(to_string(r.status));
+    d["message"] = r.message;
+    d["period"] = r.period;
+    d["minimal_period"] = r.minimal_period;
+    d["state"] = array(r.state);
+    d["residual"] = r.residual;
+    d["iterations"] = r.iterations;
+    d["residual_history"] = array(r.residual_history);
+    d["multipliers"] = py::array(py::cast(r.multipliers));
+    d["max_multiplier"] = r.max_multiplier;
+    d["stable"] = r.stable;
+    d["liouville_error"] = r.liouville_error;
+    d["F_m"] = r.F_m;
+    d["per_contact"] = per_contact_dict(r.per_contact);
+    d["max_gap"] = array(r.max_gap);
+    d["wall_time_s"] = r.wall_time_s;
+    return d;
+}
+
+py::dict continuation_dict(const ContinuationResult& r) {
+    using P = BranchPoint;
+    using S = SpecialPoint;
+    py::dict points;
+    points["value"] = column<double>(r.points, [](const P& p) { return p.value; });
+    points["period"] = column<int>(r.points, [](const P& p) { return p.period; });
+    points["F_m"] = column<double>(r.points, [](const P& p) { return p.F_m; });
+    points["u1"] = column<double>(r.points, [](const P& p) { return p.u1; });
+    points["stable"] = column<bool>(r.points, [](const P& p) { return p.stable; });
+    points["max_multiplier"] =
+        column<double>(r.points, [](const P& p) { return p.max_multiplier; });
+    points["branch"] = column<int>(r.points, [](const P& p) { return p.branch; });
+    py::dict special;
+    special["type"] = strings(r.special, [](const S& s) { return to_string(s.type); });
+    special["value"] = column<double>(r.special, [](const S& s) { return s.value; });
+    special["period"] = column<int>(r.special, [](const S& s) { return s.period; });
+    special["F_m"] = column<double>(r.special, [](const S& s) { return s.F_m; });
+    special["branch"] = column<int>(r.special, [](const S& s) { return s.branch; });
+    special["contact"] = column<int>(r.special, [](const S& s) { return s.contact; });
+    py::dict d;
+    d["points"] = points;
+    d["special"] = special;
+    d["branch_end"] = r.branch_end;
+    d["shootings"] = r.shootings;
+    d["cancelled"] = r.cancelled;
+    d["wall_time_s"] = r.wall_time_s;
+    return d;
+}
+
+py::dict continuation_py(const py::object& scene_arg, const std::string& param, double from,
+                         double to, int period, double step, double max_step, int max_points,
+                         bool follow_doublings, int max_branches, long transient,
+                         const py::object& progress, const py::kwargs& keys) {
+    const Scene scene = to_scene(scene_arg, keys);
+    ContinuationOptions o;
+    o.parameter = parse_swept_parameter(param);
+    o.from = from, o.to = to, o.period = period;
+    o.step = step, o.max_step = max_step, o.max_points = max_points;
+    o.follow_doublings = follow_doublings, o.max_branches = max_branches;
+    o.transient_periods = transient;
+    validate(o);
+    Call call(progress);
+    const ContinuationResult r =
+        call.run([&] { return continue_orbits(scene.reduced, o, scene.initial, call.callback()); });
+    return continuation_dict(r);
+}
+
+} // namespace
+
+void register_orbits(py::module_& m) {
+    const OrbitOptions o;
+    m.def("orbit", &orbit_py, orbit_doc, py::arg("scene") = py::none(), py::kw_only(),
+          py::arg("period") = o.period, py::arg("transient") = 200,
+          py::arg("tolerance") = o.tolerance, py::arg("max_iterations") = o.max_iterations,
+          py::arg("scheme") = "exact");
+    const ContinuationOptions c;
+    m.def("continuation", &continuation_py, continuation_doc, py::arg("scene") = py::none(),
+          py::kw_only(), py::arg("param") = "f_r", py::arg("from_") = c.from, py::arg("to") = c.to,
+          py::arg("period") = c.period, py::arg("step") = c.step, py::arg("max_step") = c.max_step,
+          py::arg("max_points") = c.max_points, py::arg("follow_doublings") = c.follow_doublings,
+          py::arg("max_branches") = c.max_branches, py::arg("transient") = c.transient_periods,
+          py::arg("progress") = py::none());
+}
+
+} // namespace gapchain::python

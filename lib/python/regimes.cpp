@@ -1,0 +1,216 @@
+// gapchain.classify, regime_map and sweep: regimes of points and maps, parametric studies.
+#include "call.hpp"
+
+#include "gapchain/classify.hpp"
+#include "gapchain/study.hpp"
+
+#include <pybind11/stl.h>
+
+#include <algorithm>
+
+namespace gapchain::python {
+
+namespace {
+
+constexpr const char* classify_doc =
+    R"(classify(scene=None, *, transient=100, record=300, confirm=True, **keys) -> dict
+
+Classify the paper's uniform row at one point as "no-contact", "periodic" (with its period),
+"quasi-periodic" or "chaotic", with the evidence: gapchain-classify in-process.
+
+transient  settling periods (ended early by a periodic steady state), >= 0
+record     periods of evidence for non-periodic motion, >= 10
+confirm    confirm a periodic regime by Newton shooting (period = the orbit's minimal period)
+scene, **keys  the row (Nm, fc, eps, e_r, f_r; scheme and tolerance are used).
+
+Returns a dict: regime, period (forcing periods; 0 if not periodic or longer than 16),
+lambda_max (largest Lyapunov exponent per unit reduced time) and lambda_max_error,
+distinct_points, section_points, broadband_share ([0, 1]), F_m, stopped_at_steady_state,
+newton_confirmed, max_multiplier, periods_run, status, wall_time_s.)";
+
+constexpr const char* regime_map_doc =
+    R"(regime_map(scene=None, *, e_r, f_r, transient=100, record=300, confirm=True, threads=0, progress=None, **keys) -> dict
+
+Classify every (e_r, f_r) of a grid around the scene's row, in parallel (Fig 2 of the paper):
+gapchain-classify --map in-process. Results do not depend on the thread count.
+
+e_r, f_r   the row and column values: sequences of numbers (e.g. numpy.linspace(0, 1.5, 30))
+threads    OpenMP threads (0: all cores);  progress  callable(fraction of cells done)
+transient, record, confirm  as in classify().
+
+Returns a dict: e_r ((rows,)), f_r ((cols,)), and (rows x cols) arrays regime (str), code
+(0 no-contact, 1 periodic, 2 quasi-periodic, 3 chaotic), period, F_m, lambda_max,
+lambda_max_error, distinct_points, broadband_share, status; wall_time_s, threads_used,
+cancelled.)";
+
+constexpr const char* sweep_doc = R"(sweep(study, *, threads=0, progress=None) -> dict
+
+Run a parametric study (docs/sweep.md): a base scene, axes of values for scene keys and a
+sampling of their product; every point simulated (and classified if the study keeps
+"regime"), in parallel: gapchain-sweep in-process, without the results file.
+
+study     a study dict ({"scene": {...}, "parameters": {"fc": [1, 10], "e_r": {"lin":
+          [0, 1.5, 61]}}, "sample": ..., "keep": [...]}) or the path of a study file
+threads   OpenMP threads (0: all cores);  progress  callable(fraction of points done)
+
+Returns a dict of columns in index order: index, one column per axis (named by its key), Nm,
+fc, eps, e_r, f_r, F_m, F_m_error, status, steady_state_period (0: none), wall_time_s; with
+"per_body" kept, per_body (points x Nm x 2); with "regime" kept, regime, period, lambda_max,
+lambda_max_error; F_m_newton for physical scenes; and cancelled.)";
+
+ClassifyOptions classify_options(const Scene& scene, long transient, long record, bool confirm) {
+    ClassifyOptions o;
+    o.transient_periods = transient;
+    o.record_periods = record;
+    o.confirm_by_newton = confirm;
+    o.scheme = scene.run.scheme;
+    o.tolerance = scene.run.tolerance;
+    validate(o);
+    return o;
+}
+
+py::dict classify_py(const py::object& scene_arg, long transient, long record, bool confirm,
+                     const py::kwargs& keys) {
+    const Scene scene = to_scene(scene_arg, keys);
+    const ClassifyOptions o = classify_options(scene, transient, record, confirm);
+    const Classification c = Call().run([&] { return classify(scene.reduced, o); });
+    py::dict d;
+    d["regime"] = std::string(to_string(c.regime));
+    d["period"] = c.period;
+    d["lambda_max"] = c.lambda_max;
+    d["lambda_max_error"] = c.lambda_max_error;
+    d["distinct_points"] = c.distinct_points;
+    d["section_points"] = c.section_points;
+    d["broadband_share"] = c.broadband_share;
+    d["F_m"] = c.F_m;
+    d["stopped_at_steady_state"] = c.stopped_at_steady_state;
+    d["newton_confirmed"] = c.newton_confirmed;
+    d["max_multiplier"] = c.max_multiplier;
+    d["periods_run"] = c.periods_run;
+    d["status"] = std::string(to_string(c.status));
+    d["wall_time_s"] = c.wall_time_s;
+    return d;
+}
+
+// A field of every cell as a rows x cols array.
+template <class R, class F>
+py::array grid(const RegimeMap& m, F field) {
+    return column<R>(m.cells, field).attr("reshape")(m.e_r.size(), m.f_r.size());
+}
+
+py::dict regime_map_dict(const RegimeMap& m) {
+    using C = Classification;
+    py::dict d;
+    d["e_r"] = array(m.e_r);
+    d["f_r"] = array(m.f_r);
+    d["regime"] = strings(m.cells, [](const C& c) {
+                      return to_string(c.regime);
+                  }).attr("reshape")(m.e_r.size(), m.f_r.size());
+    d["code"] = grid<int>(m, [](const C& c) { return static_cast<int>(c.regime); });
+    d["period"] = grid<int>(m, [](const C& c) { return c.period; });
+    d["F_m"] = grid<double>(m, [](const C& c) { return c.F_m; });
+    d["lambda_max"] = grid<double>(m, [](const C& c) { return c.lambda_max; });
+    d["lambda_max_error"] = grid<double>(m, [](const C& c) { return c.lambda_max_error; });
+    d["distinct_points"] = grid<int>(m, [](const C& c) { return c.distinct_points; });
+    d["broadband_share"] = grid<double>(m, [](const C& c) { return c.broadband_share; });
+    d["status"] = strings(m.cells, [](const C& c) {
+                      return to_string(c.status);
+                  }).attr("reshape")(m.e_r.size(), m.f_r.size());
+    d["wall_time_s"] = m.wall_time_s;
+    d["threads_used"] = m.threads_used;
+    d["cancelled"] = m.cancelled;
+    return d;
+}
+
+py::dict regime_map_py(const py::object& scene_arg, const std::vector<double>& e_r,
+                       const std::vector<double>& f_r, long transient, long record, bool confirm,
+                       int threads, const py::object& progress, const py::kwargs& keys) {
+    const Scene scene = to_scene(scene_arg, keys);
+    const ClassifyOptions o = classify_options(scene, transient, record, confirm);
+    Call call(progress);
+    const RegimeMap m =
+        call.run([&] { return regime_map(scene.reduced, e_r, f_r, o, threads, call.callback()); });
+    return regime_map_dict(m);
+}
+
+void axis_columns(py::dict& d, const Study& study, const std::vector<SweepPointResult>& rows) {
+    using R = SweepPointResult;
+    for (std::size_t a = 0; a < study.axes.size(); ++a)
+        d[py::str(study.axes[a].key)] =
+            column<double>(rows, [a](const R& r) { return r.values[a]; });
+    d["Nm"] = column<int>(rows, [](const R& r) { return r.parameters.Nm; });
+    d["fc"] = column<double>(rows, [](const R& r) { return r.parameters.fc; });
+    d["eps"] = column<double>(rows, [](const R& r) { return r.parameters.eps; });
+    d["e_r"] = column<double>(rows, [](const R& r) { return r.parameters.e_r; });
+    d["f_r"] = column<double>(rows, [](const R& r) { return r.parameters.f_r; });
+}
+
+void kept_columns(py::dict& d, const Study& study, const std::vector<SweepPointResult>& rows) {
+    using R = SweepPointResult;
+    if (study.keep.per_body) {
+        std::vector<double> forces;
+        for (const auto& r : rows)
+            for (const auto& b : r.simulation.per_body)
+                forces.insert(forces.end(), {b.left, b.right});
+        const std::size_t n = rows.empty() ? 0 : rows.front().simulation.per_body.size();
+        d["per_body"] = matrix(forces, rows.size(), n * 2).attr("reshape")(rows.size(), n, 2);
+    }
+    if (study.keep.regime) {
+        d["regime"] = strings(rows, [](const R& r) { return to_string(r.regime->regime); });
+        d["period"] = column<int>(rows, [](const R& r) { return r.regime->period; });
+        d["lambda_max"] = column<double>(rows, [](const R& r) { return r.regime->lambda_max; });
+        d["lambda_max_error"] =
+            column<double>(rows, [](const R& r) { return r.regime->lambda_max_error; });
+    }
+    if (!rows.empty() && rows.front().F_m_newton)
+        d["F_m_newton"] = column<double>(rows, [](const R& r) { return *r.F_m_newton; });
+}
+
+py::dict sweep_dict(const Study& study, std::vector<SweepPointResult> rows) {
+    using R = SweepPointResult;
+    std::sort(rows.begin(), rows.end(), [](const R& a, const R& b) { return a.index < b.index; });
+    py::dict d;
+    d["index"] = column<long>(rows, [](const R& r) { return r.index; });
+    axis_columns(d, study, rows);
+    d["F_m"] = column<double>(rows, [](const R& r) { return r.simulation.F_m; });
+    d["F_m_error"] = column<double>(rows, [](const R& r) { return r.simulation.F_m_error; });
+    d["status"] = strings(rows, [](const R& r) { return to_string(r.simulation.status); });
+    d["steady_state_period"] =
+        column<int>(rows, [](const R& r) { return r.simulation.steady_state_period.value_or(0); });
+    d["wall_time_s"] = column<double>(rows, [](const R& r) { return r.simulation.wall_time_s; });
+    kept_columns(d, study, rows);
+    return d;
+}
+
+py::dict sweep_py(const py::object& study_arg, int threads, const py::object& progress) {
+    const Study study = to_study(study_arg);
+    SweepSelection selection;
+    selection.threads = threads;
+    std::vector<SweepPointResult> rows;
+    Call call(progress);
+    const SweepEnd end = call.run([&] {
+        return run_study(
+            study, selection, [&rows](const SweepPointResult& r) { rows.push_back(r); },
+            call.callback());
+    });
+    py::dict d = sweep_dict(study, std::move(rows));
+    d["cancelled"] = end == SweepEnd::cancelled;
+    return d;
+}
+
+} // namespace
+
+void register_regimes(py::module_& m) {
+    const ClassifyOptions o;
+    m.def("classify", &classify_py, classify_doc, py::arg("scene") = py::none(), py::kw_only(),
+          py::arg("transient") = o.transient_periods, py::arg("record") = o.record_periods,
+          py::arg("confirm") = o.confirm_by_newton);
+    m.def("regime_map", &regime_map_py, regime_map_doc, py::arg("scene") = py::none(),
+          py::kw_only(), py::arg("e_r"), py::arg("f_r"), py::arg("transient") = o.transient_periods,
+          py::arg("record") = o.record_periods, py::arg("confirm") = o.confirm_by_newton,
+          py::arg("threads") = 0, py::arg("progress") = py::none());
+    m.def("sweep", &sweep_py, sweep_doc, py::arg("study"), py::kw_only(), py::arg("threads") = 0,
+          py::arg("progress") = py::none());
+}
+
+} // namespace gapchain::python

@@ -1,0 +1,115 @@
+// gapchain.simulate: one simulation of a row (gapchain-sim in-process).
+#include "call.hpp"
+
+#include "gapchain/simulation.hpp"
+
+namespace gapchain::python {
+
+namespace {
+
+constexpr const char* simulate_doc =
+    R"(simulate(scene=None, *, trajectory=False, progress=None, **keys) -> dict
+
+Simulate a forced, damped row of bodies with clearances and return the maximal reduced impact
+force F_m (eq 19) with its error estimate: gapchain-sim in-process, the same numbers.
+
+scene     None (the paper's defaults), a scene dict, or the path of a scene file (JSON, as in
+          data/scenes/). Keys given as keywords override it.
+**keys    scene keys, short or dotted (run.tolerance=1e-6 as **{"run.tolerance": 1e-6}):
+            Nm      bodies, 1 .. 1e6 (default 5)
+            fc      stiffness ratio Kc/K, (0, 1e9] (100)
+            eps     damping ratio, [0, 100] (0.5)
+            e_r     reduced clearance, [0, 1e6] (0.5)
+            f_r     reduced forcing frequency f/f0, (0, 1e4] (1.0)
+            periods forcing periods, 1 .. 1e9 (1000); transient_periods "auto" or
+                    0 .. periods-1; scheme "auto", "rk4", "rkf45", "rk8pd", "exact", ...;
+                    tolerance relative accuracy of F_m, 1e-12 .. 0.1 (1e-4); step, steady_state,
+                    steady_tolerance, max_steady_period, estimate_error, max_work;
+                    trajectory_every (output.) decimation in steps, >= 1.
+trajectory  also return the (decimated) trajectory of the main run.
+progress    callable(fraction in [0, 1]), called as the run advances.
+
+Returns a dict: F_m and F_m_error (reduced force; physically F = F_m M a0 sqrt(fc)),
+F_m_error_method, F_m_contact (j = 0 left wall .. Nm right wall, -1 no contact), F_m_time
+(reduced time), contact (bool), per_body (Nm x 2 float64: max force on the left and right of
+each body), per_body_time (Nm x 2), per_contact (dict of arrays force, time, impacts, Nm + 1
+entries), steady_state_period (int or None), steady_state_time, status ("completed",
+"steady_state", "non_finite", "cancelled"), message, scheme, step, periods_simulated,
+transient_periods_used, steps, evaluations, final_state (2 Nm: u then v), wall_time_s,
+run (the run options), F_m_newton (physical scenes), and with trajectory=True trajectory =
+{"t": (n,) float64, "state": (n, 2 Nm) float64 with columns u1..uNm, v1..vNm}.
+
+Bad input raises ValueError naming the key; numerical outcomes are in "status". The GIL is
+released while it runs; Ctrl-C (KeyboardInterrupt) stops it.)";
+
+py::dict result_dict(const SimulationResult& r, const Scene& scene) {
+    py::dict d;
+    d["F_m"] = r.F_m;
+    d["F_m_error"] = r.F_m_error;
+    d["F_m_error_method"] = std::string(to_string(r.error_method));
+    d["F_m_contact"] = r.F_m_contact;
+    d["F_m_time"] = r.F_m_time;
+    d["contact"] = r.contact;
+    std::vector<double> forces, times;
+    for (const auto& b : r.per_body) {
+        forces.insert(forces.end(), {b.left, b.right});
+        times.insert(times.end(), {b.t_left, b.t_right});
+    }
+    d["per_body"] = matrix(forces, r.per_body.size(), 2);
+    d["per_body_time"] = matrix(times, r.per_body.size(), 2);
+    d["per_contact"] = per_contact_dict(r.per_contact);
+    d["steady_state_period"] = r.steady_state_period ? py::object(py::int_(*r.steady_state_period))
+                                                     : py::object(py::none());
+    d["steady_state_time"] =
+        r.steady_state_time ? py::object(py::float_(*r.steady_state_time)) : py::object(py::none());
+    d["status"] = std::string(to_string(r.status));
+    d["message"] = r.message;
+    d["scheme"] = std::string(to_string(r.scheme));
+    d["step"] = r.step;
+    d["periods_simulated"] = r.periods_simulated;
+    d["transient_periods_used"] = r.transient_periods_used;
+    d["steps"] = r.steps;
+    d["evaluations"] = r.evaluations;
+    d["final_state"] = array(r.final_state);
+    d["wall_time_s"] = r.wall_time_s;
+    d["run"] = run_dict(scene);
+    if (scene.physical) d["F_m_newton"] = force_in_newtons(r.F_m, *scene.physical);
+    return d;
+}
+
+py::dict simulate_py(const py::object& scene_arg, bool trajectory, const py::object& progress,
+                     const py::kwargs& keys) {
+    const Scene scene = to_scene(scene_arg, keys);
+    const Dynamics dyn = scene.dynamics();
+    Call call(progress);
+    std::vector<double> t, states;
+    SimulationHooks hooks;
+    hooks.progress = call.callback();
+    if (trajectory) {
+        const int n = dyn.dimension();
+        hooks.trajectory = [&t, &states, n](double time, const double* y) {
+            t.push_back(time);
+            states.insert(states.end(), y, y + n);
+        };
+        hooks.trajectory_every = scene.trajectory_every;
+    }
+    const SimulationResult r =
+        call.run([&] { return simulate(dyn, scene.run, scene.initial, hooks); });
+    py::dict d = result_dict(r, scene);
+    if (trajectory) {
+        py::dict tr;
+        tr["t"] = array(t);
+        tr["state"] = matrix(states, t.size(), static_cast<std::size_t>(dyn.dimension()));
+        d["trajectory"] = tr;
+    }
+    return d;
+}
+
+} // namespace
+
+void register_simulate(py::module_& m) {
+    m.def("simulate", &simulate_py, simulate_doc, py::arg("scene") = py::none(), py::kw_only(),
+          py::arg("trajectory") = false, py::arg("progress") = py::none());
+}
+
+} // namespace gapchain::python

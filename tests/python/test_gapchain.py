@@ -1,0 +1,173 @@
+"""The Python module against the C++ tool gapchain-sim (an independent program writing a JSON
+file), and its contract: arrays, errors naming the key, the GIL released, progress and
+KeyboardInterrupt. Run by CTest (tests/CMakeLists.txt) with PYTHONPATH at the built package
+and GAPCHAIN_SIM / GAPCHAIN_SCENES set."""
+
+import glob
+import json
+import math
+import os
+import signal
+import subprocess
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import gapchain
+
+SIM = os.environ.get("GAPCHAIN_SIM", "")
+SCENES = sorted(glob.glob(os.path.join(os.environ.get("GAPCHAIN_SCENES", ""), "*.json")))
+SHORT = dict(periods=60, transient_periods=20)
+
+
+def sim_tool(scene_path, tmp_path):
+    out = tmp_path / "r.json"
+    subprocess.run([SIM, scene_path, "--out", str(out), "--quiet"], check=True)
+    return json.loads(out.read_text())
+
+
+def test_the_shipped_scenes_are_found():
+    assert SIM and os.access(SIM, os.X_OK), "GAPCHAIN_SIM must name the built gapchain-sim"
+    assert len(SCENES) >= 6, "GAPCHAIN_SCENES must name data/scenes"
+
+
+@pytest.mark.parametrize("scene_path", SCENES, ids=os.path.basename)
+def test_simulate_equals_gapchain_sim_bit_for_bit(scene_path, tmp_path):
+    # report.cpp writes doubles with nlohmann::json, which prints the shortest text that reads
+    # back as the same double, so == here is equality of the bits.
+    tool = sim_tool(scene_path, tmp_path)
+    r = gapchain.simulate(scene_path)
+    assert r["F_m"] == tool["F_m"]
+    assert r["F_m_error"] == tool["F_m_error"]
+    assert r["F_m_contact"] == tool["F_m_contact"]
+    assert r["status"] == tool["status"]
+    assert r["steady_state_period"] == tool["steady_state_period"]
+    assert r["per_contact"]["force"].tolist() == [c["force"] for c in tool["per_contact"]]
+    assert r["per_contact"]["time"].tolist() == [c["time"] for c in tool["per_contact"]]
+    assert r["per_contact"]["impacts"].tolist() == [c["impacts"] for c in tool["per_contact"]]
+    assert r["per_body"].tolist() == [[b["left"], b["right"]] for b in tool["per_body"]]
+    if "F_m_newton" in tool:
+        assert r["F_m_newton"] == tool["F_m_newton"]
+
+
+def test_a_dict_and_keywords_give_the_scene_file_numbers(tmp_path):
+    scene = {"model": {"Nm": 5, "fc": 100, "e_r": 0.5}, "excitation": {"f_r": 1.0}}
+    path = tmp_path / "s.json"
+    path.write_text(json.dumps(scene))
+    tool = sim_tool(str(path), tmp_path)
+    assert gapchain.simulate(scene)["F_m"] == tool["F_m"]
+    assert gapchain.simulate(Nm=5, fc=100, e_r=0.5, f_r=1.0)["F_m"] == tool["F_m"]
+    assert gapchain.simulate(path)["F_m"] == tool["F_m"]  # os.PathLike
+
+
+def test_result_arrays_have_their_shapes_and_dtypes():
+    r = gapchain.simulate(Nm=4, fc=60, e_r=0.06, f_r=3.0, trajectory=True, **SHORT)
+    assert r["per_body"].shape == (4, 2) and r["per_body"].dtype == np.float64
+    assert r["per_contact"]["force"].shape == (5,)
+    assert r["per_contact"]["impacts"].dtype.kind == "i"
+    t, state = r["trajectory"]["t"], r["trajectory"]["state"]
+    assert state.shape == (t.shape[0], 8) and state.dtype == np.float64
+    assert np.all(np.diff(t) > 0)
+    m = gapchain.modes(6, 50, count=3)
+    assert m["frequency"].shape == (3,) and m["shapes"].shape == (6, 3)
+    assert m["mode"].tolist() == [1, 2, 3]
+    rm = gapchain.regime_map(Nm=2, e_r=[0.0, 0.5], f_r=[0.5, 1.0, 2.0], transient=10, record=20)
+    assert rm["code"].shape == (2, 3) and rm["F_m"].dtype == np.float64
+    assert rm["regime"].shape == (2, 3) and rm["regime"].dtype.kind == "U"
+
+
+def test_modes_match_the_paper_approximation_formula():
+    # eq (26), written out here independently of the library.
+    Nm, fc = 5, 100
+    m = gapchain.modes(Nm, fc)
+    k = np.arange(1, Nm + 1) / Nm
+    f_ka = np.sqrt(1 + fc * k**2 * (4.935 - 2.935 * k**1.81))
+    assert np.allclose(m["approx"], f_ka, rtol=1e-14)
+    assert np.allclose(m["rel_error"], (f_ka - m["frequency"]) / m["frequency"], rtol=1e-12)
+    # A single body between two walls: f^2 = 1 + 2 fc (both contacts acting), exactly.
+    assert gapchain.modes(1, 37)["frequency"][0] == pytest.approx(math.sqrt(75), rel=1e-14)
+
+
+@pytest.mark.parametrize("keys, key", [
+    (dict(Nm=0), "model.Nm"),
+    (dict(e_r=-1), "model.e_r"),
+    (dict(fc=float("nan")), "model.fc"),
+    (dict(springiness=2), "springiness"),
+    ({"model.springiness": 2}, "model.springiness"),
+    (dict(periods=0), "run.periods"),
+    (dict(scheme="euler"), "run.scheme"),
+])
+def test_bad_input_raises_value_error_naming_the_key(keys, key):
+    with pytest.raises(ValueError, match=key.replace(".", r"\.")):
+        gapchain.simulate(**keys)
+
+
+def test_bad_analysis_options_raise_value_error():
+    with pytest.raises(ValueError, match="end"):
+        gapchain.modes(5, 100, end="middle")
+    with pytest.raises(ValueError, match="variable"):
+        gapchain.bifurcation(variable="u9", steps=2)
+    with pytest.raises(ValueError, match="scene"):
+        gapchain.simulate(42)
+    with pytest.raises(ValueError, match="cannot read"):
+        gapchain.simulate("/nonexistent/scene.json")
+
+
+def test_the_gil_is_released_while_simulate_runs():
+    counter = [0]
+    stop = threading.Event()
+
+    def count():
+        while not stop.is_set():
+            counter[0] += 1
+
+    counting = threading.Thread(target=count)
+    counting.start()
+    try:
+        before = counter[0]
+        r = gapchain.simulate(Nm=5, fc=60, e_r=0.06, f_r=3.3, periods=3000, steady_state=False,
+                              estimate_error=False)
+        advanced = counter[0] - before
+    finally:
+        stop.set()
+        counting.join()
+    assert r["wall_time_s"] > 0.1, "the run must be long enough to tell"
+    # Held GIL: the counter could only move at the call's ends (a few hundred increments).
+    assert advanced > 100000, "the counter advanced only %d while simulate ran" % advanced
+
+
+def test_progress_is_called_with_fractions_and_its_exception_cancels():
+    seen = []
+    gapchain.simulate(periods=200, steady_state=False, progress=seen.append)
+    assert seen and all(0.0 <= f <= 1.0 for f in seen) and seen == sorted(seen)
+
+    class Stop(Exception):
+        pass
+
+    def stop(fraction):
+        raise Stop()
+
+    with pytest.raises(Stop):
+        gapchain.simulate(periods=2000, steady_state=False, progress=stop)
+
+
+def test_keyboard_interrupt_stops_a_long_run():
+    timer = threading.Timer(0.3, os.kill, (os.getpid(), signal.SIGINT))
+    start = time.monotonic()
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        gapchain.simulate(Nm=50, periods=10**6, steady_state=False, estimate_error=False)
+    assert time.monotonic() - start < 5.0
+
+
+def test_sweep_columns_follow_the_study():
+    study = {"scene": {"run": {"periods": 40}}, "parameters": {"fc": [1, 10], "e_r": [0.1, 0.2]},
+             "keep": ["per_body"]}
+    s = gapchain.sweep(study, threads=2)
+    assert s["index"].tolist() == [0, 1, 2, 3]
+    assert s["fc"].tolist() == [1, 1, 10, 10] and s["e_r"].tolist() == [0.1, 0.2, 0.1, 0.2]
+    assert s["per_body"].shape == (4, 5, 2)
+    one = gapchain.simulate(fc=10, e_r=0.2, periods=40)
+    assert s["F_m"][3] == one["F_m"]

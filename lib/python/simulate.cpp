@@ -24,14 +24,16 @@ scene     None (the paper's defaults), a scene dict, or the path of a scene file
             periods forcing periods, 1 .. 1e9 (1000); transient_periods "auto" or
                     0 .. periods-1; scheme "auto", "rk4", "rkf45", "rk8pd", "exact", ...;
                     tolerance relative accuracy of F_m, 1e-12 .. 0.1 (1e-4); step, steady_state,
-                    steady_tolerance, max_steady_period, estimate_error, max_work;
+                    steady_tolerance, max_steady_period, estimate_error, max_work,
+                    multistability_check;
                     trajectory_every (output.) decimation in steps, >= 1.
 trajectory  also return the (decimated) trajectory of the main run.
 progress    callable(fraction in [0, 1]), called as the run advances.
 
 Returns a dict: F_m and F_m_error (reduced force; physically F = F_m M a0 sqrt(fc)),
 F_m_error_method, F_m_contact (j = 0 left wall .. Nm right wall, -1 no contact), F_m_time
-(reduced time), contact (bool), per_body (Nm x 2 float64: max force on the left and right of
+(reduced time), contact (bool), multistable (bool: a twin run from a start moved by 1e-8 gave
+an F_m beyond the error; F_m_error then covers it), F_m_twin (or None), per_body (Nm x 2 float64: max force on the left and right of
 each body), per_body_time (Nm x 2), per_contact (dict of arrays force, time, impacts, Nm + 1
 entries), steady_state_period (int or None), steady_state_time, status ("completed",
 "steady_state", "non_finite", "cancelled"), message, scheme, step, periods_simulated,
@@ -50,6 +52,8 @@ py::dict result_dict(const SimulationResult& r, const Scene& scene) {
     d["F_m_contact"] = r.F_m_contact;
     d["F_m_time"] = r.F_m_time;
     d["contact"] = r.contact;
+    d["multistable"] = r.multistable;
+    d["F_m_twin"] = r.twin_checked ? py::object(py::float_(r.F_m_twin)) : py::object(py::none());
     std::vector<double> forces, times;
     for (const auto& b : r.per_body) {
         forces.insert(forces.end(), {b.left, b.right});

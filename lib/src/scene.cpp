@@ -434,7 +434,8 @@ std::string scene_key(const std::string& key, const std::string& context) {
         {"excitation", {"f_r"}},
         {"run",
          {"periods", "transient_periods", "scheme", "tolerance", "step", "steady_state",
-          "steady_tolerance", "max_steady_period", "estimate_error", "max_work"}},
+          "steady_tolerance", "max_steady_period", "estimate_error", "max_work",
+          "multistability_check"}},
         {"output", {"trajectory_every"}}};
     std::string list;
     for (const auto& [section, keys] : sections)

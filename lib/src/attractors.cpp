@@ -460,14 +460,17 @@ std::vector<int> match_labels(const AttractorSet& previous, const std::vector<in
         double distance;
         std::size_t from, to;
     };
+    std::vector<std::vector<double>> before, after;
+    for (const auto& a : previous.attractors)
+        before.push_back(centroid(a, previous_scale));
+    for (const auto& a : next.attractors)
+        after.push_back(centroid(a, next_scale));
     std::vector<Pair> pairs;
-    for (std::size_t i = 0; i < previous.attractors.size(); ++i)
-        for (std::size_t j = 0; j < next.attractors.size(); ++j) {
-            const auto a = centroid(previous.attractors[i], previous_scale);
-            const auto b = centroid(next.attractors[j], next_scale);
+    for (std::size_t i = 0; i < before.size(); ++i)
+        for (std::size_t j = 0; j < after.size(); ++j) {
             double d = 0.0;
-            for (std::size_t m = 0; m < a.size(); ++m)
-                d = std::max(d, std::abs(a[m] - b[m]));
+            for (std::size_t m = 0; m < before[i].size(); ++m)
+                d = std::max(d, std::abs(before[i][m] - after[j][m]));
             if (d <= 0.2) pairs.push_back({d, i, j});
         }
     std::sort(pairs.begin(), pairs.end(),
@@ -493,10 +496,9 @@ FractionContinuation continue_basin_fractions(const ReducedParameters& base,
                                               const ProgressCallback& progress) {
     const auto clock = std::chrono::steady_clock::now();
     if (values.empty()) throw std::invalid_argument("steps: at least one value, got none");
-    for (double v : values) {
+    validate(options, base.Nm);
+    for (double v : values)
         validate(with_value(base, parameter, v));
-        validate(options, base.Nm);
-    }
     FractionContinuation fc;
     fc.parameter = parameter;
     for (std::size_t k = 0; k < values.size(); ++k) {

@@ -69,7 +69,20 @@ void print_result(const Scene& scene, const SimulationResult& r) {
                     r.error_method == ErrorMethod::window_halves
                         ? " (error: spread between the maxima of the two window halves)"
                         : "");
-    if (r.multistable)
+    if (r.accuracy_mode_used == AccuracyUsed::relaxed)
+        std::printf("accuracy: relaxed from period %ld on (the run does not settle; its F_m error "
+                    "is the sampling spread; run.accuracy_mode = \"strict\" holds every step to "
+                    "the tolerance)\n",
+                    r.relaxed_from_period);
+    const bool transient_peak =
+        r.multistable && r.F_m_orbit && *r.F_m_orbit < r.F_m - r.F_m_error / 2;
+    if (transient_peak)
+        std::printf("multistable: F_m fell in the chaotic transient before the steady state, so "
+                    "it depends on the start (F_m_error covers the difference); the orbit it "
+                    "settled on reaches F_m = %.6g; run gapchain-attractors for the F_m of each "
+                    "attractor\n",
+                    *r.F_m_orbit);
+    else if (r.multistable)
         std::printf("multistable: a start moved by 1e-8 gives F_m = %.6g, so the answer depends "
                     "on the start (F_m_error covers the difference); run gapchain-attractors for "
                     "the F_m of each attractor\n",

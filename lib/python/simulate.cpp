@@ -25,7 +25,7 @@ scene     None (the paper's defaults), a scene dict, or the path of a scene file
                     0 .. periods-1; scheme "auto", "rk4", "rkf45", "rk8pd", "exact", ...;
                     tolerance relative accuracy of F_m, 1e-12 .. 0.1 (1e-4); step, steady_state,
                     steady_tolerance, max_steady_period, estimate_error, max_work,
-                    multistability_check;
+                    multistability_check, accuracy_mode ("auto" or "strict");
                     trajectory_every (output.) decimation in steps, >= 1.
 trajectory  also return the (decimated) trajectory of the main run.
 progress    callable(fraction in [0, 1]), called as the run advances.
@@ -53,6 +53,7 @@ py::dict result_dict(const SimulationResult& r, const Scene& scene) {
     d["F_m_time"] = r.F_m_time;
     d["contact"] = r.contact;
     d["multistable"] = r.multistable;
+    d["accuracy_mode_used"] = std::string(to_string(r.accuracy_mode_used));
     d["F_m_twin"] = r.twin_checked ? py::object(py::float_(r.F_m_twin)) : py::object(py::none());
     std::vector<double> forces, times;
     for (const auto& b : r.per_body) {

@@ -10,8 +10,9 @@
 namespace gapchain {
 
 MaxForceTracker::MaxForceTracker(const Dynamics& dyn, long split_period)
-    : m_dyn(dyn), m_max(dyn.gaps()), m_gap(dyn.gaps()), m_rate(dyn.gaps()),
-      m_scratch(dyn.dimension()), m_split_period(split_period) {}
+    : m_dyn(dyn), m_max(dyn.gaps()), m_gap(dyn.gaps()), m_rate(dyn.gaps()), m_gap_next(dyn.gaps()),
+      m_rate_next(dyn.gaps()), m_active(dyn.gaps()), m_scratch(dyn.dimension()),
+      m_split_period(split_period) {}
 
 namespace {
 
@@ -162,25 +163,43 @@ void MaxForceTracker::on_step(const StepView& step) {
     const int gaps = m_dyn.gaps();
     // Values at the start are those the previous step ended on, unless the run restarted.
     const bool continuous = m_have_previous && m_last_t == step.t0;
-    StepScan scan(m_dyn, step, continuous, m_scratch.data());
-    for (int j = 0; j < gaps; ++j) {
-        const GapEnds ends{continuous ? m_gap[j] : m_dyn.gap(j, step.y0),
-                           continuous ? m_rate[j] : m_dyn.gap_rate(j, step.y0 + n),
-                           m_dyn.gap(j, step.y1), m_dyn.gap_rate(j, step.y1 + n)};
-        m_gap[j] = ends.g1;
-        m_rate[j] = ends.r1;
-        if (!step.recording) continue;
-        ContactMaximum& best = m_max[j];
-        double& half = m_half_max[step.period < m_split_period ? 0 : 1];
-        const PeakAt peak = scan.force_peak(j, ends, std::min(best.force, half), best.impacts);
-        if (peak.value > best.force) {
-            best.force = peak.value;
-            best.time = peak.t;
-        }
-        half = std::max(half, peak.value);
+    if (!continuous) {
+        m_dyn.gaps(step.y0, m_gap.data());
+        m_dyn.gap_rates(step.y0 + n, m_rate.data());
     }
+    m_dyn.gaps(step.y1, m_gap_next.data());
+    m_dyn.gap_rates(step.y1 + n, m_rate_next.data());
     m_last_t = step.t1;
     m_have_previous = true;
+    if (step.recording) {
+        // Most contacts are open at both ends of most steps and cannot close in between (the
+        // bound of gap_peak()): they have no force and no impact to count. A branch-free pass
+        // lists the others, so that the scan's branches run on those few only.
+        const double h = step.t1 - step.t0;
+        int active = 0;
+        for (int j = 0; j < gaps; ++j) {
+            const double g0 = m_gap[j], r0 = m_rate[j], g1 = m_gap_next[j], r1 = m_rate_next[j];
+            const bool peak_inside =
+                (r0 > 0.0) & (r1 < 0.0) & (std::max(g0, g1) + 0.5 * h * (r0 - r1) > 0.0);
+            m_active[active] = j;
+            active += static_cast<int>((g0 > 0.0) | (g1 > 0.0) | peak_inside);
+        }
+        StepScan scan(m_dyn, step, continuous, m_scratch.data());
+        double& half = m_half_max[step.period < m_split_period ? 0 : 1];
+        for (int k = 0; k < active; ++k) {
+            const int j = m_active[k];
+            ContactMaximum& best = m_max[j];
+            const GapEnds ends{m_gap[j], m_rate[j], m_gap_next[j], m_rate_next[j]};
+            const PeakAt peak = scan.force_peak(j, ends, std::min(best.force, half), best.impacts);
+            if (peak.value > best.force) {
+                best.force = peak.value;
+                best.time = peak.t;
+            }
+            half = std::max(half, peak.value);
+        }
+    }
+    m_gap.swap(m_gap_next);
+    m_rate.swap(m_rate_next);
 }
 
 double MaxForceTracker::max_force() const {

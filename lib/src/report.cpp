@@ -39,6 +39,9 @@ std::string to_json(const SimulationResult& r, const Scene& scene) {
     j["contact"] = r.contact;
     j["multistable"] = r.multistable;
     if (r.twin_checked) j["F_m_twin"] = r.F_m_twin;
+    if (r.F_m_orbit) j["F_m_orbit"] = *r.F_m_orbit;
+    j["accuracy_mode_used"] = to_string(r.accuracy_mode_used);
+    if (r.relaxed_from_period >= 0) j["relaxed_from_period"] = r.relaxed_from_period;
     if (scene.physical) {
         j["F_m_newton"] = force_in_newtons(r.F_m, *scene.physical);
         j["F_m_error_newton"] = force_in_newtons(r.F_m_error, *scene.physical);

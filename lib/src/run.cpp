@@ -19,6 +19,17 @@ std::string_view to_string(RunStatus status) {
     return "?";
 }
 
+AccuracyMode parse_accuracy_mode(std::string_view name) {
+    if (name == "auto") return AccuracyMode::automatic;
+    if (name == "strict") return AccuracyMode::strict;
+    throw std::invalid_argument("run.accuracy_mode: must be one of auto, strict, got \"" +
+                                std::string(name) + "\"");
+}
+
+std::string_view to_string(AccuracyMode mode) {
+    return mode == AccuracyMode::strict ? "strict" : "auto";
+}
+
 namespace {
 
 /// Index of the first body whose displacement or velocity is not finite, or -1.
@@ -82,8 +93,7 @@ double refine_switch(const Dynamics& dyn, const Stepper& stepper, Switch s, doub
 }
 
 void compute_gaps(const Dynamics& dyn, const double* y, std::vector<double>& gaps) {
-    for (int j = 0; j < dyn.gaps(); ++j)
-        gaps[j] = dyn.gap(j, y);
+    dyn.gaps(y, gaps.data());
 }
 
 /// Throws std::invalid_argument on a span, plan or state run() cannot take.
@@ -93,6 +103,9 @@ void check_run_arguments(const Dynamics& dyn, const StepPlan& plan, const RunSpa
     if (span.transient_periods < 0 || span.transient_periods >= span.periods)
         throw std::invalid_argument("run.transient_periods: must be in [0, periods - 1], got " +
                                     std::to_string(span.transient_periods));
+    if (span.first_period < 0 || span.first_period >= span.periods)
+        throw std::invalid_argument("run: the first period must be in [0, periods - 1], got " +
+                                    std::to_string(span.first_period));
     detail::require_length("initial state", y.size(), static_cast<std::size_t>(dyn.dimension()));
     if (plan.steps_per_period < 1 || !(plan.step > 0.0))
         throw std::invalid_argument("run: the step plan is empty (steps_per_period < 1)");
@@ -162,10 +175,11 @@ double StepSequence::take_piece(double t0, double t_end, bool may_split) {
             m_stepper.reset();
             compute_gaps(m_dyn, m_y.data(), m_gaps_next);
         }
-    } else {
-        compute_gaps(m_dyn, m_y.data(), m_gaps_next);
+        m_gaps.swap(m_gaps_next);
+    } else if (m_plan.split_at_switches) {
+        compute_gaps(m_dyn, m_y.data(), m_gaps);
     }
-    m_gaps.swap(m_gaps_next);
+    // Without splitting, the gaps are not needed between steps.
     return t1;
 }
 
@@ -197,10 +211,14 @@ RunOutcome run(const Dynamics& dyn, Stepper& stepper, const StepPlan& plan, cons
     stepper.reset();
 
     // Times are computed from integer step counts, so period boundaries never drift.
-    auto time_at = [&](long period, int k) { return span.t_start + (period * spp + k) * h; };
+    auto time_at = [&](long period, int k) {
+        return span.t_start + ((period - span.first_period) * spp + k) * h;
+    };
 
-    steps.end_period(0, span.t_start);
-    for (long p = 0; p < span.periods; ++p) {
+    if (span.first_period == 0) steps.end_period(0, span.t_start);
+    out.periods_done = span.first_period;
+    out.t_end = span.t_start;
+    for (long p = span.first_period; p < span.periods; ++p) {
         const bool recording = p >= span.transient_periods;
         for (int k = 0; k < spp; ++k)
             out.steps += steps.advance(time_at(p, k), time_at(p, k + 1), p, recording);

@@ -170,6 +170,13 @@ std::optional<Chain> non_uniform_row(const json& model, const ReducedParameters&
     return row_from_arrays(p, a);
 }
 
+/// The scene's model section, or an empty object when it has none (a study's base scene may
+/// leave the model to its parameters; const json's operator[] on a missing key is undefined).
+const json& model_object(const json& root) {
+    static const json empty = json::object();
+    return root.contains("model") ? root.at("model") : empty;
+}
+
 /// The reduced model's five numbers (a reduced scene).
 void read_reduced_model(SectionReader& model, SectionReader& excitation, Scene& scene) {
     model.allow({"Nm", "fc", "eps", "e_r", "mass", "stiffness", "damping", "clearance", "contact",
@@ -262,15 +269,15 @@ void read_physical_model(SectionReader& model, SectionReader& excitation, const 
                          "law's stiffness unit depends on the law); write the scene in "
                          "reduced units");
     const double L = q.a0 / (four_pi_squared * natural_frequency(q) * natural_frequency(q));
-    if (root["model"].contains("damping"))
+    if (model_object(root).contains("damping"))
         throw SceneError("model.damping: per-body damping arrays are for reduced scenes "
                          "(eps_i); physical scenes give C");
-    scene.row = non_uniform_row(root["model"], scene.reduced, 1.0 / L);
+    scene.row = non_uniform_row(model_object(root), scene.reduced, 1.0 / L);
 }
 
 /// The row of a reduced scene: arrays, scatter and the contact law.
 void read_reduced_row(SectionReader& model, const json& root, Scene& scene) {
-    scene.row = non_uniform_row(root["model"], scene.reduced);
+    scene.row = non_uniform_row(model_object(root), scene.reduced);
     const std::string law =
         model.text("contact_law", "linear", {"linear", "hertz", "hunt_crossley"});
     if (law != "linear" && !scene.row) scene.row = Chain::homogeneous(scene.reduced);
@@ -313,11 +320,26 @@ void read_run_length(SectionReader& run, const std::string& type, Scene& scene) 
                          std::to_string(o.transient_periods));
 }
 
+/// The keys of the run section (read_run() and the short keys of scene_key()).
+const std::vector<std::string>& run_keys() {
+    static const std::vector<std::string> keys{"periods",
+                                               "transient_periods",
+                                               "scheme",
+                                               "tolerance",
+                                               "step",
+                                               "steady_state",
+                                               "steady_tolerance",
+                                               "max_steady_period",
+                                               "estimate_error",
+                                               "max_work",
+                                               "multistability_check",
+                                               "accuracy_mode"};
+    return keys;
+}
+
 /// The run section: length, scheme, accuracy, steady-state stop, work limit.
 void read_run(SectionReader run, const std::string& type, Scene& scene) {
-    run.allow({"periods", "transient_periods", "scheme", "tolerance", "step", "steady_state",
-               "steady_tolerance", "max_steady_period", "estimate_error", "max_work",
-               "multistability_check"});
+    run.allow(run_keys());
     read_run_length(run, type, scene);
     RunOptions& o = scene.run;
     // The scheme names live in one place, parse_scheme(), whose message names run.scheme.
@@ -330,6 +352,8 @@ void read_run(SectionReader run, const std::string& type, Scene& scene) {
     o.estimate_error = run.boolean("estimate_error", o.estimate_error);
     o.max_work = run.number("max_work", o.max_work, 1.0, 1e15);
     o.multistability_check = run.boolean("multistability_check", o.multistability_check);
+    // The mode names live in parse_accuracy_mode(), whose message names run.accuracy_mode.
+    o.accuracy_mode = parse_accuracy_mode(run.text("accuracy_mode", "auto", {}));
     run.finish();
 }
 
@@ -432,10 +456,7 @@ std::string scene_key(const std::string& key, const std::string& context) {
     static const std::vector<std::pair<std::string, std::vector<std::string>>> sections = {
         {"model", {"Nm", "fc", "eps", "e_r"}},
         {"excitation", {"f_r"}},
-        {"run",
-         {"periods", "transient_periods", "scheme", "tolerance", "step", "steady_state",
-          "steady_tolerance", "max_steady_period", "estimate_error", "max_work",
-          "multistability_check"}},
+        {"run", run_keys()},
         {"output", {"trajectory_every"}}};
     std::string list;
     for (const auto& [section, keys] : sections)

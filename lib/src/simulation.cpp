@@ -5,8 +5,15 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <memory>
+#include <optional>
+#include <span>
 
 namespace gapchain {
+
+std::string_view to_string(AccuracyUsed used) {
+    return used == AccuracyUsed::relaxed ? "relaxed" : "strict";
+}
 
 std::string_view to_string(ErrorMethod method) {
     switch (method) {
@@ -29,39 +36,158 @@ struct SingleRun {
     double first_half_max = 0.0;  // largest force in the first half of the recorded window
     double second_half_max = 0.0; // and in the second half
     long last_far_period = -1;    // see SteadyStateDetector::last_far_period()
+    std::vector<double> final_state;
+    long relaxed_from = -1;          // period the relaxed plan took over at (-1: strict run)
+    std::vector<double> relax_state; // the state there
+    double relax_time = 0.0;         // and its reduced time
 };
 
+/// The observers every run of simulate() feeds, set up from the options.
+class RunWatch {
+public:
+    RunWatch(const Dynamics& dyn, const RunOptions& options, const TrajectorySink& trajectory,
+             int every, const std::vector<Observer*>& extra)
+        : m_forces(dyn,
+                   options.transient_periods + (options.periods - options.transient_periods) / 2) {
+        m_list.push_back(&m_forces);
+        // A record has no period, so no periodic steady state: it runs to its end.
+        if (options.stop_at_steady_state && dyn.ground_motion().is_harmonic()) {
+            m_steady.emplace(dyn.dimension(), options.max_steady_period, options.steady_tolerance,
+                             options.transient_periods);
+            m_list.push_back(&*m_steady);
+        }
+        if (trajectory) {
+            m_recorder.emplace(every, trajectory);
+            m_list.push_back(&*m_recorder);
+        }
+        m_list.insert(m_list.end(), extra.begin(), extra.end());
+    }
+    RunWatch(const RunWatch&) = delete;
+    RunWatch& operator=(const RunWatch&) = delete;
+
+    [[nodiscard]] std::span<Observer* const> observers() const { return m_list; }
+    /// Whether the run is still far from every cycle at period n, with no steady state found.
+    [[nodiscard]] bool wandering_at(long n) const {
+        return m_steady && !m_steady->period() && m_steady->last_far_period() == n;
+    }
+    /// What the observers found over the run that ended with outcome.
+    SingleRun found(const RunOutcome& outcome) const {
+        SingleRun r;
+        r.outcome = outcome;
+        r.contacts = m_forces.contacts();
+        r.F_m = m_forces.max_force();
+        if (m_steady) {
+            r.period = m_steady->period();
+            r.period_time = m_steady->time();
+            r.last_far_period = m_steady->last_far_period();
+        }
+        r.first_half_max = m_forces.first_half_max();
+        r.second_half_max = m_forces.second_half_max();
+        return r;
+    }
+
+private:
+    MaxForceTracker m_forces;
+    std::optional<SteadyStateDetector> m_steady;
+    std::optional<TrajectoryRecorder> m_recorder;
+    std::vector<Observer*> m_list;
+};
+
+/// The plan a run that does not settle finishes on in AccuracyMode::automatic: rk4 at
+/// h omega_max = 0.4 (16 steps per fastest contact period, and at least 16 per forcing period),
+/// whatever the tolerance, with steps not split at contact switches. Its F_m error, measured on
+/// periodic rows against strict runs, is about 1e-3 F_m (docs/performance.md).
+StepPlan relaxed_plan(const Dynamics& dyn) {
+    StepPlan plan = plan_step(dyn, Scheme::rk4, 1e-4);
+    plan.split_at_switches = false;
+    return plan;
+}
+
+/// Relative F_m error of the relaxed plan (measured, docs/performance.md), and the smallest
+/// sampling spread (relative to F_m) with which its answer is kept: a spread at least that
+/// error, so that the reported F_m_error (the spread) covers it.
+constexpr double relaxed_error = 2e-3;
+constexpr double relaxed_min_spread = relaxed_error;
+
+/// The period at which a run in AccuracyMode::automatic decides whether it settles: four times
+/// the contact-free row's decay time to SteadyStateDetector::far_distance (a start-up that
+/// decays onto a stable orbit has come near it by then, see settled_late()), and after the
+/// transient. -1 when the run may not relax: strict mode, a user's scheme or step, no
+/// steady-state stop, a record, or too short a run.
+long relaxation_period(const Dynamics& dyn, const RunOptions& options,
+                       const SimulationHooks& hooks) {
+    if (options.accuracy_mode != AccuracyMode::automatic || options.scheme != Scheme::automatic ||
+        options.step || !options.stop_at_steady_state || !dyn.ground_motion().is_harmonic() ||
+        hooks.trajectory || !hooks.observers.empty())
+        return -1;
+    RunOptions free_decay = options;
+    free_decay.tolerance = SteadyStateDetector::far_distance;
+    const long at =
+        std::max(options.transient_periods + 1, 4 * default_transient_periods(dyn, free_decay));
+    // The relaxed part must be the larger part of the window to pay for its set-up.
+    return 2 * (options.periods - at) >= options.periods - options.transient_periods ? at : -1;
+}
+
+/// Whether a relaxed run's answer stands: it ran to its end without settling, and the sampling
+/// spread of its F_m (window halves) is well above the relaxed plan's error.
+bool relaxed_answer_holds(const SingleRun& r) {
+    return r.outcome.status == RunStatus::completed &&
+           std::abs(r.first_half_max - r.second_half_max) >= relaxed_min_spread * r.F_m;
+}
+
+/// One run of options from the planned start. In AccuracyMode::automatic a run still far from
+/// every cycle at relaxation_period() finishes on relaxed_plan().
 SingleRun run_once(const Dynamics& dyn, const RunOptions& options, PlannedRun& planned,
-                   const TrajectorySink& trajectory, int every, const ProgressCallback& progress,
-                   const std::vector<Observer*>& extra = {}) {
-    MaxForceTracker forces(dyn, options.transient_periods +
-                                    (options.periods - options.transient_periods) / 2);
-    std::vector<Observer*> observers{&forces};
-    std::optional<SteadyStateDetector> steady;
-    // A record has no period, so no periodic steady state: it runs to its end.
-    if (options.stop_at_steady_state && dyn.ground_motion().is_harmonic()) {
-        steady.emplace(dyn.dimension(), options.max_steady_period, options.steady_tolerance,
-                       options.transient_periods);
-        observers.push_back(&*steady);
+                   const SimulationHooks& hooks = {}) {
+    RunWatch watch(dyn, options, hooks.trajectory, std::max(1, hooks.trajectory_every),
+                   hooks.observers);
+    const long relax_at = relaxation_period(dyn, options, hooks);
+    if (relax_at < 0) {
+        SingleRun r = watch.found(planned.run(watch.observers(), hooks.progress));
+        r.evaluations = planned.evaluations();
+        r.final_state = planned.state();
+        return r;
     }
-    std::optional<TrajectoryRecorder> recorder;
-    if (trajectory) {
-        recorder.emplace(every, trajectory);
-        observers.push_back(&*recorder);
+    const RunSpan head{relax_at, options.transient_periods, 0.0, 0};
+    const RunOutcome first = planned.run(head, watch.observers(), hooks.progress);
+    const RunSpan rest{options.periods, options.transient_periods, first.t_end, relax_at};
+    if (first.status != RunStatus::completed || !watch.wandering_at(relax_at)) {
+        RunOutcome outcome = first;
+        if (first.status == RunStatus::completed) {
+            outcome = planned.run(rest, watch.observers(), hooks.progress);
+            outcome.steps += first.steps;
+        }
+        SingleRun r = watch.found(outcome);
+        r.evaluations = planned.evaluations();
+        r.final_state = planned.state();
+        return r;
     }
-    observers.insert(observers.end(), extra.begin(), extra.end());
-    SingleRun r;
-    r.outcome = planned.run(observers, progress);
-    r.contacts = forces.contacts();
-    r.F_m = forces.max_force();
-    if (steady) {
-        r.period = steady->period();
-        r.period_time = steady->time();
-        r.last_far_period = steady->last_far_period();
-    }
-    r.evaluations = planned.evaluations();
-    r.first_half_max = forces.first_half_max();
-    r.second_half_max = forces.second_half_max();
+    const StepPlan plan = relaxed_plan(dyn);
+    const std::unique_ptr<Stepper> stepper = make_stepper(plan, dyn);
+    std::vector<double> y = planned.state();
+    RunOutcome outcome = run(dyn, *stepper, plan, rest, y, watch.observers(), hooks.progress);
+    outcome.steps += first.steps;
+    SingleRun r = watch.found(outcome);
+    r.evaluations = planned.evaluations() + stepper->evaluations();
+    r.final_state = std::move(y);
+    r.relaxed_from = relax_at;
+    r.relax_state = planned.state();
+    r.relax_time = first.t_end;
+    return r;
+}
+
+/// run_once() from initial on a fresh plan (into planned), run again in strict mode where a
+/// relaxed answer does not stand.
+SingleRun run_settled(const Dynamics& dyn, RunOptions options, const std::vector<double>& initial,
+                      const SimulationHooks& hooks, std::optional<PlannedRun>& planned) {
+    planned.emplace(dyn, options, initial);
+    SingleRun r = run_once(dyn, options, *planned, hooks);
+    if (r.relaxed_from < 0 || relaxed_answer_holds(r)) return r;
+    const long spent = r.evaluations;
+    options.accuracy_mode = AccuracyMode::strict;
+    planned.emplace(dyn, options, initial);
+    r = run_once(dyn, options, *planned, hooks);
+    r.evaluations += spent;
     return r;
 }
 
@@ -109,8 +235,10 @@ StepPlan comparison_plan(const Dynamics& dyn, const StepPlan& plan) {
 double comparison_error(const Dynamics& dyn, const RunOptions& options, const StepPlan& plan,
                         const std::vector<double>& initial, SimulationResult& result) {
     const StepPlan other = comparison_plan(dyn, plan);
-    PlannedRun planned(dyn, options, other, initial);
-    const SingleRun check = run_once(dyn, options, planned, {}, 1, {});
+    RunOptions strict = options;
+    strict.accuracy_mode = AccuracyMode::strict;
+    PlannedRun planned(dyn, strict, other, initial);
+    const SingleRun check = run_once(dyn, strict, planned);
     result.evaluations += check.evaluations;
     if (check.outcome.status == RunStatus::non_finite)
         return std::numeric_limits<double>::infinity();
@@ -170,21 +298,74 @@ bool settled_late(const Dynamics& dyn, const RunOptions& options, const SingleRu
     return main.last_far_period > 4 * default_transient_periods(dyn, free_decay);
 }
 
+/// x with its first entry moved by 1e-8 max(1, |x|_inf): the twin's start.
+std::vector<double> perturbed(std::vector<double> x) {
+    double scale = 1.0;
+    for (double v : x)
+        scale = std::max(scale, std::abs(v));
+    x[0] += 1e-8 * scale;
+    return x;
+}
+
+/// The twin of a strict main run: the whole run again from a perturbed start.
+SingleRun twin_from_start(const Dynamics& dyn, const RunOptions& options,
+                          const std::vector<double>& initial) {
+    std::optional<PlannedRun> planned;
+    return run_settled(
+        dyn, options,
+        perturbed(initial.empty() ? std::vector<double>(dyn.dimension(), 0.0) : initial), {},
+        planned);
+}
+
+/// The twin of a relaxed main run: the relaxed part again, from the state the main run
+/// relaxed at, perturbed. That start shares the main run's past, so the twin tests the same
+/// question (does another nearby start end elsewhere?) at the cost of the relaxed part only.
+SingleRun relaxed_twin(const Dynamics& dyn, const RunOptions& options, const SingleRun& main) {
+    RunWatch watch(dyn, options, {}, 1, {});
+    const StepPlan plan = relaxed_plan(dyn);
+    const std::unique_ptr<Stepper> stepper = make_stepper(plan, dyn);
+    std::vector<double> y = perturbed(main.relax_state);
+    const RunSpan rest{options.periods, options.transient_periods, main.relax_time,
+                       main.relaxed_from};
+    SingleRun r = watch.found(run(dyn, *stepper, plan, rest, y, watch.observers()));
+    r.evaluations = stepper->evaluations();
+    return r;
+}
+
+/// The largest force over one cycle of the orbit a run settled on: the run continued from its
+/// end state for the cycle's k periods, everything recorded.
+double orbit_maximum(const Dynamics& dyn, PlannedRun& planned, const SingleRun& main) {
+    MaxForceTracker cycle(dyn);
+    Observer* observers[] = {&cycle};
+    planned.run(RunSpan{*main.period, 0, main.outcome.t_end, 0}, observers);
+    return cycle.max_force();
+}
+
+/// A run that settled late took its F_m in the chaotic transient before it, if the orbit it
+/// settled on stays below that F_m: the maximum is then a property of the start, not of the
+/// steady state (issue 19's Nm = 2 row: 1.160 in the transient, 1.070 on the period-3 orbit).
+void check_transient_maximum(const Dynamics& dyn, PlannedRun& planned, const SingleRun& main,
+                             SimulationResult& result) {
+    if (main.outcome.status != RunStatus::steady_state || !main.period) return;
+    const double orbit = orbit_maximum(dyn, planned, main);
+    result.F_m_orbit = orbit;
+    const double excess = result.F_m - orbit;
+    if (excess > std::max(3.0 * result.F_m_error, 1e-6 * result.F_m)) {
+        result.multistable = true;
+        result.F_m_error = std::max(result.F_m_error, excess);
+    }
+}
+
 /// The twin run of the multistability check (see simulate()).
 void check_multistability(const Dynamics& dyn, const RunOptions& options,
-                          const std::vector<double>& initial, const SingleRun& main,
-                          SimulationResult& result) {
+                          const std::vector<double>& initial, PlannedRun& planned,
+                          const SingleRun& main, SimulationResult& result) {
     if (!options.multistability_check || !dyn.ground_motion().is_harmonic() ||
         !settled_late(dyn, options, main))
         return;
-    std::vector<double> start =
-        initial.empty() ? std::vector<double>(dyn.dimension(), 0.0) : initial;
-    double scale = 1.0;
-    for (double x : start)
-        scale = std::max(scale, std::abs(x));
-    start[0] += 1e-8 * scale;
-    PlannedRun planned(dyn, options, start);
-    const SingleRun twin = run_once(dyn, options, planned, {}, 1, {});
+    check_transient_maximum(dyn, planned, main, result);
+    const SingleRun twin = main.relaxed_from >= 0 ? relaxed_twin(dyn, options, main)
+                                                  : twin_from_start(dyn, options, initial);
     result.evaluations += twin.evaluations;
     if (twin.outcome.status == RunStatus::non_finite || twin.outcome.status == RunStatus::cancelled)
         return;
@@ -212,26 +393,27 @@ SimulationResult simulate(const Dynamics& dyn, const RunOptions& requested,
     const auto start = std::chrono::steady_clock::now();
     validate(requested);
     const RunOptions options = with_transient_resolved(dyn, requested);
-    PlannedRun planned(dyn, options, initial);
-    const SingleRun main =
-        run_once(dyn, options, planned, hooks.trajectory, std::max(1, hooks.trajectory_every),
-                 hooks.progress, hooks.observers);
+    std::optional<PlannedRun> planned;
+    const SingleRun main = run_settled(dyn, options, initial, hooks, planned);
     SimulationResult result;
     result.status = main.outcome.status;
     result.message = main.outcome.message;
-    result.scheme = planned.plan().scheme;
-    result.step = planned.plan().step;
+    result.scheme = planned->plan().scheme;
+    result.step = planned->plan().step;
+    result.accuracy_mode_used =
+        main.relaxed_from >= 0 ? AccuracyUsed::relaxed : AccuracyUsed::strict;
+    result.relaxed_from_period = main.relaxed_from;
     result.periods_simulated = main.outcome.periods_done;
     result.transient_periods_used = options.transient_periods;
     result.steps = main.outcome.steps;
     result.evaluations = main.evaluations;
     result.steady_state_period = main.period;
     result.steady_state_time = main.period_time;
-    result.final_state = planned.state();
+    result.final_state = main.final_state;
     report_maxima(main, result);
-    estimate_error(dyn, options, planned.plan(), initial, main, result);
+    estimate_error(dyn, options, planned->plan(), initial, main, result);
     if (result.status == RunStatus::completed || result.status == RunStatus::steady_state)
-        check_multistability(dyn, options, initial, main, result);
+        check_multistability(dyn, options, initial, *planned, main, result);
     result.wall_time_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;

@@ -101,15 +101,21 @@ private:
 
 class RungeKutta4 final : public Stepper {
 public:
-    explicit RungeKutta4(const Dynamics& dyn)
-        : m_dyn(dyn), m_n(dyn.bodies()), m_k(4, std::vector<double>(2 * m_n)), m_tmp(2 * m_n) {}
+    /// plan_step: the plan's step, whose ground terms are tabulated (0: none).
+    RungeKutta4(const Dynamics& dyn, double plan_step)
+        : m_dyn(dyn), m_n(dyn.bodies()), m_k(4, std::vector<double>(2 * m_n)), m_tmp(2 * m_n) {
+        build_table(plan_step);
+    }
 
     void step(double t, double h, std::vector<double>& y) override {
         const int dim = 2 * m_n;
         // Consecutive steps share an end: reuse its ground term (one cosine fewer per step).
         const double g0 = (m_have_end && m_end_t == t) ? m_end_ground : m_dyn.ground(t);
-        const double gh = m_dyn.ground(t + 0.5 * h);
-        const double g1 = m_dyn.ground(t + h);
+        double gh = 0.0, g1 = 0.0;
+        if (!tabulated_ground(t, h, gh, g1)) {
+            gh = m_dyn.ground(t + 0.5 * h);
+            g1 = m_dyn.ground(t + h);
+        }
         m_end_t = t + h;
         m_end_ground = g1;
         m_have_end = true;
@@ -127,6 +133,38 @@ public:
     }
 
 private:
+    /// Harmonic forcing repeats every period, and a plan's steps fall on the same phases in
+    /// every period: the ground terms at a plan step's middle and end come from a table of
+    /// one period (the cosines were a tenth of a long run's time). Other steps (pieces split
+    /// at switches) return false and are computed directly.
+    bool tabulated_ground(double t, double h, double& middle, double& end) const {
+        if (m_table_middle.empty() || std::abs(h - m_table_step) > 1e-12 * m_table_step)
+            return false;
+        const double steps = t / h;
+        const double k = std::round(steps);
+        if (std::abs(steps - k) > 1e-6) return false;
+        const auto i = static_cast<std::size_t>(static_cast<long long>(k) %
+                                                static_cast<long long>(m_table_middle.size()));
+        middle = m_table_middle[i];
+        end = m_table_end[i];
+        return true;
+    }
+    /// The table for the plan's step, if one period is a whole number of them (up to 2^20).
+    void build_table(double h) {
+        if (!m_dyn.ground_motion().is_harmonic() || !(h > 0.0)) return;
+        const double per_period = m_dyn.period() / h;
+        const double whole = std::round(per_period);
+        if (whole < 1.0 || whole > 1048576.0 || std::abs(per_period - whole) > 1e-9) return;
+        m_table_step = h;
+        const auto size = static_cast<std::size_t>(whole);
+        m_table_middle.resize(size);
+        m_table_end.resize(size);
+        for (std::size_t i = 0; i < size; ++i) {
+            m_table_middle[i] = m_dyn.ground((static_cast<double>(i) + 0.5) * h);
+            m_table_end[i] = m_dyn.ground((static_cast<double>(i) + 1.0) * h);
+        }
+    }
+
     void evaluate(double ground, const double* y, double* dydt) const {
         for (int i = 0; i < m_n; ++i)
             dydt[i] = y[m_n + i];
@@ -144,6 +182,8 @@ private:
     bool m_have_end = false;
     double m_end_t = 0.0;
     double m_end_ground = 0.0;
+    double m_table_step = 0.0;
+    std::vector<double> m_table_middle, m_table_end;
 };
 
 /// Largest h * omega_max that meets a relative tolerance. Calibrated on the smooth and stiff
@@ -196,7 +236,7 @@ Scheme resolved_scheme(const Dynamics& dyn, Scheme scheme, double tolerance) {
 std::unique_ptr<Stepper> make_stepper(const StepPlan& plan, const Dynamics& dyn) {
     switch (plan.scheme) {
     case Scheme::central_difference: return std::make_unique<CentralDifference>(dyn);
-    case Scheme::rk4: return std::make_unique<RungeKutta4>(dyn);
+    case Scheme::rk4: return std::make_unique<RungeKutta4>(dyn, plan.step);
     case Scheme::rkf45: return detail::make_gsl_stepper(dyn, false, plan.tolerance);
     case Scheme::rk8pd: return detail::make_gsl_stepper(dyn, true, plan.tolerance);
     case Scheme::exact: return detail::make_exact_propagator(dyn);

@@ -79,6 +79,10 @@ public:
         if (j == m_n) return v[m_n - 1];
         return v[j - 1] - v[j];
     }
+    /// Every gap at once: g[j] = gap(j, u) for j = 0..Nm (g has Nm + 1 entries).
+    void gaps(const double* u, double* g) const;
+    /// Every gap rate at once: r[j] = gap_rate(j, v) for j = 0..Nm (r has Nm + 1 entries).
+    void gap_rates(const double* v, double* r) const;
     /// Second time derivative of g_j at the state y (2 Nm entries) and ground term.
     [[nodiscard]] double gap_acceleration(int j, double ground, const double* y) const;
     /// Reduced impact force of contact j at state y (2 Nm entries): contact_j phi(g_j) d(g_j')

@@ -40,9 +40,11 @@ public:
 private:
     const Dynamics& m_dyn;
     std::vector<ContactMaximum> m_max;
-    std::vector<double> m_gap;     ///< g_j at the end of the previous step
-    std::vector<double> m_rate;    ///< dg_j/dt there
-    std::vector<double> m_scratch; ///< a state from the stepper's dense output
+    std::vector<double> m_gap;                   ///< g_j at the end of the previous step
+    std::vector<double> m_rate;                  ///< dg_j/dt there
+    std::vector<double> m_gap_next, m_rate_next; ///< the same at the end of this step
+    std::vector<int> m_active;                   ///< contacts this step has to scan
+    std::vector<double> m_scratch;               ///< a state from the stepper's dense output
     double m_last_t = -1.0;
     bool m_have_previous = false;
     long m_split_period;

@@ -46,6 +46,10 @@ struct RunSpan {
     long periods = 1000;        ///< total periods, >= 1
     long transient_periods = 0; ///< first periods not recorded, 0 <= transient < periods
     double t_start = 0.0;       ///< reduced time of the initial state (forcing phase 2 pi f_r t)
+    /// Index of the period the initial state starts, 0 .. periods - 1: a run in phases
+    /// continues the period count (and the observers' state) of the phase before it. Periods
+    /// first_period .. periods - 1 are integrated; on_period(0) is called only when it is 0.
+    long first_period = 0;
 };
 
 /// How a run ended.
@@ -74,6 +78,20 @@ using ProgressCallback = std::function<bool(double fraction_done)>;
 /// RunOptions::transient_periods value asking for MODEL.md §2's default transient.
 inline constexpr long auto_transient = -1;
 
+/// How strictly a run is held to its tolerance.
+enum class AccuracyMode {
+    /// "auto": a run that shows it does not settle (no steady state and still far from every
+    /// cycle once the transient is over) may finish on a cheaper plan whose F_m error stays well
+    /// below its sampling spread (see simulate()). Periodic runs are held to the tolerance.
+    automatic,
+    strict, ///< "strict": every step held to run.tolerance pointwise
+};
+
+/// Parses "auto" or "strict"; throws std::invalid_argument naming run.accuracy_mode otherwise.
+AccuracyMode parse_accuracy_mode(std::string_view name);
+/// The scene name of a mode.
+std::string_view to_string(AccuracyMode mode);
+
 /// How to run: length, scheme, accuracy, steady-state stop. Defaults are MODEL.md §2's (1000
 /// periods, the start-up transient discarded).
 struct RunOptions {
@@ -91,6 +109,8 @@ struct RunOptions {
     /// simulate(): when the run settled late or never, run a twin from a start moved by 1e-8
     /// and flag the answer multistable if its F_m differs beyond the error estimate.
     bool multistability_check = true;
+    /// Whether a run that never settles may finish on a cheaper plan (AccuracyMode).
+    AccuracyMode accuracy_mode = AccuracyMode::automatic;
     /// Largest work a run may take, in body-steps (Nm x steps per period x periods), 1 ..
     /// 1e15. About 1e7 body-steps run per second on one core, so the default 3e10 is about an
     /// hour; a larger run is refused up front with its estimate.

@@ -33,6 +33,15 @@ enum class ErrorMethod {
 /// "none", "comparison_run" or "window_halves".
 std::string_view to_string(ErrorMethod method);
 
+/// Which accuracy a simulation's main run kept (see RunOptions::accuracy_mode).
+enum class AccuracyUsed {
+    strict,  ///< every step held to run.tolerance
+    relaxed, ///< a run that did not settle, finished on the relaxed plan (see simulate())
+};
+
+/// "strict" or "relaxed".
+std::string_view to_string(AccuracyUsed used);
+
 /// Everything one simulation reports.
 struct SimulationResult {
     double F_m = 0.0;       ///< max over contacts and recorded time of the reduced force (eq 19)
@@ -60,8 +69,14 @@ struct SimulationResult {
     /// the start (several attractors, or a transient longer than the run); F_m_error then
     /// covers |F_m - F_m_twin|. gapchain-attractors gives the F_m of each attractor.
     bool multistable = false;
-    double F_m_twin = 0.0;    ///< the twin run's F_m (when twin_checked)
-    double wall_time_s = 0.0; ///< wall time of the whole call [s]
+    double F_m_twin = 0.0; ///< the twin run's F_m (when twin_checked)
+    /// A run that settled late (see simulate()): the largest force over one cycle of the orbit
+    /// it settled on. Below F_m beyond the error, F_m came from the transient: multistable.
+    std::optional<double> F_m_orbit;
+    /// Whether the main run kept to the tolerance throughout or finished relaxed.
+    AccuracyUsed accuracy_mode_used = AccuracyUsed::strict;
+    long relaxed_from_period = -1; ///< period the relaxed plan took over at (-1: strict)
+    double wall_time_s = 0.0;      ///< wall time of the whole call [s]
 };
 
 /// Optional streams of one simulation.
@@ -86,14 +101,28 @@ struct SimulationHooks {
 ///   ten times the tolerance, exact at half the output interval. The estimate is never below a
 ///   round-off floor (1e-14 F_m; 1e-12 F_m for exact).
 ///
-/// Multistability check (options.multistability_check, harmonic forcing): a run that did not
-/// settle quickly - no steady state, or one reached only after the state stayed far (1e-3,
+/// Multistability check (options.multistability_check, harmonic forcing): a run that settled
+/// late is continued for one cycle of its orbit; if the orbit's largest force (F_m_orbit) is
+/// below F_m by more than max(3 F_m_error, 1e-6 F_m), F_m came from the transient, a property of
+/// the start: the result is multistable and F_m_error covers the difference. Then a run that did
+/// not settle quickly - no steady state, or one reached only after the state stayed far (1e-3,
 /// relative) from every cycle for longer than it then took to converge, the mark of a chaotic
 /// transient - is repeated from the start with u_1 moved by 1e-8 max(1, |x0|). If the twin's
 /// F_m differs from F_m by more than max(3 F_m_error, 3 x either run's window-halves spread,
 /// 1e-6 F_m), the result is
 /// multistable and F_m_error is raised to that difference. A quickly settled run (the usual
 /// periodic point) costs nothing more.
+///
+/// Accuracy (options.accuracy_mode): in `automatic`, a run on the automatic scheme and step
+/// that is still far (1e-3) from every cycle, with no steady state, at four times the
+/// contact-free row's decay time to 1e-3 (and after the transient) finishes on a relaxed plan:
+/// rk4 at h omega_max = 0.4, steps not split at contact switches, whatever the tolerance (its
+/// F_m error, about 2e-3 F_m, is set against the sampling spread it must stay under). Its
+/// answer stands only if the run then never settles and its window-halves spread (then
+/// F_m_error) is at least that error, 2e-3 F_m; otherwise the run is done again in strict mode, so
+/// a periodic answer is always a strict one. A relaxed run's twin starts from the state it relaxed
+/// at, moved by 1e-8, and runs the relaxed part only. `strict` keeps every run to the tolerance.
+/// result.accuracy_mode_used says which answer came back.
 SimulationResult simulate(const Dynamics& dyn, const RunOptions& options,
                           const std::vector<double>& initial = {},
                           const SimulationHooks& hooks = {});

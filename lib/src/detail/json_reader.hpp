@@ -33,6 +33,9 @@ public:
     void allow(std::initializer_list<std::string> keys) {
         m_allowed.insert(m_allowed.end(), keys.begin(), keys.end());
     }
+    void allow(const std::vector<std::string>& keys) {
+        m_allowed.insert(m_allowed.end(), keys.begin(), keys.end());
+    }
     [[nodiscard]] bool has(const std::string& key) const { return m_object.contains(key); }
     // Whether key is present and holds a string.
     [[nodiscard]] bool has_text(const std::string& key) const {

@@ -50,6 +50,7 @@ TEST_CASE("short keys get their section; unknown short keys are refused by name"
     CHECK(scene_key("fc") == "model.fc");
     CHECK(scene_key("f_r") == "excitation.f_r");
     CHECK(scene_key("periods") == "run.periods");
+    CHECK(scene_key("accuracy_mode") == "run.accuracy_mode");
     CHECK(scene_key("trajectory_every") == "output.trajectory_every");
     CHECK(scene_key("model.scatter.seed") == "model.scatter.seed");
     CHECK_THROWS_WITH_AS(scene_key("springiness"), doctest::Contains("springiness: unknown key"),
@@ -89,6 +90,10 @@ TEST_CASE("bad input: every class gives one line naming the key") {
     CHECK(error_of("{}", {"model.fc=inf"}).find("model.fc") != std::string::npos);
     CHECK(error_of(R"({"run": {"scheme": "euler"}})").find("run.scheme: must be one of") !=
           std::string::npos);
+    CHECK(error_of(R"({"run": {"accuracy_mode": "fast"}})")
+              .find("run.accuracy_mode: must be one of auto, strict") != std::string::npos);
+    CHECK(parse_scene("{}", {"run.accuracy_mode=strict"}).run.accuracy_mode == AccuracyMode::strict);
+    CHECK(parse_scene("{}").run.accuracy_mode == AccuracyMode::automatic);
     CHECK(error_of(R"({"run": {"periods": 10, "transient_periods": 10}})")
               .find("run.transient_periods") != std::string::npos);
     CHECK(error_of(R"({"initial": {"u": [1, 2]}})").find("initial.u") != std::string::npos);

@@ -3,7 +3,11 @@
 //   gapchain-bench sim           the three reference scenes against a plain fixed-step RK4 loop
 //   gapchain-bench bifurcation   the 500-value Fig 13 diagram (200 + 100 periods per value)
 //   gapchain-bench modes         the lowest 10 modes of a 10^6-body chain (Spectra)
+//   gapchain-bench peer          a stiff chaotic row against Boost.Odeint's dopri5 (libboost-dev)
 #include "common/cli.hpp"
+#ifdef GAPCHAIN_WITH_ODEINT
+#include "bench/odeint_peer.hpp"
+#endif
 
 #include "gapchain/bifurcation.hpp"
 #include "gapchain/modes.hpp"
@@ -106,6 +110,39 @@ void bench_sim(long periods, double tolerance) {
     }
 }
 
+/// Issue 16's stiff chaotic row (Nm = 20, fc = 2000, eps = 0.2, e_r = 0.02, f_r = 1): gapchain
+/// in auto and strict mode, and the Odeint peer at tolerances 1e-4 and 1e-6, in one run.
+void bench_peer(long periods) {
+#ifdef GAPCHAIN_WITH_ODEINT
+    const ReducedParameters p{20, 2000, 0.2, 0.02, 1.0};
+    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+    std::printf("stiff chaotic row Nm=20 fc=2000 eps=0.2 e_r=0.02 f_r=1, %ld periods\n", periods);
+    RunOptions o;
+    o.periods = periods;
+    const SimulationResult automatic = simulate(dyn, o);
+    o.accuracy_mode = AccuracyMode::strict;
+    const SimulationResult strict = simulate(dyn, o);
+    for (const SimulationResult* r : {&automatic, &strict})
+        std::printf("gapchain %-7s: F_m %.4f +- %.4f (%s, twin %s)  %8.4f s\n",
+                    r == &automatic ? "auto" : "strict", r->F_m, r->F_m_error,
+                    std::string(to_string(r->accuracy_mode_used)).c_str(),
+                    r->twin_checked ? "run" : "not run", r->wall_time_s);
+    for (double tolerance : {1e-4, 1e-6}) {
+        const bench::PeerRun peer =
+            bench::odeint_dopri5(dyn, periods, automatic.transient_periods_used, tolerance);
+        const bool inside = std::abs(peer.F_m - automatic.F_m) <= automatic.F_m_error;
+        std::printf("odeint dopri5 %g: F_m %.4f (%s gapchain auto's spread)  %ld steps  %8.4f s"
+                    "  -> gapchain auto %.2fx faster\n",
+                    tolerance, peer.F_m, inside ? "inside" : "outside", peer.steps, peer.seconds,
+                    peer.seconds / automatic.wall_time_s);
+    }
+#else
+    (void)periods;
+    throw std::invalid_argument("peer: this gapchain-bench was built without Boost.Odeint "
+                                "(install libboost-dev: bash tools/dev/deps.sh, and rebuild)");
+#endif
+}
+
 void bench_bifurcation(int threads) {
     BifurcationOptions o;
     o.threads = threads;
@@ -161,9 +198,15 @@ int main(int argc, char** argv) {
     auto* mod = app.add_subcommand("modes", "The lowest modes of a long chain (Spectra)");
     mod->add_option("--Nm", Nm, "Bodies")->check(CLI::Range(3, 1'000'000))->capture_default_str();
     mod->add_option("--modes", modes, "Modes")->check(CLI::Range(1, 1000))->capture_default_str();
+    long peer_periods = 200;
+    auto* peer = app.add_subcommand("peer", "A stiff chaotic row against Boost.Odeint's dopri5");
+    peer->add_option("--periods", peer_periods, "Forcing periods")
+        ->check(CLI::Range(20L, 1'000'000L))
+        ->capture_default_str();
     return gapchain::cli::run(app, argc, argv, [&] {
         if (app.get_subcommands().empty())
-            throw std::invalid_argument("a benchmark is required: sim, bifurcation or modes");
+            throw std::invalid_argument("a benchmark is required: sim, bifurcation, modes or peer");
+        if (peer->parsed()) bench_peer(peer_periods);
         if (mod->parsed()) bench_modes(Nm, modes);
         if (sim->parsed()) bench_sim(periods, tolerance);
         if (bif->parsed()) {

@@ -237,10 +237,12 @@ bool SteadyStateDetector::matches(long a, long b) const {
 bool SteadyStateDetector::on_period(long n, double t, const double* y) {
     std::copy(y, y + m_dim, m_ring[n % m_ring.size()].begin());
     if (m_period) return n >= m_earliest_stop + *m_period;
-    bool far = n > m_max_period;
-    for (int k = 1; k <= m_max_period && far; ++k)
-        far = distance(n, n - k) > far_distance;
-    if (far) m_last_far = n;
+    if (n > m_max_period) {
+        m_nearest = std::numeric_limits<double>::infinity();
+        for (int k = 1; k <= m_max_period; ++k)
+            m_nearest = std::min(m_nearest, distance(n, n - k));
+        if (m_nearest > far_distance) m_last_far = n;
+    }
     for (int k = 1; k <= m_max_period; ++k) {
         if (n - 1 - k < 0) break;
         if (matches(n, n - k) && matches(n - 1, n - 1 - k)) {

@@ -6,6 +6,7 @@
 #include "gapchain/run.hpp"
 
 #include <functional>
+#include <limits>
 #include <optional>
 #include <vector>
 
@@ -72,6 +73,10 @@ public:
     [[nodiscard]] long last_far_period() const { return m_last_far; }
     /// The relative distance last_far_period() uses.
     static constexpr double far_distance = 1e-3;
+    /// At the last period boundary n > max_period: the relative distance from the state there
+    /// to the nearest of the max_period states before it (how close the run is to a cycle);
+    /// +inf before.
+    [[nodiscard]] double nearest_cycle_distance() const { return m_nearest; }
 
 private:
     /// max |y_a - y_b| / max(1, max |y_a|) over the state.
@@ -85,6 +90,7 @@ private:
     std::optional<int> m_period;
     std::optional<double> m_time;
     long m_last_far = -1;
+    double m_nearest = std::numeric_limits<double>::infinity();
 };
 
 /// Receives (t, y) samples of a recorded trajectory.

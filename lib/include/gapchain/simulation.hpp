@@ -114,12 +114,13 @@ struct SimulationHooks {
 /// periodic point) costs nothing more.
 ///
 /// Accuracy (options.accuracy_mode): in `automatic`, a run on the automatic scheme and step
-/// that is still far (1e-3) from every cycle, with no steady state, at four times the
-/// contact-free row's decay time to 1e-3 (and after the transient) finishes on a relaxed plan:
+/// that has no steady state and is farther than 1e-6 (relative) from every cycle of up to
+/// max_steady_period periods at four times the contact-free row's decay time to 1e-3 (and
+/// after the transient and max_steady_period + 1 periods) finishes on a relaxed plan:
 /// rk4 at h omega_max = 0.4, steps not split at contact switches, whatever the tolerance (its
-/// F_m error, about 2e-3 F_m, is set against the sampling spread it must stay under). Its
-/// answer stands only if the run then never settles and its window-halves spread (then
-/// F_m_error) is at least that error, 2e-3 F_m; otherwise the run is done again in strict mode, so
+/// F_m error, 1.4e-3 F_m rms on periodic points of the paper's grid, is credited as 3e-3 F_m).
+/// Its answer stands only if the run then never settles and its window-halves spread (then
+/// F_m_error) is at least that, 3e-3 F_m; otherwise the run is done again in strict mode, so
 /// a periodic answer is always a strict one. A relaxed run's twin starts from the state it relaxed
 /// at, moved by 1e-8, and runs the relaxed part only. `strict` keeps every run to the tolerance.
 /// result.accuracy_mode_used says which answer came back.

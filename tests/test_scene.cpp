@@ -92,7 +92,8 @@ TEST_CASE("bad input: every class gives one line naming the key") {
           std::string::npos);
     CHECK(error_of(R"({"run": {"accuracy_mode": "fast"}})")
               .find("run.accuracy_mode: must be one of auto, strict") != std::string::npos);
-    CHECK(parse_scene("{}", {"run.accuracy_mode=strict"}).run.accuracy_mode == AccuracyMode::strict);
+    CHECK(parse_scene("{}", {"run.accuracy_mode=strict"}).run.accuracy_mode ==
+          AccuracyMode::strict);
     CHECK(parse_scene("{}").run.accuracy_mode == AccuracyMode::automatic);
     CHECK(error_of(R"({"run": {"periods": 10, "transient_periods": 10}})")
               .find("run.transient_periods") != std::string::npos);

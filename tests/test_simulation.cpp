@@ -349,8 +349,7 @@ TEST_CASE("accuracy mode: the relaxed plan's F_m error on periodic rows is withi
          {ReducedParameters{5, 100, 0.5, 0.5, 1.0}, ReducedParameters{20, 2000, 0.5, 0.24, 1.0},
           ReducedParameters{5, 60, 0.5, 0.06, 3.0}}) {
         const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
-        StepPlan plan = plan_step(dyn, Scheme::rk4, 1e-4);
-        plan.split_at_switches = false;
+        const StepPlan plan = relaxed_plan(dyn);
         const auto stepper = make_stepper(plan, dyn);
         std::vector<double> y(dyn.dimension(), 0.0);
         const long periods = 300, transient = 200;

@@ -4,6 +4,7 @@
 //   gapchain-bench bifurcation   the 500-value Fig 13 diagram (200 + 100 periods per value)
 //   gapchain-bench modes         the lowest 10 modes of a 10^6-body chain (Spectra)
 //   gapchain-bench peer          a stiff chaotic row against Boost.Odeint's dopri5 (libboost-dev)
+//   gapchain-bench relaxed CSV   the relaxed plan's F_m error on the periodic rows of a sweep
 #include "common/cli.hpp"
 #ifdef GAPCHAIN_WITH_ODEINT
 #include "bench/odeint_peer.hpp"
@@ -17,6 +18,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <map>
+#include <sstream>
 
 namespace {
 
@@ -27,8 +31,9 @@ double seconds_since(std::chrono::steady_clock::time_point start) {
 }
 
 // The baseline a user would write first: fixed-step RK4 on the right-hand side, F_m read at
-// the step points, every period integrated (no steady-state stop, no peak location).
-double plain_rk4_fm(const Dynamics& dyn, double h_omega, long periods) {
+// the step points from period `transient` on (the window gapchain records), every period
+// integrated (no steady-state stop, no peak location).
+double plain_rk4_fm(const Dynamics& dyn, double h_omega, long periods, long transient) {
     const int dim = dyn.dimension();
     const int spp =
         static_cast<int>(std::ceil(dyn.period() * dyn.max_angular_frequency() / h_omega));
@@ -49,6 +54,7 @@ double plain_rk4_fm(const Dynamics& dyn, double h_omega, long periods) {
         dyn.rhs(t + h, tmp.data(), k4.data());
         for (int i = 0; i < dim; ++i)
             y[i] += h / 6.0 * (k1[i] + 2 * k2[i] + 2 * k3[i] + k4[i]);
+        if (s + 1 < transient * spp) continue;
         for (int j = 0; j < dyn.gaps(); ++j)
             fm = std::max(fm, dyn.force(j, y.data()));
     }
@@ -91,7 +97,8 @@ void bench_sim(long periods, double tolerance) {
             tight.estimate_error = false;
             const double ref = simulate(dyn, tight).F_m;
             plain_h_omega = 0.5;
-            while (std::abs(plain_rk4_fm(dyn, plain_h_omega, 60) - ref) > tolerance * ref &&
+            while (std::abs(plain_rk4_fm(dyn, plain_h_omega, 60, r.transient_periods_used) - ref) >
+                       tolerance * ref &&
                    plain_h_omega > 1e-4)
                 plain_h_omega /= 2;
             std::printf("%-12s reference F_m %.10f; gapchain true error %.2e (relative %.2e)\n", "",
@@ -100,7 +107,7 @@ void bench_sim(long periods, double tolerance) {
         // For the chaotic scene, whose F_m has no converged value to search against, the plain
         // loop keeps the h * omega_max the periodic scenes needed.
         const auto start = std::chrono::steady_clock::now();
-        const double plain = plain_rk4_fm(dyn, plain_h_omega, periods);
+        const double plain = plain_rk4_fm(dyn, plain_h_omega, periods, r.transient_periods_used);
         const double plain_s = seconds_since(start);
         const double per_period_ratio =
             (plain_s / static_cast<double>(periods)) / (r.wall_time_s / r.periods_simulated);
@@ -120,27 +127,102 @@ void bench_peer(long periods) {
     RunOptions o;
     o.periods = periods;
     const SimulationResult automatic = simulate(dyn, o);
+    // Like for like with the peer, which has no error estimate and no twin: F_m alone.
+    RunOptions bare = o;
+    bare.multistability_check = false;
+    const SimulationResult alone = simulate(dyn, bare);
     o.accuracy_mode = AccuracyMode::strict;
     const SimulationResult strict = simulate(dyn, o);
-    for (const SimulationResult* r : {&automatic, &strict})
-        std::printf("gapchain %-7s: F_m %.4f +- %.4f (%s, twin %s)  %8.4f s\n",
-                    r == &automatic ? "auto" : "strict", r->F_m, r->F_m_error,
-                    std::string(to_string(r->accuracy_mode_used)).c_str(),
-                    r->twin_checked ? "run" : "not run", r->wall_time_s);
+    const struct {
+        const char* name;
+        const SimulationResult& r;
+    } rows[] = {{"auto", automatic}, {"auto, no twin", alone}, {"strict", strict}};
+    for (const auto& row : rows)
+        std::printf("gapchain %-13s: F_m %.4f +- %.4f (%s, twin %s)  %8.4f s\n", row.name,
+                    row.r.F_m, row.r.F_m_error,
+                    std::string(to_string(row.r.accuracy_mode_used)).c_str(),
+                    row.r.twin_checked ? "run" : "not run", row.r.wall_time_s);
     for (double tolerance : {1e-4, 1e-6}) {
         const bench::PeerRun peer =
             bench::odeint_dopri5(dyn, periods, automatic.transient_periods_used, tolerance);
         const bool inside = std::abs(peer.F_m - automatic.F_m) <= automatic.F_m_error;
         std::printf("odeint dopri5 %g: F_m %.4f (%s gapchain auto's spread)  %ld steps  %8.4f s"
-                    "  -> gapchain auto %.2fx faster\n",
+                    "  -> gapchain auto %.2fx, without its twin %.2fx faster\n",
                     tolerance, peer.F_m, inside ? "inside" : "outside", peer.steps, peer.seconds,
-                    peer.seconds / automatic.wall_time_s);
+                    peer.seconds / automatic.wall_time_s, peer.seconds / alone.wall_time_s);
     }
 #else
     (void)periods;
     throw std::invalid_argument("peer: this gapchain-bench was built without Boost.Odeint "
                                 "(install libboost-dev: bash tools/dev/deps.sh, and rebuild)");
 #endif
+}
+
+/// The periodic rows (status steady_state, F_m > 1e-3) of a gapchain-sweep CSV, up to count.
+std::vector<ReducedParameters> periodic_rows(const std::string& path, int count) {
+    std::ifstream in(path);
+    if (!in) throw std::invalid_argument("relaxed: cannot read " + path);
+    std::string line;
+    std::getline(in, line);
+    std::map<std::string, std::size_t> column;
+    {
+        std::stringstream header(line);
+        std::string name;
+        for (std::size_t i = 0; std::getline(header, name, ','); ++i)
+            column[name] = i;
+    }
+    for (const char* name : {"Nm", "fc", "eps", "e_r", "f_r", "F_m", "status"})
+        if (!column.count(name))
+            throw std::invalid_argument("relaxed: " + path + " has no column " + name);
+    std::vector<ReducedParameters> rows;
+    while (static_cast<int>(rows.size()) < count && std::getline(in, line)) {
+        std::vector<std::string> cell;
+        std::stringstream fields(line);
+        for (std::string f; std::getline(fields, f, ',');)
+            cell.push_back(f);
+        if (cell.size() < column.size() || cell[column["status"]] != "steady_state" ||
+            std::stod(cell[column["F_m"]]) <= 1e-3)
+            continue;
+        rows.push_back({std::stoi(cell[column["Nm"]]), std::stod(cell[column["fc"]]),
+                        std::stod(cell[column["eps"]]), std::stod(cell[column["e_r"]]),
+                        std::stod(cell[column["f_r"]])});
+    }
+    return rows;
+}
+
+/// relaxed_plan()'s F_m on periodic rows against strict runs at tolerance 1e-6, each run to the
+/// strict run's steady state and 50 periods beyond.
+void bench_relaxed(const std::string& path, int count) {
+    double sum = 0.0, sum2 = 0.0, largest = 0.0;
+    int n = 0;
+    for (const ReducedParameters& p : periodic_rows(path, count)) {
+        const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+        RunOptions o;
+        o.accuracy_mode = AccuracyMode::strict;
+        o.tolerance = 1e-6;
+        o.multistability_check = false;
+        o.estimate_error = false;
+        const SimulationResult strict = simulate(dyn, o);
+        if (!strict.steady_state_period || strict.F_m <= 0.0) continue;
+        const StepPlan plan = relaxed_plan(dyn);
+        const auto stepper = make_stepper(plan, dyn);
+        std::vector<double> y(dyn.dimension(), 0.0);
+        MaxForceTracker forces(dyn);
+        Observer* observers[] = {&forces};
+        run(dyn, *stepper, plan,
+            RunSpan{strict.periods_simulated + 50, strict.transient_periods_used, 0.0, 0}, y,
+            observers);
+        const double e = (forces.max_force() - strict.F_m) / strict.F_m;
+        sum += e;
+        sum2 += e * e;
+        largest = std::max(largest, std::abs(e));
+        ++n;
+    }
+    if (n == 0) throw std::invalid_argument("relaxed: no periodic rows in " + path);
+    const double mean = sum / n;
+    std::printf("relaxed plan (rk4, h omega 0.4, no switch splitting) vs strict at 1e-6 on %d "
+                "periodic rows: relative F_m error mean %+.2e, rms %.2e, largest %.2e\n",
+                n, mean, std::sqrt(sum2 / n), largest);
 }
 
 void bench_bifurcation(int threads) {
@@ -203,10 +285,20 @@ int main(int argc, char** argv) {
     peer->add_option("--periods", peer_periods, "Forcing periods")
         ->check(CLI::Range(20L, 1'000'000L))
         ->capture_default_str();
+    std::string sample;
+    int relaxed_points = 300;
+    auto* relaxed = app.add_subcommand("relaxed", "The relaxed plan's F_m error on periodic rows");
+    relaxed->add_option("sample", sample, "gapchain-sweep CSV (its periodic rows are used)")
+        ->required()
+        ->check(CLI::ExistingFile);
+    relaxed->add_option("--points", relaxed_points, "Periodic rows to use")
+        ->check(CLI::Range(1, 1'000'000))
+        ->capture_default_str();
     return gapchain::cli::run(app, argc, argv, [&] {
         if (app.get_subcommands().empty())
             throw std::invalid_argument("a benchmark is required: sim, bifurcation, modes or peer");
         if (peer->parsed()) bench_peer(peer_periods);
+        if (relaxed->parsed()) bench_relaxed(sample, relaxed_points);
         if (mod->parsed()) bench_modes(Nm, modes);
         if (sim->parsed()) bench_sim(periods, tolerance);
         if (bif->parsed()) {

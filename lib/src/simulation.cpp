@@ -55,6 +55,7 @@ public:
             m_steady.emplace(dyn.dimension(), options.max_steady_period, options.steady_tolerance,
                              options.transient_periods);
             m_list.push_back(&*m_steady);
+            m_list.push_back(&m_distances);
         }
         if (trajectory) {
             m_recorder.emplace(every, trajectory);
@@ -66,16 +67,29 @@ public:
     RunWatch& operator=(const RunWatch&) = delete;
 
     [[nodiscard]] std::span<Observer* const> observers() const { return m_list; }
-    /// Whether the run, at its last period boundary, has found no steady state and is not near
-    /// one: farther than
-    /// wander_distance from every cycle of up to max_steady_period periods. A run that decays
-    /// onto a stable orbit at the contact-free rate is within 1e-12 of it by relaxation_period()
-    /// (four times its decay time to 1e-3); 1e-6 leaves room for orbits that attract slowly.
+    /// Whether the run, at its last period boundary, has found no steady state, is far from one
+    /// (farther than SteadyStateDetector::far_distance, 1e-3, from every cycle of up to
+    /// max_steady_period periods; a run that decays onto a stable orbit at the contact-free rate
+    /// is within 1e-12 of it by relaxation_period(), four times its decay time to 1e-3), and is
+    /// not approaching one (that distance did not fall a thousandfold over the last
+    /// approach_periods periods, as it does on the way to an orbit that attracts slowly; a
+    /// chaotic run's distance wanders within a factor of ten or so). Measured on the paper-scale
+    /// sample: a looser rule (1e-6, no approach test) relaxed slowly settling periodic points,
+    /// which were then redone strict and cost 1.5x in all.
     [[nodiscard]] bool wandering() const {
         return m_steady && !m_steady->period() &&
-               m_steady->nearest_cycle_distance() > wander_distance;
+               m_steady->nearest_cycle_distance() > SteadyStateDetector::far_distance &&
+               m_distances.steady_wandering();
+    }
+    /// The observers, with one that stops the run as soon as it comes within wander_distance
+    /// (1e-6) of a cycle: a relaxed run that does that is settling, and will be redone strict,
+    /// so the rest of its relaxed periods would be wasted.
+    [[nodiscard]] std::span<Observer* const> observers_stopping_near_a_cycle() {
+        m_distances.stop_when_near();
+        return m_list;
     }
     static constexpr double wander_distance = 1e-6;
+    static constexpr int approach_periods = 8;
     /// What the observers found over the run that ended with outcome.
     SingleRun found(const RunOutcome& outcome) const {
         SingleRun r;
@@ -93,20 +107,42 @@ public:
     }
 
 private:
+    /// The steady-state detector's distance to the nearest cycle over the last
+    /// approach_periods periods; asks to stop near a cycle once told to.
+    class CycleDistances final : public Observer {
+    public:
+        explicit CycleDistances(const std::optional<SteadyStateDetector>& steady)
+            : m_steady(steady) {}
+        void on_step(const StepView&) override {}
+        bool on_period(long n, double, const double*) override {
+            if (!m_steady) return false;
+            m_last[n % approach_periods] = m_steady->nearest_cycle_distance();
+            m_count = std::min(m_count + 1, approach_periods);
+            return m_stop && (m_steady->period() || near());
+        }
+        void stop_when_near() { m_stop = true; }
+        [[nodiscard]] bool near() const {
+            return m_steady && m_steady->nearest_cycle_distance() <= wander_distance;
+        }
+        [[nodiscard]] bool steady_wandering() const {
+            if (m_count < approach_periods) return false;
+            const auto [low, high] = std::minmax_element(std::begin(m_last), std::end(m_last));
+            return std::isfinite(*high) && *low >= 1e-3 * *high;
+        }
+
+    private:
+        const std::optional<SteadyStateDetector>& m_steady;
+        double m_last[approach_periods] = {};
+        int m_count = 0;
+        bool m_stop = false;
+    };
+
     MaxForceTracker m_forces;
     std::optional<SteadyStateDetector> m_steady;
+    CycleDistances m_distances{m_steady};
     std::optional<TrajectoryRecorder> m_recorder;
     std::vector<Observer*> m_list;
 };
-
-/// The plan a run that does not settle finishes on in AccuracyMode::automatic: rk4 at
-/// h omega_max = 0.4 (16 steps per fastest contact period, and at least 16 per forcing period),
-/// whatever the tolerance, with steps not split at contact switches.
-StepPlan relaxed_plan(const Dynamics& dyn) {
-    StepPlan plan = plan_step(dyn, Scheme::rk4, 1e-4);
-    plan.split_at_switches = false;
-    return plan;
-}
 
 /// Relative F_m error credited to the relaxed plan: on 300 periodic points of the paper-scale
 /// grid its F_m differed from strict runs at 1e-6 by 1.4e-3 rms (mean +3e-4, largest 1.3e-2;
@@ -118,7 +154,8 @@ constexpr double relaxed_min_spread = relaxed_error;
 /// The period at which a run in AccuracyMode::automatic decides whether it settles: four times
 /// the contact-free row's decay time to SteadyStateDetector::far_distance (a start-up that
 /// decays onto a stable orbit has come near it by then, see settled_late()), after the
-/// transient, and after max_steady_period + 1 periods (so that every cycle length was tried). -1
+/// transient, and once the distance to every cycle length has been measured for
+/// RunWatch::approach_periods periods. -1
 /// when the run may not relax: strict mode, a user's scheme or step, no steady-state stop, a
 /// record, or too short a run.
 long relaxation_period(const Dynamics& dyn, const RunOptions& options,
@@ -131,7 +168,7 @@ long relaxation_period(const Dynamics& dyn, const RunOptions& options,
     free_decay.tolerance = SteadyStateDetector::far_distance;
     const long at =
         std::max({options.transient_periods + 1, 4 * default_transient_periods(dyn, free_decay),
-                  static_cast<long>(options.max_steady_period) + 1});
+                  static_cast<long>(options.max_steady_period) + RunWatch::approach_periods});
     // The relaxed part must be the larger part of the window to pay for its set-up.
     return 2 * (options.periods - at) >= options.periods - options.transient_periods ? at : -1;
 }
@@ -173,7 +210,8 @@ SingleRun run_once(const Dynamics& dyn, const RunOptions& options, PlannedRun& p
     const StepPlan plan = relaxed_plan(dyn);
     const std::unique_ptr<Stepper> stepper = make_stepper(plan, dyn);
     std::vector<double> y = planned.state();
-    RunOutcome outcome = run(dyn, *stepper, plan, rest, y, watch.observers(), hooks.progress);
+    const std::span<Observer* const> observers = watch.observers_stopping_near_a_cycle();
+    RunOutcome outcome = run(dyn, *stepper, plan, rest, y, observers, hooks.progress);
     outcome.steps += first.steps;
     SingleRun r = watch.found(outcome);
     r.evaluations = planned.evaluations() + stepper->evaluations();

@@ -296,4 +296,10 @@ StepPlan plan_step(const Dynamics& dyn, Scheme scheme, double tolerance,
     return plan;
 }
 
+StepPlan relaxed_plan(const Dynamics& dyn) {
+    StepPlan plan = plan_step(dyn, Scheme::rk4, 1e-4);
+    plan.split_at_switches = false;
+    return plan;
+}
+
 } // namespace gapchain

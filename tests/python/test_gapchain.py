@@ -98,6 +98,7 @@ def test_modes_match_the_paper_approximation_formula():
     ({"model.springiness": 2}, "model.springiness"),
     (dict(periods=0), "run.periods"),
     (dict(scheme="euler"), "run.scheme"),
+    (dict(accuracy_mode="fast"), "run.accuracy_mode"),
 ])
 def test_bad_input_raises_value_error_naming_the_key(keys, key):
     with pytest.raises(ValueError, match=key.replace(".", r"\.")):
@@ -171,3 +172,10 @@ def test_sweep_columns_follow_the_study():
     assert s["per_body"].shape == (4, 5, 2)
     one = gapchain.simulate(fc=10, e_r=0.2, periods=40)
     assert s["F_m"][3] == one["F_m"]
+
+
+def test_accuracy_mode_is_reported_and_strict_keeps_a_periodic_answer():
+    auto = gapchain.simulate(periods=200)
+    strict = gapchain.simulate(periods=200, accuracy_mode="strict")
+    assert auto["accuracy_mode_used"] == "strict" == strict["accuracy_mode_used"]
+    assert abs(auto["F_m"] - strict["F_m"]) <= 1e-9 * strict["F_m"]

@@ -353,7 +353,7 @@ void read_run(SectionReader run, const std::string& type, Scene& scene) {
     o.max_work = run.number("max_work", o.max_work, 1.0, 1e15);
     o.multistability_check = run.boolean("multistability_check", o.multistability_check);
     // The mode names live in parse_accuracy_mode(), whose message names run.accuracy_mode.
-    o.accuracy_mode = parse_accuracy_mode(run.text("accuracy_mode", "auto", {}));
+    o.accuracy_mode = parse_accuracy_mode(run.text("accuracy_mode", "auto", {"auto", "strict"}));
     run.finish();
 }
 

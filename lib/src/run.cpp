@@ -92,10 +92,6 @@ double refine_switch(const Dynamics& dyn, const Stepper& stepper, Switch s, doub
     return t;
 }
 
-void compute_gaps(const Dynamics& dyn, const double* y, std::vector<double>& gaps) {
-    dyn.gaps(y, gaps.data());
-}
-
 /// Throws std::invalid_argument on a span, plan or state run() cannot take.
 void check_run_arguments(const Dynamics& dyn, const StepPlan& plan, const RunSpan& span,
                          const std::vector<double>& y) {
@@ -120,7 +116,7 @@ public:
                  std::vector<double>& y, std::span<Observer* const> observers)
         : m_dyn(dyn), m_stepper(stepper), m_plan(plan), m_y(y), m_observers(observers),
           m_y_prev(y.size()), m_gaps(dyn.gaps()), m_gaps_next(dyn.gaps()), m_scratch(y.size()) {
-        compute_gaps(dyn, y.data(), m_gaps);
+        dyn.gaps(y.data(), m_gaps.data());
     }
     /// Advances the state from t0 to t_end (one step of the plan in forcing period `period`);
     /// returns the number of pieces taken.
@@ -173,11 +169,11 @@ double StepSequence::take_piece(double t0, double t_end, bool may_split) {
             m_stepper.reset();
             m_stepper.step(t0, t1 - t0, m_y);
             m_stepper.reset();
-            compute_gaps(m_dyn, m_y.data(), m_gaps_next);
+            m_dyn.gaps(m_y.data(), m_gaps_next.data());
         }
         m_gaps.swap(m_gaps_next);
     } else if (m_plan.split_at_switches) {
-        compute_gaps(m_dyn, m_y.data(), m_gaps);
+        m_dyn.gaps(m_y.data(), m_gaps.data());
     }
     // Without splitting, the gaps are not needed between steps.
     return t1;

@@ -149,7 +149,6 @@ private:
 /// docs/performance.md). A relaxed answer stands only with a sampling spread (its F_m_error) at
 /// least that large.
 constexpr double relaxed_error = 3e-3;
-constexpr double relaxed_min_spread = relaxed_error;
 
 /// The period at which a run in AccuracyMode::automatic decides whether it settles: four times
 /// the contact-free row's decay time to SteadyStateDetector::far_distance (a start-up that
@@ -177,7 +176,19 @@ long relaxation_period(const Dynamics& dyn, const RunOptions& options,
 /// spread of its F_m (window halves) is well above the relaxed plan's error.
 bool relaxed_answer_holds(const SingleRun& r) {
     return r.outcome.status == RunStatus::completed &&
-           std::abs(r.first_half_max - r.second_half_max) >= relaxed_min_spread * r.F_m;
+           std::abs(r.first_half_max - r.second_half_max) >= relaxed_error * r.F_m;
+}
+
+/// Continues y on relaxed_plan() over span, feeding observers; adds the stepper's right-hand
+/// sides to evaluations. The one place the relaxed part of a run (main or twin) is integrated.
+RunOutcome run_relaxed(const Dynamics& dyn, std::vector<double>& y, const RunSpan& span,
+                       std::span<Observer* const> observers, const ProgressCallback& progress,
+                       long& evaluations) {
+    const StepPlan plan = relaxed_plan(dyn);
+    const std::unique_ptr<Stepper> stepper = make_stepper(plan, dyn);
+    const RunOutcome outcome = run(dyn, *stepper, plan, span, y, observers, progress);
+    evaluations += stepper->evaluations();
+    return outcome;
 }
 
 /// One run of options from the planned start. In AccuracyMode::automatic a run still wandering
@@ -207,14 +218,13 @@ SingleRun run_once(const Dynamics& dyn, const RunOptions& options, PlannedRun& p
         r.final_state = planned.state();
         return r;
     }
-    const StepPlan plan = relaxed_plan(dyn);
-    const std::unique_ptr<Stepper> stepper = make_stepper(plan, dyn);
     std::vector<double> y = planned.state();
-    const std::span<Observer* const> observers = watch.observers_stopping_near_a_cycle();
-    RunOutcome outcome = run(dyn, *stepper, plan, rest, y, observers, hooks.progress);
+    long evaluations = planned.evaluations();
+    RunOutcome outcome = run_relaxed(dyn, y, rest, watch.observers_stopping_near_a_cycle(),
+                                     hooks.progress, evaluations);
     outcome.steps += first.steps;
     SingleRun r = watch.found(outcome);
-    r.evaluations = planned.evaluations() + stepper->evaluations();
+    r.evaluations = evaluations;
     r.final_state = std::move(y);
     r.relaxed_from = relax_at;
     r.relax_state = planned.state();
@@ -368,13 +378,12 @@ SingleRun twin_from_start(const Dynamics& dyn, const RunOptions& options,
 /// question (does another nearby start end elsewhere?) at the cost of the relaxed part only.
 SingleRun relaxed_twin(const Dynamics& dyn, const RunOptions& options, const SingleRun& main) {
     RunWatch watch(dyn, options, {}, 1, {});
-    const StepPlan plan = relaxed_plan(dyn);
-    const std::unique_ptr<Stepper> stepper = make_stepper(plan, dyn);
     std::vector<double> y = perturbed(main.relax_state);
     const RunSpan rest{options.periods, options.transient_periods, main.relax_time,
                        main.relaxed_from};
-    SingleRun r = watch.found(run(dyn, *stepper, plan, rest, y, watch.observers()));
-    r.evaluations = stepper->evaluations();
+    long evaluations = 0;
+    SingleRun r = watch.found(run_relaxed(dyn, y, rest, watch.observers(), {}, evaluations));
+    r.evaluations = evaluations;
     return r;
 }
 

@@ -20,7 +20,7 @@ TEST_CASE("a contact-free branch: no special point, MODEL.md's multipliers all a
     const ContinuationResult r = continue_orbits(p, o);
     REQUIRE(r.points.size() > 5);
     CHECK(r.special.empty());
-    CHECK(r.branch_end.front() == "left the parameter range");
+    CHECK(r.branch_end.front() == "left the parameter range at its end");
     for (const auto& point : r.points) {
         CHECK(point.stable);
         CHECK(point.F_m == 0.0);
@@ -47,4 +47,48 @@ TEST_CASE("Fig 13's fold at f_r = 2.762 is located to 1e-6 from two different st
     REQUIRE(a > 0.0);
     REQUIRE(b > 0.0);
     CHECK(std::abs(a - b) < 2e-6);
+}
+
+namespace {
+const ReducedParameters fig13_row{5, 60, 0.5, 0.06, 3.0};
+
+/// One branch of period k along Fig 13's line from `from` to `to` in f_r.
+ContinuationOptions one_branch(double from, double to, int k) {
+    ContinuationOptions o;
+    o.from = from;
+    o.to = to;
+    o.period = k;
+    o.max_branches = 1;
+    return o;
+}
+} // namespace
+
+TEST_CASE("a corrector thrown out of the parameter range is a failed step, not an error") {
+    // Fig 13's period-2 orbit at f_r = 2.3: a Newton update once sent f_r to -27 and the
+    // whole continuation died with the model's range error.
+    ContinuationResult r;
+    REQUIRE_NOTHROW(r = continue_orbits(fig13_row, one_branch(2.3, 2.7, 2)));
+    REQUIRE(r.points.size() > 10);
+    for (const auto& q : r.points)
+        CHECK(q.value > 0.0);
+    // The period-2 orbit is stable at the start (the brute-force diagram shows period 2 there).
+    CHECK(r.points.front().stable);
+    CHECK(r.points.front().period == 2);
+}
+
+TEST_CASE("special points say how well they are located") {
+    // From 2.15 to 2.3 the period-1 orbit of Fig 13 passes the wall grazing at 2.1987 (a smooth
+    // crossing, located to the tolerance) and then the corner near 2.2445, where the stable
+    // orbit ends at a grazing.
+    const ContinuationOptions o = one_branch(2.15, 2.3, 1);
+    const ContinuationResult r = continue_orbits(fig13_row, o);
+    bool wall_grazing = false;
+    for (const auto& s : r.special) {
+        CHECK(s.value_error >= 0.0);
+        if (s.type == SpecialPointType::grazing && std::abs(s.value - 2.1987) < 1e-3) {
+            wall_grazing = true;
+            CHECK(s.value_error <= o.locate_tolerance);
+        }
+    }
+    CHECK(wall_grazing);
 }

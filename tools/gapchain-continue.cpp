@@ -67,9 +67,9 @@ void print_summary(const ContinuationResult& r, const ContinueArguments& a) {
     for (std::size_t b = 0; b < r.branch_end.size(); ++b)
         std::printf("  branch %zu ended: %s\n", b, r.branch_end[b].c_str());
     for (const auto& s : r.special) {
-        std::printf("  %-16s %s = %.8f  (period %d, F_m %.5g, branch %d",
-                    std::string(to_string(s.type)).c_str(), a.param.c_str(), s.value, s.period,
-                    s.F_m, s.branch);
+        std::printf("  %-16s %s = %.8f +- %.1e  (period %d, F_m %.5g, branch %d",
+                    std::string(to_string(s.type)).c_str(), a.param.c_str(), s.value, s.value_error,
+                    s.period, s.F_m, s.branch);
         if (s.contact >= 0) std::printf(", contact %d", s.contact);
         std::printf(")\n");
     }

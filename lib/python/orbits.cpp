@@ -46,7 +46,8 @@ transient   periods run before the first Newton search, 0 .. 1e7
 progress    callable(fraction)
 
 Returns a dict: points (dict of columns value, period, F_m, u1, stable, max_multiplier, branch),
-special (dict of columns type, value, period, F_m, branch, contact (-1 unless grazing)),
+special (dict of columns type, value, period, F_m, branch, contact (-1 unless grazing),
+value_error (half-width of the bracket the value is known to lie in)),
 branch_end (why each branch ended), shootings, cancelled, wall_time_s.)";
 
 py::dict orbit_py(const py::object& scene_arg, int period, long transient, double tolerance,
@@ -99,6 +100,7 @@ py::dict continuation_dict(const ContinuationResult& r) {
     special["F_m"] = column<double>(r.special, [](const S& s) { return s.F_m; });
     special["branch"] = column<int>(r.special, [](const S& s) { return s.branch; });
     special["contact"] = column<int>(r.special, [](const S& s) { return s.contact; });
+    special["value_error"] = column<double>(r.special, [](const S& s) { return s.value_error; });
     py::dict d;
     d["points"] = points;
     d["special"] = special;

@@ -51,6 +51,16 @@ struct OrbitPoint {
     double F_m = 0.0;
 };
 
+/// Whether value is one the model accepts for the parameter `which` (validate() passes).
+bool admissible_value(const ReducedParameters& base, SweptParameter which, double value) {
+    try {
+        validate(with_value(base, which, value));
+        return true;
+    } catch (const std::invalid_argument&) {
+        return false;
+    }
+}
+
 /// The continuation of one branch: the extended system F(x, p) = P^k(x; p) - x.
 class BranchTracer {
 public:
@@ -61,6 +71,18 @@ public:
 
     [[nodiscard]] int dimension() const { return 2 * m_base.Nm; }
     [[nodiscard]] long shootings() const { return m_shootings; }
+
+    /// Whether p is a value the model accepts for the continued parameter.
+    [[nodiscard]] bool admissible(double p) const {
+        return admissible_value(m_base, m_o.parameter, p);
+    }
+
+    /// Newton at the fixed parameter value guess[n] from guess; nothing if it fails.
+    std::optional<OrbitPoint> correct_at_value(const Vector& guess) {
+        Vector along_p = Vector::Zero(guess.size());
+        along_p[guess.size() - 1] = 1.0;
+        return correct(guess, along_p);
+    }
 
     ShootingResult shoot_at(const Vector& x, double p) {
         ++m_shootings;
@@ -88,6 +110,9 @@ public:
         const Eigen::Index n = dimension();
         Vector z = predicted;
         for (int it = 0; it < 12; ++it) {
+            // A diverging corrector can throw the parameter out of its range (f_r < 0): that
+            // is a failed correction, which the walk answers with a shorter step.
+            if (!admissible(z[n])) return std::nullopt;
             ShootingResult s = shoot_at(z.head(n), z[n]);
             if (!s.finite) return std::nullopt;
             const Vector r = Eigen::Map<const Vector>(s.end_state.data(), n) - z.head(n);
@@ -171,8 +196,9 @@ public:
 
     /// Doublings found (point, on which side the doubled branch lies) for branch switching.
     std::vector<std::pair<OrbitPoint, double>> doublings;
-    /// The corrector failed before the branch left the range (a non-smooth corner).
-    bool stuck = false;
+    /// The branch passed the end value `to` (it did not stop at a corner, turn back out of
+    /// the range at `from`, or run out of points first).
+    bool reached_end = false;
     /// The parameter value reached farthest in the direction from -> to.
     double farthest = 0.0;
 
@@ -187,11 +213,14 @@ public:
         for (int count = 1; count < m_o.max_points; ++count) {
             std::optional<OrbitPoint> b;
             while (!b && ds >= 1e-7) {
-                b = m_tracer.correct(a.z + ds * a.tangent, a.tangent);
+                const Vector guess = a.z + ds * a.tangent;
+                b = m_tracer.correct(guess, a.tangent);
+                // A corrected point far from its prediction sits on another sheet: joining
+                // the two would draw a branch that does not exist.
+                if (b && !near(*b, guess, ds)) b.reset();
                 if (!b) ds /= 2;
             }
             if (!b) {
-                stuck = true;
                 return end("the corrector failed at the smallest step (1e-7) at " +
                            std::string(to_string(m_o.parameter)) + " = " + std::to_string(a.z[n]));
             }
@@ -205,7 +234,11 @@ public:
                 m_result.cancelled = true;
                 return end("cancelled");
             }
-            if (p < lo || p > hi) return end("left the parameter range");
+            if (p < lo || p > hi) {
+                reached_end = (p - m_o.from) * (m_o.to - m_o.from) > 0;
+                return end(reached_end ? "left the parameter range at its end"
+                                       : "turned back out of the parameter range at its start");
+            }
         }
         end("max_points reached");
     }
@@ -219,40 +252,127 @@ private:
                                    std::abs(a.multipliers.front()), m_branch});
     }
 
-    /// Bisection on the arclength fraction until the parameter is known to locate_tolerance.
+    /// Whether a corrected point lies within ds of its prediction: a point farther off has
+    /// jumped to another sheet (next to a corner the corrector can converge anywhere), and a
+    /// bracket with one end on another sheet brackets nothing.
+    static bool near(const OrbitPoint& corrected, const Vector& guess, double ds) {
+        return (corrected.z - guess).norm() <= ds;
+    }
+
+    /// Two points of the branch on either side of a test function's sign change.
+    struct Bracket {
+        OrbitPoint lo, hi;
+    };
+
+    /// Bisection on the arclength fraction of the step a -> a + ds t until the parameter is
+    /// known to locate_tolerance (or the corrector fails).
     template <class Test>
-    OrbitPoint locate(const OrbitPoint& a, const OrbitPoint& b, double ds, Test test) {
+    Bracket bisect(const OrbitPoint& a, const OrbitPoint& b, double ds, Test test) {
         const Eigen::Index n = m_tracer.dimension();
         double s_lo = 0.0, s_hi = 1.0;
         const bool sign_lo = test(a) > 0;
-        OrbitPoint lo_point = a, hi_point = b;
-        for (int it = 0; it < 60 && std::abs(hi_point.z[n] - lo_point.z[n]) > m_o.locate_tolerance;
+        Bracket br{a, b};
+        for (int it = 0; it < 60 && std::abs(br.hi.z[n] - br.lo.z[n]) > m_o.locate_tolerance;
              ++it) {
             const double s = 0.5 * (s_lo + s_hi);
-            std::optional<OrbitPoint> mid = m_tracer.correct(a.z + s * ds * a.tangent, a.tangent);
-            if (!mid) break;
+            const Vector guess = a.z + s * ds * a.tangent;
+            std::optional<OrbitPoint> mid = m_tracer.correct(guess, a.tangent);
+            // Next to a non-smooth corner the arclength corrector can fail where Newton at the
+            // fixed parameter value still converges (away from a fold the orbit is a function
+            // of the parameter).
+            if (!mid) mid = m_tracer.correct_at_value(guess);
+            if (!mid || !near(*mid, guess, ds)) break;
             if ((test(*mid) > 0) == sign_lo) {
                 s_lo = s;
-                lo_point = std::move(*mid);
+                br.lo = std::move(*mid);
             } else {
                 s_hi = s;
-                hi_point = std::move(*mid);
+                br.hi = std::move(*mid);
             }
         }
-        return std::abs(test(lo_point)) < std::abs(test(hi_point)) ? lo_point : hi_point;
+        return br;
     }
 
-    void add(SpecialPointType type, const OrbitPoint& at, int contact = -1) {
+    /// The step a -> a + ds t walked again in short sub-steps: the first sub-step across which
+    /// the test changes sign, or nothing.
+    template <class Test>
+    std::optional<std::pair<Bracket, double>> retrace(const OrbitPoint& a, double ds, Test test) {
+        double sub = ds / 16;
+        const bool sign_a = test(a) > 0;
+        OrbitPoint x = a;
+        // The branch between a and b can be longer than ds when it turns a corner; where the
+        // corrector fails, the sub-step is halved as in the walk.
+        double walked = 0.0;
+        for (int i = 0; i < 200 && walked < 2 * ds && sub >= 1e-9; ++i) {
+            const Vector guess = x.z + sub * x.tangent;
+            std::optional<OrbitPoint> y = m_tracer.correct(guess, x.tangent);
+            if (!y || !near(*y, guess, sub)) {
+                sub /= 2;
+                continue;
+            }
+            if ((test(*y) > 0) != sign_a) return std::make_pair(Bracket{x, std::move(*y)}, sub);
+            x = std::move(*y);
+            walked += sub;
+        }
+        return std::nullopt;
+    }
+
+    /// Bisection in the parameter itself, Newton at each fixed value from the chord between
+    /// the bracket's ends: where the branch is a graph over the parameter, this closes in even
+    /// where the arclength hyperplane cuts the branch twice.
+    template <class Test>
+    void bisect_in_value(Bracket& br, Test test) {
+        const Eigen::Index n = m_tracer.dimension();
+        const bool sign_lo = test(br.lo) > 0;
+        for (int it = 0; it < 60 && std::abs(br.hi.z[n] - br.lo.z[n]) > m_o.locate_tolerance;
+             ++it) {
+            const Vector guess = 0.5 * (br.lo.z + br.hi.z);
+            std::optional<OrbitPoint> mid = m_tracer.correct_at_value(guess);
+            if (!mid || !near(*mid, guess, (br.hi.z - br.lo.z).norm())) return;
+            ((test(*mid) > 0) == sign_lo ? br.lo : br.hi) = std::move(*mid);
+        }
+    }
+
+    /// The special point between a and b where test changes sign, and the half-width of the
+    /// parameter interval it is known to lie in.
+    template <class Test>
+    std::pair<OrbitPoint, double> locate(const OrbitPoint& a, const OrbitPoint& b, double ds,
+                                         Test test) {
+        const Eigen::Index n = m_tracer.dimension();
+        Bracket br = bisect(a, b, ds, test);
+        // At a grazing the branch can turn so sharply within one step that the arclength
+        // hyperplane cuts it twice, and the bisection hops between the two cuts without
+        // closing in: the step is retraced in sub-steps and the sub-step with the sign change
+        // bisected instead.
+        OrbitPoint from = a;
+        double step = ds;
+        for (int refine = 0; refine < 3 && std::abs(br.hi.z[n] - br.lo.z[n]) > m_o.locate_tolerance;
+             ++refine) {
+            auto again = retrace(from, step, test);
+            if (!again) break;
+            from = again->first.lo;
+            step = again->second;
+            br = bisect(again->first.lo, again->first.hi, step, test);
+        }
+        bisect_in_value(br, test);
+        const double half_width = 0.5 * std::abs(br.hi.z[n] - br.lo.z[n]);
+        return {std::abs(test(br.lo)) < std::abs(test(br.hi)) ? br.lo : br.hi, half_width};
+    }
+
+    void add(SpecialPointType type, const std::pair<OrbitPoint, double>& located,
+             int contact = -1) {
+        const auto& [at, value_error] = located;
         m_result.special.push_back(
-            {type, at.z[m_tracer.dimension()], m_period, at.F_m, m_branch, contact});
+            {type, at.z[m_tracer.dimension()], value_error, m_period, at.F_m, m_branch, contact});
     }
 
     void detect(const OrbitPoint& a, const OrbitPoint& b, double ds) {
         if ((fold_test(a) > 0) != (fold_test(b) > 0))
             add(SpecialPointType::fold, locate(a, b, ds, fold_test));
         if ((doubling_test(a) > 0) != (doubling_test(b) > 0)) {
-            const OrbitPoint at = locate(a, b, ds, doubling_test);
-            add(SpecialPointType::period_doubling, at);
+            const auto located = locate(a, b, ds, doubling_test);
+            const OrbitPoint& at = located.first;
+            add(SpecialPointType::period_doubling, located);
             // The doubled orbit lies where the k-orbit is unstable.
             const Eigen::Index n = m_tracer.dimension();
             const double side = (stable(a) ? b.z[n] - a.z[n] : a.z[n] - b.z[n]) > 0 ? 1.0 : -1.0;
@@ -314,6 +434,7 @@ std::optional<std::vector<double>> doubled_orbit(const ReducedParameters& base,
     orbit.period = 2 * period;
     for (double offset : {0.2 * o.step, 0.5 * o.step, o.step}) {
         p = at.z[n] + side * offset;
+        if (!admissible_value(base, o.parameter, p)) continue;
         const ReducedParameters q = with_value(base, o.parameter, p);
         const Dynamics dyn(Chain::homogeneous(q), {q.f_r, 1.0});
         for (double a : {0.02, -0.02, 0.1, -0.1}) {
@@ -328,24 +449,28 @@ std::optional<std::vector<double>> doubled_orbit(const ReducedParameters& base,
     return std::nullopt;
 }
 
-/// Past a non-smooth corner the corrector cannot turn: the branch restarts beyond it, one
-/// max_step past the farthest value reached, from a fresh transient run (possibly another orbit
-/// of the same period: the CSV gives it its own branch index). The state and the value.
+/// Past a non-smooth corner the corrector cannot turn (or where a branch turned back out of the
+/// range): the branch restarts beyond the farthest value reached, one first step past it (then
+/// one largest step, where no orbit of the period is found that close), from a fresh transient
+/// run: possibly another orbit of the same period, so the CSV gives it its own branch index.
+/// The state and the value.
 std::optional<std::pair<std::vector<double>, double>>
 restart_beyond(const ReducedParameters& base, const ContinuationOptions& options,
                const std::vector<double>& initial, double farthest) {
     const double direction = options.to > options.from ? 1.0 : -1.0;
-    const double p = farthest + direction * options.max_step;
-    if ((p - options.from) * (p - options.to) >= 0.0) return std::nullopt;
     OrbitOptions orbit = options.orbit;
     orbit.period = options.period;
-    const ReducedParameters q = with_value(base, options.parameter, p);
-    const Dynamics dyn(Chain::homogeneous(q), {q.f_r, 1.0});
-    const PeriodicOrbit again =
-        find_periodic_orbit_after(dyn, orbit, initial, options.transient_periods);
-    if (again.status != OrbitStatus::converged || again.minimal_period != orbit.period)
-        return std::nullopt;
-    return std::make_pair(again.state, p);
+    for (double offset : {options.step, options.max_step}) {
+        const double p = farthest + direction * offset;
+        if ((p - options.from) * (p - options.to) >= 0.0) return std::nullopt;
+        const ReducedParameters q = with_value(base, options.parameter, p);
+        const Dynamics dyn(Chain::homogeneous(q), {q.f_r, 1.0});
+        const PeriodicOrbit again =
+            find_periodic_orbit_after(dyn, orbit, initial, options.transient_periods);
+        if (again.status == OrbitStatus::converged && again.minimal_period == orbit.period)
+            return std::make_pair(again.state, p);
+    }
+    return std::nullopt;
 }
 
 } // namespace
@@ -390,7 +515,7 @@ ContinuationResult continue_orbits(const ReducedParameters& base,
         BranchWalk walk(tracer, options, next.period, branch, result);
         walk.walk(std::move(*first), branch == 0 ? progress : ProgressCallback{});
         result.shootings += tracer.shootings();
-        if (walk.stuck && next.period == options.period)
+        if (!walk.reached_end && !result.cancelled && next.period == options.period)
             if (auto restart = restart_beyond(base, options, initial, walk.farthest))
                 pending.push_front({restart->first, restart->second, options.period, direction});
         if (!options.follow_doublings) continue;

@@ -290,10 +290,10 @@ std::string branch_csv(const ContinuationResult& result) {
 std::string special_csv(const ContinuationResult& result) {
     std::ostringstream os;
     os.precision(12);
-    os << "type,value,period,F_m,branch,contact\n";
+    os << "type,value,period,F_m,branch,contact,value_error\n";
     for (const auto& s : result.special)
         os << to_string(s.type) << ',' << s.value << ',' << s.period << ',' << s.F_m << ','
-           << s.branch << ',' << s.contact << '\n';
+           << s.branch << ',' << s.contact << ',' << s.value_error << '\n';
     return os.str();
 }
 

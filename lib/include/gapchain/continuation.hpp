@@ -51,11 +51,14 @@ struct BranchPoint {
 /// A located special point.
 struct SpecialPoint {
     SpecialPointType type = SpecialPointType::fold;
-    double value = 0.0; ///< the parameter, to locate_tolerance
-    int period = 1;     ///< k of the branch it lies on
-    double F_m = 0.0;   ///< F_m of the orbit there
-    int branch = 0;     ///< branch index
-    int contact = -1;   ///< the contact j = 0..Nm of a grazing, else -1
+    double value = 0.0; ///< the parameter
+    /// Half-width of the parameter interval the point is known to lie in: <= locate_tolerance
+    /// when located, larger where the corrector could not close in (next to a corner).
+    double value_error = 0.0;
+    int period = 1;   ///< k of the branch it lies on
+    double F_m = 0.0; ///< F_m of the orbit there
+    int branch = 0;   ///< branch index
+    int contact = -1; ///< the contact j = 0..Nm of a grazing, else -1
 };
 
 /// Branches and special points.

@@ -63,6 +63,44 @@ ContinuationOptions one_branch(double from, double to, int k) {
 }
 } // namespace
 
+TEST_CASE("the fold at f_r = 2.762 located walking through it in both directions") {
+    // Forward: up the sheet the transient lands on, through the fold, back down the other.
+    ContinuationOptions o = one_branch(2.70, 2.9, 1);
+    o.max_points = 400;
+    const ContinuationResult forward = continue_orbits(fig13_row, o);
+    const auto fold_of = [](const ContinuationResult& r) {
+        for (const auto& s : r.special)
+            if (s.type == SpecialPointType::fold && std::abs(s.value - 2.762) < 0.01) return s;
+        return SpecialPoint{};
+    };
+    const SpecialPoint a = fold_of(forward);
+    REQUIRE(a.value > 0.0);
+    // A point of the second sheet, after the fold, below it in f_r.
+    const BranchPoint* back = nullptr;
+    bool past_fold = false;
+    for (const auto& q : forward.points) {
+        past_fold = past_fold || q.value > a.value - 1e-4;
+        if (past_fold && q.value < a.value - 0.01) {
+            back = &q;
+            break;
+        }
+    }
+    REQUIRE(back != nullptr);
+    // Backward through the fold: from that orbit (no transient), up the second sheet first.
+    o.from = back->value;
+    o.transient_periods = 0;
+    const ContinuationResult backward = continue_orbits(fig13_row, o, back->state);
+    REQUIRE(!backward.points.empty());
+    CHECK(std::abs(backward.points.front().F_m - back->F_m) < 1e-8);
+    const SpecialPoint b = fold_of(backward);
+    MESSAGE("fold forward " << a.value << " +- " << a.value_error << ", backward " << b.value
+                            << " +- " << b.value_error);
+    REQUIRE(b.value > 0.0);
+    CHECK(std::abs(a.value - b.value) < 2e-6);
+    CHECK(a.value_error <= o.locate_tolerance);
+    CHECK(b.value_error <= o.locate_tolerance);
+}
+
 TEST_CASE("a corrector thrown out of the parameter range is a failed step, not an error") {
     // Fig 13's period-2 orbit at f_r = 2.3: a Newton update once sent f_r to -27 and the
     // whole continuation died with the model's range error.

@@ -249,7 +249,8 @@ private:
     void record(const OrbitPoint& a) {
         const Eigen::Index n = m_tracer.dimension();
         m_result.points.push_back({a.z[n], m_period, a.F_m, a.z[0], stable(a),
-                                   std::abs(a.multipliers.front()), m_branch});
+                                   std::abs(a.multipliers.front()), m_branch,
+                                   std::vector<double>(a.z.data(), a.z.data() + n)});
     }
 
     /// Whether a corrected point lies within ds of its prediction: a point farther off has

@@ -46,6 +46,9 @@ struct BranchPoint {
     bool stable = false;         ///< every Floquet multiplier inside the unit circle
     double max_multiplier = 0.0; ///< largest modulus
     int branch = 0;              ///< branch index (0: the first)
+    /// The orbit's state at phase 0 (u_1..u_Nm, v_1..v_Nm): a start for gapchain-orbit, a run
+    /// or another continuation.
+    std::vector<double> state;
 };
 
 /// A located special point.

@@ -1,0 +1,74 @@
+#!/usr/bin/env bash
+# Runs the full paper-scale study (data/studies/paper-scale.json, 430,080 points) on a build
+# pinned to one commit, resumably, and keeps what is done safe across a machine that does not
+# survive the session.
+#
+#   bash tools/dev/full_study.sh run COMMIT     # build COMMIT in a worktree (once), run or resume
+#   bash tools/dev/full_study.sh checkpoint     # store results.csv (+ sidecar, log) in git
+#   bash tools/dev/full_study.sh restore        # bring the stored checkpoint back to resume
+#
+# Work folder: $GAPCHAIN_STUDY_DIR (default /work/runs/paper-scale). `run` appends "segment
+# start/end" lines and a 30 s heartbeat (rows on disk) to segments.log: the study's wall time is
+# the sum of its segments. The checkpoint is a commit on the branch runs/paper-scale (plumbing
+# only: the working tree and main are not touched), so it lives as long as the repository does.
+set -euo pipefail
+repo=$(git -C "$(dirname "$0")" rev-parse --show-toplevel)
+dir=${GAPCHAIN_STUDY_DIR:-/work/runs/paper-scale}
+branch=runs/paper-scale
+mkdir -p "$dir"
+
+build_pinned() {
+    local commit=$1 tree="$dir/src"
+    if [ ! -x "$tree/build/bin/gapchain-sweep" ] || [ "$(git -C "$tree" rev-parse HEAD)" != "$(git -C "$repo" rev-parse "$commit")" ]; then
+        rm -rf "$tree"
+        git -C "$repo" worktree prune
+        git -C "$repo" worktree add --detach "$tree" "$commit" >/dev/null
+        cmake -S "$tree" -B "$tree/build" -DCMAKE_BUILD_TYPE=Release >/dev/null
+        cmake --build "$tree/build" -j2 --target gapchain-sweep >/dev/null
+    fi
+    git -C "$tree" rev-parse HEAD > "$dir/commit"
+}
+
+case ${1:-} in
+run)
+    [ $# -eq 2 ] || { echo "usage: $0 run COMMIT" >&2; exit 2; }
+    build_pinned "$2"
+    cd "$dir"
+    echo "segment start $(date -u +%FT%TZ) commit $(cat commit)" >> segments.log
+    (while sleep 30; do
+        echo "heartbeat $(date -u +%FT%TZ) rows $(($(wc -l < results.csv 2>/dev/null || echo 1) - 1))" >> segments.log
+    done) &
+    beat=$!
+    trap 'kill $beat 2>/dev/null; echo "segment end $(date -u +%FT%TZ)" >> segments.log' EXIT
+    "$dir/src/build/bin/gapchain-sweep" "$repo/data/studies/paper-scale.json" \
+        --out results.csv --threads 2 2>> sweep.log
+    ;;
+checkpoint)
+    cd "$dir"
+    files=(results.csv results.csv.json segments.log commit)
+    entries=""
+    for f in "${files[@]}"; do
+        [ -f "$f" ] || continue
+        blob=$(gzip -c "$f" | git -C "$repo" hash-object -w --stdin)
+        entries+=$(printf '100644 blob %s\t%s.gz' "$blob" "$f")$'\n'
+    done
+    tree=$(printf '%s' "$entries" | git -C "$repo" mktree)
+    parent=$(git -C "$repo" rev-parse -q --verify "refs/heads/$branch" || true)
+    commit=$(git -C "$repo" commit-tree "$tree" ${parent:+-p "$parent"} \
+        -m "paper-scale study checkpoint: $(($(wc -l < results.csv) - 1)) rows, $(date -u +%FT%TZ)")
+    git -C "$repo" update-ref "refs/heads/$branch" "$commit"
+    echo "checkpoint $commit on $branch"
+    ;;
+restore)
+    cd "$dir"
+    for f in results.csv results.csv.json segments.log commit; do
+        git -C "$repo" cat-file -e "$branch:$f.gz" 2>/dev/null || continue
+        git -C "$repo" cat-file blob "$branch:$f.gz" | gunzip > "$f"
+    done
+    echo "restored $(($(wc -l < results.csv) - 1)) rows of commit $(cat commit) into $dir"
+    ;;
+*)
+    sed -n 2,13p "$0" >&2
+    exit 2
+    ;;
+esac

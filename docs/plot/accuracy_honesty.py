@@ -6,6 +6,12 @@
     PYTHONPATH=build/python python3 docs/plot/accuracy_honesty.py /tmp/ps1.csv /tmp/ps2.csv \\
         --points 300 --out docs/data/accuracy-honesty.csv --png docs/img/accuracy-honesty.png
 
+A second, independent sample (seeds 3 and 4) is docs/data/accuracy-honesty-2.csv; the pooled
+summary and histogram of per-point CSVs already computed, with no run:
+
+    python3 docs/plot/accuracy_honesty.py --summarise docs/data/accuracy-honesty.csv \
+        docs/data/accuracy-honesty-2.csv --png docs/img/accuracy-honesty.png
+
 Non-periodic: the sample's rows whose run never settled (status "completed"). --points of them
 are drawn (seeded) and run twice through the Python module: auto mode with every default (its
 F_m_error as a user gets it), and strict mode without the twin check (which changes no F_m).
@@ -21,12 +27,12 @@ import sys
 import time
 from multiprocessing import Pool
 
-import gapchain
-
 KEYS = ("Nm", "fc", "eps", "e_r", "f_r")
 
 
 def run_point(row):
+    import gapchain
+
     p = {"Nm": int(row["Nm"]), **{k: float(row[k]) for k in KEYS[1:]}}
     t0 = time.monotonic()
     auto = gapchain.simulate(**p, periods=1000, tolerance=1e-6)
@@ -78,10 +84,11 @@ def summary(rows):
     ta = sum(r["seconds_auto"] for r in rows)
     ts = sum(r["seconds_strict"] for r in rows)
     print(f"points {n} (relaxed {len(relaxed)}, auto multistable "
-          f"{sum(r['multistable_auto'] for r in used)}, strict settled "
-          f"{sum(r['settled_strict'] for r in used)})")
+          f"{int(sum(r['multistable_auto'] for r in used))}, strict settled "
+          f"{int(sum(r['settled_strict'] for r in used))})")
     print(f"mean relative difference (auto - strict) / strict: {mean:+.4f} +- {se:.4f} "
-          f"(standard error; t = {mean / se:+.2f}); sd {sd:.4f}")
+          f"(standard error; t = {mean / se:+.2f}, two-sided p = "
+          f"{math.erfc(abs(mean / se) / math.sqrt(2.0)):.3f}); sd {sd:.4f}")
     print(f"relaxed points only: {mr:+.4f} +- {ser:.4f} (t = {mr / ser:+.2f})")
     pos, neg, p = sign_test(d)
     d_sorted = sorted(d)
@@ -119,15 +126,35 @@ def plot(d, path):
     fig.savefig(path, dpi=110)
 
 
+def read_points(paths):
+    """Per-point rows of CSVs this script wrote, numbers as numbers."""
+    rows = []
+    for path in paths:
+        with open(path) as f:
+            for r in csv.DictReader(f):
+                rows.append({k: (v if k == "mode_used" else float(v)) for k, v in r.items()})
+    return rows
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("samples", nargs="+", help="gapchain-sweep CSVs of paper-scale subsets")
+    ap.add_argument("samples", nargs="+", help="gapchain-sweep CSVs of paper-scale subsets "
+                    "(with --summarise: per-point CSVs this script wrote)")
+    ap.add_argument("--summarise", action="store_true",
+                    help="pool per-point CSVs already written: summary and histogram, no run")
     ap.add_argument("--points", type=int, default=300)
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--processes", type=int, default=2)
-    ap.add_argument("--out", required=True)
+    ap.add_argument("--out")
     ap.add_argument("--png")
     a = ap.parse_args()
+    if a.summarise:
+        d = summary(read_points(a.samples))
+        if a.png:
+            plot(d, a.png)
+        return
+    if not a.out:
+        sys.exit("--out is required unless --summarise")
     rows = []
     for path in a.samples:
         with open(path) as f:

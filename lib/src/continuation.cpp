@@ -356,8 +356,45 @@ private:
             br = bisect(again->first.lo, again->first.hi, step, test);
         }
         bisect_in_value(br, test);
+        // A bracket whose ends differ far more in the state than the parameter explains has its
+        // ends on two orbits, however narrow it is.
+        const double dp = std::abs(br.hi.z[n] - br.lo.z[n]);
+        const double dx = (br.hi.z.head(n) - br.lo.z.head(n)).norm();
+        if (dp > m_o.locate_tolerance || dx > 100.0 * dp + 1e-9 * (1.0 + br.lo.z.head(n).norm()))
+            return follow_to_end(br, test);
         const double half_width = 0.5 * std::abs(br.hi.z[n] - br.lo.z[n]);
         return {std::abs(test(br.lo)) < std::abs(test(br.hi)) ? br.lo : br.hi, half_width};
+    }
+
+    /// Where the bracket's ends lie on two different orbits (the branch stepped across a corner
+    /// between them), the orbit of the first end is followed in the parameter alone, Newton at
+    /// each value from the last state found, until the test changes sign on it or it ceases to
+    /// exist (a sheet ending at a grazing corner): the special point is there, bracketed by the
+    /// last value where that orbit was found unchanged (same contact set, same test sign, near
+    /// its prediction) and the first where it was not.
+    template <class Test>
+    std::pair<OrbitPoint, double> follow_to_end(Bracket br, Test test) {
+        const Eigen::Index n = m_tracer.dimension();
+        const bool sign_lo = test(br.lo) > 0;
+        const auto same_orbit = [&](const OrbitPoint& x, const Vector& guess, double dp) {
+            if ((test(x) > 0) != sign_lo || !near(x, guess, 20.0 * std::abs(dp))) return false;
+            for (std::size_t j = 0; j < x.shot.per_contact.size(); ++j)
+                if (x.shot.per_contact[j].impacts != br.lo.shot.per_contact[j].impacts)
+                    return false;
+            return true;
+        };
+        double p_hi = br.hi.z[n];
+        for (int it = 0; it < 60 && std::abs(p_hi - br.lo.z[n]) > m_o.locate_tolerance; ++it) {
+            const double dp = 0.5 * (p_hi - br.lo.z[n]);
+            Vector guess = br.lo.z;
+            guess[n] += dp;
+            std::optional<OrbitPoint> mid = m_tracer.correct_at_value(guess);
+            if (mid && same_orbit(*mid, guess, dp))
+                br.lo = std::move(*mid);
+            else
+                p_hi = br.lo.z[n] + dp;
+        }
+        return {br.lo, 0.5 * std::abs(p_hi - br.lo.z[n])};
     }
 
     void add(SpecialPointType type, const std::pair<OrbitPoint, double>& located,

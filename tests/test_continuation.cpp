@@ -3,6 +3,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 using namespace gapchain;
@@ -129,4 +130,13 @@ TEST_CASE("special points say how well they are located") {
         }
     }
     CHECK(wall_grazing);
+}
+
+TEST_CASE("a start or end value outside the model's range names the option that carried it") {
+    ContinuationOptions o = one_branch(-1.0, 3.0, 1);
+    CHECK_THROWS_WITH_AS(continue_orbits(fig13_row, o), doctest::Contains("from: excitation.f_r"),
+                         std::invalid_argument);
+    o = one_branch(2.0, std::numeric_limits<double>::infinity(), 1);
+    CHECK_THROWS_WITH_AS(continue_orbits(fig13_row, o), doctest::Contains("to: excitation.f_r"),
+                         std::invalid_argument);
 }

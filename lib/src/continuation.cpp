@@ -519,9 +519,18 @@ ContinuationResult continue_orbits(const ReducedParameters& base,
                                    const ProgressCallback& progress) {
     const auto clock = std::chrono::steady_clock::now();
     validate(options);
-    const ReducedParameters start = with_value(base, options.parameter, options.from);
-    validate(start);
-    validate(with_value(base, options.parameter, options.to));
+    // The model's range message, prefixed with the option that carried the value.
+    const auto model_with = [&](double value, const char* option) {
+        const ReducedParameters q = with_value(base, options.parameter, value);
+        try {
+            validate(q);
+        } catch (const std::invalid_argument& e) {
+            throw std::invalid_argument(std::string(option) + ": " + e.what());
+        }
+        return q;
+    };
+    const ReducedParameters start = model_with(options.from, "from");
+    model_with(options.to, "to");
     ContinuationResult result;
     const double direction = options.to > options.from ? 1.0 : -1.0;
     OrbitOptions orbit = options.orbit;

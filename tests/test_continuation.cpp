@@ -1,4 +1,5 @@
 #include "gapchain/continuation.hpp"
+#include "gapchain/orbit.hpp"
 
 #include <doctest/doctest.h>
 
@@ -139,4 +140,31 @@ TEST_CASE("a start or end value outside the model's range names the option that 
     o = one_branch(2.0, std::numeric_limits<double>::infinity(), 1);
     CHECK_THROWS_WITH_AS(continue_orbits(fig13_row, o), doctest::Contains("to: excitation.f_r"),
                          std::invalid_argument);
+}
+
+TEST_CASE("--follow-doublings switches at the grazing corner where period 1 loses stability") {
+    // Fig 13's period-1 orbit loses stability at the grazing corner near f_r = 2.2453 with a
+    // multiplier jumping across the unit circle next to -1 (no smooth period doubling): a
+    // period-2 branch is reached from there, and its orbits are checked independently.
+    ContinuationOptions o = one_branch(2.2, 2.3, 1);
+    o.follow_doublings = true;
+    o.max_branches = 2;
+    const ContinuationResult r = continue_orbits(fig13_row, o);
+    const BranchPoint* doubled = nullptr;
+    for (const auto& q : r.points)
+        if (q.period == 2 && !doubled) doubled = &q;
+    REQUIRE(doubled != nullptr);
+    CHECK(doubled->value > 2.2452);
+    CHECK(doubled->value < 2.27);
+    // Newton on the 2-map from that state, at that value, from scratch: a period-2 orbit, not
+    // a period-1 orbit visited twice.
+    ReducedParameters q = fig13_row;
+    q.f_r = doubled->value;
+    const Dynamics dyn(Chain::homogeneous(q), {q.f_r, 1.0});
+    OrbitOptions orbit;
+    orbit.period = 2;
+    const PeriodicOrbit found = find_periodic_orbit(dyn, orbit, doubled->state);
+    CHECK(found.status == OrbitStatus::converged);
+    CHECK(found.minimal_period == 2);
+    CHECK(std::abs(found.F_m - doubled->F_m) < 1e-6);
 }

@@ -44,7 +44,8 @@ void add_options(CLI::App& app, ContinueArguments& a) {
         ->check(CLI::Range(1, 1'000'000))
         ->capture_default_str();
     app.add_flag("--follow-doublings", o.follow_doublings,
-                 "At each period doubling, switch to the doubled branch and follow it");
+                 "At each period doubling (and each non-smooth loss of stability next to -1), "
+                 "switch to the doubled branch and follow it");
     app.add_option("--max-branches", o.max_branches, "Branches followed in all")
         ->check(CLI::Range(1, 64))
         ->capture_default_str();

@@ -41,7 +41,8 @@ param       "f_r", "e_r", "fc" or "eps";  from_  start value (the first orbit is
 to          the branch ends when the parameter leaves [from_, to]
 period      k of the first branch, 1 .. 1000;  step  first arclength step, (0, 1]
 max_step    largest arclength step, [step, 1];  max_points  points per branch, 1 .. 1e6
-follow_doublings  switch to the doubled branch at each period doubling (max_branches, 1 .. 64)
+follow_doublings  switch to the doubled branch at each period doubling and each non-smooth loss of
+                  stability next to -1 (max_branches, 1 .. 64)
 transient   periods run before the first Newton search, 0 .. 1e7
 progress    callable(fraction)
 

@@ -404,6 +404,20 @@ private:
             {type, at.z[m_tracer.dimension()], value_error, m_period, at.F_m, m_branch, contact});
     }
 
+    /// A loss of stability next to -1 that is not smooth (at a grazing corner the multiplier
+    /// near -1 jumps across the unit circle and det(M + I) keeps its sign) can also give birth
+    /// to doubled orbits: offered for branch switching as a period doubling is.
+    void offer_nonsmooth_doubling(const OrbitPoint& a, const OrbitPoint& b) {
+        if (stable(a) == stable(b) || (doubling_test(a) > 0) != (doubling_test(b) > 0)) return;
+        const OrbitPoint& unstable = stable(a) ? b : a;
+        const OrbitPoint& still = stable(a) ? a : b;
+        const std::complex<double> mu = unstable.multipliers.front();
+        // Within 10 degrees of the negative real axis.
+        if (!(mu.real() < 0.0 && std::abs(mu.imag()) < 0.17 * std::abs(mu))) return;
+        const Eigen::Index n = m_tracer.dimension();
+        doublings.emplace_back(unstable, unstable.z[n] > still.z[n] ? 1.0 : -1.0);
+    }
+
     void detect(const OrbitPoint& a, const OrbitPoint& b, double ds) {
         if ((fold_test(a) > 0) != (fold_test(b) > 0))
             add(SpecialPointType::fold, locate(a, b, ds, fold_test));
@@ -416,6 +430,7 @@ private:
             const double side = (stable(a) ? b.z[n] - a.z[n] : a.z[n] - b.z[n]) > 0 ? 1.0 : -1.0;
             doublings.emplace_back(at, side);
         }
+        offer_nonsmooth_doubling(a, b);
         const auto ta = torus_test(a), tb = torus_test(b);
         if (ta && tb && (*ta > 0) != (*tb > 0))
             add(SpecialPointType::neimark_sacker,
@@ -511,6 +526,19 @@ restart_beyond(const ReducedParameters& base, const ContinuationOptions& options
     return std::nullopt;
 }
 
+/// base with the continued parameter at value, checked by the model; its range message is
+/// prefixed with the option that carried the value ("from" or "to").
+ReducedParameters model_with(const ReducedParameters& base, const ContinuationOptions& options,
+                             double value, const char* option) {
+    const ReducedParameters q = with_value(base, options.parameter, value);
+    try {
+        validate(q);
+    } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument(std::string(option) + ": " + e.what());
+    }
+    return q;
+}
+
 } // namespace
 
 ContinuationResult continue_orbits(const ReducedParameters& base,
@@ -519,18 +547,8 @@ ContinuationResult continue_orbits(const ReducedParameters& base,
                                    const ProgressCallback& progress) {
     const auto clock = std::chrono::steady_clock::now();
     validate(options);
-    // The model's range message, prefixed with the option that carried the value.
-    const auto model_with = [&](double value, const char* option) {
-        const ReducedParameters q = with_value(base, options.parameter, value);
-        try {
-            validate(q);
-        } catch (const std::invalid_argument& e) {
-            throw std::invalid_argument(std::string(option) + ": " + e.what());
-        }
-        return q;
-    };
-    const ReducedParameters start = model_with(options.from, "from");
-    model_with(options.to, "to");
+    const ReducedParameters start = model_with(base, options, options.from, "from");
+    model_with(base, options, options.to, "to");
     ContinuationResult result;
     const double direction = options.to > options.from ? 1.0 : -1.0;
     OrbitOptions orbit = options.orbit;

@@ -24,13 +24,15 @@ std::string_view to_string(SpecialPointType type);
 /// What to continue and how.
 struct ContinuationOptions {
     SweptParameter parameter = SweptParameter::f_r; ///< the continued reduced number
-    double from = 2.15;             ///< start value (the first orbit is found there)
-    double to = 4.5;                ///< the branch ends when the parameter leaves [from, to]
-    int period = 1;                 ///< k of the first branch [forcing periods], 1 .. 1000
-    double step = 0.01;             ///< first arclength step, (0, 1]
-    double max_step = 0.05;         ///< largest arclength step, [step, 1]
-    int max_points = 2000;          ///< points per branch, 1 .. 1e6
-    bool follow_doublings = false;  ///< switch to the doubled branch at each period doubling
+    double from = 2.15;     ///< start value (the first orbit is found there)
+    double to = 4.5;        ///< the branch ends when the parameter leaves [from, to]
+    int period = 1;         ///< k of the first branch [forcing periods], 1 .. 1000
+    double step = 0.01;     ///< first arclength step, (0, 1]
+    double max_step = 0.05; ///< largest arclength step, [step, 1]
+    int max_points = 2000;  ///< points per branch, 1 .. 1e6
+    /// switch to the doubled branch at each period doubling, and at each non-smooth loss of
+    /// stability next to -1 (a multiplier jumping across the unit circle within 10 degrees of -1)
+    bool follow_doublings = false;
     int max_branches = 6;           ///< branches followed in all (with follow_doublings), 1 .. 64
     double locate_tolerance = 1e-6; ///< special points located to this in the parameter
     long transient_periods = 200;   ///< plain run before the first Newton search, 0 .. 1e7

@@ -368,10 +368,11 @@ private:
 
     /// Where the bracket's ends lie on two different orbits (the branch stepped across a corner
     /// between them), the orbit of the first end is followed in the parameter alone, Newton at
-    /// each value from the last state found, until the test changes sign on it or it ceases to
-    /// exist (a sheet ending at a grazing corner): the special point is there, bracketed by the
-    /// last value where that orbit was found unchanged (same contact set, same test sign, near
-    /// its prediction) and the first where it was not.
+    /// each value from the last state found, until the test changes sign on it or it is no
+    /// longer found (where a sheet ends at a grazing corner or a fold, or where Newton from the
+    /// last state fails): the special point is there, bracketed by the last value where that
+    /// orbit was found unchanged (same contact set, same test sign, near its prediction) and
+    /// the first where it was not.
     template <class Test>
     std::pair<OrbitPoint, double> follow_to_end(Bracket br, Test test) {
         const Eigen::Index n = m_tracer.dimension();

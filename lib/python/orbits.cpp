@@ -46,7 +46,8 @@ follow_doublings  switch to the doubled branch at each period doubling and each 
 transient   periods run before the first Newton search, 0 .. 1e7
 progress    callable(fraction)
 
-Returns a dict: points (dict of columns value, period, F_m, u1, stable, max_multiplier, branch),
+Returns a dict: points (dict of columns value, period, F_m, u1, stable, max_multiplier, branch,
+and state: one row of 2 Nm values per point, the orbit's state at phase 0),
 special (dict of columns type, value, period, F_m, branch, contact (-1 unless grazing),
 value_error (half-width of the bracket the value is known to lie in)),
 branch_end (why each branch ended), shootings, cancelled, wall_time_s.)";
@@ -94,6 +95,15 @@ py::dict continuation_dict(const ContinuationResult& r) {
     points["max_multiplier"] =
         column<double>(r.points, [](const P& p) { return p.max_multiplier; });
     points["branch"] = column<int>(r.points, [](const P& p) { return p.branch; });
+    // One row per point: the orbit's state at phase 0, a start for orbit() or simulate().
+    const py::ssize_t width =
+        r.points.empty() ? 0 : static_cast<py::ssize_t>(r.points[0].state.size());
+    py::array_t<double> states({static_cast<py::ssize_t>(r.points.size()), width});
+    auto rows = states.mutable_unchecked<2>();
+    for (std::size_t i = 0; i < r.points.size(); ++i)
+        for (py::ssize_t j = 0; j < width; ++j)
+            rows(static_cast<py::ssize_t>(i), j) = r.points[i].state[static_cast<std::size_t>(j)];
+    points["state"] = states;
     py::dict special;
     special["type"] = strings(r.special, [](const S& s) { return to_string(s.type); });
     special["value"] = column<double>(r.special, [](const S& s) { return s.value; });

@@ -179,3 +179,19 @@ def test_accuracy_mode_is_reported_and_strict_keeps_a_periodic_answer():
     strict = gapchain.simulate(periods=200, accuracy_mode="strict")
     assert auto["accuracy_mode_used"] == "strict" == strict["accuracy_mode_used"]
     assert abs(auto["F_m"] - strict["F_m"]) <= 1e-9 * strict["F_m"]
+
+
+def test_continuation_points_carry_their_orbit_state():
+    # Fig 13's row: the state of each continued orbit is a start that gapchain.orbit, with no
+    # transient, confirms as the same orbit.
+    row = {"model": {"Nm": 5, "fc": 60, "eps": 0.5, "e_r": 0.06}, "excitation": {"f_r": 3.0}}
+    r = gapchain.continuation(row, param="f_r", from_=2.15, to=2.2)
+    states = r["points"]["state"]
+    assert states.shape == (len(r["points"]["value"]), 10)
+    assert np.array_equal(states[:, 0], r["points"]["u1"])
+    i = len(states) // 2
+    start = dict(row, excitation={"f_r": float(r["points"]["value"][i])},
+                 initial={"u": states[i, :5].tolist(), "v": states[i, 5:].tolist()})
+    found = gapchain.orbit(start, transient=0)
+    assert found["status"] == "converged"
+    assert abs(found["F_m"] - r["points"]["F_m"][i]) < 1e-7

@@ -49,7 +49,7 @@ progress    callable(fraction)
 Returns a dict: points (dict of columns value, period, F_m, u1, stable, max_multiplier, branch,
 and state: one row of 2 Nm values per point, the orbit's state at phase 0),
 special (dict of columns type, value, period, F_m, branch, contact (-1 unless grazing),
-value_error (half-width of the bracket the value is known to lie in)),
+value_error (the special point lies within it of value)),
 branch_end (why each branch ended), shootings, cancelled, wall_time_s.)";
 
 py::dict orbit_py(const py::object& scene_arg, int period, long transient, double tolerance,

@@ -334,8 +334,8 @@ private:
         }
     }
 
-    /// The special point between a and b where test changes sign, and the half-width of the
-    /// parameter interval it is known to lie in.
+    /// The special point between a and b where test changes sign (an orbit at one end of the
+    /// final bracket), and the bracket's width: the point lies within it of that orbit's value.
     template <class Test>
     std::pair<OrbitPoint, double> locate(const OrbitPoint& a, const OrbitPoint& b, double ds,
                                          Test test) {
@@ -362,8 +362,9 @@ private:
         const double dx = (br.hi.z.head(n) - br.lo.z.head(n)).norm();
         if (dp > m_o.locate_tolerance || dx > 100.0 * dp + 1e-9 * (1.0 + br.lo.z.head(n).norm()))
             return follow_to_end(br, test);
-        const double half_width = 0.5 * std::abs(br.hi.z[n] - br.lo.z[n]);
-        return {std::abs(test(br.lo)) < std::abs(test(br.hi)) ? br.lo : br.hi, half_width};
+        // The reported orbit is one end of the bracket, so the point lies within the bracket's
+        // whole width of it.
+        return {std::abs(test(br.lo)) < std::abs(test(br.hi)) ? br.lo : br.hi, dp};
     }
 
     /// Where the bracket's ends lie on two different orbits (the branch stepped across a corner
@@ -395,7 +396,7 @@ private:
             else
                 p_hi = br.lo.z[n] + dp;
         }
-        return {br.lo, 0.5 * std::abs(p_hi - br.lo.z[n])};
+        return {br.lo, std::abs(p_hi - br.lo.z[n])};
     }
 
     void add(SpecialPointType type, const std::pair<OrbitPoint, double>& located,

@@ -57,8 +57,8 @@ struct BranchPoint {
 struct SpecialPoint {
     SpecialPointType type = SpecialPointType::fold;
     double value = 0.0; ///< the parameter
-    /// Half-width of the parameter interval the point is known to lie in: <= locate_tolerance
-    /// when located, larger where the corrector could not close in (next to a corner).
+    /// The special point lies within value_error of `value` (the width of the final bracket,
+    /// whose one end is the reported orbit): <= locate_tolerance when located.
     double value_error = 0.0;
     int period = 1;   ///< k of the branch it lies on
     double F_m = 0.0; ///< F_m of the orbit there

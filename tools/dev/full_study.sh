@@ -6,6 +6,7 @@
 #   bash tools/dev/full_study.sh run COMMIT     # build COMMIT in a worktree (once), run or resume
 #   bash tools/dev/full_study.sh checkpoint     # store results.csv (+ sidecar, log) in git
 #   bash tools/dev/full_study.sh restore        # bring the stored checkpoint back to resume
+#   bash tools/dev/full_study.sh report         # each index once? wall time; Tables 2-3
 #
 # Work folder: $GAPCHAIN_STUDY_DIR (default /work/runs/paper-scale). `run` appends "segment
 # start/end" lines and a 30 s heartbeat (rows on disk) to segments.log: the study's wall time is
@@ -67,8 +68,34 @@ restore)
     done
     echo "restored $(($(wc -l < results.csv) - 1)) rows of commit $(cat commit) into $dir"
     ;;
+report)
+    cd "$dir"
+    echo "commit $(cat commit)"
+    # Each index once, and the wall time as the sum of the segments (start to end, or to the
+    # last heartbeat of a segment the machine took down).
+    python3 - <<'PY'
+import csv, datetime
+rows = list(csv.DictReader(open("results.csv")))
+idx = [int(r["index"]) for r in rows]
+print(f"rows {len(rows)}, distinct indices {len(set(idx))}, range {min(idx)}..{max(idx)}, "
+      f"every index of 0..430079 exactly once: {sorted(idx) == list(range(430080))}")
+t = lambda s: datetime.datetime.fromisoformat(s.replace("Z", "+00:00"))
+total, start, last = 0.0, None, None
+for line in open("segments.log"):
+    w = line.split()
+    if w[:2] == ["segment", "start"]:
+        if start and last: total += (last - start).total_seconds()
+        start, last = t(w[2]), t(w[2])
+    elif w[:2] == ["segment", "end"] or w[0] == "heartbeat":
+        last = t(w[-1] if w[0] == "segment" else w[1])
+if start and last: total += (last - start).total_seconds()
+print(f"wall time, sum of segments: {total:.0f} s = {total / 3600:.2f} h")
+PY
+    python3 "$repo/docs/plot/study_time.py" results.csv
+    python3 "$repo/docs/plot/tables_2_3.py" results.csv
+    ;;
 *)
-    sed -n 2,13p "$0" >&2
+    sed -n 2,15p "$0" >&2
     exit 2
     ;;
 esac

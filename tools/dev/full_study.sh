@@ -95,7 +95,7 @@ PY
     python3 "$repo/docs/plot/tables_2_3.py" results.csv
     ;;
 *)
-    sed -n 2,15p "$0" >&2
+    sed -n "2,/^set -euo/p" "$0" | sed "$ d" >&2
     exit 2
     ;;
 esac

@@ -50,13 +50,17 @@ checkpoint)
     entries=""
     for f in "${files[@]}"; do
         [ -f "$f" ] || continue
-        blob=$(gzip -c "$f" | git -C "$repo" hash-object -w --stdin)
+        # A snapshot first: the sweep may be appending (a torn last row is dropped on resume).
+        cp "$f" "$f.snapshot"
+        [ "$f" = results.csv ] && rows=$(($(wc -l < "$f.snapshot") - 1))
+        blob=$(gzip -c "$f.snapshot" | git -C "$repo" hash-object -w --stdin)
+        rm -f "$f.snapshot"
         entries+=$(printf '100644 blob %s\t%s.gz' "$blob" "$f")$'\n'
     done
     tree=$(printf '%s' "$entries" | git -C "$repo" mktree)
     parent=$(git -C "$repo" rev-parse -q --verify "refs/heads/$branch" || true)
     commit=$(git -C "$repo" commit-tree "$tree" ${parent:+-p "$parent"} \
-        -m "paper-scale study checkpoint: $(($(wc -l < results.csv) - 1)) rows, $(date -u +%FT%TZ)")
+        -m "paper-scale study checkpoint: ${rows:-0} rows (a torn last one included), $(date -u +%FT%TZ)")
     git -C "$repo" update-ref "refs/heads/$branch" "$commit"
     echo "checkpoint $commit on $branch"
     ;;

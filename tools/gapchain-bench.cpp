@@ -162,24 +162,25 @@ void bench_peer(long periods) {
 std::vector<ReducedParameters> periodic_rows(const std::string& path, int count) {
     std::ifstream in(path);
     if (!in) throw std::invalid_argument("relaxed: cannot read " + path);
+    const auto fields = [](const std::string& line) {
+        std::vector<std::string> cell;
+        std::stringstream in_line(line);
+        for (std::string f; std::getline(in_line, f, ',');)
+            cell.push_back(f);
+        return cell;
+    };
     std::string line;
     std::getline(in, line);
     std::map<std::string, std::size_t> column;
-    {
-        std::stringstream header(line);
-        std::string name;
-        for (std::size_t i = 0; std::getline(header, name, ','); ++i)
-            column[name] = i;
-    }
+    const std::vector<std::string> header = fields(line);
+    for (std::size_t i = 0; i < header.size(); ++i)
+        column[header[i]] = i;
     for (const char* name : {"Nm", "fc", "eps", "e_r", "f_r", "F_m", "status"})
         if (!column.count(name))
             throw std::invalid_argument("relaxed: " + path + " has no column " + name);
     std::vector<ReducedParameters> rows;
     while (static_cast<int>(rows.size()) < count && std::getline(in, line)) {
-        std::vector<std::string> cell;
-        std::stringstream fields(line);
-        for (std::string f; std::getline(fields, f, ',');)
-            cell.push_back(f);
+        const std::vector<std::string> cell = fields(line);
         if (cell.size() < column.size() || cell[column["status"]] != "steady_state" ||
             std::stod(cell[column["F_m"]]) <= 1e-3)
             continue;

@@ -10,6 +10,7 @@
 #include <deque>
 #include <optional>
 #include <stdexcept>
+#include <string>
 
 namespace gapchain {
 
@@ -51,13 +52,14 @@ struct OrbitPoint {
     double F_m = 0.0;
 };
 
-/// Whether value is one the model accepts for the parameter `which` (validate() passes).
-bool admissible_value(const ReducedParameters& base, SweptParameter which, double value) {
+/// The model's range message if it refuses value for the parameter `which`, else nothing.
+std::optional<std::string> range_error(const ReducedParameters& base, SweptParameter which,
+                                       double value) {
     try {
         validate(with_value(base, which, value));
-        return true;
-    } catch (const std::invalid_argument&) {
-        return false;
+        return std::nullopt;
+    } catch (const std::invalid_argument& e) {
+        return e.what();
     }
 }
 
@@ -73,9 +75,7 @@ public:
     [[nodiscard]] long shootings() const { return m_shootings; }
 
     /// Whether p is a value the model accepts for the continued parameter.
-    [[nodiscard]] bool admissible(double p) const {
-        return admissible_value(m_base, m_o.parameter, p);
-    }
+    [[nodiscard]] bool admissible(double p) const { return !range_error(m_base, m_o.parameter, p); }
 
     /// Newton at the fixed parameter value guess[n] from guess; nothing if it fails.
     std::optional<OrbitPoint> correct_at_value(const Vector& guess) {
@@ -489,7 +489,7 @@ std::optional<std::vector<double>> doubled_orbit(const ReducedParameters& base,
     orbit.period = 2 * period;
     for (double offset : {0.2 * o.step, 0.5 * o.step, o.step}) {
         p = at.z[n] + side * offset;
-        if (!admissible_value(base, o.parameter, p)) continue;
+        if (range_error(base, o.parameter, p)) continue;
         const ReducedParameters q = with_value(base, o.parameter, p);
         const Dynamics dyn(Chain::homogeneous(q), {q.f_r, 1.0});
         for (double a : {0.02, -0.02, 0.1, -0.1}) {
@@ -532,13 +532,9 @@ restart_beyond(const ReducedParameters& base, const ContinuationOptions& options
 /// prefixed with the option that carried the value ("from" or "to").
 ReducedParameters model_with(const ReducedParameters& base, const ContinuationOptions& options,
                              double value, const char* option) {
-    const ReducedParameters q = with_value(base, options.parameter, value);
-    try {
-        validate(q);
-    } catch (const std::invalid_argument& e) {
-        throw std::invalid_argument(std::string(option) + ": " + e.what());
-    }
-    return q;
+    if (const auto error = range_error(base, options.parameter, value))
+        throw std::invalid_argument(std::string(option) + ": " + *error);
+    return with_value(base, options.parameter, value);
 }
 
 } // namespace

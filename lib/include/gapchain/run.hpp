@@ -82,8 +82,8 @@ inline constexpr long auto_transient = -1;
 enum class AccuracyMode {
     /// "auto": a run that shows it does not settle (no steady state, far from every cycle and
     /// not approaching one, once the transient is over) may finish on a cheaper plan whose F_m
-    /// error stays well
-    /// below its sampling spread (see simulate()). Periodic runs are held to the tolerance.
+    /// error stays well below its sampling spread (see simulate()). Periodic runs are held to
+    /// the tolerance.
     automatic,
     strict, ///< "strict": every step held to run.tolerance pointwise
 };

@@ -55,3 +55,32 @@ TEST_CASE("MaxForceTracker: the half-window maxima equal the maxima of runs reco
     // Not trivially equal: the record is in the first half, well above the second's maximum.
     CHECK(whole.first_half_max() > 1.05 * whole.second_half_max());
 }
+
+TEST_CASE("SteadyStateDetector: a cycle approached along a negative multiplier is reported with "
+          "its minimal period") {
+    // y_n = c_(n mod 3) + (-0.85)^n: a period-3 cycle, deviation multiplied by -0.614 every three
+    // periods. The 6-period distance is 1.6x smaller than the 3-period one, so the 6 test passes
+    // first; the detector must still say 3.
+    const std::array<double, 3> cycle{0.2, -0.5, 0.9};
+    constexpr double tolerance = 1e-8;
+    SteadyStateDetector steady(1, 8, tolerance, 0);
+    long stopped_at = -1;
+    double deviation = 1.0;
+    for (long n = 0; n < 400 && stopped_at < 0; ++n, deviation *= -0.85) {
+        const double y = cycle[n % 3] + deviation;
+        if (steady.on_period(n, static_cast<double>(n), &y)) stopped_at = n;
+    }
+    REQUIRE(stopped_at > 0);
+    CHECK(steady.period() == 3);
+    // A cycle of genuine period 6 (two period-3 halves 10x the tolerance apart) stays 6.
+    SteadyStateDetector doubled(1, 8, tolerance, 0);
+    stopped_at = -1;
+    deviation = 1.0;
+    for (long n = 0; n < 400 && stopped_at < 0; ++n, deviation *= -0.85) {
+        const double split = (n / 3) % 2 == 0 ? 5.0 * tolerance : -5.0 * tolerance;
+        const double y = cycle[n % 3] + split + deviation;
+        if (doubled.on_period(n, static_cast<double>(n), &y)) stopped_at = n;
+    }
+    REQUIRE(stopped_at > 0);
+    CHECK(doubled.period() == 6);
+}

@@ -305,6 +305,15 @@ TEST_CASE("multistability check: flags a start-dependent F_m, costs nothing on a
     CHECK(r.multistable);
     CHECK(r.F_m_error >= std::abs(r.F_m - r.F_m_twin));
     CHECK(std::abs(r.F_m - r.F_m_twin) > 1e-3);
+    // It settles on the period-3 orbit (Newton: minimal period 3, |mu| = 0.615) along a negative
+    // multiplier, where the 6-period test passes before the 3-period one.
+    REQUIRE(r.steady_state_period.has_value());
+    CHECK(*r.steady_state_period == 3);
+    RunOptions tight = strict;
+    tight.tolerance = 1e-6;
+    tight.periods = 1000;
+    tight.transient_periods = 100;
+    CHECK(simulate(dyn, tight).steady_state_period == 3);
     RunOptions off = strict;
     off.multistability_check = false;
     const SimulationResult unchecked = simulate(dyn, off);

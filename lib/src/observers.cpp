@@ -234,9 +234,36 @@ bool SteadyStateDetector::matches(long a, long b) const {
     return distance(a, b) <= m_tolerance;
 }
 
+bool SteadyStateDetector::matches_period(long n, int k) const {
+    return n - 1 - k >= 0 && matches(n, n - k) && matches(n - 1, n - 1 - k);
+}
+
+// A cycle approached along a negative multiplier passes the 2k test before the k one (for
+// mu = -0.6 the k-distance stays ~1.6x the 2k-distance), so a period-3 orbit was reported as
+// period 6. A divisor that already nearly matches gets up to k more periods to match.
+bool SteadyStateDetector::shorten_to_divisor(long n) {
+    for (int d = 1; d < *m_period; ++d) {
+        if (*m_period % d == 0 && matches_period(n, d)) {
+            m_period = d;
+            return true;
+        }
+    }
+    return false;
+}
+
+bool SteadyStateDetector::divisor_nearly_matches(long n) const {
+    for (int d = 1; d < *m_period; ++d)
+        if (*m_period % d == 0 && distance(n, n - d) <= near_divisor_factor * m_tolerance)
+            return true;
+    return false;
+}
+
 bool SteadyStateDetector::on_period(long n, double t, const double* y) {
     std::copy(y, y + m_dim, m_ring[n % m_ring.size()].begin());
-    if (m_period) return n >= m_earliest_stop + *m_period;
+    if (m_period) {
+        if (n < m_divisor_deadline && shorten_to_divisor(n)) m_divisor_deadline = -1;
+        return n >= m_divisor_deadline && n >= m_earliest_stop + *m_period;
+    }
     if (n > m_max_period) {
         m_nearest = std::numeric_limits<double>::infinity();
         for (int k = 1; k <= m_max_period; ++k)
@@ -245,13 +272,14 @@ bool SteadyStateDetector::on_period(long n, double t, const double* y) {
     }
     for (int k = 1; k <= m_max_period; ++k) {
         if (n - 1 - k < 0) break;
-        if (matches(n, n - k) && matches(n - 1, n - 1 - k)) {
+        if (matches_period(n, k)) {
             m_period = k;
             m_time = t;
+            if (divisor_nearly_matches(n)) m_divisor_deadline = n + k;
             break;
         }
     }
-    return m_period.has_value() && n >= m_earliest_stop + *m_period;
+    return m_period.has_value() && n >= m_divisor_deadline && n >= m_earliest_stop + *m_period;
 }
 
 TrajectoryRecorder::TrajectoryRecorder(int every, TrajectorySink sink)

@@ -63,7 +63,9 @@ public:
     SteadyStateDetector(int dimension, int max_period, double tolerance, long earliest_stop);
     void on_step(const StepView&) override {}
     bool on_period(long n, double t, const double* y) override;
-    /// Period k of the steady state, once found.
+    /// Period k of the steady state, once found: the smallest k whose test passed, shortened to
+    /// a divisor d of k that passes within k more periods when d's distance was already within
+    /// near_divisor_factor * tolerance (the stop waits for that).
     [[nodiscard]] std::optional<int> period() const { return m_period; }
     /// Reduced time at which it was found.
     [[nodiscard]] std::optional<double> time() const { return m_time; }
@@ -71,6 +73,8 @@ public:
     /// the max_period states before it: when the run was last far from any cycle it could be
     /// on. -1 if none.
     [[nodiscard]] long last_far_period() const { return m_last_far; }
+    /// How close (in tolerances) a divisor of a detected period must be to get its extra periods.
+    static constexpr double near_divisor_factor = 100.0;
     /// The relative distance last_far_period() uses.
     static constexpr double far_distance = 1e-3;
     /// At the last period boundary n > max_period: the relative distance from the state there
@@ -82,6 +86,11 @@ private:
     /// max |y_a - y_b| / max(1, max |y_a|) over the state.
     [[nodiscard]] double distance(long a, long b) const;
     [[nodiscard]] bool matches(long a, long b) const;
+    /// Boundaries n and n - 1 both match k periods back.
+    [[nodiscard]] bool matches_period(long n, int k) const;
+    /// Shortens m_period to its smallest divisor that matches at n; true if it did.
+    bool shorten_to_divisor(long n);
+    [[nodiscard]] bool divisor_nearly_matches(long n) const;
     int m_dim;
     int m_max_period;
     double m_tolerance;
@@ -90,6 +99,7 @@ private:
     std::optional<int> m_period;
     std::optional<double> m_time;
     long m_last_far = -1;
+    long m_divisor_deadline = -1; ///< no stop before this boundary while a divisor may match
     double m_nearest = std::numeric_limits<double>::infinity();
 };
 

@@ -4,6 +4,9 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
+#include <cmath>
+
 using namespace gapchain;
 
 namespace {
@@ -23,6 +26,39 @@ TEST_CASE("Fig 13 row: a period-1 and a period-2 value are told apart") {
     CHECK(r.rows[1].period == 2);
     CHECK(r.rows[0].points.size() == 40);
     CHECK(r.rows[0].F_m > 0.0);
+}
+
+TEST_CASE("F_m_error: the tolerance where the row settles (covering a 1e-8 run), the window "
+          "halves' spread where it does not") {
+    BifurcationOptions o;
+    o.from = 2.9; // period 1
+    o.to = 3.2;   // chaotic from rest (issue 19)
+    o.steps = 2;
+    o.transient_periods = 300;
+    o.record_periods = 300;
+    const BifurcationResult r = bifurcation(fig13, o);
+    REQUIRE(r.rows.size() == 2);
+    const BifurcationRow& periodic = r.rows[0];
+    CHECK(periodic.F_m_error == doctest::Approx(o.tolerance * periodic.F_m));
+    BifurcationOptions tight = o;
+    tight.to = o.from;
+    tight.steps = 1;
+    tight.tolerance = 1e-8;
+    const double reference = bifurcation(fig13, tight).rows[0].F_m;
+    CHECK(std::abs(periodic.F_m - reference) <= periodic.F_m_error);
+
+    // The chaotic value: the spread is the maximum of each half, run on its own.
+    const BifurcationRow& chaotic = r.rows[1];
+    BifurcationOptions half = o;
+    half.from = o.to;
+    half.steps = 1;
+    half.record_periods = 150;
+    const double first = bifurcation(fig13, half).rows[0].F_m;
+    half.transient_periods = 450;
+    const double second = bifurcation(fig13, half).rows[0].F_m;
+    CHECK(chaotic.F_m_error == doctest::Approx(std::abs(first - second)).epsilon(1e-12));
+    CHECK(chaotic.F_m_error > 10.0 * o.tolerance * chaotic.F_m);
+    CHECK(chaotic.F_m == doctest::Approx(std::max(first, second)).epsilon(1e-12));
 }
 
 TEST_CASE("detect_period on synthetic sequences") {

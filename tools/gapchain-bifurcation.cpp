@@ -35,18 +35,20 @@ std::string diagram_title(const gapchain::ReducedParameters& p, const std::strin
 void print_summary(const gapchain::BifurcationResult& r, const gapchain::BifurcationOptions& o,
                    const std::string& param, const std::string& mode, const std::string& out,
                    bool plotted) {
-    double f_max = 0.0, at = 0.0;
+    double f_max = 0.0, at = 0.0, at_error = 0.0, largest_error = 0.0;
     int periodic = 0;
     for (const auto& row : r.rows) {
-        if (row.F_m > f_max) f_max = row.F_m, at = row.value;
+        if (row.F_m > f_max) f_max = row.F_m, at = row.value, at_error = row.F_m_error;
+        largest_error = std::max(largest_error, row.F_m_error);
         periodic += row.period > 0;
     }
     std::printf("gapchain-bifurcation: %s from %g to %g, %d values (%s), %ld+%ld periods each\n",
                 param.c_str(), o.from, o.to, o.steps, mode.c_str(), o.transient_periods,
                 o.record_periods);
     if (f_max > 0.0)
-        std::printf("max F_m = %.6g at %s = %g; %d of %zu rows periodic\n", f_max, param.c_str(),
-                    at, periodic, r.rows.size());
+        std::printf("max F_m = %.6g +- %.2g at %s = %g; %d of %zu rows periodic; largest "
+                    "F_m_error %.2g\n",
+                    f_max, at_error, param.c_str(), at, periodic, r.rows.size(), largest_error);
     else
         std::printf("max F_m = 0: no contact at any value; %d of %zu rows periodic\n", periodic,
                     r.rows.size());

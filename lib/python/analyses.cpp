@@ -46,7 +46,8 @@ progress  callable(fraction of values done)
 scene, **keys  the row (Nm, fc, eps, e_r, f_r; scheme and tolerance are used).
 
 Returns a dict of columns, one row per value and direction: value, direction ("up"/"down"),
-F_m, period (0: not periodic), points (section points recorded), status; and "points": a dict
+F_m, F_m_error (the recorded halves' spread of F_m, at least tolerance * F_m), period (0: not
+periodic), points (section points recorded), status; and "section": a dict
 of columns value, direction, t (reduced time), point (the variable) of every section point;
 wall_time_s, threads_used, cancelled.)";
 
@@ -144,6 +145,7 @@ py::dict bifurcation_dict(const BifurcationResult& r) {
     d["value"] = column<double>(r.rows, [](const Row& w) { return w.value; });
     d["direction"] = strings(r.rows, [](const Row& w) { return to_string(w.direction); });
     d["F_m"] = column<double>(r.rows, [](const Row& w) { return w.F_m; });
+    d["F_m_error"] = column<double>(r.rows, [](const Row& w) { return w.F_m_error; });
     d["period"] = column<int>(r.rows, [](const Row& w) { return w.period; });
     d["points"] = column<long>(r.rows, [](const Row& w) { return w.points.size(); });
     d["status"] = strings(r.rows, [](const Row& w) { return to_string(w.status); });

@@ -41,11 +41,16 @@ BifurcationRow diagram_row(const ReducedParameters& p, const BifurcationOptions&
     row.points.reserve(static_cast<std::size_t>(o.record_periods));
     PoincareSampler sampler(dyn, o.section,
                             [&row](const SectionPoint& s) { row.points.push_back(s); });
-    MaxForceTracker forces(dyn);
+    // Split at the middle of the recorded periods: the halves' maxima give the sampling spread.
+    const long split = o.record_periods >= 2 ? o.transient_periods + o.record_periods / 2 : -1;
+    MaxForceTracker forces(dyn, split);
     Observer* observers[] = {&sampler, &forces};
     row.status = planned.run(observers).status;
     y = planned.state();
     row.F_m = forces.max_force();
+    const double spread =
+        split >= 0 ? std::abs(forces.first_half_max() - forces.second_half_max()) : 0.0;
+    row.F_m_error = std::max(spread, o.tolerance * row.F_m);
     row.period = detect_period(row.points, o.max_period, o.period_tolerance);
     return row;
 }

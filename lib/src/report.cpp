@@ -189,10 +189,10 @@ std::string points_csv(const BifurcationResult& result, const SectionSpec& secti
 std::string summary_csv(const BifurcationResult& result) {
     std::ostringstream os;
     os.precision(12);
-    os << "value,direction,F_m,period,points,status\n";
+    os << "value,direction,F_m,F_m_error,period,points,status\n";
     for (const auto& row : result.rows)
-        os << row.value << ',' << to_string(row.direction) << ',' << row.F_m << ',' << row.period
-           << ',' << row.points.size() << ',' << to_string(row.status) << '\n';
+        os << row.value << ',' << to_string(row.direction) << ',' << row.F_m << ',' << row.F_m_error
+           << ',' << row.period << ',' << row.points.size() << ',' << to_string(row.status) << '\n';
     return os.str();
 }
 
@@ -202,7 +202,15 @@ std::string to_json(const BifurcationResult& r, const BifurcationOptions& o,
     j["parameter"] = to_string(o.parameter);
     j["columns"] = {{"value", "the value of " + std::string(to_string(o.parameter))},
                     {"point", "the section variable " + o.section.record.front().name()},
-                    {"period", "forcing periods per cycle of the section; 0 = not periodic"}};
+                    {"period", "forcing periods per cycle of the section; 0 = not periodic"},
+                    {"F_m_error",
+                     "|max over the first half - max over the second half of the recorded "
+                     "periods| (sampling spread), at least tolerance * F_m"}};
+    j["tolerance"] = o.tolerance;
+    double largest_error = 0.0;
+    for (const auto& row : r.rows)
+        largest_error = std::max(largest_error, row.F_m_error);
+    j["max_F_m_error"] = largest_error;
     j["from"] = o.from;
     j["to"] = o.to;
     j["steps"] = o.steps;

@@ -76,6 +76,9 @@ def test_result_arrays_have_their_shapes_and_dtypes():
     rm = gapchain.regime_map(Nm=2, e_r=[0.0, 0.5], f_r=[0.5, 1.0, 2.0], transient=10, record=20)
     assert rm["code"].shape == (2, 3) and rm["F_m"].dtype == np.float64
     assert rm["regime"].shape == (2, 3) and rm["regime"].dtype.kind == "U"
+    b = gapchain.bifurcation(Nm=5, fc=60, eps=0.5, e_r=0.06, from_=2.9, to=3.2, steps=2,
+                             transient=100, record=40)
+    assert b["F_m_error"].shape == (2,) and np.all(b["F_m_error"] >= 1e-4 * b["F_m"])
 
 
 def test_modes_match_the_paper_approximation_formula():

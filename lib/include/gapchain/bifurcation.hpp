@@ -53,7 +53,11 @@ struct BifurcationRow {
     SweepDirection direction = SweepDirection::up;
     std::vector<SectionPoint> points; ///< the recorded section points, in time order
     double F_m = 0.0;                 ///< max reduced force over the recorded periods
-    int period = 0;                   ///< detected period in forcing periods (0: not periodic)
+    /// Error estimate of F_m, >= 0: the sampling spread |max over the first half - max over the
+    /// second half of the recorded periods| (the error of a run that never settles), at least
+    /// tolerance * F_m (the accuracy each run is held to, docs/accuracy.md). No extra run.
+    double F_m_error = 0.0;
+    int period = 0; ///< detected period in forcing periods (0: not periodic)
     RunStatus status = RunStatus::completed; ///< how the run ended
 };
 

@@ -33,7 +33,9 @@ progress    callable(fraction in [0, 1]), called as the run advances.
 Returns a dict: F_m and F_m_error (reduced force; physically F = F_m M a0 sqrt(fc)),
 F_m_error_method, F_m_contact (j = 0 left wall .. Nm right wall, -1 no contact), F_m_time
 (reduced time), contact (bool), multistable (bool: a twin run from a start moved by 1e-8 gave
-an F_m beyond the error; F_m_error then covers it), F_m_twin (or None), per_body (Nm x 2 float64: max force on the left and right of
+an F_m beyond the error; F_m_error then covers it), F_m_twin (or None), F_m_orbit (the largest
+force over one cycle of the orbit a periodic run settled on, or None), maximum_in_transient
+(bool: F_m fell before that orbit was reached; F_m_error covers F_m - F_m_orbit), per_body (Nm x 2 float64: max force on the left and right of
 each body), per_body_time (Nm x 2), per_contact (dict of arrays force, time, impacts, Nm + 1
 entries), steady_state_period (int or None), steady_state_time, status ("completed",
 "steady_state", "non_finite", "cancelled"), message, scheme, step, periods_simulated,
@@ -55,6 +57,8 @@ py::dict result_dict(const SimulationResult& r, const Scene& scene) {
     d["multistable"] = r.multistable;
     d["accuracy_mode_used"] = std::string(to_string(r.accuracy_mode_used));
     d["F_m_twin"] = r.twin_checked ? py::object(py::float_(r.F_m_twin)) : py::object(py::none());
+    d["F_m_orbit"] = r.F_m_orbit ? py::object(py::float_(*r.F_m_orbit)) : py::object(py::none());
+    d["maximum_in_transient"] = r.maximum_in_transient;
     std::vector<double> forces, times;
     for (const auto& b : r.per_body) {
         forces.insert(forces.end(), {b.left, b.right});

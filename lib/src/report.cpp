@@ -29,6 +29,23 @@ nlohmann::json parameters_json(const ReducedParameters& p) {
 
 } // namespace
 
+namespace {
+/// Each body's largest force on either side, when, and in newtons for physical scenes.
+json per_body_json(const SimulationResult& r, const Scene& scene) {
+    json bodies = json::array();
+    for (const auto& b : r.per_body) {
+        json e = {
+            {"left", b.left}, {"right", b.right}, {"t_left", b.t_left}, {"t_right", b.t_right}};
+        if (scene.physical) {
+            e["left_newton"] = force_in_newtons(b.left, *scene.physical);
+            e["right_newton"] = force_in_newtons(b.right, *scene.physical);
+        }
+        bodies.push_back(e);
+    }
+    return bodies;
+}
+} // namespace
+
 std::string to_json(const SimulationResult& r, const Scene& scene) {
     json j;
     j["F_m"] = r.F_m;
@@ -40,6 +57,7 @@ std::string to_json(const SimulationResult& r, const Scene& scene) {
     j["multistable"] = r.multistable;
     if (r.twin_checked) j["F_m_twin"] = r.F_m_twin;
     if (r.F_m_orbit) j["F_m_orbit"] = *r.F_m_orbit;
+    j["maximum_in_transient"] = r.maximum_in_transient;
     j["accuracy_mode_used"] = to_string(r.accuracy_mode_used);
     if (r.relaxed_from_period >= 0) j["relaxed_from_period"] = r.relaxed_from_period;
     if (scene.physical) {
@@ -50,17 +68,7 @@ std::string to_json(const SimulationResult& r, const Scene& scene) {
                            {"natural_frequency_hz", natural_frequency(*scene.physical)}};
         if (!scene.harmonic()) j["excitation"]["duration_s"] = scene.record_duration;
     }
-    json bodies = json::array();
-    for (const auto& b : r.per_body) {
-        json e = {
-            {"left", b.left}, {"right", b.right}, {"t_left", b.t_left}, {"t_right", b.t_right}};
-        if (scene.physical) {
-            e["left_newton"] = force_in_newtons(b.left, *scene.physical);
-            e["right_newton"] = force_in_newtons(b.right, *scene.physical);
-        }
-        bodies.push_back(e);
-    }
-    j["per_body"] = bodies;
+    j["per_body"] = per_body_json(r, scene);
     json contacts = json::array();
     for (const auto& c : r.per_contact)
         contacts.push_back({{"force", c.force}, {"time", c.time}, {"impacts", c.impacts}});

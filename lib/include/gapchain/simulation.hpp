@@ -70,9 +70,13 @@ struct SimulationResult {
     /// covers |F_m - F_m_twin|. gapchain-attractors gives the F_m of each attractor.
     bool multistable = false;
     double F_m_twin = 0.0; ///< the twin run's F_m (when twin_checked)
-    /// A run that settled late (see simulate()): the largest force over one cycle of the orbit
-    /// it settled on. Below F_m beyond the error, F_m came from the transient: multistable.
+    /// A run that settled on a periodic orbit (harmonic forcing; see simulate()): the largest
+    /// force over one cycle of that orbit, >= 0.
     std::optional<double> F_m_orbit;
+    /// F_m_orbit is below F_m by more than the error: the maximum fell before the orbit was
+    /// reached (a start-up that decays slower than MODEL.md §2's discarded periods assume, or a
+    /// chaotic transient; the latter is also multistable). F_m_error covers F_m - F_m_orbit.
+    bool maximum_in_transient = false;
     /// Whether the main run kept to the tolerance throughout or finished relaxed.
     AccuracyUsed accuracy_mode_used = AccuracyUsed::strict;
     long relaxed_from_period = -1; ///< period the relaxed plan took over at (-1: strict)
@@ -101,17 +105,22 @@ struct SimulationHooks {
 ///   ten times the tolerance, exact at half the output interval. The estimate is never below a
 ///   round-off floor (1e-14 F_m; 1e-12 F_m for exact).
 ///
+/// Transient check (harmonic forcing, options.estimate_error or the multistability check): a run
+/// that settled on a periodic orbit is continued for one cycle of it; if the orbit's largest
+/// force (F_m_orbit) is below F_m by more than max(3 F_m_error, 1e-6 F_m), F_m came from the
+/// transient (maximum_in_transient) and F_m_error covers the difference. The cost is one orbit
+/// cycle (k periods) per periodic run.
+///
 /// Multistability check (options.multistability_check, harmonic forcing): a run that settled
-/// late is continued for one cycle of its orbit; if the orbit's largest force (F_m_orbit) is
-/// below F_m by more than max(3 F_m_error, 1e-6 F_m), F_m came from the transient, a property of
-/// the start: the result is multistable and F_m_error covers the difference. Then a run that did
+/// late and took its F_m in the transient is multistable (the maximum is a property of the
+/// start: a chaotic transient before the orbit). Then a run that did
 /// not settle quickly - no steady state, or one reached only after the state stayed far (1e-3,
 /// relative) from every cycle for longer than it then took to converge, the mark of a chaotic
 /// transient - is repeated from the start with u_1 moved by 1e-8 max(1, |x0|). If the twin's
 /// F_m differs from F_m by more than max(3 F_m_error, 3 x either run's window-halves spread,
 /// 1e-6 F_m), the result is
 /// multistable and F_m_error is raised to that difference. A quickly settled run (the usual
-/// periodic point) costs nothing more.
+/// periodic point) runs no twin: its cost is the transient check's one orbit cycle.
 ///
 /// Accuracy (options.accuracy_mode): in `automatic`, a run on the automatic scheme and step
 /// that, at four times the contact-free row's decay time to 1e-3 (and after the transient and

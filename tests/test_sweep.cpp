@@ -1,3 +1,4 @@
+#include "gapchain/report.hpp"
 #include "gapchain/study.hpp"
 #include "gapchain/sweep.hpp"
 
@@ -9,6 +10,7 @@
 #include <chrono>
 #include <set>
 #include <stdexcept>
+#include <string>
 #include <thread>
 
 using namespace gapchain;
@@ -109,4 +111,26 @@ TEST_CASE("a study with \"attractors\": F_m_max over the starts is never below t
     CHECK(results[1].attractors_found == 1);
     CHECK_THROWS_WITH_AS(parse_study(R"({"parameters": {"fc": [1]}, "attractors": -3})"),
                          doctest::Contains("attractors"), SceneError);
+}
+
+TEST_CASE("keep \"F_m_orbit\": the orbit's maximum and the transient flag, as simulate() says") {
+    // The row of the transient check (a start-up peak above its period-1 orbit).
+    const Study s = parse_study(R"({"scene": {"model": {"Nm": 10, "fc": 100, "eps": 0.2},
+                                              "excitation": {"f_r": 1.125}},
+                                    "parameters": {"e_r": [0.35]}, "keep": ["F_m_orbit"]})");
+    CHECK(s.keep.orbit);
+    const StudyScenes scenes(s);
+    std::vector<SweepPointResult> results(1);
+    run_sweep(
+        s, {}, [&](long i) { return sweep_point_input(scenes.scene(i)); },
+        [&](const SweepPointResult& r) { results[static_cast<std::size_t>(r.index)] = r; });
+    const std::string header = sweep_csv_header(s);
+    CHECK(header.find(",F_m_orbit,maximum_in_transient") != std::string::npos);
+    const std::string flagged = sweep_csv_row(s, results[0]);
+    CHECK(flagged.substr(flagged.size() - 2) == ",1");
+    REQUIRE(results[0].simulation.F_m_orbit);
+    CHECK(flagged.find(',' + std::to_string(*results[0].simulation.F_m_orbit).substr(0, 6)) !=
+          std::string::npos);
+    CHECK(results[0].simulation.F_m_error >=
+          results[0].simulation.F_m - *results[0].simulation.F_m_orbit);
 }

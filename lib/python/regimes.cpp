@@ -7,6 +7,7 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <limits>
 
 namespace gapchain::python {
 
@@ -54,9 +55,10 @@ study     a study dict ({"scene": {...}, "parameters": {"fc": [1, 10], "e_r": {"
 threads   OpenMP threads (0: all cores);  progress  callable(fraction of points done)
 
 Returns a dict of columns in index order: index, one column per axis (named by its key), Nm,
-fc, eps, e_r, f_r, F_m, F_m_error, status, steady_state_period (0: none), wall_time_s; with
-"per_body" kept, per_body (points x Nm x 2); with "regime" kept, regime, period, lambda_max,
-lambda_max_error; F_m_newton for physical scenes; and cancelled.)";
+fc, eps, e_r, f_r, F_m, F_m_error, status, multistable (bool), steady_state_period (0: none),
+wall_time_s; with "per_body" kept, per_body (points x Nm x 2); with "regime" kept, regime,
+period, lambda_max, lambda_max_error; with "F_m_orbit" kept, F_m_orbit (NaN: did not settle)
+and maximum_in_transient (bool); F_m_newton for physical scenes; and cancelled.)";
 
 ClassifyOptions classify_options(const Scene& scene, long transient, long record, bool confirm) {
     ClassifyOptions o;
@@ -162,6 +164,13 @@ void kept_columns(py::dict& d, const Study& study, const std::vector<SweepPointR
         d["lambda_max_error"] =
             column<double>(rows, [](const R& r) { return r.regime->lambda_max_error; });
     }
+    if (study.keep.orbit) {
+        d["F_m_orbit"] = column<double>(rows, [](const R& r) {
+            return r.simulation.F_m_orbit.value_or(std::numeric_limits<double>::quiet_NaN());
+        });
+        d["maximum_in_transient"] =
+            column<bool>(rows, [](const R& r) { return r.simulation.maximum_in_transient; });
+    }
     if (!rows.empty() && rows.front().F_m_newton)
         d["F_m_newton"] = column<double>(rows, [](const R& r) { return *r.F_m_newton; });
 }
@@ -175,6 +184,7 @@ py::dict sweep_dict(const Study& study, std::vector<SweepPointResult> rows) {
     d["F_m"] = column<double>(rows, [](const R& r) { return r.simulation.F_m; });
     d["F_m_error"] = column<double>(rows, [](const R& r) { return r.simulation.F_m_error; });
     d["status"] = strings(rows, [](const R& r) { return to_string(r.simulation.status); });
+    d["multistable"] = column<bool>(rows, [](const R& r) { return r.simulation.multistable; });
     d["steady_state_period"] =
         column<int>(rows, [](const R& r) { return r.simulation.steady_state_period.value_or(0); });
     d["wall_time_s"] = column<double>(rows, [](const R& r) { return r.simulation.wall_time_s; });

@@ -561,6 +561,7 @@ std::string sweep_csv_header(const Study& study) {
     if (study.attractor_starts > 0) h += ",F_m_max,attractors";
     if (study.keep.steady_state) h += ",steady_state_period";
     if (study.keep.wall_time) h += ",wall_time_s";
+    if (study.keep.orbit) h += ",F_m_orbit,maximum_in_transient";
     if (study.keep.regime) h += ",regime,period,lambda_max,lambda_max_error";
     if (study.keep.per_body) h += ",per_body";
     return h;
@@ -583,6 +584,11 @@ std::string sweep_csv_row(const Study& study, const SweepPointResult& r) {
         os << ','
            << (s.steady_state_period ? std::to_string(*s.steady_state_period) : std::string(""));
     if (study.keep.wall_time) os << ',' << s.wall_time_s;
+    if (study.keep.orbit) {
+        os << ',';
+        if (s.F_m_orbit) os << *s.F_m_orbit;
+        os << ',' << (s.maximum_in_transient ? 1 : 0);
+    }
     if (study.keep.regime && r.regime)
         os << ',' << to_string(r.regime->regime) << ',' << r.regime->period << ','
            << r.regime->lambda_max << ',' << r.regime->lambda_max_error;

@@ -117,9 +117,11 @@ KeptResults read_kept(const ojson& keep) {
             kept.steady_state = true;
         else if (name == "wall_time")
             kept.wall_time = true;
+        else if (name == "F_m_orbit")
+            kept.orbit = true;
         else
-            throw SceneError("keep: entries must be F_m, per_body, regime, steady_state_period or "
-                             "wall_time, got " +
+            throw SceneError("keep: entries must be F_m, per_body, regime, steady_state_period, "
+                             "wall_time or F_m_orbit, got " +
                              k.dump());
     }
     return kept;

@@ -168,13 +168,18 @@ def test_keyboard_interrupt_stops_a_long_run():
 
 def test_sweep_columns_follow_the_study():
     study = {"scene": {"run": {"periods": 40}}, "parameters": {"fc": [1, 10], "e_r": [0.1, 0.2]},
-             "keep": ["per_body"]}
+             "keep": ["per_body", "F_m_orbit"]}
     s = gapchain.sweep(study, threads=2)
     assert s["index"].tolist() == [0, 1, 2, 3]
     assert s["fc"].tolist() == [1, 1, 10, 10] and s["e_r"].tolist() == [0.1, 0.2, 0.1, 0.2]
     assert s["per_body"].shape == (4, 5, 2)
+    assert s["multistable"].dtype == np.bool_ and s["maximum_in_transient"].dtype == np.bool_
     one = gapchain.simulate(fc=10, e_r=0.2, periods=40)
     assert s["F_m"][3] == one["F_m"]
+    assert s["F_m_error"][3] == one["F_m_error"]
+    assert s["maximum_in_transient"][3] == one["maximum_in_transient"]
+    orbit = one["F_m_orbit"]
+    assert (np.isnan(s["F_m_orbit"][3]) if orbit is None else s["F_m_orbit"][3] == orbit)
 
 
 def test_accuracy_mode_is_reported_and_strict_keeps_a_periodic_answer():

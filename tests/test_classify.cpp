@@ -4,6 +4,9 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
+#include <cmath>
+
 using namespace gapchain;
 
 TEST_CASE("along the Fig 13 line: periodic in 2.7 < f_r < 3.1, chaotic inside 3.2 < f_r < 3.55") {
@@ -26,6 +29,32 @@ TEST_CASE("along the Fig 13 line: periodic in 2.7 < f_r < 3.1, chaotic inside 3.
         CHECK(c.distinct_points > 100);
     }
     CHECK(chaotic == 4);
+}
+
+TEST_CASE("F_m_error: the tolerance on a periodic state (covering a 1e-8 run), the halves' "
+          "spread on a chaotic record (equal to the two halves classified on their own)") {
+    ClassifyOptions o;
+    const Classification periodic = classify({5, 60, 0.5, 0.06, 2.9}, o);
+    REQUIRE(periodic.stopped_at_steady_state);
+    CHECK(periodic.F_m_error == doctest::Approx(o.tolerance * periodic.F_m));
+    ClassifyOptions tight = o;
+    tight.tolerance = 1e-8;
+    const double reference = classify({5, 60, 0.5, 0.06, 2.9}, tight).F_m;
+    CHECK(std::abs(periodic.F_m - reference) <= periodic.F_m_error);
+
+    const Classification chaotic = classify({5, 60, 0.5, 0.06, 3.3}, o);
+    REQUIRE_FALSE(chaotic.stopped_at_steady_state);
+    // The first half of the record, classified on its own, is the same trajectory (a chaotic
+    // row's second half is not: a run restarted at another period rounds differently).
+    ClassifyOptions half = o;
+    half.record_periods = o.record_periods / 2;
+    const double first = classify({5, 60, 0.5, 0.06, 3.3}, half).F_m;
+    MESSAGE("F_m " << chaotic.F_m << ", first half " << first << ", error " << chaotic.F_m_error);
+    CHECK(first <= chaotic.F_m);
+    if (chaotic.F_m > first)
+        CHECK(chaotic.F_m_error == doctest::Approx(chaotic.F_m - first).epsilon(1e-9));
+    CHECK(chaotic.F_m_error < 0.5 * chaotic.F_m); // both halves were recorded
+    CHECK(chaotic.F_m_error > 10.0 * o.tolerance * chaotic.F_m);
 }
 
 TEST_CASE("no contact above the eq (20) boundary") {

@@ -26,7 +26,8 @@ scene, **keys  the row (Nm, fc, eps, e_r, f_r; scheme and tolerance are used).
 
 Returns a dict: regime, period (forcing periods; 0 if not periodic or longer than 16),
 lambda_max (largest Lyapunov exponent per unit reduced time) and lambda_max_error,
-distinct_points, section_points, broadband_share ([0, 1]), F_m, stopped_at_steady_state,
+distinct_points, section_points, broadband_share ([0, 1]), F_m, F_m_error (tolerance * F_m on
+a periodic state, else the recorded halves' spread, at least that), stopped_at_steady_state,
 newton_confirmed, max_multiplier, periods_run, status, wall_time_s.)";
 
 constexpr const char* regime_map_doc =
@@ -40,7 +41,7 @@ threads    OpenMP threads (0: all cores);  progress  callable(fraction of cells 
 transient, record, confirm  as in classify().
 
 Returns a dict: e_r ((rows,)), f_r ((cols,)), and (rows x cols) arrays regime (str), code
-(0 no-contact, 1 periodic, 2 quasi-periodic, 3 chaotic), period, F_m, lambda_max,
+(0 no-contact, 1 periodic, 2 quasi-periodic, 3 chaotic), period, F_m, F_m_error, lambda_max,
 lambda_max_error, distinct_points, broadband_share, status; wall_time_s, threads_used,
 cancelled.)";
 
@@ -85,6 +86,7 @@ py::dict classify_py(const py::object& scene_arg, long transient, long record, b
     d["section_points"] = c.section_points;
     d["broadband_share"] = c.broadband_share;
     d["F_m"] = c.F_m;
+    d["F_m_error"] = c.F_m_error;
     d["stopped_at_steady_state"] = c.stopped_at_steady_state;
     d["newton_confirmed"] = c.newton_confirmed;
     d["max_multiplier"] = c.max_multiplier;
@@ -111,6 +113,7 @@ py::dict regime_map_dict(const RegimeMap& m) {
     d["code"] = grid<int>(m, [](const C& c) { return static_cast<int>(c.regime); });
     d["period"] = grid<int>(m, [](const C& c) { return c.period; });
     d["F_m"] = grid<double>(m, [](const C& c) { return c.F_m; });
+    d["F_m_error"] = grid<double>(m, [](const C& c) { return c.F_m_error; });
     d["lambda_max"] = grid<double>(m, [](const C& c) { return c.lambda_max; });
     d["lambda_max_error"] = grid<double>(m, [](const C& c) { return c.lambda_max_error; });
     d["distinct_points"] = grid<int>(m, [](const C& c) { return c.distinct_points; });

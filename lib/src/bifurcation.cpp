@@ -48,9 +48,7 @@ BifurcationRow diagram_row(const ReducedParameters& p, const BifurcationOptions&
     row.status = planned.run(observers).status;
     y = planned.state();
     row.F_m = forces.max_force();
-    const double spread =
-        split >= 0 ? std::abs(forces.first_half_max() - forces.second_half_max()) : 0.0;
-    row.F_m_error = std::max(spread, o.tolerance * row.F_m);
+    row.F_m_error = std::max(forces.half_spread(), o.tolerance * row.F_m);
     row.period = detect_period(row.points, o.max_period, o.period_tolerance);
     return row;
 }

@@ -136,6 +136,15 @@ void confirm_periodic(const Dynamics& dyn, const std::vector<double>& state, Cla
     c.max_multiplier = orbit.max_multiplier;
 }
 
+/// F_m, its error (the halves' spread, at least the tolerance) and the impacts, into c and
+/// evidence.
+void take_forces(const MaxForceTracker& forces, double tolerance, RecordedEvidence& evidence,
+                 Classification& c) {
+    c.F_m = forces.max_force();
+    c.F_m_error = std::max(forces.half_spread(), tolerance * c.F_m);
+    evidence.impacts = total_impacts(forces);
+}
+
 } // namespace
 
 Classification classify(const ReducedParameters& p, const ClassifyOptions& o) {
@@ -167,7 +176,9 @@ Classification classify(const ReducedParameters& p, const ClassifyOptions& o) {
     // forces, the stroboscopic section, u_1 and (restarted averages of) the tangent vector.
     const bool periodic_state = steady.period().has_value();
     const long record = periodic_state ? *steady.period() : o.record_periods;
-    MaxForceTracker forces(dyn);
+    // An unsettled record is split in two: its halves' maxima give F_m's sampling spread.
+    const long split = !periodic_state && record >= 2 ? record / 2 : -1;
+    MaxForceTracker forces(dyn, split);
     RecordedEvidence evidence;
     PoincareSampler sampler(dyn, SectionSpec{},
                             [&](const SectionPoint& s) { evidence.section.push_back(s); });
@@ -181,9 +192,8 @@ Classification classify(const ReducedParameters& p, const ClassifyOptions& o) {
     const LyapunovResult lyap = periodic_state ? settling_lyap : tangent.result();
     c.lambda_max = lyap.exponents.front();
     c.lambda_max_error = lyap.errors.front();
-    c.F_m = forces.max_force();
+    take_forces(forces, o.tolerance, evidence, c);
     count_section_points(evidence.section, o.period_tolerance, c);
-    evidence.impacts = total_impacts(forces);
 
     if (periodic_state) {
         c.stopped_at_steady_state = true;

@@ -464,6 +464,7 @@ json classification_json(const Classification& c) {
     j["lambda_max_error"] =
         std::isfinite(c.lambda_max_error) ? json(c.lambda_max_error) : json(nullptr);
     j["F_m"] = c.F_m;
+    j["F_m_error"] = c.F_m_error;
     j["distinct_points"] = c.distinct_points;
     j["section_points"] = c.section_points;
     j["broadband_share"] = c.broadband_share;
@@ -487,14 +488,14 @@ std::string map_csv(const RegimeMap& map) {
     std::ostringstream os;
     os.precision(10);
     os << "e_r,f_r,regime,code,period,F_m,lambda_max,lambda_max_error,distinct_points,broadband_"
-          "share\n";
+          "share,F_m_error\n";
     for (std::size_t i = 0; i < map.e_r.size(); ++i)
         for (std::size_t k = 0; k < map.f_r.size(); ++k) {
             const Classification& c = map.cells[i * map.f_r.size() + k];
             os << map.e_r[i] << ',' << map.f_r[k] << ',' << to_string(c.regime) << ','
                << static_cast<int>(c.regime) << ',' << c.period << ',' << c.F_m << ','
                << c.lambda_max << ',' << c.lambda_max_error << ',' << c.distinct_points << ','
-               << c.broadband_share << '\n';
+               << c.broadband_share << ',' << c.F_m_error << '\n';
         }
     return os.str();
 }

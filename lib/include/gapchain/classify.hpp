@@ -54,6 +54,10 @@ struct Classification {
     int section_points = 0;        ///< stroboscopic points recorded
     double broadband_share = 0.0;  ///< spectral power of u_1 away from m/n f_r (n <= 4)
     double F_m = 0.0;              ///< max reduced force over the recorded periods
+    /// Error estimate of F_m, >= 0: on a periodic state (recorded over one orbit cycle) the
+    /// accuracy the run is held to, tolerance * F_m; otherwise the sampling spread |max over the
+    /// first half - max over the second half of the recorded periods|, at least that.
+    double F_m_error = 0.0;
     bool stopped_at_steady_state = false; ///< the run ended early on a periodic steady state
     bool newton_confirmed = false; ///< Newton converged on the periodic orbit (period is then its
                                    ///< minimal period)

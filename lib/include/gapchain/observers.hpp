@@ -5,6 +5,7 @@
 #include "gapchain/dynamics.hpp"
 #include "gapchain/run.hpp"
 
+#include <cmath>
 #include <functional>
 #include <limits>
 #include <optional>
@@ -37,6 +38,11 @@ public:
     [[nodiscard]] double first_half_max() const { return m_half_max[0]; }
     /// Largest force over all contacts in the recorded periods from split_period on, >= 0.
     [[nodiscard]] double second_half_max() const { return m_half_max[1]; }
+    /// |first_half_max() - second_half_max()|: the sampling spread of the maximum over a window
+    /// that does not repeat; 0 without a split.
+    [[nodiscard]] double half_spread() const {
+        return m_split_period >= 0 ? std::abs(m_half_max[0] - m_half_max[1]) : 0.0;
+    }
 
 private:
     const Dynamics& m_dyn;

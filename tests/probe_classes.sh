@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # The 23 defect classes of the reliability probe (../shared/reports/reliability-probe-2026-11-22.md),
-# each reproduced as the report gives it and checked against what the README promises.
+# each reproduced as the report gives it and checked against what the README promises, and a
+# 24th from the probe of 2026-11-24.
 # Usage: probe_classes.sh BIN_DIR SOURCE_DIR   (prints "class N: ok" or "class N: FAIL ...")
 set -u
 bin=$(cd "$1" && pwd)
@@ -265,8 +266,37 @@ grep -q "max F_m = 0 at" "$dir/stdout" && { echo "class 23: FAIL: no-contact lin
 grep -q "\"study\": \"/" s23.csv.json || { echo "class 23: FAIL: sidecar study path not absolute"; failed+=(23); }
 verdict 23
 
+# 24. The probe of 2026-11-24: interrupts reach the orbit tools' warm-up runs and the runs
+#     inside gapchain-attractors (one period of a 1e5-body row takes seconds); a malformed
+#     --overlay and a continuation that finds no orbit fail cleanly.
+# stopped CLASS RC CMD...: started, sent SIGTERM after 1 s, it exits with RC within 20 s.
+stopped() {
+    local class=$1 rc=$2
+    shift 2
+    "$@" >/dev/null 2>&1 &
+    local pid=$!
+    sleep 1
+    kill -TERM "$pid"
+    (sleep 20; kill -KILL "$pid" 2>/dev/null) &
+    local guard=$!
+    wait "$pid"
+    local got=$?
+    kill "$guard" 2>/dev/null
+    [ "$got" -eq "$rc" ] || { echo "class $class: FAIL: $* -> exit $got after SIGTERM, expected $rc"; failed+=("$class"); }
+}
+stopped 24 143 "$bin/gapchain-orbit" "$scenes/fig13.json" --from-transient 3000000 --out o24.json
+stopped 24 143 "$bin/gapchain-continue" "$scenes/fig13.json" --from 2.8 --to 3 --transient 3000000 --no-plot --out c24
+stopped 24 143 "$bin/gapchain-attractors" "$scenes/fig13.json" --samples 4 --no-plot --set model.Nm=100000 --out a24
+absent 24 o24.json c24 a24
+printf 'a,b,c\n1,2,3\n' > overlay.csv
+expect 24 2 "--overlay" "$bin/gapchain-continue" "$scenes/fig13.json" --from 2.8 --to 3 --overlay overlay.csv --out c24
+one_line 24
+expect 24 1 "no orbit found" "$bin/gapchain-continue" "$scenes/fig13.json" --no-plot --param eps --from 0 --to 0.5 --out c24
+absent 24 c24
+verdict 24
+
 if [ "${#failed[@]}" -eq 0 ]; then
-    echo "all 23 classes checked"
+    echo "all 24 classes checked"
     exit 0
 fi
 exit 1

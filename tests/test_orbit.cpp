@@ -25,6 +25,19 @@ std::vector<double> settled(const Dynamics& dyn, long periods) {
 }
 } // namespace
 
+TEST_CASE("find_periodic_orbit_after: a progress answering false stops the transient run") {
+    const Dynamics dyn = row({5, 60, 0.5, 0.06, 3.0});
+    OrbitOptions o;
+    long calls = 0;
+    const PeriodicOrbit orbit = find_periodic_orbit_after(dyn, o, {}, 1'000'000, [&](double) {
+        ++calls;
+        return false;
+    });
+    CHECK(orbit.status == OrbitStatus::cancelled);
+    CHECK(calls == 1);
+    CHECK(to_string(orbit.status) == "cancelled");
+}
+
 TEST_CASE("a contact-free orbit: eq (20)'s state and MODEL.md's analytic multipliers") {
     const double eps = 0.1, f_r = 0.7;
     const ReducedParameters p{3, 100, eps, 1e3, f_r};

@@ -121,6 +121,26 @@ TEST_CASE("run: a progress callback that answers false cancels at the next repor
     CHECK(out.periods_done == 3 * (1000 / 200)); // reports every periods / 200 periods
 }
 
+TEST_CASE("run: a long row is asked inside its first period, and a false answer stops it there") {
+    // 20,000 bodies: asked every 13 pieces (2^18 / Nm), so well before the period's end.
+    const ReducedParameters p{20000, 100, 0.5, 0.06, 1.0};
+    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+    RunOptions o;
+    o.periods = 1000;
+    o.transient_periods = 0;
+    PlannedRun planned(dyn, o);
+    std::vector<double> fractions;
+    const RunOutcome out = planned.run({}, [&](double f) {
+        fractions.push_back(f);
+        return false;
+    });
+    CHECK(out.status == RunStatus::cancelled);
+    CHECK(out.periods_done == 0);
+    REQUIRE(fractions.size() == 1);
+    CHECK(fractions[0] > 0.0);
+    CHECK(fractions[0] < 1.0 / o.periods);
+}
+
 TEST_CASE("PlannedRun: bad options and states are refused before running") {
     const Dynamics dyn = row(0.5, 1.0);
     RunOptions o = rk4_options(10, 10);

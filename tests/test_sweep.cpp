@@ -113,6 +113,23 @@ TEST_CASE("a study with \"attractors\": F_m_max over the starts is never below t
                          doctest::Contains("attractors"), SceneError);
 }
 
+TEST_CASE("a cancel reaches a point that is still running; no cancelled point reaches the sink") {
+    // Each point alone would run for minutes (2,000 bodies, 2e4 periods, never settling).
+    const Study s =
+        parse_study(R"({"scene": {"model": {"Nm": 2000, "fc": 60, "eps": 0.5, "e_r": 0.06},
+                                              "run": {"periods": 20000, "steady_state": false,
+                                                      "estimate_error": false}},
+                                    "parameters": {"f_r": [3.2, 3.3]}})");
+    const StudyScenes scenes(s);
+    long written = 0, asked = 0;
+    const SweepEnd end = run_sweep(
+        s, {}, [&](long i) { return sweep_point_input(scenes.scene(i)); },
+        [&](const SweepPointResult&) { ++written; }, [&](double) { return ++asked < 3; });
+    CHECK(end == SweepEnd::cancelled);
+    CHECK(written == 0);
+    CHECK(asked == 3);
+}
+
 TEST_CASE("keep \"F_m_orbit\": the orbit's maximum and the transient flag, as simulate() says") {
     // The row of the transient check (a start-up peak above its period-1 orbit).
     const Study s = parse_study(R"({"scene": {"model": {"Nm": 10, "fc": 100, "eps": 0.2},

@@ -7,8 +7,12 @@
 #include "gapchain/continuation.hpp"
 #include "gapchain/report.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <stdexcept>
+#include <string>
 
 namespace {
 
@@ -22,6 +26,31 @@ struct ContinueArguments {
     std::string out_dir = "continuation";
     bool no_plot = false;
 };
+
+// The overlay must be what gapchain-bifurcation writes: gnuplot would draw anything else as
+// nothing, or as garbage, without a word.
+void check_overlay(const std::string& path) {
+    std::ifstream in(path);
+    std::string line;
+    const std::string expected = "value,direction,F_m,";
+    if (!in || !std::getline(in, line) || line.rfind(expected, 0) != 0)
+        throw std::invalid_argument("--overlay: expected a gapchain-bifurcation summary.csv "
+                                    "(header value,direction,F_m,...), got \"" +
+                                    path + "\"");
+    for (long row = 2; std::getline(in, line); ++row) {
+        const auto first = line.find(','), second = line.find(',', first + 1);
+        double value = NAN, force = NAN;
+        try {
+            value = std::stod(line.substr(0, first));
+            force = std::stod(line.substr(second + 1));
+        } catch (const std::exception&) {
+        }
+        if (first == std::string::npos || second == std::string::npos || !std::isfinite(value) ||
+            !std::isfinite(force))
+            throw std::invalid_argument("--overlay: row " + std::to_string(row) + " of " + path +
+                                        " needs a finite value and F_m, got \"" + line + "\"");
+    }
+}
 
 void add_options(CLI::App& app, ContinueArguments& a) {
     ContinuationOptions& o = a.options;
@@ -106,12 +135,16 @@ int main(int argc, char** argv) {
                         cli::require_paper_row(scene, "gapchain-continue");
                         a.options.parameter = parse_swept_parameter(a.param);
                         validate(a.options);
+                        if (!a.overlay.empty()) check_overlay(a.overlay);
                         cli::Outputs outputs({a.scene.path, a.overlay});
                         outputs.folder(a.out_dir, "--out");
                         cli::Progress progress("gapchain-continue");
                         const ContinuationResult r = continue_orbits(
                             scene.reduced, a.options, scene.initial, progress.callback());
                         cli::throw_if_interrupted();
+                        if (r.points.empty())
+                            throw cli::NumericalFailure(
+                                r.branch_end.empty() ? "no orbit found" : r.branch_end.front());
                         outputs.create_folders();
                         write_outputs(r, a, scene.reduced);
                         outputs.keep();

@@ -66,8 +66,10 @@ int main(int argc, char** argv) {
                         a.options.scheme = parse_scheme(a.scheme);
                         cli::Outputs outputs({a.scene.path});
                         outputs.file(a.out, "--out");
-                        const PeriodicOrbit orbit =
-                            find_periodic_orbit_after(dyn, a.options, scene.initial, a.transient);
+                        cli::Progress progress("gapchain-orbit");
+                        const PeriodicOrbit orbit = find_periodic_orbit_after(
+                            dyn, a.options, scene.initial, a.transient, progress.callback());
+                        cli::throw_if_interrupted();
                         write_file_atomically(a.out, to_json(orbit, scene));
                         outputs.keep();
                         print_orbit(orbit);

@@ -61,8 +61,10 @@ py::dict orbit_py(const py::object& scene_arg, int period, long transient, doubl
     o.tolerance = tolerance;
     o.max_iterations = max_iterations;
     o.scheme = parse_scheme(scheme);
-    const PeriodicOrbit r =
-        Call().run([&] { return find_periodic_orbit_after(dyn, o, scene.initial, transient); });
+    Call call;
+    const PeriodicOrbit r = call.run([&] {
+        return find_periodic_orbit_after(dyn, o, scene.initial, transient, call.callback());
+    });
     py::dict d;
     d["status"] = std::string(to_string(r.status));
     d["message"] = r.message;

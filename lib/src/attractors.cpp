@@ -107,11 +107,12 @@ RunOptions start_run_options(const AttractorOptions& o) {
 }
 
 StartOutcome run_start(const Dynamics& dyn, const AttractorOptions& o,
-                       const std::vector<double>& start) {
+                       const std::vector<double>& start, const ProgressCallback& keep_going) {
     SectionRing ring(static_cast<std::size_t>(o.section_points));
     ring.set_dimension(dyn.dimension());
     SimulationHooks hooks;
     hooks.observers.push_back(&ring);
+    hooks.progress = keep_going;
     const SimulationResult r = simulate(dyn, start_run_options(o), start, hooks);
     StartOutcome s;
     if (r.status == RunStatus::non_finite || r.status == RunStatus::cancelled) {
@@ -416,14 +417,11 @@ AttractorSet find_attractors(const ReducedParameters& p, const AttractorOptions&
     set.amplitude = scale.u;
     set.threads_used = detail::thread_count(o.threads);
     std::vector<StartOutcome> outcomes(starts.size());
-    long done = 0;
+    detail::SharedProgress shared(progress, static_cast<long>(starts.size()));
     const auto end = detail::parallel_for(
         static_cast<long>(starts.size()), set.threads_used,
-        [&](long k) { outcomes[k] = run_start(dyn, o, starts[k]); },
-        [&](long) {
-            ++done;
-            return !progress || progress(static_cast<double>(done) / starts.size());
-        });
+        [&](long k) { outcomes[k] = run_start(dyn, o, starts[k], shared.item_callback()); },
+        [&](long) { return shared.finished(); });
     if (end == detail::LoopEnd::cancelled) {
         set.cancelled = true;
         return set;

@@ -511,7 +511,8 @@ std::optional<std::vector<double>> doubled_orbit(const ReducedParameters& base,
 /// The state and the value.
 std::optional<std::pair<std::vector<double>, double>>
 restart_beyond(const ReducedParameters& base, const ContinuationOptions& options,
-               const std::vector<double>& initial, double farthest) {
+               const std::vector<double>& initial, double farthest,
+               const ProgressCallback& keep_going) {
     const double direction = options.to > options.from ? 1.0 : -1.0;
     OrbitOptions orbit = options.orbit;
     orbit.period = options.period;
@@ -521,7 +522,7 @@ restart_beyond(const ReducedParameters& base, const ContinuationOptions& options
         const ReducedParameters q = with_value(base, options.parameter, p);
         const Dynamics dyn(Chain::homogeneous(q), {q.f_r, 1.0});
         const PeriodicOrbit again =
-            find_periodic_orbit_after(dyn, orbit, initial, options.transient_periods);
+            find_periodic_orbit_after(dyn, orbit, initial, options.transient_periods, keep_going);
         if (again.status == OrbitStatus::converged && again.minimal_period == orbit.period)
             return std::make_pair(again.state, p);
     }
@@ -537,6 +538,22 @@ ReducedParameters model_with(const ReducedParameters& base, const ContinuationOp
     return with_value(base, options.parameter, value);
 }
 
+/// The orbit of options.period at the start value after the transient run from initial; a
+/// failure is the first branch's end, a cancelled transient the result's.
+PeriodicOrbit first_orbit(const ReducedParameters& start, const ContinuationOptions& options,
+                          const std::vector<double>& initial, const ProgressCallback& keep_going,
+                          ContinuationResult& result) {
+    OrbitOptions orbit = options.orbit;
+    orbit.period = options.period;
+    const Dynamics dyn(Chain::homogeneous(start), {start.f_r, 1.0});
+    PeriodicOrbit found =
+        find_periodic_orbit_after(dyn, orbit, initial, options.transient_periods, keep_going);
+    result.cancelled = found.status == OrbitStatus::cancelled;
+    if (found.status != OrbitStatus::converged && !result.cancelled)
+        result.branch_end.push_back("no orbit found at the start: " + found.message);
+    return found;
+}
+
 } // namespace
 
 ContinuationResult continue_orbits(const ReducedParameters& base,
@@ -547,13 +564,19 @@ ContinuationResult continue_orbits(const ReducedParameters& base,
     validate(options);
     const ReducedParameters start = model_with(base, options, options.from, "from");
     model_with(base, options, options.to, "to");
+    // The first branch reports its fraction; transient runs and later branches repeat the last
+    // one, so that every part of the call can be cancelled.
+    double last_fraction = 0.0;
+    const ProgressCallback first_branch = [&](double f) {
+        last_fraction = f;
+        return !progress || progress(f);
+    };
+    const ProgressCallback keep_going = [&](double) {
+        return !progress || progress(last_fraction);
+    };
     ContinuationResult result;
     const double direction = options.to > options.from ? 1.0 : -1.0;
-    OrbitOptions orbit = options.orbit;
-    orbit.period = options.period;
-    const Dynamics dyn(Chain::homogeneous(start), {start.f_r, 1.0});
-    const PeriodicOrbit found =
-        find_periodic_orbit_after(dyn, orbit, initial, options.transient_periods);
+    const PeriodicOrbit found = first_orbit(start, options, initial, keep_going, result);
     struct Pending {
         std::vector<double> x;
         double p;
@@ -563,8 +586,6 @@ ContinuationResult continue_orbits(const ReducedParameters& base,
     std::deque<Pending> pending;
     if (found.status == OrbitStatus::converged)
         pending.push_back({found.state, options.from, options.period, direction});
-    else
-        result.branch_end.push_back("no orbit found at the start: " + found.message);
     for (int branch = 0; !pending.empty() && branch < options.max_branches && !result.cancelled;
          ++branch) {
         const Pending next = pending.front();
@@ -576,10 +597,10 @@ ContinuationResult continue_orbits(const ReducedParameters& base,
             continue;
         }
         BranchWalk walk(tracer, options, next.period, branch, result);
-        walk.walk(std::move(*first), branch == 0 ? progress : ProgressCallback{});
+        walk.walk(std::move(*first), branch == 0 ? first_branch : keep_going);
         result.shootings += tracer.shootings();
         if (!walk.reached_end && !result.cancelled && next.period == options.period)
-            if (auto restart = restart_beyond(base, options, initial, walk.farthest))
+            if (auto restart = restart_beyond(base, options, initial, walk.farthest, keep_going))
                 pending.push_front({restart->first, restart->second, options.period, direction});
         if (!options.follow_doublings) continue;
         for (const auto& [at, side] : walk.doublings) {

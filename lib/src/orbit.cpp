@@ -20,6 +20,7 @@ std::string_view to_string(OrbitStatus status) {
     case OrbitStatus::not_converged: return "not_converged";
     case OrbitStatus::singular: return "singular";
     case OrbitStatus::non_finite: return "non_finite";
+    case OrbitStatus::cancelled: return "cancelled";
     }
     return "?";
 }
@@ -212,8 +213,8 @@ PeriodicOrbit find_minimal_periodic_orbit(const Dynamics& dyn, const OrbitOption
 }
 
 PeriodicOrbit find_periodic_orbit_after(const Dynamics& dyn, const OrbitOptions& options,
-                                        const std::vector<double>& initial,
-                                        long transient_periods) {
+                                        const std::vector<double>& initial, long transient_periods,
+                                        const ProgressCallback& progress) {
     const auto clock = std::chrono::steady_clock::now();
     validate(options);
     detail::require_range("transient_periods", static_cast<double>(transient_periods), 0.0, 1e7);
@@ -228,7 +229,13 @@ PeriodicOrbit find_periodic_orbit_after(const Dynamics& dyn, const OrbitOptions&
         run.stop_at_steady_state = false;
         run.estimate_error = false;
         PlannedRun planned(dyn, run, start);
-        planned.run({});
+        if (planned.run({}, progress).status == RunStatus::cancelled) {
+            PeriodicOrbit cancelled;
+            cancelled.status = OrbitStatus::cancelled;
+            cancelled.period = options.period;
+            cancelled.message = "the transient run was cancelled";
+            return cancelled;
+        }
         start = planned.state();
     }
     PeriodicOrbit orbit = find_periodic_orbit(dyn, options, start);

@@ -112,15 +112,20 @@ void check_run_arguments(const Dynamics& dyn, const StepPlan& plan, const RunSpa
 /// steps reuse, so that a step allocates nothing.
 class StepSequence {
 public:
+    /// keep_going (may be empty) is asked every ask_every pieces: false stops the sequence.
     StepSequence(const Dynamics& dyn, Stepper& stepper, const StepPlan& plan,
-                 std::vector<double>& y, std::span<Observer* const> observers)
+                 std::vector<double>& y, std::span<Observer* const> observers,
+                 std::function<bool()> keep_going, long ask_every)
         : m_dyn(dyn), m_stepper(stepper), m_plan(plan), m_y(y), m_observers(observers),
-          m_y_prev(y.size()), m_gaps(dyn.gaps()), m_gaps_next(dyn.gaps()), m_scratch(y.size()) {
+          m_y_prev(y.size()), m_gaps(dyn.gaps()), m_gaps_next(dyn.gaps()), m_scratch(y.size()),
+          m_keep_going(std::move(keep_going)), m_ask_every(ask_every) {
         dyn.gaps(y.data(), m_gaps.data());
     }
     /// Advances the state from t0 to t_end (one step of the plan in forcing period `period`);
-    /// returns the number of pieces taken.
+    /// returns the number of pieces taken. Stops early, mid-step, once keep_going said false.
     long advance(double t0, double t_end, long period, bool recording);
+    /// Whether keep_going stopped the sequence.
+    [[nodiscard]] bool stopped() const { return m_stopped; }
     /// Tells every observer that forcing period n ended at t; true if one asks to stop.
     bool end_period(long n, double t) const;
 
@@ -136,6 +141,10 @@ private:
     // Gaps at the current state, carried from step to step so each is computed once.
     std::vector<double> m_gaps, m_gaps_next;
     std::vector<double> m_scratch;
+    std::function<bool()> m_keep_going;
+    long m_ask_every;
+    long m_pieces_since_ask = 0;
+    bool m_stopped = false;
 };
 
 long StepSequence::advance(double t0, double t_end, long period, bool recording) {
@@ -150,6 +159,15 @@ long StepSequence::advance(double t0, double t_end, long period, bool recording)
             o->on_step(view);
         ++pieces;
         t0 = t1;
+        // Asked per piece, not per step: a step of a long row that many switches split can
+        // take seconds (each piece is a whole step of every body).
+        if (m_keep_going && ++m_pieces_since_ask >= m_ask_every) {
+            m_pieces_since_ask = 0;
+            if (!m_keep_going()) {
+                m_stopped = true;
+                break;
+            }
+        }
     }
     return pieces;
 }
@@ -202,22 +220,40 @@ RunOutcome run(const Dynamics& dyn, Stepper& stepper, const StepPlan& plan, cons
     const int spp = plan.steps_per_period;
     const double h = plan.step;
     const long report_every = std::max(1L, span.periods / 200);
-    StepSequence steps(dyn, stepper, plan, y, observers);
     RunOutcome out;
-    stepper.reset();
-
     // Times are computed from integer step counts, so period boundaries never drift.
     auto time_at = [&](long period, int k) {
         return span.t_start + ((period - span.first_period) * spp + k) * h;
     };
+    auto cancelled = [&](double fraction, double t) {
+        if (!progress || progress(fraction)) return false;
+        out.status = RunStatus::cancelled;
+        out.message = "cancelled at t = " + detail::format_number(t);
+        out.t_end = t;
+        return true;
+    };
+    // A long row is also asked inside a period (every ~2.6e5 body-pieces, ~0.03 s), so that a
+    // cancel reaches a run whose single period takes seconds (Nm = 1e6: 17 s, more with splits).
+    long p = span.first_period;
+    int k = 0;
+    std::function<bool()> keep_going;
+    if (progress)
+        keep_going = [&] {
+            return !cancelled((p + static_cast<double>(k) / spp) / span.periods, time_at(p, k));
+        };
+    StepSequence steps(dyn, stepper, plan, y, observers, std::move(keep_going),
+                       std::max(1, (1 << 18) / n));
+    stepper.reset();
 
     if (span.first_period == 0) steps.end_period(0, span.t_start);
     out.periods_done = span.first_period;
     out.t_end = span.t_start;
-    for (long p = span.first_period; p < span.periods; ++p) {
+    for (p = span.first_period; p < span.periods; ++p) {
         const bool recording = p >= span.transient_periods;
-        for (int k = 0; k < spp; ++k)
+        for (k = 0; k < spp; ++k) {
             out.steps += steps.advance(time_at(p, k), time_at(p, k + 1), p, recording);
+            if (steps.stopped()) return out;
+        }
         out.periods_done = p + 1;
         out.t_end = time_at(p + 1, 0);
         if (const int body = first_non_finite_body(y, n); body >= 0) {
@@ -229,12 +265,9 @@ RunOutcome run(const Dynamics& dyn, Stepper& stepper, const StepPlan& plan, cons
             out.status = RunStatus::steady_state;
             return out;
         }
-        if (progress && ((p + 1) % report_every == 0 || p + 1 == span.periods) &&
-            !progress(static_cast<double>(p + 1) / span.periods)) {
-            out.status = RunStatus::cancelled;
-            out.message = "cancelled at t = " + detail::format_number(out.t_end);
+        if (((p + 1) % report_every == 0 || p + 1 == span.periods) &&
+            cancelled(static_cast<double>(p + 1) / span.periods, out.t_end))
             return out;
-        }
     }
     return out;
 }

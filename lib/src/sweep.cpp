@@ -123,13 +123,16 @@ void require_classifiable(const SweepPointInput& in, const std::string& what) {
                                            "and contact_law");
 }
 
-SweepPointResult run_point(const Study& s, const SweepPointFactory& make_point, long index) {
+SweepPointResult run_point(const Study& s, const SweepPointFactory& make_point, long index,
+                           const ProgressCallback& keep_going) {
     SweepPointResult r;
     r.index = index;
     r.values = point_values(s, index);
     const SweepPointInput in = make_point(index);
     r.parameters = in.reduced;
-    r.simulation = simulate(in.dynamics, in.run, in.initial);
+    SimulationHooks hooks;
+    hooks.progress = keep_going;
+    r.simulation = simulate(in.dynamics, in.run, in.initial, hooks);
     if (in.physical) r.F_m_newton = force_in_newtons(r.simulation.F_m, *in.physical);
     if (s.keep.regime) {
         require_classifiable(in, "keep: \"regime\"");
@@ -145,7 +148,7 @@ SweepPointResult run_point(const Study& s, const SweepPointFactory& make_point, 
         ao.seed = static_cast<std::uint64_t>(index);
         ao.run = in.run;
         ao.threads = 1; // the sweep is already parallel over points
-        const AttractorSet set = find_attractors(in.reduced, ao);
+        const AttractorSet set = find_attractors(in.reduced, ao, keep_going);
         r.F_m_max = std::max(set.F_m_max, r.simulation.F_m);
         r.attractors_found = static_cast<int>(set.attractors.size());
     }
@@ -162,14 +165,16 @@ SweepEnd run_sweep(const Study& s, const SweepSelection& sel, const SweepPointFa
     const long total = static_cast<long>(pending.size());
     // A finished point waits in its slot only until the sink has taken it.
     std::vector<std::optional<SweepPointResult>> slots(pending.size());
-    long finished = 0;
+    detail::SharedProgress shared(progress, std::max(total, 1L));
     const auto end = detail::parallel_for(
         total, detail::thread_count(sel.threads),
-        [&](long k) { slots[k] = run_point(s, make_point, pending[k]); },
+        [&](long k) { slots[k] = run_point(s, make_point, pending[k], shared.item_callback()); },
         [&](long k) {
+            // A point stopped by the cancel is not done: it is not written (a resume runs it).
+            if (shared.cancelled()) return false;
             sink(*slots[k]);
             slots[k].reset();
-            return !progress || progress(static_cast<double>(++finished) / total);
+            return shared.finished();
         });
     return end == detail::LoopEnd::cancelled ? SweepEnd::cancelled : SweepEnd::completed;
 }

@@ -19,6 +19,7 @@ enum class OrbitStatus {
     not_converged, ///< max_iterations reached, or the damped step stopped decreasing the residual
     singular,      ///< M - I was singular to working precision (a multiplier at +1: a fold)
     non_finite,    ///< the state became NaN or infinite
+    cancelled,     ///< the progress callback stopped the transient run before Newton
 };
 
 /// Name of a status, as written in results ("converged", ...).
@@ -94,8 +95,10 @@ PeriodicOrbit find_minimal_periodic_orbit(const Dynamics& dyn, const OrbitOption
 
 /// find_periodic_orbit() started from the end of a plain run of transient_periods (0 .. 1e7)
 /// forcing periods from initial (empty: rest), on options.scheme: the usual way to reach an
-/// attracting orbit's neighbourhood, where Newton converges.
+/// attracting orbit's neighbourhood, where Newton converges. progress reports the transient
+/// run's fraction done; answering false stops it (status cancelled).
 PeriodicOrbit find_periodic_orbit_after(const Dynamics& dyn, const OrbitOptions& options,
-                                        const std::vector<double>& initial, long transient_periods);
+                                        const std::vector<double>& initial, long transient_periods,
+                                        const ProgressCallback& progress = {});
 
 } // namespace gapchain

@@ -293,6 +293,15 @@ expect 24 2 "--overlay" "$bin/gapchain-continue" "$scenes/fig13.json" --from 2.8
 one_line 24
 expect 24 1 "no orbit found" "$bin/gapchain-continue" "$scenes/fig13.json" --no-plot --param eps --from 0 --to 0.5 --out c24
 absent 24 c24
+# The messages name the flag, the real bounds and the real value.
+expect 24 2 "--box: must be in 1e-09 to 100" "$bin/gapchain-attractors" "$scenes/fig13.json" --box 0 --out a24
+expect 24 2 "--seed: must be an integer" "$bin/gapchain-attractors" "$scenes/fig13.json" --seed 1e5 --out a24
+expect 24 2 "--grid: .*got \"\"" "$bin/gapchain-attractors" "$scenes/fig13.json" --grid '' --out a24
+expect 24 2 "--grid: .*got \"u1,v1,u2\"" "$bin/gapchain-attractors" "$scenes/fig13.json" --grid u1,v1,u2 --out a24
+expect 24 2 "--to: excitation.f_r.*got inf" "$bin/gapchain-attractors" "$scenes/fig13.json" --param f_r --from 3 --to inf --steps 3 --out a24
+expect 24 2 "--from: excitation.f_r.*got nan" "$bin/gapchain-bifurcation" --from nan --out b24
+expect 24 2 "--phase" "$bin/gapchain-bifurcation" --phase 1 --out b24
+absent 24 a24 b24
 verdict 24
 
 if [ "${#failed[@]}" -eq 0 ]; then

@@ -77,16 +77,16 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--tolerances", o.tolerances, "Tolerance ladder, each in [1e-12, 0.1]")
         ->delimiter(',')
-        ->check(CLI::Range(1e-12, 0.1))
+        ->check(cli::range(1e-12, 0.1))
         ->capture_default_str();
     app.add_option("--periods", o.periods, "Forcing periods per run")
-        ->check(CLI::Range(1L, 1'000'000L))
+        ->check(cli::range(1L, 1'000'000L))
         ->capture_default_str();
     app.add_option("--repeats", o.repeats, "Timed repeats (median kept)")
-        ->check(CLI::Range(1, 100))
+        ->check(cli::range(1, 100))
         ->capture_default_str();
     app.add_option("--target", target, "Relative F_m error for the recommendation, in (0, 1)")
-        ->check(CLI::Range(1e-16, 0.999))
+        ->check(cli::range(1e-16, 0.999))
         ->capture_default_str();
     app.add_flag("--no-unsplit", no_unsplit, "Skip the runs without switch splitting");
     app.add_option("--out", out, "Output folder")->capture_default_str();

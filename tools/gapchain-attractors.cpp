@@ -33,32 +33,32 @@ void add_options(CLI::App& app, AttractorArguments& a) {
     AttractorOptions& o = a.options;
     cli::add_scene_arguments(app, a.scene, true);
     app.add_option("--samples", o.samples, "Random starts (basin fractions)")
-        ->check(CLI::Range(1L, 10'000'000L))
+        ->check(cli::range(1L, 10'000'000L))
         ->capture_default_str();
     app.add_option("--seed", a.seed, "Seed of the random starts")
-        ->check(CLI::Range(0LL, 1LL << 62))
+        ->check(cli::range(0LL, 1LL << 62))
         ->capture_default_str();
     app.add_option("--box", o.box,
                    "Half-width of the box of starts, in units of the contact-free amplitude A of "
                    "eq (20) (u in [-box A, box A], v in [-box 2 pi f_r A, box 2 pi f_r A])")
-        ->check(CLI::Range(1e-9, 100.0))
+        ->check(cli::range(1e-9, 100.0))
         ->capture_default_str();
     app.add_option("--grid", a.grid,
                    "Basin slice over two state variables, e.g. u1,v1 (the others at rest)");
     app.add_option("--resolution", a.resolution, "Slice grid points per axis")
-        ->check(CLI::Range(2, 2000))
+        ->check(cli::range(2, 2000))
         ->capture_default_str();
     app.add_option("--section-points", o.section_points,
                    "Stroboscopic points kept of a run that does not settle")
-        ->check(CLI::Range(20, 100000))
+        ->check(cli::range(20, 100000))
         ->capture_default_str();
     app.add_option("--param", a.param, "Basin fractions along this parameter")
         ->check(CLI::IsMember({"f_r", "e_r", "fc", "eps"}));
     app.add_option("--from", a.from, "First value of --param");
     app.add_option("--to", a.to, "Last value of --param");
-    app.add_option("--steps", a.steps, "Values of --param")->check(CLI::Range(1, 10000));
+    app.add_option("--steps", a.steps, "Values of --param")->check(cli::range(1, 10000));
     app.add_option("--threads", o.threads, "OpenMP threads (0: all)")
-        ->check(CLI::Range(0, 4096))
+        ->check(cli::range(0, 4096))
         ->capture_default_str();
     app.add_option("--out", a.out_dir, "Output folder")->capture_default_str();
     app.add_flag("--no-plot", a.no_plot, "Write the CSV and JSON files only");
@@ -84,7 +84,7 @@ int state_index(const std::string& name, int Nm) {
 std::optional<BasinSlice> parse_slice(const AttractorArguments& a, int Nm) {
     if (a.grid.empty()) return std::nullopt;
     const auto comma = a.grid.find(',');
-    if (comma == std::string::npos)
+    if (comma == std::string::npos || a.grid.find(',', comma + 1) != std::string::npos)
         throw std::invalid_argument(
             "--grid: expected two state variables separated by a comma (e.g. u1,v1), got \"" +
             a.grid + "\"");
@@ -105,13 +105,19 @@ void check_line(const CLI::App& app, const AttractorArguments& a) {
         if (line != (app.count(flag) > 0))
             throw std::invalid_argument(line ? std::string(flag) + ": required with --param"
                                              : std::string(flag) + ": applies only with --param");
+    if (app.count("--grid") > 0 && a.grid.empty())
+        throw std::invalid_argument(
+            "--grid: expected two state variables separated by a comma (e.g. u1,v1), got \"\"");
     if (line && !a.grid.empty())
         throw std::invalid_argument("--grid: not with --param (a slice is drawn at one point)");
     if (!line && app.count("--resolution") > 0 && a.grid.empty())
         throw std::invalid_argument("--resolution: applies only with --grid");
 }
 
-std::vector<double> line_values(const AttractorArguments& a) {
+std::vector<double> line_values(const AttractorArguments& a, const ReducedParameters& base) {
+    for (const auto& [flag, value] : {std::pair{"--from", a.from}, std::pair{"--to", a.to}})
+        if (const auto error = swept_value_error(base, parse_swept_parameter(a.param), value))
+            throw std::invalid_argument(std::string(flag) + ": " + *error);
     std::vector<double> v;
     for (int k = 0; k < a.steps; ++k)
         v.push_back(a.steps == 1 ? a.from : a.from + (a.to - a.from) * k / (a.steps - 1));
@@ -168,8 +174,8 @@ void run_point(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs)
 void run_line(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs) {
     cli::Progress progress("gapchain-attractors");
     const FractionContinuation c =
-        continue_basin_fractions(scene.reduced, parse_swept_parameter(a.param), line_values(a),
-                                 a.options, progress.callback());
+        continue_basin_fractions(scene.reduced, parse_swept_parameter(a.param),
+                                 line_values(a, scene.reduced), a.options, progress.callback());
     cli::throw_if_interrupted();
     outputs.create_folders();
     write_file_atomically(a.out_dir + "/fractions.csv", fractions_csv(c));

@@ -268,23 +268,23 @@ int main(int argc, char** argv) {
     int threads = 0;
     auto* sim = app.add_subcommand("sim", "The three reference scenes against a plain RK4 loop");
     sim->add_option("--periods", periods, "Forcing periods per simulation")
-        ->check(CLI::Range(1L, 1'000'000'000L))
+        ->check(cli::range(1L, 1'000'000'000L))
         ->capture_default_str();
     sim->add_option("--tolerance", tolerance, "Relative F_m tolerance")
-        ->check(CLI::Range(1e-12, 0.1))
+        ->check(cli::range(1e-12, 0.1))
         ->capture_default_str();
     auto* bif = app.add_subcommand("bifurcation", "The 500-value Fig 13 bifurcation diagram");
     bif->add_option("--threads", threads, "OpenMP threads (0: all)")
-        ->check(CLI::Range(0, 4096))
+        ->check(cli::range(0, 4096))
         ->capture_default_str();
     int Nm = 1'000'000, modes = 10;
     auto* mod = app.add_subcommand("modes", "The lowest modes of a long chain (Spectra)");
-    mod->add_option("--Nm", Nm, "Bodies")->check(CLI::Range(3, 1'000'000))->capture_default_str();
-    mod->add_option("--modes", modes, "Modes")->check(CLI::Range(1, 1000))->capture_default_str();
+    mod->add_option("--Nm", Nm, "Bodies")->check(cli::range(3, 1'000'000))->capture_default_str();
+    mod->add_option("--modes", modes, "Modes")->check(cli::range(1, 1000))->capture_default_str();
     long peer_periods = 200;
     auto* peer = app.add_subcommand("peer", "A stiff chaotic row against Boost.Odeint's dopri5");
     peer->add_option("--periods", peer_periods, "Forcing periods")
-        ->check(CLI::Range(20L, 1'000'000L))
+        ->check(cli::range(20L, 1'000'000L))
         ->capture_default_str();
     std::string sample;
     int relaxed_points = 300;
@@ -293,7 +293,7 @@ int main(int argc, char** argv) {
         ->required()
         ->check(CLI::ExistingFile);
     relaxed->add_option("--points", relaxed_points, "Periodic rows to use")
-        ->check(CLI::Range(1, 1'000'000))
+        ->check(cli::range(1, 1'000'000))
         ->capture_default_str();
     return gapchain::cli::run(app, argc, argv, [&] {
         if (app.get_subcommands().empty())

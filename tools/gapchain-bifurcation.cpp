@@ -74,24 +74,24 @@ void add_options(CLI::App& app, BifurcationArguments& a) {
     app.add_option("--from", o.from, "First value")->capture_default_str();
     app.add_option("--to", o.to, "Last value")->capture_default_str();
     app.add_option("--steps", o.steps, "Number of values (ends included)")
-        ->check(CLI::Range(1, 10'000'000))
+        ->check(cli::range(1, 10'000'000))
         ->capture_default_str();
     app.add_option("--mode", a.mode,
                    "independent (parallel, from rest) or continuation (up then down)")
         ->check(CLI::IsMember({"independent", "continuation"}))
         ->capture_default_str();
     app.add_option("--transient", o.transient_periods, "Discarded periods per value")
-        ->check(CLI::Range(0L, 1'000'000'000L))
+        ->check(cli::range(0L, 1'000'000'000L))
         ->capture_default_str();
     app.add_option("--record", o.record_periods, "Recorded periods per value")
-        ->check(CLI::Range(1L, 1'000'000'000L))
+        ->check(cli::range(1L, 1'000'000'000L))
         ->capture_default_str();
     app.add_option("--variable", a.variable, "Section variable: u1..uN, v1..vN, g0..gN, F0..FN")
         ->capture_default_str();
     app.add_option("--phase", o.section.phase, "Stroboscopic phase in [0, 1)")
         ->capture_default_str();
     app.add_option("--threads", o.threads, "OpenMP threads (0: all cores)")
-        ->check(CLI::Range(0, 4096))
+        ->check(cli::range(0, 4096))
         ->capture_default_str();
     app.add_option("--out", a.out_dir, "Output folder")->capture_default_str();
     app.add_flag("--no-plot", a.no_plot, "Write the CSV files only");
@@ -135,18 +135,21 @@ int main(int argc, char** argv) {
                  "gapchain-bifurcation"};
     BifurcationArguments a;
     add_options(app, a);
-    return cli::run(app, argc, argv, [&] {
-        const Scene scene = cli::load(a.scene, fig13_scene);
-        cli::require_paper_row(scene, "gapchain-bifurcation");
-        resolve_options(a, scene);
-        cli::Outputs outputs({a.scene.path});
-        outputs.folder(a.out_dir, "--out");
-        cli::Progress progress("gapchain-bifurcation");
-        const BifurcationResult r = bifurcation(scene.reduced, a.options, progress.callback());
-        cli::throw_if_interrupted();
-        outputs.create_folders();
-        const bool plotted = write_outputs(r, a, scene.reduced);
-        outputs.keep();
-        print_summary(r, a.options, a.param, a.mode, a.out_dir, plotted);
-    });
+    return cli::run(app, argc, argv,
+                    [&] {
+                        const Scene scene = cli::load(a.scene, fig13_scene);
+                        cli::require_paper_row(scene, "gapchain-bifurcation");
+                        resolve_options(a, scene);
+                        cli::Outputs outputs({a.scene.path});
+                        outputs.folder(a.out_dir, "--out");
+                        cli::Progress progress("gapchain-bifurcation");
+                        const BifurcationResult r =
+                            bifurcation(scene.reduced, a.options, progress.callback());
+                        cli::throw_if_interrupted();
+                        outputs.create_folders();
+                        const bool plotted = write_outputs(r, a, scene.reduced);
+                        outputs.keep();
+                        print_summary(r, a.options, a.param, a.mode, a.out_dir, plotted);
+                    },
+                    {{"section.phase", "--phase"}});
 }

@@ -107,13 +107,13 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--transient", o.transient_periods,
                    "Settling periods (ended early by a steady state)")
-        ->check(CLI::Range(0L, 1'000'000'000L))
+        ->check(cli::range(0L, 1'000'000'000L))
         ->capture_default_str();
     app.add_option("--record", o.record_periods, "Recorded periods for non-periodic motion")
-        ->check(CLI::Range(10L, 1'000'000'000L))
+        ->check(cli::range(10L, 1'000'000'000L))
         ->capture_default_str();
     app.add_option("--threads", threads, "OpenMP threads for --map (0: all)")
-        ->check(CLI::Range(0, 4096))
+        ->check(cli::range(0, 4096))
         ->needs(map)
         ->capture_default_str();
     app.add_flag("--no-plot", no_plot, "Write the CSV only")->needs(map);

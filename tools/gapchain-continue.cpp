@@ -61,26 +61,26 @@ void add_options(CLI::App& app, ContinueArguments& a) {
     app.add_option("--from", o.from, "Start value (the first orbit is found there)")->required();
     app.add_option("--to", o.to, "End value")->required();
     app.add_option("--period", o.period, "k: forcing periods of the first orbit")
-        ->check(CLI::Range(1, 1000))
+        ->check(cli::range(1, 1000))
         ->capture_default_str();
     app.add_option("--step", o.step, "First arclength step")
-        ->check(CLI::Range(1e-6, 1.0))
+        ->check(cli::range(1e-6, 1.0))
         ->capture_default_str();
     app.add_option("--max-step", o.max_step, "Largest arclength step")
-        ->check(CLI::Range(1e-6, 1.0))
+        ->check(cli::range(1e-6, 1.0))
         ->capture_default_str();
     app.add_option("--max-points", o.max_points, "Points per branch")
-        ->check(CLI::Range(1, 1'000'000))
+        ->check(cli::range(1, 1'000'000))
         ->capture_default_str();
     app.add_flag("--follow-doublings", o.follow_doublings,
                  "At each period doubling (and each non-smooth loss of stability next to -1), "
                  "switch to the doubled branch and follow it");
     app.add_option("--max-branches", o.max_branches, "Branches followed in all")
-        ->check(CLI::Range(1, 64))
+        ->check(cli::range(1, 64))
         ->capture_default_str();
     app.add_option("--transient", o.transient_periods,
                    "Periods run from the scene's initial state before the first Newton search")
-        ->check(CLI::Range(0L, 10'000'000L))
+        ->check(cli::range(0L, 10'000'000L))
         ->capture_default_str();
     app.add_option("--overlay", a.overlay,
                    "A gapchain-bifurcation summary.csv of the same line, drawn underneath")

@@ -85,7 +85,7 @@ void add_options(CLI::App& app, ModesArguments& a) {
                                    "Evaluate eq (26) over fc in [min, max] (log) and Nm in 1..max");
     std::vector<CLI::Option*> single{
         app.add_option("--Nm", a.Nm, "Number of bodies (overrides the scene)")
-            ->check(CLI::Range(1, 1'000'000)),
+            ->check(cli::range(1, 1'000'000)),
         app.add_option("--fc", a.fc, "Stiffness ratio Kc/K (overrides the scene), > 0")
             ->check(cli::positive_number()),
         app.add_option("--modes", o.count, "Number of modes (0: all)")
@@ -99,7 +99,7 @@ void add_options(CLI::App& app, ModesArguments& a) {
             ->capture_default_str(),
         app.add_option("--max-dense", o.max_dense_bodies,
                        "Largest Nm for the dense solver (memory 8 Nm^2 bytes, time ~Nm^3)")
-            ->check(CLI::Range(1, 1'000'000))
+            ->check(cli::range(1, 1'000'000))
             ->capture_default_str(),
         app.add_flag("--no-shapes", a.no_shapes, "Do not compute the mode shapes"),
         app.add_option("--csv", a.csv, "Mode shapes as CSV (body, then one column per mode)")};
@@ -116,11 +116,11 @@ void add_options(CLI::App& app, ModesArguments& a) {
         ->needs(grid_flag)
         ->capture_default_str();
     app.add_option("--grid-fc-points", g.fc_points, "Grid: fc values (log-spaced)")
-        ->check(CLI::Range(1, 100000))
+        ->check(cli::range(1, 100000))
         ->needs(grid_flag)
         ->capture_default_str();
     app.add_option("--grid-Nm-max", g.Nm_max, "Grid: largest Nm")
-        ->check(CLI::Range(1, 2000))
+        ->check(cli::range(1, 2000))
         ->needs(grid_flag)
         ->capture_default_str();
 }

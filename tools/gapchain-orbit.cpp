@@ -21,17 +21,17 @@ struct OrbitArguments {
 void add_options(CLI::App& app, OrbitArguments& a) {
     cli::add_scene_arguments(app, a.scene, true);
     app.add_option("--period", a.options.period, "k: forcing periods of the orbit")
-        ->check(CLI::Range(1, 1000))
+        ->check(cli::range(1, 1000))
         ->capture_default_str();
     app.add_option("--from-transient", a.transient,
                    "Periods run from the scene's initial state before Newton starts")
-        ->check(CLI::Range(0L, 10'000'000L))
+        ->check(cli::range(0L, 10'000'000L))
         ->capture_default_str();
     app.add_option("--tolerance", a.options.tolerance, "Residual |P^k(x) - x| / (1 + |x|)")
-        ->check(CLI::Range(1e-14, 1e-3))
+        ->check(cli::range(1e-14, 1e-3))
         ->capture_default_str();
     app.add_option("--max-iterations", a.options.max_iterations, "Newton iterations")
-        ->check(CLI::Range(1, 1000))
+        ->check(cli::range(1, 1000))
         ->capture_default_str();
     app.add_option("--scheme", a.scheme, "Integration of the k-period map")
         ->check(CLI::IsMember({"exact", "rk4", "rkf45", "rk8pd"}))

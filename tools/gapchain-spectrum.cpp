@@ -37,16 +37,16 @@ void add_options(CLI::App& app, SpectrumArguments& a) {
     app.add_option("--variable", a.variable, "u1..uN, v1..vN, g0..gN or F0..FN")
         ->capture_default_str();
     app.add_option("--samples-per-period", a.samples_per_period, "Samples per forcing period")
-        ->check(CLI::Range(2, 100000))
+        ->check(cli::range(2, 100000))
         ->capture_default_str();
     app.add_option("--segment", a.segment, "Welch segment length (samples, >= 16)")
-        ->check(CLI::Range(16, 1 << 24))
+        ->check(cli::range(16, 1 << 24))
         ->capture_default_str();
     app.add_option("--window", a.window, "hann or rectangular")
         ->check(CLI::IsMember({"hann", "rectangular"}))
         ->capture_default_str();
     app.add_option("--order", a.order, "Largest subharmonic order labelled")
-        ->check(CLI::Range(1, 64))
+        ->check(cli::range(1, 64))
         ->capture_default_str();
     app.add_option("--out", a.out, "Output folder")->capture_default_str();
     app.add_flag("--no-plot", a.no_plot, "Write the CSV files only");

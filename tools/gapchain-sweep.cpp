@@ -122,7 +122,7 @@ void add_arguments(CLI::App& app, SweepArguments& a) {
     app.add_option("--out", a.out, "Results CSV (a .json sidecar is written next to it)")
         ->capture_default_str();
     app.add_option("--threads", a.threads, "OpenMP threads (0: all cores)")
-        ->check(CLI::Range(0, 4096))
+        ->check(gapchain::cli::range(0, 4096))
         ->capture_default_str();
     app.add_option("--shard", a.shard_text,
                    "Run shard i of n (index % n == i, 0 <= i < n <= 1000000), e.g. for job arrays")
@@ -133,7 +133,7 @@ void add_arguments(CLI::App& app, SweepArguments& a) {
         ->check(CLI::NonNegativeNumber)
         ->capture_default_str();
     app.add_option("--seed", a.seed, "Seed of --subset (a non-negative integer)")
-        ->check(CLI::Range(0ULL, 4'294'967'295ULL))
+        ->check(gapchain::cli::range(0ULL, 4'294'967'295ULL))
         ->capture_default_str();
 }
 

@@ -109,9 +109,11 @@ void validate(const BifurcationOptions& o, const ReducedParameters& base) {
                           detail::Bound::open_low);
     detail::require_range("threads", o.threads, 0, 4096);
     detail::require_range("tolerance", o.tolerance, 1e-12, 0.1);
-    // Both ends must make a valid row; validate() names the parameter and its range.
-    validate(with_value(base, o.parameter, o.from));
-    validate(with_value(base, o.parameter, o.to));
+    // Both ends must make a valid row: the model's message names the parameter and its range.
+    if (const auto error = swept_value_error(base, o.parameter, o.from))
+        throw std::invalid_argument("from: " + *error);
+    if (const auto error = swept_value_error(base, o.parameter, o.to))
+        throw std::invalid_argument("to: " + *error);
     validate(o.section, base.Nm);
 }
 

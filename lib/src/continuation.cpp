@@ -52,17 +52,6 @@ struct OrbitPoint {
     double F_m = 0.0;
 };
 
-/// The model's range message if it refuses value for the parameter `which`, else nothing.
-std::optional<std::string> range_error(const ReducedParameters& base, SweptParameter which,
-                                       double value) {
-    try {
-        validate(with_value(base, which, value));
-        return std::nullopt;
-    } catch (const std::invalid_argument& e) {
-        return e.what();
-    }
-}
-
 /// The continuation of one branch: the extended system F(x, p) = P^k(x; p) - x.
 class BranchTracer {
 public:
@@ -75,7 +64,9 @@ public:
     [[nodiscard]] long shootings() const { return m_shootings; }
 
     /// Whether p is a value the model accepts for the continued parameter.
-    [[nodiscard]] bool admissible(double p) const { return !range_error(m_base, m_o.parameter, p); }
+    [[nodiscard]] bool admissible(double p) const {
+        return !swept_value_error(m_base, m_o.parameter, p);
+    }
 
     /// Newton at the fixed parameter value guess[n] from guess; nothing if it fails.
     std::optional<OrbitPoint> correct_at_value(const Vector& guess) {
@@ -489,7 +480,7 @@ std::optional<std::vector<double>> doubled_orbit(const ReducedParameters& base,
     orbit.period = 2 * period;
     for (double offset : {0.2 * o.step, 0.5 * o.step, o.step}) {
         p = at.z[n] + side * offset;
-        if (range_error(base, o.parameter, p)) continue;
+        if (swept_value_error(base, o.parameter, p)) continue;
         const ReducedParameters q = with_value(base, o.parameter, p);
         const Dynamics dyn(Chain::homogeneous(q), {q.f_r, 1.0});
         for (double a : {0.02, -0.02, 0.1, -0.1}) {
@@ -533,7 +524,7 @@ restart_beyond(const ReducedParameters& base, const ContinuationOptions& options
 /// prefixed with the option that carried the value ("from" or "to").
 ReducedParameters model_with(const ReducedParameters& base, const ContinuationOptions& options,
                              double value, const char* option) {
-    if (const auto error = range_error(base, options.parameter, value))
+    if (const auto error = swept_value_error(base, options.parameter, value))
         throw std::invalid_argument(std::string(option) + ": " + *error);
     return with_value(base, options.parameter, value);
 }

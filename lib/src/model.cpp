@@ -175,6 +175,16 @@ ReducedParameters with_value(ReducedParameters p, SweptParameter which, double v
     return p;
 }
 
+std::optional<std::string> swept_value_error(const ReducedParameters& base, SweptParameter which,
+                                             double value) {
+    try {
+        validate(with_value(base, which, value));
+        return std::nullopt;
+    } catch (const std::invalid_argument& e) {
+        return e.what();
+    }
+}
+
 double value_of(const ReducedParameters& p, SweptParameter which) {
     switch (which) {
     case SweptParameter::f_r: return p.f_r;

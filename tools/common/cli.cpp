@@ -159,6 +159,25 @@ CLI::Validator positive_number() {
         "> 0");
 }
 
+CLI::Validator number_range(double lo, double hi, bool integer) {
+    char bounds[64];
+    std::snprintf(bounds, sizeof bounds, integer ? "%.0f to %.0f" : "%g to %g", lo, hi);
+    const std::string range = bounds;
+    return CLI::Validator(
+        [=](std::string& text) -> std::string {
+            char* end = nullptr;
+            const double x = std::strtod(text.c_str(), &end);
+            const bool number = end != text.c_str() && *end == '\0' && std::isfinite(x);
+            if (!number || (integer && (std::floor(x) != x ||
+                                        text.find_first_of(".eEnN") != std::string::npos)))
+                return std::string(integer ? "must be an integer" : "must be a finite number") +
+                       " in " + range + ", got \"" + text + "\"";
+            if (!(x >= lo && x <= hi)) return "must be in " + range + ", got " + text;
+            return {};
+        },
+        "[" + range + "]");
+}
+
 void require_paper_row(const Scene& scene, const std::string& tool) {
     if (!scene.harmonic())
         throw SceneError("excitation.type: " + tool +
@@ -195,6 +214,8 @@ const FlagNames common_flag_names = {
     {"schemes", "--schemes"},
     {"shard_count", "--shard"},
     {"shard", "--shard"},
+    {"from", "--from"},
+    {"to", "--to"},
 };
 
 std::string with_flag_names(std::string message, const FlagNames& names) {

@@ -10,6 +10,7 @@
 #include <functional>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -81,6 +82,16 @@ Scene load(const SceneArguments& args, const std::string& default_scene_json = "
 
 // CLI11 check: a finite number > 0 (CLI::PositiveNumber prints the whole double range).
 CLI::Validator positive_number();
+
+// CLI11 check: a number (an integer when `integer`) in [lo, hi], the bounds written as %g
+// (CLI::Range writes 1e-9 as 0.000000) and a non-number called one.
+CLI::Validator number_range(double lo, double hi, bool integer);
+
+// number_range for the option's type: range(1, 100) takes integers, range(1e-9, 100.0) reals.
+template <class T>
+CLI::Validator range(T lo, T hi) {
+    return number_range(static_cast<double>(lo), static_cast<double>(hi), std::is_integral_v<T>);
+}
 
 // Tools that take the paper's five reduced numbers and a forcing period (bifurcation,
 // classify, bounds) refuse other scenes with the rule: a record or Kanai-Tajimi excitation,

@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -104,6 +105,10 @@ SweptParameter parse_swept_parameter(std::string_view name);
 std::string_view to_string(SweptParameter p);
 /// p with the swept parameter set to value (not validated).
 ReducedParameters with_value(ReducedParameters p, SweptParameter which, double value);
+/// The model's message if it refuses `value` for the parameter `which` of base (validate()
+/// of with_value()), else nothing: the admissible range of a sweep or a continuation.
+std::optional<std::string> swept_value_error(const ReducedParameters& base, SweptParameter which,
+                                             double value);
 /// The swept parameter's value in p.
 double value_of(const ReducedParameters& p, SweptParameter which);
 

@@ -50,9 +50,9 @@ TEST_CASE("F_m_error: the tolerance on a periodic state (covering a 1e-8 run), t
     half.record_periods = o.record_periods / 2;
     const double first = classify({5, 60, 0.5, 0.06, 3.3}, half).F_m;
     MESSAGE("F_m " << chaotic.F_m << ", first half " << first << ", error " << chaotic.F_m_error);
-    CHECK(first <= chaotic.F_m);
-    if (chaotic.F_m > first)
-        CHECK(chaotic.F_m_error == doctest::Approx(chaotic.F_m - first).epsilon(1e-9));
+    // Here the maximum falls in the second half (0.20406 against 0.20305 before the split).
+    REQUIRE(first < chaotic.F_m);
+    CHECK(chaotic.F_m_error == doctest::Approx(chaotic.F_m - first).epsilon(1e-9));
     CHECK(chaotic.F_m_error < 0.5 * chaotic.F_m); // both halves were recorded
     CHECK(chaotic.F_m_error > 10.0 * o.tolerance * chaotic.F_m);
 }

@@ -72,6 +72,21 @@ TEST_CASE("SteadyStateDetector: a cycle approached along a negative multiplier i
     }
     REQUIRE(stopped_at > 0);
     CHECK(steady.period() == 3);
+    // Slower approaches (0.86 and 0.95 per three periods), and one found long before the
+    // earliest stop, are still reported as period 3.
+    for (const auto& [per_period, earliest] :
+         {std::pair{-0.95, 0L}, std::pair{-0.983, 0L}, std::pair{-0.9, 600L}}) {
+        SteadyStateDetector slow(1, 8, tolerance, earliest);
+        stopped_at = -1;
+        deviation = 1.0;
+        for (long n = 0; n < 4000 && stopped_at < 0; ++n, deviation *= per_period) {
+            const double y = cycle[n % 3] + deviation;
+            if (slow.on_period(n, static_cast<double>(n), &y)) stopped_at = n;
+        }
+        CAPTURE(per_period);
+        REQUIRE(stopped_at > 0);
+        CHECK(slow.period() == 3);
+    }
     // A cycle of genuine period 6 (two period-3 halves 10x the tolerance apart) stays 6.
     SteadyStateDetector doubled(1, 8, tolerance, 0);
     stopped_at = -1;

@@ -370,6 +370,23 @@ TEST_CASE("transient check: a periodic run whose F_m fell before its orbit says 
     CHECK(plain.F_m - *plain.F_m_orbit <= 3.0 * plain.F_m_error);
 }
 
+TEST_CASE("a cancel after the main run stops the comparison run, and the result says so") {
+    const ReducedParameters fig5{5, 100, 0.5, 0.5, 1.0};
+    const Dynamics dyn(Chain::homogeneous(fig5), {fig5.f_r, 1.0});
+    RunOptions o;
+    o.periods = 200;
+    o.stop_at_steady_state = false;
+    int ends = 0;
+    SimulationHooks hooks;
+    // The main run reports 1.0 once, at its end; the runs after it report 1.0 too.
+    hooks.progress = [&](double f) { return f < 1.0 || ++ends < 2; };
+    const SimulationResult r = simulate(dyn, o, {}, hooks);
+    CHECK(ends == 2);
+    CHECK(r.status == RunStatus::cancelled);
+    hooks.progress = [](double) { return true; };
+    CHECK(simulate(dyn, o, {}, hooks).status == RunStatus::completed);
+}
+
 TEST_CASE("accuracy mode: a periodic run is strict in auto mode, bit for bit") {
     for (const ReducedParameters& p :
          {ReducedParameters{5, 100, 0.5, 0.5, 1.0}, ReducedParameters{5, 60, 0.5, 0.06, 3.0}}) {

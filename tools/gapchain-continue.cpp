@@ -37,7 +37,10 @@ void check_overlay(const std::string& path) {
         throw std::invalid_argument("--overlay: expected a gapchain-bifurcation summary.csv "
                                     "(header value,direction,F_m,...), got \"" +
                                     path + "\"");
+    long rows = 0;
     for (long row = 2; std::getline(in, line); ++row) {
+        if (line.empty()) continue;
+        ++rows;
         const auto first = line.find(','), second = line.find(',', first + 1);
         double value = NAN, force = NAN;
         try {
@@ -50,6 +53,8 @@ void check_overlay(const std::string& path) {
             throw std::invalid_argument("--overlay: row " + std::to_string(row) + " of " + path +
                                         " needs a finite value and F_m, got \"" + line + "\"");
     }
+    if (rows == 0)
+        throw std::invalid_argument("--overlay: " + path + " has a header but no rows");
 }
 
 void add_options(CLI::App& app, ContinueArguments& a) {

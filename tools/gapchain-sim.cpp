@@ -82,7 +82,7 @@ void print_result(const Scene& scene, const SimulationResult& r) {
                     "settled on reaches F_m = %.6g; run gapchain-attractors for the F_m of each "
                     "attractor\n",
                     *r.F_m_orbit);
-    else if (r.maximum_in_transient)
+    else if (r.maximum_in_transient && !r.multistable)
         std::printf("transient: F_m fell before the orbit was reached (the orbit "
                     "reaches F_m = %.6g; F_m_error covers the difference); a longer "
                     "run.transient_periods records the orbit alone\n",

@@ -499,11 +499,11 @@ std::optional<std::vector<double>> doubled_orbit(const ReducedParameters& base,
 /// range): the branch restarts beyond the farthest value reached, one first step past it (then
 /// one largest step, where no orbit of the period is found that close), from a fresh transient
 /// run: possibly another orbit of the same period, so the CSV gives it its own branch index.
-/// The state and the value.
+/// The state and the value; a cancelled transient run sets result.cancelled.
 std::optional<std::pair<std::vector<double>, double>>
 restart_beyond(const ReducedParameters& base, const ContinuationOptions& options,
                const std::vector<double>& initial, double farthest,
-               const ProgressCallback& keep_going) {
+               const ProgressCallback& keep_going, ContinuationResult& result) {
     const double direction = options.to > options.from ? 1.0 : -1.0;
     OrbitOptions orbit = options.orbit;
     orbit.period = options.period;
@@ -516,6 +516,10 @@ restart_beyond(const ReducedParameters& base, const ContinuationOptions& options
             find_periodic_orbit_after(dyn, orbit, initial, options.transient_periods, keep_going);
         if (again.status == OrbitStatus::converged && again.minimal_period == orbit.period)
             return std::make_pair(again.state, p);
+        if (again.status == OrbitStatus::cancelled) {
+            result.cancelled = true;
+            return std::nullopt;
+        }
     }
     return std::nullopt;
 }
@@ -591,7 +595,8 @@ ContinuationResult continue_orbits(const ReducedParameters& base,
         walk.walk(std::move(*first), branch == 0 ? first_branch : keep_going);
         result.shootings += tracer.shootings();
         if (!walk.reached_end && !result.cancelled && next.period == options.period)
-            if (auto restart = restart_beyond(base, options, initial, walk.farthest, keep_going))
+            if (auto restart = restart_beyond(base, options, initial, walk.farthest, keep_going,
+                                              result))
                 pending.push_front({restart->first, restart->second, options.period, direction});
         if (!options.follow_doublings) continue;
         for (const auto& [at, side] : walk.doublings) {

@@ -238,9 +238,11 @@ bool SteadyStateDetector::matches_period(long n, int k) const {
     return n - 1 - k >= 0 && matches(n, n - k) && matches(n - 1, n - 1 - k);
 }
 
-// A cycle approached along a negative multiplier passes the 2k test before the k one (for
-// mu = -0.6 the k-distance stays ~1.6x the 2k-distance), so a period-3 orbit was reported as
-// period 6. A divisor that already nearly matches gets up to k more periods to match.
+// A cycle approached along a negative multiplier passes the 2k test before the k one (the
+// d-distance stays |mu| / (1 - |mu|) times the 2d-distance, |mu| the multiplier per d periods),
+// so a period-3 orbit was reported as period 6. A divisor that nearly matches is watched while
+// its distance keeps shrinking (by 5 % or more every k periods, at most 64 k periods); a
+// genuine k-cycle's divisor distance settles at its split and ends the watch.
 bool SteadyStateDetector::shorten_to_divisor(long n) {
     for (int d = 1; d < *m_period; ++d) {
         if (*m_period % d == 0 && matches_period(n, d)) {
@@ -251,18 +253,30 @@ bool SteadyStateDetector::shorten_to_divisor(long n) {
     return false;
 }
 
-bool SteadyStateDetector::divisor_nearly_matches(long n) const {
+double SteadyStateDetector::divisor_distance(long n) const {
+    double nearest = std::numeric_limits<double>::infinity();
     for (int d = 1; d < *m_period; ++d)
-        if (*m_period % d == 0 && distance(n, n - d) <= near_divisor_factor * m_tolerance)
-            return true;
-    return false;
+        if (*m_period % d == 0) nearest = std::min(nearest, distance(n, n - d));
+    return nearest;
+}
+
+void SteadyStateDetector::watch_divisors(long n) {
+    if (shorten_to_divisor(n) || n >= m_watch.end) {
+        m_watch = {};
+    } else if (n >= m_watch.review) {
+        const double now = divisor_distance(n);
+        if (now > 0.95 * m_watch.distance)
+            m_watch = {};
+        else
+            m_watch = {now, n + *m_period, m_watch.end};
+    }
 }
 
 bool SteadyStateDetector::on_period(long n, double t, const double* y) {
     std::copy(y, y + m_dim, m_ring[n % m_ring.size()].begin());
     if (m_period) {
-        if (n < m_divisor_deadline && shorten_to_divisor(n)) m_divisor_deadline = -1;
-        return n >= m_divisor_deadline && n >= m_earliest_stop + *m_period;
+        if (m_watch.end >= 0) watch_divisors(n);
+        return m_watch.end < 0 && n >= m_earliest_stop + *m_period;
     }
     if (n > m_max_period) {
         m_nearest = std::numeric_limits<double>::infinity();
@@ -275,11 +289,12 @@ bool SteadyStateDetector::on_period(long n, double t, const double* y) {
         if (matches_period(n, k)) {
             m_period = k;
             m_time = t;
-            if (divisor_nearly_matches(n)) m_divisor_deadline = n + k;
+            if (const double d = divisor_distance(n); d <= near_divisor_factor * m_tolerance)
+                m_watch = {d, n + k, n + 64L * k};
             break;
         }
     }
-    return m_period.has_value() && n >= m_divisor_deadline && n >= m_earliest_stop + *m_period;
+    return m_period.has_value() && m_watch.end < 0 && n >= m_earliest_stop + *m_period;
 }
 
 TrajectoryRecorder::TrajectoryRecorder(int every, TrajectorySink sink)

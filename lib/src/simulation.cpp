@@ -289,13 +289,17 @@ StepPlan comparison_plan(const Dynamics& dyn, const StepPlan& plan) {
 
 /// F_m_error from a comparison run on another plan.
 double comparison_error(const Dynamics& dyn, const RunOptions& options, const StepPlan& plan,
-                        const std::vector<double>& initial, SimulationResult& result) {
+                        const std::vector<double>& initial, const ProgressCallback& progress,
+                        SimulationResult& result) {
     const StepPlan other = comparison_plan(dyn, plan);
     RunOptions strict = options;
     strict.accuracy_mode = AccuracyMode::strict;
     PlannedRun planned(dyn, strict, other, initial);
-    const SingleRun check = run_once(dyn, strict, planned);
+    SimulationHooks hooks;
+    hooks.progress = progress;
+    const SingleRun check = run_once(dyn, strict, planned, hooks);
     result.evaluations += check.evaluations;
+    if (check.outcome.status == RunStatus::cancelled) result.status = RunStatus::cancelled;
     if (check.outcome.status == RunStatus::non_finite)
         return std::numeric_limits<double>::infinity();
     // Periodic runs converge at the scheme's order p, so the error of F_m is about
@@ -319,7 +323,7 @@ double comparison_error(const Dynamics& dyn, const RunOptions& options, const St
 /// F_m_error and how it was estimated.
 void estimate_error(const Dynamics& dyn, const RunOptions& options, const StepPlan& plan,
                     const std::vector<double>& initial, const SingleRun& main,
-                    SimulationResult& result) {
+                    const ProgressCallback& progress, SimulationResult& result) {
     if (!options.estimate_error) return;
     // A harmonic run that never settled (chaotic, quasi-periodic, or a steady period above
     // max_steady_period) has an F_m that depends on the window: the maxima of the two halves
@@ -336,7 +340,7 @@ void estimate_error(const Dynamics& dyn, const RunOptions& options, const StepPl
         result.error_method = ErrorMethod::window_halves;
     } else if (result.status != RunStatus::non_finite && result.status != RunStatus::cancelled) {
         result.error_method = ErrorMethod::comparison_run;
-        result.F_m_error = comparison_error(dyn, options, plan, initial, result);
+        result.F_m_error = comparison_error(dyn, options, plan, initial, progress, result);
     }
 }
 
@@ -365,34 +369,40 @@ std::vector<double> perturbed(std::vector<double> x) {
 
 /// The twin of a strict main run: the whole run again from a perturbed start.
 SingleRun twin_from_start(const Dynamics& dyn, const RunOptions& options,
-                          const std::vector<double>& initial) {
+                          const std::vector<double>& initial, const ProgressCallback& progress) {
     std::optional<PlannedRun> planned;
+    SimulationHooks hooks;
+    hooks.progress = progress;
     return run_settled(
         dyn, options,
-        perturbed(initial.empty() ? std::vector<double>(dyn.dimension(), 0.0) : initial), {},
+        perturbed(initial.empty() ? std::vector<double>(dyn.dimension(), 0.0) : initial), hooks,
         planned);
 }
 
 /// The twin of a relaxed main run: the relaxed part again, from the state the main run
 /// relaxed at, perturbed. That start shares the main run's past, so the twin tests the same
 /// question (does another nearby start end elsewhere?) at the cost of the relaxed part only.
-SingleRun relaxed_twin(const Dynamics& dyn, const RunOptions& options, const SingleRun& main) {
+SingleRun relaxed_twin(const Dynamics& dyn, const RunOptions& options, const SingleRun& main,
+                       const ProgressCallback& progress) {
     RunWatch watch(dyn, options, {}, 1, {});
     std::vector<double> y = perturbed(main.relax_state);
     const RunSpan rest{options.periods, options.transient_periods, main.relax_time,
                        main.relaxed_from};
     long evaluations = 0;
-    SingleRun r = watch.found(run_relaxed(dyn, y, rest, watch.observers(), {}, evaluations));
+    SingleRun r = watch.found(run_relaxed(dyn, y, rest, watch.observers(), progress, evaluations));
     r.evaluations = evaluations;
     return r;
 }
 
 /// The largest force over one cycle of the orbit a run settled on: the run continued from its
-/// end state for the cycle's k periods, everything recorded.
-double orbit_maximum(const Dynamics& dyn, PlannedRun& planned, const SingleRun& main) {
+/// end state for the cycle's k periods, everything recorded; nothing if progress cancelled it.
+std::optional<double> orbit_maximum(const Dynamics& dyn, PlannedRun& planned, const SingleRun& main,
+                                    const ProgressCallback& progress) {
     MaxForceTracker cycle(dyn);
     Observer* observers[] = {&cycle};
-    planned.run(RunSpan{*main.period, 0, main.outcome.t_end, 0}, observers);
+    const RunOutcome out =
+        planned.run(RunSpan{*main.period, 0, main.outcome.t_end, 0}, observers, progress);
+    if (out.status == RunStatus::cancelled) return std::nullopt;
     return cycle.max_force();
 }
 
@@ -403,11 +413,16 @@ double orbit_maximum(const Dynamics& dyn, PlannedRun& planned, const SingleRun& 
 /// contact-free rate) underestimate where contacts slow it (Nm = 10, fc = 100, eps = 0.2,
 /// e_r = 0.35, f_r = 1.125: 3.3784 +- 0.0004 at t = 8.5, against 3.3730 on the orbit).
 void check_transient_maximum(const Dynamics& dyn, PlannedRun& planned, const SingleRun& main,
-                             bool late, SimulationResult& result) {
+                             bool late, const ProgressCallback& progress,
+                             SimulationResult& result) {
     if (main.outcome.status != RunStatus::steady_state || !main.period) return;
-    const double orbit = orbit_maximum(dyn, planned, main);
+    const std::optional<double> orbit = orbit_maximum(dyn, planned, main, progress);
+    if (!orbit) {
+        result.status = RunStatus::cancelled;
+        return;
+    }
     result.F_m_orbit = orbit;
-    const double excess = result.F_m - orbit;
+    const double excess = result.F_m - *orbit;
     if (excess > std::max(3.0 * result.F_m_error, 1e-6 * result.F_m)) {
         result.maximum_in_transient = true;
         result.multistable = late;
@@ -419,14 +434,18 @@ void check_transient_maximum(const Dynamics& dyn, PlannedRun& planned, const Sin
 /// (see simulate()).
 void check_transient_and_twin(const Dynamics& dyn, const RunOptions& options,
                               const std::vector<double>& initial, PlannedRun& planned,
-                              const SingleRun& main, SimulationResult& result) {
+                              const SingleRun& main, const ProgressCallback& progress,
+                              SimulationResult& result) {
     if (!dyn.ground_motion().is_harmonic()) return;
     const bool late = options.multistability_check && settled_late(dyn, options, main);
-    if (late || options.estimate_error) check_transient_maximum(dyn, planned, main, late, result);
-    if (!late) return;
-    const SingleRun twin = main.relaxed_from >= 0 ? relaxed_twin(dyn, options, main)
-                                                  : twin_from_start(dyn, options, initial);
+    if (late || options.estimate_error)
+        check_transient_maximum(dyn, planned, main, late, progress, result);
+    if (!late || result.status == RunStatus::cancelled) return;
+    const SingleRun twin = main.relaxed_from >= 0
+                               ? relaxed_twin(dyn, options, main, progress)
+                               : twin_from_start(dyn, options, initial, progress);
     result.evaluations += twin.evaluations;
+    if (twin.outcome.status == RunStatus::cancelled) result.status = RunStatus::cancelled;
     if (twin.outcome.status == RunStatus::non_finite || twin.outcome.status == RunStatus::cancelled)
         return;
     result.twin_checked = true;
@@ -471,9 +490,13 @@ SimulationResult simulate(const Dynamics& dyn, const RunOptions& requested,
     result.steady_state_time = main.period_time;
     result.final_state = main.final_state;
     report_maxima(main, result);
-    estimate_error(dyn, options, planned->plan(), initial, main, result);
+    // The runs after the main one (comparison, orbit cycle, twin) can be cancelled too; they
+    // report the main run's end.
+    ProgressCallback after_main;
+    if (hooks.progress) after_main = [&hooks](double) { return hooks.progress(1.0); };
+    estimate_error(dyn, options, planned->plan(), initial, main, after_main, result);
     if (result.status == RunStatus::completed || result.status == RunStatus::steady_state)
-        check_transient_and_twin(dyn, options, initial, *planned, main, result);
+        check_transient_and_twin(dyn, options, initial, *planned, main, after_main, result);
     result.wall_time_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;

@@ -3,6 +3,7 @@
 #include "gapchain/report.hpp"
 
 #include <atomic>
+#include <cerrno>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -165,11 +166,19 @@ CLI::Validator number_range(double lo, double hi, bool integer) {
     const std::string range = bounds;
     return CLI::Validator(
         [=](std::string& text) -> std::string {
+            // Integers are read as CLI11 stores them (base 0: 0x1e is 30, 017 is 15), so the
+            // value checked is the value the option gets.
             char* end = nullptr;
-            const double x = std::strtod(text.c_str(), &end);
-            const bool number = end != text.c_str() && *end == '\0' && std::isfinite(x);
-            if (!number || (integer && (std::floor(x) != x ||
-                                        text.find_first_of(".eEnN") != std::string::npos)))
+            errno = 0;
+            const bool negative = text.find('-') != std::string::npos;
+            const double x = integer ? (negative ? static_cast<double>(std::strtoll(
+                                                       text.c_str(), &end, 0))
+                                                 : static_cast<double>(std::strtoull(
+                                                       text.c_str(), &end, 0)))
+                                     : std::strtod(text.c_str(), &end);
+            const bool number =
+                end != text.c_str() && *end == '\0' && errno != ERANGE && std::isfinite(x);
+            if (!number)
                 return std::string(integer ? "must be an integer" : "must be a finite number") +
                        " in " + range + ", got \"" + text + "\"";
             if (!(x >= lo && x <= hi)) return "must be in " + range + ", got " + text;

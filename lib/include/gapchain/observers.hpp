@@ -70,8 +70,9 @@ public:
     void on_step(const StepView&) override {}
     bool on_period(long n, double t, const double* y) override;
     /// Period k of the steady state, once found: the smallest k whose test passed, shortened to
-    /// a divisor d of k that passes within k more periods when d's distance was already within
-    /// near_divisor_factor * tolerance (the stop waits for that).
+    /// a divisor d of k that passes later, when d's distance was already within
+    /// near_divisor_factor * tolerance and keeps shrinking (the stop waits for that: at most
+    /// 64 k periods).
     [[nodiscard]] std::optional<int> period() const { return m_period; }
     /// Reduced time at which it was found.
     [[nodiscard]] std::optional<double> time() const { return m_time; }
@@ -96,7 +97,10 @@ private:
     [[nodiscard]] bool matches_period(long n, int k) const;
     /// Shortens m_period to its smallest divisor that matches at n; true if it did.
     bool shorten_to_divisor(long n);
-    [[nodiscard]] bool divisor_nearly_matches(long n) const;
+    /// Smallest distance from boundary n to a proper divisor of m_period back (+inf if none).
+    [[nodiscard]] double divisor_distance(long n) const;
+    /// One boundary of the watch on a nearly matching divisor (see period()).
+    void watch_divisors(long n);
     int m_dim;
     int m_max_period;
     double m_tolerance;
@@ -105,7 +109,13 @@ private:
     std::optional<int> m_period;
     std::optional<double> m_time;
     long m_last_far = -1;
-    long m_divisor_deadline = -1; ///< no stop before this boundary while a divisor may match
+    /// A divisor being watched: its last distance, the next review and the last boundary
+    /// (end < 0: none).
+    struct DivisorWatch {
+        double distance = 0.0;
+        long review = -1;
+        long end = -1;
+    } m_watch;
     double m_nearest = std::numeric_limits<double>::infinity();
 };
 

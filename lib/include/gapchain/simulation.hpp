@@ -105,7 +105,8 @@ struct SimulationHooks {
 ///   ten times the tolerance, exact at half the output interval. The estimate is never below a
 ///   round-off floor (1e-14 F_m; 1e-12 F_m for exact).
 ///
-/// Transient check (harmonic forcing, options.estimate_error or the multistability check): a run
+/// Transient check (harmonic forcing; with options.estimate_error, and for a run that settled
+/// late also under the multistability check): a run
 /// that settled on a periodic orbit is continued for one cycle of it; if the orbit's largest
 /// force (F_m_orbit) is below F_m by more than max(3 F_m_error, 1e-6 F_m), F_m came from the
 /// transient (maximum_in_transient) and F_m_error covers the difference. The cost is one orbit

@@ -416,7 +416,9 @@ void check_transient_maximum(const Dynamics& dyn, PlannedRun& planned, const Sin
                              bool late, const ProgressCallback& progress,
                              SimulationResult& result) {
     if (main.outcome.status != RunStatus::steady_state || !main.period) return;
+    const long before = planned.evaluations();
     const std::optional<double> orbit = orbit_maximum(dyn, planned, main, progress);
+    result.evaluations += planned.evaluations() - before;
     if (!orbit) {
         result.status = RunStatus::cancelled;
         return;

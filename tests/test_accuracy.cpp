@@ -8,7 +8,7 @@ using namespace gapchain;
 
 TEST_CASE("work-precision study: errors fall with the tolerance, exact is its own reference") {
     const ReducedParameters p{3, 50, 0.5, 0.3, 1.1};
-    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+    const Dynamics dyn = Dynamics::paper_row(p);
     WorkPrecisionOptions o;
     o.schemes = {Scheme::rk4, Scheme::exact};
     o.tolerances = {1e-3, 1e-5, 1e-7};

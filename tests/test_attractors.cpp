@@ -25,7 +25,7 @@ AttractorOptions short_runs(long samples, std::uint64_t seed) {
 
 // The state of the row after half a forcing period from x (exact propagator, 64 steps).
 std::vector<double> half_period_later(const ReducedParameters& p, const std::vector<double>& x) {
-    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+    const Dynamics dyn = Dynamics::paper_row(p);
     RunOptions o;
     o.periods = 1;
     o.transient_periods = 0;

@@ -160,7 +160,7 @@ TEST_CASE("--follow-doublings switches at the grazing corner where period 1 lose
     // a period-1 orbit visited twice.
     ReducedParameters q = fig13_row;
     q.f_r = doubled->value;
-    const Dynamics dyn(Chain::homogeneous(q), {q.f_r, 1.0});
+    const Dynamics dyn = Dynamics::paper_row(q);
     OrbitOptions orbit;
     orbit.period = 2;
     const PeriodicOrbit found = find_periodic_orbit(dyn, orbit, doubled->state);

@@ -42,7 +42,7 @@ void check_jacobian_by_differences(const Dynamics& dyn, unsigned first_seed, uns
 
 TEST_CASE("Jacobian trace is -4 pi eps Nm at every state (MODEL.md §5)") {
     const ReducedParameters p{6, 200, 0.3, 0.05, 2.0};
-    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+    const Dynamics dyn = Dynamics::paper_row(p);
     std::vector<double> jac;
     for (unsigned seed = 1; seed <= 20; ++seed) {
         const auto y = random_state(p.Nm, seed, 0.5);
@@ -56,12 +56,12 @@ TEST_CASE("Jacobian trace is -4 pi eps Nm at every state (MODEL.md §5)") {
 
 TEST_CASE("Jacobian matches central finite differences of the right-hand side") {
     const ReducedParameters p{4, 50, 0.2, 0.1, 1.3};
-    check_jacobian_by_differences(Dynamics(Chain::homogeneous(p), {p.f_r, 1.0}), 3, 8);
+    check_jacobian_by_differences(Dynamics::paper_row(p), 3, 8);
 }
 
 TEST_CASE("gaps, forces and the sign convention of MODEL.md §2") {
     const ReducedParameters p{3, 100, 0.5, 0.1, 1.0};
-    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+    const Dynamics dyn = Dynamics::paper_row(p);
     // Body 1 pushed 0.3 into the left wall; bodies 2 and 3 pressed together by 0.2.
     std::vector<double> y{-0.4, 0.25, -0.05, 0, 0, 0};
     CHECK(dyn.gap(0, y.data()) == doctest::Approx(0.3));
@@ -79,7 +79,7 @@ TEST_CASE("gaps, forces and the sign convention of MODEL.md §2") {
 
 TEST_CASE("energy rate equals minus the damping power plus the forcing power") {
     const ReducedParameters p{5, 80, 0.4, 0.05, 1.0};
-    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+    const Dynamics dyn = Dynamics::paper_row(p);
     auto y = random_state(p.Nm, 11, 0.4);
     std::vector<double> f(dyn.dimension());
     const double t = 0.17;

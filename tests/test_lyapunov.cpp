@@ -39,7 +39,7 @@ TEST_CASE("Lorenz 63: (0.9056, 0, -14.5723) within 1 %") {
 }
 
 TEST_CASE("chaotic row: exponents sum to -4 pi eps Nm and pair up about -2 pi eps") {
-    const Dynamics dyn(Chain::homogeneous(fig13_chaotic), {fig13_chaotic.f_r, 1.0});
+    const Dynamics dyn = Dynamics::paper_row(fig13_chaotic);
     RunOptions o;
     o.periods = 700;
     o.transient_periods = 100;
@@ -56,7 +56,7 @@ TEST_CASE("chaotic row: exponents sum to -4 pi eps Nm and pair up about -2 pi ep
 
 TEST_CASE("no contact: every exponent is -2 pi eps") {
     const ReducedParameters p{3, 60, 0.3, 100.0, 1.3};
-    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+    const Dynamics dyn = Dynamics::paper_row(p);
     RunOptions o;
     o.periods = 3000;
     o.transient_periods = 10;
@@ -67,7 +67,7 @@ TEST_CASE("no contact: every exponent is -2 pi eps") {
 }
 
 TEST_CASE("the time-series estimate is within 10 % of the tangent-space exponent") {
-    const Dynamics dyn(Chain::homogeneous(fig13_chaotic), {fig13_chaotic.f_r, 1.0});
+    const Dynamics dyn = Dynamics::paper_row(fig13_chaotic);
     RunOptions o;
     o.periods = 4200;
     o.transient_periods = 200;

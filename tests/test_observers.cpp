@@ -25,7 +25,7 @@ TEST_CASE("MaxForceTracker: the half-window maxima equal the maxima of runs reco
     // half's peaks stay below the contacts' records, the case where a half maximum could be
     // missed (before the fix, by 3.9e-3 here).
     const ReducedParameters p{5, 60, 0.3, 0.3, 1.3};
-    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+    const Dynamics dyn = Dynamics::paper_row(p);
     // Steps that do not end on contact switches put whole contacts inside steps, where the
     // tracker decides from a bound whether a peak is worth locating.
     StepPlan plan = plan_step(dyn, Scheme::rk4, 1e-4);

@@ -12,7 +12,7 @@ using std::numbers::pi;
 
 namespace {
 Dynamics row(const ReducedParameters& p) {
-    return Dynamics(Chain::homogeneous(p), HarmonicForcing{p.f_r, 1.0});
+    return Dynamics::paper_row(p);
 }
 // The end state of a plain run: a start near the attractor.
 std::vector<double> settled(const Dynamics& dyn, long periods) {

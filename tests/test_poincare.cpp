@@ -32,7 +32,7 @@ std::vector<SectionPoint> take_section(const Dynamics& dyn, const SectionSpec& s
 TEST_CASE("no contact: stroboscopic points are the linear steady state of eq (20)") {
     for (double phase : {0.0, 0.25, 0.6}) {
         const ReducedParameters p{2, 50, 0.3, 1e3, 1.3};
-        const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+        const Dynamics dyn = Dynamics::paper_row(p);
         SectionSpec spec;
         spec.phase = phase;
         spec.record = {SectionVariable::parse("u1", 2, "r"), SectionVariable::parse("v2", 2, "r")};
@@ -57,7 +57,7 @@ TEST_CASE("no contact: stroboscopic points are the linear steady state of eq (20
 TEST_CASE("event sections agree with a much finer run to 1e-8") {
     // Contacts on: the Fig 5 row crossing u_1 = 0 upward, and every closing of the left wall.
     const ReducedParameters p{5, 100, 0.5, 0.5, 1.0};
-    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+    const Dynamics dyn = Dynamics::paper_row(p);
     for (const char* trigger : {"u1", "g0"}) {
         SectionSpec spec;
         spec.kind = SectionSpec::Kind::event;

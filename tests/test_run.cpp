@@ -29,7 +29,7 @@ public:
 };
 
 Dynamics row(double e_r, double f_r) {
-    return Dynamics(Chain::homogeneous({2, 100.0, 0.5, e_r, f_r}), {f_r, 1.0});
+    return Dynamics::paper_row({2, 100.0, 0.5, e_r, f_r});
 }
 
 RunOptions rk4_options(long periods, long transient) {
@@ -124,7 +124,7 @@ TEST_CASE("run: a progress callback that answers false cancels at the next repor
 TEST_CASE("run: a long row is asked inside its first period, and a false answer stops it there") {
     // 20,000 bodies: asked every 13 pieces (2^18 / Nm), so well before the period's end.
     const ReducedParameters p{20000, 100, 0.5, 0.06, 1.0};
-    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+    const Dynamics dyn = Dynamics::paper_row(p);
     RunOptions o;
     o.periods = 1000;
     o.transient_periods = 0;

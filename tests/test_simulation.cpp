@@ -32,7 +32,7 @@ TEST_CASE("no contact: the steady response is eq (20) in amplitude and phase") {
     for (double eps : {0.1, 0.5}) {
         for (double f_r : {0.3, 1.0, 2.2}) {
             const ReducedParameters p{3, 100, eps, 1e3, f_r}; // clearance never reached
-            const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+            const Dynamics dyn = Dynamics::paper_row(p);
             RunOptions o;
             o.periods = 400;
             o.tolerance = 1e-9;
@@ -58,7 +58,7 @@ TEST_CASE("no contact: the steady response is eq (20) in amplitude and phase") {
 TEST_CASE("one body between two walls agrees with an independent GSL rk8pd integration") {
     for (double f_r : {0.8, 1.0, 1.4}) {
         const ReducedParameters p{1, 30, 0.3, 0.4, f_r};
-        const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+        const Dynamics dyn = Dynamics::paper_row(p);
         RunOptions o;
         o.periods = 40;
         o.tolerance = 1e-8;
@@ -77,7 +77,7 @@ TEST_CASE("one body between two walls agrees with an independent GSL rk8pd integ
 
 TEST_CASE("Fig 5 scene: F_m to 0.1 % of a high-resolution run, and an honest F_m_error") {
     const ReducedParameters p{5, 100, 0.5, 0.5, 1.0};
-    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+    const Dynamics dyn = Dynamics::paper_row(p);
     const SimulationResult r = simulate(dyn, RunOptions{}); // the defaults: tolerance 1e-4
     CHECK(r.transient_periods_used == 3);                   // ceil(ln(1e4) / pi)
     const double ref = reference::run({5, 100, 0.5, 0.5, 1.0}, 40, 3).F_m;
@@ -90,7 +90,7 @@ TEST_CASE("Fig 5 scene: F_m to 0.1 % of a high-resolution run, and an honest F_m
 
 TEST_CASE("steady-state stop: the maxima equal those of the full run") {
     const ReducedParameters p{3, 50, 0.3, 0.3, 1.1};
-    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+    const Dynamics dyn = Dynamics::paper_row(p);
     RunOptions early;
     early.periods = 300;
     early.estimate_error = false;
@@ -108,7 +108,7 @@ TEST_CASE("steady-state stop: the maxima equal those of the full run") {
 
 TEST_CASE("mirror symmetry of the per-body maxima in steady state (MODEL.md §5)") {
     const ReducedParameters p{5, 60, 0.5, 0.3, 1.2};
-    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+    const Dynamics dyn = Dynamics::paper_row(p);
     RunOptions o;
     o.periods = 300;
     o.transient_periods = 100;
@@ -137,7 +137,7 @@ TEST_CASE("eps = 0 and no forcing: energy is conserved through impacts") {
 
 TEST_CASE("a state that overflows is reported as non-finite, not printed") {
     const ReducedParameters p{2, 10, 0.5, 0.1, 1.0};
-    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+    const Dynamics dyn = Dynamics::paper_row(p);
     RunOptions o;
     o.periods = 5;
     o.estimate_error = false;
@@ -236,7 +236,7 @@ TEST_CASE("a run that never settles reports the window-halves spread, which cove
           "scheme's F_m") {
     // Fig 13's row at f_r = 2.6 is chaotic (bifurcation.md: chaos for f_r = 2.50-2.67).
     const ReducedParameters p{5, 60, 0.5, 0.06, 2.6};
-    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+    const Dynamics dyn = Dynamics::paper_row(p);
     RunOptions o;
     o.periods = 400;
     o.transient_periods = 0; // the window this check was set up and measured on
@@ -257,7 +257,7 @@ TEST_CASE("a run that never settles reports the window-halves spread, which cove
 
     // A periodic point keeps the comparison run.
     const ReducedParameters q{5, 100, 0.5, 0.5, 1.0};
-    const Dynamics periodic(Chain::homogeneous(q), {q.f_r, 1.0});
+    const Dynamics periodic = Dynamics::paper_row(q);
     RunOptions po;
     po.scheme = Scheme::rk4;
     const SimulationResult s = simulate(periodic, po);
@@ -271,7 +271,7 @@ TEST_CASE("the default run discards the start (MODEL.md §2): Fig 4's F_m falls 
     double previous = 1e9;
     for (double fc : {1.0, 10.0, 100.0}) {
         const ReducedParameters p{5, fc, 0.5, 0.5, 0.1};
-        const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+        const Dynamics dyn = Dynamics::paper_row(p);
         RunOptions o;
         o.periods = 10;
         o.tolerance = 1e-6;
@@ -298,7 +298,7 @@ TEST_CASE("multistability check: flags a start-dependent F_m, costs nothing on a
     // at period 28 finishes relaxed and its twin starts there; whether either run's transient
     // ends within the 1000 periods is then a matter of chance, see docs/attractors.md.)
     const ReducedParameters p{2, 200, 0.1, 0.351, 0.626};
-    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+    const Dynamics dyn = Dynamics::paper_row(p);
     RunOptions strict;
     strict.accuracy_mode = AccuracyMode::strict;
     const SimulationResult r = simulate(dyn, strict);
@@ -329,7 +329,7 @@ TEST_CASE("multistability check: flags a start-dependent F_m, costs nothing on a
 
     // Fig 5's scene settles within a few periods: no twin run at all.
     const ReducedParameters fig5{5, 100, 0.5, 0.5, 1.0};
-    const Dynamics dyn5(Chain::homogeneous(fig5), {fig5.f_r, 1.0});
+    const Dynamics dyn5 = Dynamics::paper_row(fig5);
     const SimulationResult plain = simulate(dyn5, RunOptions{});
     CHECK(plain.steady_state_period == 1);
     CHECK_FALSE(plain.twin_checked);
@@ -342,7 +342,7 @@ TEST_CASE("transient check: a periodic run whose F_m fell before its orbit says 
     // contact-free rate MODEL.md §2's 9 discarded periods assume: its peak at t = 8.5 is
     // recorded.
     const ReducedParameters p{10, 100, 0.2, 0.35, 1.125};
-    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+    const Dynamics dyn = Dynamics::paper_row(p);
     const SimulationResult r = simulate(dyn, RunOptions{});
     REQUIRE(r.steady_state_period == 1);
     REQUIRE(r.F_m_orbit.has_value());
@@ -363,7 +363,7 @@ TEST_CASE("transient check: a periodic run whose F_m fell before its orbit says 
 
     // Fig 5's scene: what is left of its start-up (3e-5 relative) is within its error: no flag.
     const ReducedParameters fig5{5, 100, 0.5, 0.5, 1.0};
-    const Dynamics dyn5(Chain::homogeneous(fig5), {fig5.f_r, 1.0});
+    const Dynamics dyn5 = Dynamics::paper_row(fig5);
     const SimulationResult plain = simulate(dyn5, RunOptions{});
     CHECK_FALSE(plain.maximum_in_transient);
     REQUIRE(plain.F_m_orbit.has_value());
@@ -372,7 +372,7 @@ TEST_CASE("transient check: a periodic run whose F_m fell before its orbit says 
 
 TEST_CASE("a cancel after the main run stops the comparison run, and the result says so") {
     const ReducedParameters fig5{5, 100, 0.5, 0.5, 1.0};
-    const Dynamics dyn(Chain::homogeneous(fig5), {fig5.f_r, 1.0});
+    const Dynamics dyn = Dynamics::paper_row(fig5);
     RunOptions o;
     o.periods = 200;
     o.stop_at_steady_state = false;
@@ -390,7 +390,7 @@ TEST_CASE("a cancel after the main run stops the comparison run, and the result 
 TEST_CASE("accuracy mode: a periodic run is strict in auto mode, bit for bit") {
     for (const ReducedParameters& p :
          {ReducedParameters{5, 100, 0.5, 0.5, 1.0}, ReducedParameters{5, 60, 0.5, 0.06, 3.0}}) {
-        const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+        const Dynamics dyn = Dynamics::paper_row(p);
         RunOptions strict;
         strict.accuracy_mode = AccuracyMode::strict;
         const SimulationResult s = simulate(dyn, strict);
@@ -414,7 +414,7 @@ TEST_CASE("accuracy mode: the relaxed plan's F_m error on periodic rows is withi
     for (const ReducedParameters& p :
          {ReducedParameters{5, 100, 0.5, 0.5, 1.0}, ReducedParameters{20, 2000, 0.5, 0.24, 1.0},
           ReducedParameters{5, 60, 0.5, 0.06, 3.0}}) {
-        const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+        const Dynamics dyn = Dynamics::paper_row(p);
         const StepPlan plan = relaxed_plan(dyn);
         const auto stepper = make_stepper(plan, dyn);
         std::vector<double> y(dyn.dimension(), 0.0);
@@ -442,7 +442,7 @@ TEST_CASE("accuracy mode: a chaotic run finishes relaxed, inside the spread of s
     // Issue 16's stiff chaotic row; the relaxed answer and the strict one follow different
     // trajectories, so they agree to their sampling spreads, not pointwise.
     const ReducedParameters p{20, 2000, 0.2, 0.02, 1.0};
-    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+    const Dynamics dyn = Dynamics::paper_row(p);
     RunOptions o;
     o.periods = 200;
     const SimulationResult a = simulate(dyn, o);

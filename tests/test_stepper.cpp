@@ -27,7 +27,7 @@ TEST_CASE("measured convergence order of F_m: central difference 2, rk4 4") {
     // Smooth periodic scene with contacts (the Fig 5 scene). Three steps h, h/2, h/4 give
     // p = log2(|F(h) - F(h/2)| / |F(h/2) - F(h/4)|) without any reference value.
     const ReducedParameters p{5, 100, 0.5, 0.5, 1.0};
-    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+    const Dynamics dyn = Dynamics::paper_row(p);
     const double w = dyn.max_angular_frequency();
     auto order = [&](Scheme s, double hw) {
         const double f1 = fm_at(dyn, s, hw / w);
@@ -44,7 +44,7 @@ TEST_CASE("measured convergence order of F_m: central difference 2, rk4 4") {
 
 TEST_CASE("a user step beyond the stability bound is refused with the bound") {
     const ReducedParameters p{5, 2000, 0.5, 0.24, 1.0};
-    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+    const Dynamics dyn = Dynamics::paper_row(p);
     const double limit = 2.0 / dyn.max_angular_frequency();
     try {
         (void)plan_step(dyn, Scheme::central_difference, 1e-4, 1.01 * limit);
@@ -59,7 +59,7 @@ TEST_CASE("a user step beyond the stability bound is refused with the bound") {
 
 TEST_CASE("the planned step fits the forcing period and tightens with the tolerance") {
     const ReducedParameters p{3, 60, 0.5, 0.1, 2.7};
-    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+    const Dynamics dyn = Dynamics::paper_row(p);
     const StepPlan loose = plan_step(dyn, Scheme::rk4, 1e-3);
     const StepPlan tight = plan_step(dyn, Scheme::rk4, 1e-8);
     CHECK(loose.step * loose.steps_per_period == doctest::Approx(dyn.period()).epsilon(1e-14));
@@ -71,7 +71,7 @@ TEST_CASE("the planned step fits the forcing period and tightens with the tolera
 
 namespace {
 SimulationResult run_with(const ReducedParameters& p, Scheme s, double tolerance, long periods) {
-    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+    const Dynamics dyn = Dynamics::paper_row(p);
     RunOptions o;
     o.scheme = s;
     o.tolerance = tolerance;

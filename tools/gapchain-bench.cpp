@@ -73,7 +73,7 @@ void bench_sim(long periods, double tolerance) {
     std::printf("periods %ld, tolerance %g (relative F_m)\n", periods, tolerance);
     double plain_h_omega = 0.5;
     for (const Case& c : cases) {
-        const Dynamics dyn(Chain::homogeneous(c.p), {c.p.f_r, 1.0});
+        const Dynamics dyn = Dynamics::paper_row(c.p);
         RunOptions o;
         o.periods = periods;
         o.tolerance = tolerance;
@@ -122,7 +122,7 @@ void bench_sim(long periods, double tolerance) {
 void bench_peer(long periods) {
 #ifdef GAPCHAIN_WITH_ODEINT
     const ReducedParameters p{20, 2000, 0.2, 0.02, 1.0};
-    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+    const Dynamics dyn = Dynamics::paper_row(p);
     std::printf("stiff chaotic row Nm=20 fc=2000 eps=0.2 e_r=0.02 f_r=1, %ld periods\n", periods);
     RunOptions o;
     o.periods = periods;
@@ -197,7 +197,7 @@ void bench_relaxed(const std::string& path, int count) {
     double sum = 0.0, sum2 = 0.0, largest = 0.0;
     int n = 0;
     for (const ReducedParameters& p : periodic_rows(path, count)) {
-        const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+        const Dynamics dyn = Dynamics::paper_row(p);
         RunOptions o;
         o.accuracy_mode = AccuracyMode::strict;
         o.tolerance = 1e-6;

@@ -53,8 +53,7 @@ void check_overlay(const std::string& path) {
             throw std::invalid_argument("--overlay: row " + std::to_string(row) + " of " + path +
                                         " needs a finite value and F_m, got \"" + line + "\"");
     }
-    if (rows == 0)
-        throw std::invalid_argument("--overlay: " + path + " has a header but no rows");
+    if (rows == 0) throw std::invalid_argument("--overlay: " + path + " has a header but no rows");
 }
 
 void add_options(CLI::App& app, ContinueArguments& a) {

@@ -411,7 +411,7 @@ AttractorSet find_attractors(const ReducedParameters& p, const AttractorOptions&
                              const ProgressCallback& progress) {
     const auto clock = std::chrono::steady_clock::now();
     const std::vector<std::vector<double>> starts = attractor_starts(p, o);
-    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+    const Dynamics dyn = Dynamics::paper_row(p);
     const StateScale scale = state_scale(p);
     AttractorSet set;
     set.amplitude = scale.u;

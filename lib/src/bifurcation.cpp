@@ -28,7 +28,7 @@ namespace {
 /// One value: run transient + record periods from y (updated to the end state).
 BifurcationRow diagram_row(const ReducedParameters& p, const BifurcationOptions& o,
                            std::vector<double>& y, SweepDirection direction, double value) {
-    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+    const Dynamics dyn = Dynamics::paper_row(p);
     RunOptions options;
     options.periods = o.transient_periods + o.record_periods;
     options.transient_periods = o.transient_periods;

@@ -151,7 +151,7 @@ Classification classify(const ReducedParameters& p, const ClassifyOptions& o) {
     const auto start = std::chrono::steady_clock::now();
     validate(o);
     validate(p);
-    const Dynamics dyn(Chain::homogeneous(p), {p.f_r, 1.0});
+    const Dynamics dyn = Dynamics::paper_row(p);
     const RunOptions run_options = classify_run_options(o);
     PlannedRun planned(dyn, run_options, {}, o.samples_per_period);
 

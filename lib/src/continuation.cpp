@@ -78,7 +78,7 @@ public:
     ShootingResult shoot_at(const Vector& x, double p) {
         ++m_shootings;
         const ReducedParameters q = with_value(m_base, m_o.parameter, p);
-        const Dynamics dyn(Chain::homogeneous(q), {q.f_r, 1.0});
+        const Dynamics dyn = Dynamics::paper_row(q);
         return shoot(dyn, m_orbit, std::vector<double>(x.data(), x.data() + x.size()));
     }
 
@@ -482,7 +482,7 @@ std::optional<std::vector<double>> doubled_orbit(const ReducedParameters& base,
         p = at.z[n] + side * offset;
         if (swept_value_error(base, o.parameter, p)) continue;
         const ReducedParameters q = with_value(base, o.parameter, p);
-        const Dynamics dyn(Chain::homogeneous(q), {q.f_r, 1.0});
+        const Dynamics dyn = Dynamics::paper_row(q);
         for (double a : {0.02, -0.02, 0.1, -0.1}) {
             std::vector<double> x(static_cast<std::size_t>(n));
             for (Eigen::Index i = 0; i < n; ++i)
@@ -511,7 +511,7 @@ restart_beyond(const ReducedParameters& base, const ContinuationOptions& options
         const double p = farthest + direction * offset;
         if ((p - options.from) * (p - options.to) >= 0.0) return std::nullopt;
         const ReducedParameters q = with_value(base, options.parameter, p);
-        const Dynamics dyn(Chain::homogeneous(q), {q.f_r, 1.0});
+        const Dynamics dyn = Dynamics::paper_row(q);
         const PeriodicOrbit again =
             find_periodic_orbit_after(dyn, orbit, initial, options.transient_periods, keep_going);
         if (again.status == OrbitStatus::converged && again.minimal_period == orbit.period)
@@ -540,7 +540,7 @@ PeriodicOrbit first_orbit(const ReducedParameters& start, const ContinuationOpti
                           ContinuationResult& result) {
     OrbitOptions orbit = options.orbit;
     orbit.period = options.period;
-    const Dynamics dyn(Chain::homogeneous(start), {start.f_r, 1.0});
+    const Dynamics dyn = Dynamics::paper_row(start);
     PeriodicOrbit found =
         find_periodic_orbit_after(dyn, orbit, initial, options.transient_periods, keep_going);
     result.cancelled = found.status == OrbitStatus::cancelled;
@@ -595,8 +595,8 @@ ContinuationResult continue_orbits(const ReducedParameters& base,
         walk.walk(std::move(*first), branch == 0 ? first_branch : keep_going);
         result.shootings += tracer.shootings();
         if (!walk.reached_end && !result.cancelled && next.period == options.period)
-            if (auto restart = restart_beyond(base, options, initial, walk.farthest, keep_going,
-                                              result))
+            if (auto restart =
+                    restart_beyond(base, options, initial, walk.farthest, keep_going, result))
                 pending.push_front({restart->first, restart->second, options.period, direction});
         if (!options.follow_doublings) continue;
         for (const auto& [at, side] : walk.doublings) {

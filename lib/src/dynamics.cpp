@@ -13,6 +13,10 @@ namespace {}
 Dynamics::Dynamics(Chain chain, HarmonicForcing forcing)
     : Dynamics(std::move(chain), GroundMotion::harmonic(forcing.f_r, forcing.amplitude)) {}
 
+Dynamics Dynamics::paper_row(const ReducedParameters& p) {
+    return {Chain::homogeneous(p), HarmonicForcing{p.f_r, 1.0}};
+}
+
 Dynamics::Dynamics(Chain chain, GroundMotion ground_motion)
     : m_chain(std::move(chain)), m_ground(std::move(ground_motion)) {
     validate(m_chain);

@@ -299,7 +299,6 @@ double comparison_error(const Dynamics& dyn, const RunOptions& options, const St
     hooks.progress = progress;
     const SingleRun check = run_once(dyn, strict, planned, hooks);
     result.evaluations += check.evaluations;
-    if (check.outcome.status == RunStatus::cancelled) result.status = RunStatus::cancelled;
     if (check.outcome.status == RunStatus::non_finite)
         return std::numeric_limits<double>::infinity();
     // Periodic runs converge at the scheme's order p, so the error of F_m is about
@@ -412,17 +411,15 @@ std::optional<double> orbit_maximum(const Dynamics& dyn, PlannedRun& planned, co
 /// settled early took it in the start-up, whose decay MODEL.md §2's discarded periods (the
 /// contact-free rate) underestimate where contacts slow it (Nm = 10, fc = 100, eps = 0.2,
 /// e_r = 0.35, f_r = 1.125: 3.3784 +- 0.0004 at t = 8.5, against 3.3730 on the orbit).
-void check_transient_maximum(const Dynamics& dyn, PlannedRun& planned, const SingleRun& main,
+/// False if progress cancelled the orbit cycle.
+bool check_transient_maximum(const Dynamics& dyn, PlannedRun& planned, const SingleRun& main,
                              bool late, const ProgressCallback& progress,
                              SimulationResult& result) {
-    if (main.outcome.status != RunStatus::steady_state || !main.period) return;
+    if (main.outcome.status != RunStatus::steady_state || !main.period) return true;
     const long before = planned.evaluations();
     const std::optional<double> orbit = orbit_maximum(dyn, planned, main, progress);
     result.evaluations += planned.evaluations() - before;
-    if (!orbit) {
-        result.status = RunStatus::cancelled;
-        return;
-    }
+    if (!orbit) return false;
     result.F_m_orbit = orbit;
     const double excess = result.F_m - *orbit;
     if (excess > std::max(3.0 * result.F_m_error, 1e-6 * result.F_m)) {
@@ -430,6 +427,7 @@ void check_transient_maximum(const Dynamics& dyn, PlannedRun& planned, const Sin
         result.multistable = late;
         result.F_m_error = std::max(result.F_m_error, excess);
     }
+    return true;
 }
 
 /// The transient check of every periodic run, then the twin run of the multistability check
@@ -440,14 +438,14 @@ void check_transient_and_twin(const Dynamics& dyn, const RunOptions& options,
                               SimulationResult& result) {
     if (!dyn.ground_motion().is_harmonic()) return;
     const bool late = options.multistability_check && settled_late(dyn, options, main);
-    if (late || options.estimate_error)
-        check_transient_maximum(dyn, planned, main, late, progress, result);
-    if (!late || result.status == RunStatus::cancelled) return;
+    if ((late || options.estimate_error) &&
+        !check_transient_maximum(dyn, planned, main, late, progress, result))
+        return;
+    if (!late) return;
     const SingleRun twin = main.relaxed_from >= 0
                                ? relaxed_twin(dyn, options, main, progress)
                                : twin_from_start(dyn, options, initial, progress);
     result.evaluations += twin.evaluations;
-    if (twin.outcome.status == RunStatus::cancelled) result.status = RunStatus::cancelled;
     if (twin.outcome.status == RunStatus::non_finite || twin.outcome.status == RunStatus::cancelled)
         return;
     result.twin_checked = true;
@@ -493,12 +491,19 @@ SimulationResult simulate(const Dynamics& dyn, const RunOptions& requested,
     result.final_state = main.final_state;
     report_maxima(main, result);
     // The runs after the main one (comparison, orbit cycle, twin) can be cancelled too; they
-    // report the main run's end.
+    // report the main run's end, and a refusal cancels the whole result.
+    bool refused = false;
     ProgressCallback after_main;
-    if (hooks.progress) after_main = [&hooks](double) { return hooks.progress(1.0); };
+    if (hooks.progress)
+        after_main = [&](double) {
+            if (!refused && !hooks.progress(1.0)) refused = true;
+            return !refused;
+        };
     estimate_error(dyn, options, planned->plan(), initial, main, after_main, result);
-    if (result.status == RunStatus::completed || result.status == RunStatus::steady_state)
+    if (!refused &&
+        (result.status == RunStatus::completed || result.status == RunStatus::steady_state))
         check_transient_and_twin(dyn, options, initial, *planned, main, after_main, result);
+    if (refused) result.status = RunStatus::cancelled;
     result.wall_time_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;

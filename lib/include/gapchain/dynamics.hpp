@@ -32,6 +32,8 @@ public:
     Dynamics(Chain chain, HarmonicForcing forcing);
     /// The row under any ground motion (harmonic, record, synthetic). Validates the chain.
     Dynamics(Chain chain, GroundMotion ground_motion);
+    /// The paper's row: Chain::homogeneous(p) under harmonic forcing at p.f_r, unit amplitude.
+    static Dynamics paper_row(const ReducedParameters& p);
 
     [[nodiscard]] const Chain& chain() const { return m_chain; }
     /// What shakes the ground.

@@ -166,6 +166,12 @@ cat >hertz-regime.json <<'EOF'
  "parameters": {"e_r": [0.1, 0.2]}, "keep": ["F_m", "regime"]}
 EOF
 expect 11 2 "regime" "$bin/gapchain-sweep" hertz-regime.json --out b11.csv
+# Each axis is affordable alone; their corner (Nm 1976 at f_r 0.01) is above run.max_work.
+cat >big-corner.json <<'EOF'
+{"scene": {"model": {"Nm": 1, "fc": 100, "eps": 0.1, "e_r": 0.5}, "run": {"periods": 1000}},
+ "parameters": {"Nm": {"lin": [1, 1976, 80]}, "f_r": {"lin": [1, 0.01, 80]}}}
+EOF
+expect 11 2 "run.max_work.*Nm = 1976, f_r = 0.01" "$bin/gapchain-sweep" big-corner.json --out b11.csv
 absent 11 b11.csv b11.csv.json
 verdict 11
 

@@ -4,6 +4,7 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -152,6 +153,47 @@ TEST_CASE("Fig 13's line at f_r = 3.2: the torus of F_m 0.385 coexists with a we
     for (const auto& a : set.attractors)
         weakest = std::min(weakest, a.F_m);
     CHECK(weakest < 0.75 * set.F_m_max);
+}
+
+TEST_CASE("a label follows an attractor along the line, even one that moved more than 0.2 A") {
+    // Fig 13's line: the period-1 orbit (F_m 0.386) holds 77 % of the starts at f_r = 3.1 and
+    // 65 % at 3.15, but its state at phase 0 moves by more than the centroid test's 0.2 A.
+    AttractorOptions o = short_runs(30, 1);
+    o.box = 1.0;
+    o.run.periods = 1500;
+    o.run.transient_periods = 750;
+    const ReducedParameters base{5, 60, 0.5, 0.06, 3.1};
+    const FractionContinuation c =
+        continue_basin_fractions(base, SweptParameter::f_r, {3.1, 3.15}, o);
+    REQUIRE(c.sets.size() == 2);
+    std::vector<const Attractor*> period_one;
+    std::vector<int> label;
+    for (std::size_t k = 0; k < 2; ++k) {
+        const auto& as = c.sets[k].attractors;
+        const auto it = std::find_if(as.begin(), as.end(), [](const Attractor& a) {
+            return a.period == 1 && a.newton_confirmed && a.F_m > 0.38;
+        });
+        REQUIRE(it != as.end());
+        period_one.push_back(&*it);
+        label.push_back(c.labels[k][static_cast<std::size_t>(it - as.begin())]);
+    }
+    CHECK(period_one[1]->F_m == doctest::Approx(period_one[0]->F_m).epsilon(0.01));
+    double moved = 0.0; // scaled as the matching does: u by A, v by 2 pi f_r A
+    for (int i = 0; i < 10; ++i) {
+        const auto unit = [&](std::size_t k) {
+            return c.sets[k].amplitude * (i < 5 ? 1.0 : 2.0 * std::numbers::pi * c.values[k]);
+        };
+        const double before = period_one[0]->state[i] / unit(0);
+        const double after = period_one[1]->state[i] / unit(1);
+        moved = std::max(moved, std::abs(after - before));
+    }
+    CHECK(moved > 0.2);
+    CHECK(label[1] == label[0]);
+    // Every label at the second value is either one of the first value's or new, used once.
+    std::vector<int> sorted = c.labels[1];
+    std::sort(sorted.begin(), sorted.end());
+    CHECK(std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end());
+    CHECK(sorted.back() < c.label_count);
 }
 
 TEST_CASE("bad options are refused naming the option") {

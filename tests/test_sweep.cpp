@@ -1,4 +1,5 @@
 #include "gapchain/report.hpp"
+#include "gapchain/run.hpp"
 #include "gapchain/study.hpp"
 #include "gapchain/sweep.hpp"
 
@@ -65,6 +66,34 @@ TEST_CASE("bad studies name the key") {
     CHECK_THROWS_WITH_AS(parse_study(R"({"parameters": {"fc": [1]}, "keep": ["speed"]})"),
                          doctest::Contains("keep"), SceneError);
     CHECK_THROWS_AS(parse_study("{nope"), SceneError);
+}
+
+TEST_CASE("a study point above run.max_work is refused when the study is read") {
+    // Each axis alone is affordable; the point Nm = 1976 at f_r = 0.01 (100 times the steps per
+    // period of f_r = 1) is not. 4 points are checked one by one, 6400 at the axes' corners.
+    const std::string scene = R"({"scene": {"model": {"Nm": 1, "fc": 100, "eps": 0.1, "e_r": 0.5},
+                                    "run": {"periods": 1000 @MAX@}}, )";
+    for (const std::string axes : {R"("parameters": {"Nm": [1, 1976], "f_r": [1, 0.01]}})",
+                                   R"("parameters": {"Nm": {"lin": [1, 1976, 80]},
+                                                     "f_r": {"lin": [1, 0.01, 80]}}})"}) {
+        std::string refused = scene + axes;
+        refused.replace(refused.find("@MAX@"), 5, "");
+        CHECK_THROWS_WITH_AS(parse_study(refused),
+                             doctest::Contains("run.max_work: this run takes up to"), SceneError);
+        CHECK_THROWS_WITH_AS(parse_study(refused), doctest::Contains("Nm = 1976, f_r = 0.01"),
+                             SceneError);
+        std::string allowed = scene + axes;
+        allowed.replace(allowed.find("@MAX@"), 5, R"(, "max_work": 1e12)");
+        CHECK_NOTHROW((void)parse_study(allowed));
+    }
+    // The same point alone: refused by the run itself, with the same rule.
+    const Scene big = parse_scene(R"({"model": {"Nm": 2000, "fc": 100, "eps": 0.1, "e_r": 0.5},
+                                      "excitation": {"f_r": 0.01}, "run": {"periods": 1000}})");
+    CHECK_THROWS_WITH_AS(require_affordable(big.dynamics(), big.run),
+                         doctest::Contains("run.max_work"), std::invalid_argument);
+    const Scene small = parse_scene(R"({"model": {"Nm": 1, "fc": 100, "eps": 0.1, "e_r": 0.5},
+                                        "excitation": {"f_r": 0.01}, "run": {"periods": 1000}})");
+    CHECK_NOTHROW(require_affordable(small.dynamics(), small.run));
 }
 
 TEST_CASE("the paper-scale study has 430,080 points") {

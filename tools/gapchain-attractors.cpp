@@ -140,10 +140,21 @@ void print_set(const AttractorSet& s, const AttractorOptions& o) {
         std::printf("design value F_m_max = %.6g (attractor #%d)\n", s.F_m_max, s.F_m_max_id);
 }
 
-std::string title_of(const ReducedParameters& p) {
-    char title[160];
-    std::snprintf(title, sizeof title, "Nm=%d fc=%g eps=%g e_r=%g f_r=%g", p.Nm, p.fc, p.eps, p.e_r,
-                  p.f_r);
+// The row's parameters; a swept one (swept = its name) shows its range instead of its value.
+std::string title_of(const ReducedParameters& p, const std::string& swept = "", double from = 0.0,
+                     double to = 0.0) {
+    const std::pair<const char*, double> fields[] = {
+        {"Nm", p.Nm}, {"fc", p.fc}, {"eps", p.eps}, {"e_r", p.e_r}, {"f_r", p.f_r}};
+    std::string title;
+    char field[96];
+    for (const auto& [name, value] : fields) {
+        if (name == swept)
+            std::snprintf(field, sizeof field, "%s%s=%g..%g", title.empty() ? "" : " ", name, from,
+                          to);
+        else
+            std::snprintf(field, sizeof field, "%s%s=%g", title.empty() ? "" : " ", name, value);
+        title += field;
+    }
     return title;
 }
 
@@ -180,10 +191,11 @@ void run_line(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs) 
     outputs.create_folders();
     write_file_atomically(a.out_dir + "/fractions.csv", fractions_csv(c));
     if (!a.no_plot)
-        cli::plot_template(a.out_dir, "fractions",
-                           {{"TITLE", "Basin fractions: " + title_of(scene.reduced)},
-                            {"PARAM", a.param},
-                            {"COUNT", std::to_string(c.label_count)}});
+        cli::plot_template(
+            a.out_dir, "fractions",
+            {{"TITLE", "Basin fractions: " + title_of(scene.reduced, a.param, a.from, a.to)},
+             {"PARAM", a.param},
+             {"COUNT", std::to_string(c.label_count)}});
     outputs.keep();
     std::printf("gapchain-attractors: %s from %g to %g (%d values): %d attractor labels, %.2f s\n",
                 a.param.c_str(), a.from, a.to, a.steps, c.label_count, c.wall_time_s);

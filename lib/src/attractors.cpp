@@ -449,12 +449,45 @@ std::vector<double> centroid(const Attractor& a, const StateScale& scale) {
     return c;
 }
 
-/// Labels for `next`'s attractors: the previous one nearest by centroid (within 0.2, scaled),
-/// each previous label used once, nearest pairs first; a new label otherwise.
+/// The attractor of `set` a run reached, or -1. A non-periodic attractor's F_m is compared with
+/// its largest member's, within that member's spread.
+int reached(const StartOutcome& s, const AttractorSet& set, const StateScale& scale,
+            const AttractorOptions& o) {
+    if (s.failed) return -1;
+    for (const auto& a : set.attractors) {
+        StartOutcome representative;
+        representative.F_m = a.F_m;
+        representative.spread = a.F_m_error;
+        if (belongs(s, a, representative, scale, o)) return a.id;
+    }
+    return -1;
+}
+
+/// Where each of previous's attractors went at the next value p (Attractors.jl's seeding): the
+/// attractor of `next` that a run at p from a state on it reaches, or -1. An attractor that
+/// persists is followed however far it moved; one that died hands its label to where its
+/// state now goes only if nothing nearer claims that attractor (match_labels()).
+std::vector<int> seeded_successors(const AttractorSet& previous, const AttractorSet& next,
+                                   const ReducedParameters& p, const AttractorOptions& o,
+                                   const ProgressCallback& keep_going) {
+    const Dynamics dyn = Dynamics::paper_row(p);
+    const StateScale scale = state_scale(p);
+    std::vector<int> successor;
+    for (const auto& a : previous.attractors)
+        successor.push_back(reached(run_start(dyn, o, a.state, keep_going), next, scale, o));
+    return successor;
+}
+
+/// Labels for `next`'s attractors. First the seeds: an attractor that a previous one's seed
+/// reached takes that one's label (of several seeds, the one with the nearest centroid). Then
+/// the rest by nearest centroid (within 0.2, scaled), each previous label used once, nearest
+/// pairs first; a new label otherwise.
 std::vector<int> match_labels(const AttractorSet& previous, const std::vector<int>& previous_labels,
-                              const AttractorSet& next, const StateScale& previous_scale,
-                              const StateScale& next_scale, int& label_count) {
+                              const AttractorSet& next, const std::vector<int>& successor,
+                              const StateScale& previous_scale, const StateScale& next_scale,
+                              int& label_count) {
     struct Pair {
+        bool seeded;
         double distance;
         std::size_t from, to;
     };
@@ -469,10 +502,12 @@ std::vector<int> match_labels(const AttractorSet& previous, const std::vector<in
             double d = 0.0;
             for (std::size_t m = 0; m < before[i].size(); ++m)
                 d = std::max(d, std::abs(before[i][m] - after[j][m]));
-            if (d <= 0.2) pairs.push_back({d, i, j});
+            const bool seeded = successor[i] == static_cast<int>(j);
+            if (seeded || d <= 0.2) pairs.push_back({seeded, d, i, j});
         }
-    std::sort(pairs.begin(), pairs.end(),
-              [](const Pair& x, const Pair& y) { return x.distance < y.distance; });
+    std::sort(pairs.begin(), pairs.end(), [](const Pair& x, const Pair& y) {
+        return x.seeded != y.seeded ? x.seeded : x.distance < y.distance;
+    });
     std::vector<int> labels(next.attractors.size(), -1);
     std::vector<char> used(previous.attractors.size(), 0);
     for (const Pair& pr : pairs)
@@ -502,9 +537,10 @@ FractionContinuation continue_basin_fractions(const ReducedParameters& base,
     for (std::size_t k = 0; k < values.size(); ++k) {
         const ReducedParameters p = with_value(base, parameter, values[k]);
         const auto n = static_cast<double>(values.size());
-        AttractorSet set = find_attractors(p, options, [&](double f) {
+        const ProgressCallback keep_going = [&](double f) {
             return !progress || progress((static_cast<double>(k) + f) / n);
-        });
+        };
+        AttractorSet set = find_attractors(p, options, keep_going);
         if (set.cancelled) {
             fc.cancelled = true;
             break;
@@ -515,8 +551,13 @@ FractionContinuation continue_basin_fractions(const ReducedParameters& base,
                 labels.push_back(a.id);
             fc.label_count = static_cast<int>(labels.size());
         } else {
+            const auto successor = seeded_successors(fc.sets.back(), set, p, options, keep_going);
+            if (!keep_going(1.0)) {
+                fc.cancelled = true;
+                break;
+            }
             const ReducedParameters q = with_value(base, parameter, values[k - 1]);
-            labels = match_labels(fc.sets.back(), fc.labels.back(), set, state_scale(q),
+            labels = match_labels(fc.sets.back(), fc.labels.back(), set, successor, state_scale(q),
                                   state_scale(p), fc.label_count);
         }
         fc.values.push_back(values[k]);

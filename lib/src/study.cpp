@@ -1,11 +1,14 @@
 #include "gapchain/study.hpp"
 
+#include "detail/check.hpp"
 #include "detail/json_reader.hpp"
 #include "detail/scene_json.hpp"
 #include "gapchain/grid.hpp"
+#include "gapchain/run.hpp"
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -159,6 +162,37 @@ void check_axis_values(const Study& s) {
         }
 }
 
+/// A point above run.max_work would stop a sweep when its turn comes, hours in: refuse it
+/// before any file is written. A study of up to max_checked points is checked point by point;
+/// a larger one at the corners of its axes (each axis at its smallest and largest value), where
+/// the work peaks because it grows monotonically with every key that changes it (Nm, periods,
+/// fc, 1 / f_r, 1 / tolerance, 1 / step). A point the corners miss is still refused when it
+/// runs.
+void check_work(const Study& s, long max_checked) {
+    Study checked = s;
+    if (point_count(s) > max_checked) {
+        checked.sampling = Sampling::grid;
+        for (auto& axis : checked.axes) {
+            const auto [low, high] = std::minmax_element(axis.values.begin(), axis.values.end());
+            axis.values = *low == *high ? std::vector<double>{*low} : std::vector{*low, *high};
+        }
+    }
+    const StudyScenes scenes(checked);
+    for (long i = 0; i < point_count(checked); ++i) {
+        const Scene scene = scenes.scene(i);
+        try {
+            require_affordable(scene.dynamics(), scene.run);
+        } catch (const std::invalid_argument& e) {
+            std::string where;
+            const std::vector<double> values = point_values(checked, i);
+            for (std::size_t a = 0; a < checked.axes.size(); ++a)
+                where += (a ? ", " : "") + checked.axes[a].key + " = " +
+                         detail::format_number(values[a]);
+            throw SceneError(std::string(e.what()) + " (study point with " + where + ")");
+        }
+    }
+}
+
 } // namespace
 
 Study parse_study(const std::string& text, const std::string& source) {
@@ -190,6 +224,7 @@ Study parse_study(const std::string& text, const std::string& source) {
     if (n < 1 || n > 100'000'000)
         throw SceneError("parameters: the study must have 1 .. 1e8 points");
     check_axis_values(s);
+    check_work(s, 4096);
     return s;
 }
 

@@ -107,8 +107,10 @@ AttractorSet find_attractors(const ReducedParameters& p, const AttractorOptions&
                              const ProgressCallback& progress = {});
 
 /// Basin fractions along one parameter: find_attractors() at each value, attractors matched
-/// from one value to the next (same period class, nearest centroid of the section points within
-/// 0.2 A), so that a label follows an attractor across the line.
+/// from one value to the next, so that a label follows an attractor across the line: first by
+/// seeding (a run at the new value from a state on each previous attractor; the attractor it
+/// reaches takes that label, the nearest by centroid if several seeds reach it), then the
+/// unmatched by the nearest centroid of the section points within 0.2 A.
 struct FractionContinuation {
     SweptParameter parameter = SweptParameter::f_r;
     std::vector<double> values;

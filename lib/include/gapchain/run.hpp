@@ -143,6 +143,12 @@ RunOutcome run(const Dynamics& dyn, Stepper& stepper, const StepPlan& plan, cons
 /// on step ends). 0: no refinement.
 StepPlan plan_run(const Dynamics& dyn, const RunOptions& options, int samples_per_period = 0);
 
+/// The check every run makes before it starts, callable without running: throws
+/// std::invalid_argument naming run.max_work, with the estimated work (Nm x steps per forcing
+/// period x periods, in body-steps) and how long it would take, when the run of options on dyn
+/// exceeds options.max_work. Also throws on invalid options (validate()).
+void require_affordable(const Dynamics& dyn, const RunOptions& options);
+
 /// One run set up from options, the set-up every analysis shares: options validated, the step
 /// planned, the stepper made, the initial state checked. The caller runs it with the observers
 /// it needs. dyn must outlive it.

@@ -9,6 +9,8 @@
 
 #include <atomic>
 #include <chrono>
+#include <cstdio>
+#include <fstream>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -179,4 +181,25 @@ TEST_CASE("keep \"F_m_orbit\": the orbit's maximum and the transient flag, as si
           std::string::npos);
     CHECK(results[0].simulation.F_m_error >=
           results[0].simulation.F_m - *results[0].simulation.F_m_orbit);
+}
+
+TEST_CASE("a results CSV is resumed only by the same study and results version") {
+    const Study s = parse_study(R"({"scene": {"model": {"Nm": 2}}, "parameters": {"fc": [1, 2]}})");
+    const Study other =
+        parse_study(R"({"scene": {"model": {"Nm": 2}}, "parameters": {"fc": [1, 3]}})");
+    CHECK(study_fingerprint(s) != study_fingerprint(other));
+    CHECK(study_fingerprint(s) == study_fingerprint(s, sweep_results_version));
+    CHECK(study_fingerprint(s) != study_fingerprint(s, sweep_results_version - 1));
+    // A CSV whose sidecar holds the fingerprint an older results version gave is refused.
+    const std::string csv = "test_sweep_resume_version.csv";
+    {
+        std::ofstream(csv) << sweep_csv_header(s) << "\n";
+        std::ofstream(csv + ".json")
+            << R"({"fingerprint": ")" << study_fingerprint(s, sweep_results_version - 1) << "\"}";
+    }
+    CHECK_THROWS_WITH_AS(check_resume(csv, s), doctest::Contains("results version"), SceneError);
+    std::ofstream(csv + ".json") << study_json(s);
+    CHECK_NOTHROW(check_resume(csv, s));
+    std::remove(csv.c_str());
+    std::remove((csv + ".json").c_str());
 }

@@ -601,7 +601,7 @@ std::string sweep_csv_row(const Study& study, const SweepPointResult& r) {
     return os.str();
 }
 
-std::string study_fingerprint(const Study& study) {
+std::string study_fingerprint(const Study& study, int results_version) {
     nlohmann::ordered_json j;
     j["scene"] = nlohmann::ordered_json::parse(study.scene_json);
     for (const auto& a : study.axes)
@@ -609,6 +609,7 @@ std::string study_fingerprint(const Study& study) {
     j["sampling"] = {static_cast<int>(study.sampling), study.samples, study.seed};
     j["columns"] = sweep_csv_header(study);
     j["attractors"] = study.attractor_starts;
+    j["results_version"] = results_version;
     // FNV-1a over the canonical text: stable across runs and builds.
     std::uint64_t h = 1469598103934665603ULL;
     for (const unsigned char c : j.dump()) {
@@ -639,6 +640,8 @@ void check_resume(const std::string& results_csv, const Study& study) {
     if (found != study_fingerprint(study))
         throw SceneError(results_csv + ": was started by another study (fingerprint " + found +
                          ", this study " + study_fingerprint(study) +
+                         ", or by a build whose rows mean something else: results version " +
+                         std::to_string(sweep_results_version) +
                          "); choose another --out or remove both files");
 }
 
@@ -658,6 +661,7 @@ std::string study_json(const Study& study) {
     j["seed"] = study.seed;
     j["points"] = point_count(study);
     j["columns"] = sweep_csv_header(study);
+    j["results_version"] = sweep_results_version;
     j["build"] = {{"gapchain", GAPCHAIN_LIBRARY_VERSION},
                   {"compiler", __VERSION__},
                   {"built", __DATE__ " " __TIME__}};

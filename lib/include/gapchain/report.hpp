@@ -153,9 +153,15 @@ std::string sweep_csv_row(const Study& study, const SweepPointResult& result);
 /// The study and the build as JSON, for the sidecar next to the results; it holds the study's
 /// fingerprint, so that a resumed sweep can tell that its CSV was started by the same study.
 std::string study_json(const Study& study);
+/// The meaning of a sweep row's numbers, raised whenever a build changes what a column means
+/// (not only its format): 2 since 2026-11-24 (a periodic point's F_m_error covers a maximum
+/// that fell in the transient; steady_state_period is the minimal period). A CSV is resumed only
+/// by a build of the same version, so that no file mixes two meanings.
+inline constexpr int sweep_results_version = 2;
 /// A hash (16 hex digits) of everything that decides a study's rows: the base scene, the axes
-/// and their values, the sampling and what is kept. Not the file name or the build.
-std::string study_fingerprint(const Study& study);
+/// and their values, the sampling, what is kept and results_version (sweep_results_version
+/// unless a test asks otherwise). Not the file name, nor a build of the same results version.
+std::string study_fingerprint(const Study& study, int results_version = sweep_results_version);
 /// Refuses (SceneError, exit 2) to resume into results_csv unless its sidecar
 /// (results_csv + ".json") holds this study's fingerprint. Nothing to check if the CSV does not
 /// exist yet or is empty.

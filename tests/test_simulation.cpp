@@ -370,6 +370,32 @@ TEST_CASE("transient check: a periodic run whose F_m fell before its orbit says 
     CHECK(plain.F_m - *plain.F_m_orbit <= 3.0 * plain.F_m_error);
 }
 
+TEST_CASE("the error bar covers the twin's F_m and the orbit's gap; the flags do not depend on "
+          "estimate_error") {
+    // A probe's row (2 of 7,826 random runs): the twin differs by 0.005, within the twin's own
+    // window spread, while the run is already flagged by its orbit check.
+    const Dynamics twin_row = Dynamics::paper_row({1, 200, 0.2, 0.223, 0.904});
+    const SimulationResult t = simulate(twin_row, RunOptions{});
+    REQUIRE(t.twin_checked);
+    CHECK(std::abs(t.F_m - t.F_m_twin) > 1e-3);
+    CHECK(t.F_m_error >= std::abs(t.F_m - t.F_m_twin));
+    // A row whose comparison run, inflated by its transient (0.026), hid the orbit's gap (0.073)
+    // when the flag needed the gap beyond 3 F_m_error.
+    const Dynamics gap_row = Dynamics::paper_row({2, 200, 0.1, 0.3, 0.7});
+    RunOptions o;
+    o.periods = 400;
+    RunOptions unestimated = o;
+    unestimated.estimate_error = false;
+    for (const RunOptions& options : {o, unestimated}) {
+        CAPTURE(options.estimate_error);
+        const SimulationResult r = simulate(gap_row, options);
+        REQUIRE(r.F_m_orbit.has_value());
+        CHECK(r.F_m - *r.F_m_orbit > 0.05);
+        CHECK(r.maximum_in_transient);
+        CHECK(r.F_m_error >= r.F_m - *r.F_m_orbit);
+    }
+}
+
 TEST_CASE("a cancel after the main run stops the comparison run, and the result says so") {
     const ReducedParameters fig5{5, 100, 0.5, 0.5, 1.0};
     const Dynamics dyn = Dynamics::paper_row(fig5);

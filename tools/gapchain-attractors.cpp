@@ -140,24 +140,6 @@ void print_set(const AttractorSet& s, const AttractorOptions& o) {
         std::printf("design value F_m_max = %.6g (attractor #%d)\n", s.F_m_max, s.F_m_max_id);
 }
 
-// The row's parameters; a swept one (swept = its name) shows its range instead of its value.
-std::string title_of(const ReducedParameters& p, const std::string& swept = "", double from = 0.0,
-                     double to = 0.0) {
-    const std::pair<const char*, double> fields[] = {
-        {"Nm", p.Nm}, {"fc", p.fc}, {"eps", p.eps}, {"e_r", p.e_r}, {"f_r", p.f_r}};
-    std::string title;
-    char field[96];
-    for (const auto& [name, value] : fields) {
-        if (name == swept)
-            std::snprintf(field, sizeof field, "%s%s=%g..%g", title.empty() ? "" : " ", name, from,
-                          to);
-        else
-            std::snprintf(field, sizeof field, "%s%s=%g", title.empty() ? "" : " ", name, value);
-        title += field;
-    }
-    return title;
-}
-
 void run_point(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs) {
     cli::Progress progress("gapchain-attractors");
     const AttractorSet set = find_attractors(scene.reduced, a.options, progress.callback());
@@ -170,13 +152,13 @@ void run_point(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs)
         const auto comma = a.grid.find(',');
         if (!a.no_plot)
             cli::plot_template(a.out_dir, "basins",
-                               {{"TITLE", "Basins: " + title_of(scene.reduced)},
+                               {{"TITLE", "Basins: " + cli::row_title(scene.reduced)},
                                 {"XLABEL", a.grid.substr(0, comma)},
                                 {"YLABEL", a.grid.substr(comma + 1)},
                                 {"COUNT", std::to_string(set.attractors.size())}});
     }
     outputs.keep();
-    std::printf("gapchain-attractors: %s\n", title_of(scene.reduced).c_str());
+    std::printf("gapchain-attractors: %s\n", cli::row_title(scene.reduced).c_str());
     print_set(set, a.options);
     std::printf("wrote %s/attractors.csv, attractors.json%s\n", a.out_dir.c_str(),
                 a.options.slice ? ", basins.csv" : "");
@@ -191,11 +173,10 @@ void run_line(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs) 
     outputs.create_folders();
     write_file_atomically(a.out_dir + "/fractions.csv", fractions_csv(c));
     if (!a.no_plot)
-        cli::plot_template(
-            a.out_dir, "fractions",
-            {{"TITLE", "Basin fractions: " + title_of(scene.reduced, a.param, a.from, a.to)},
-             {"PARAM", a.param},
-             {"COUNT", std::to_string(c.label_count)}});
+        cli::plot_template(a.out_dir, "fractions",
+                           {{"TITLE", "Basin fractions: " + cli::row_title(scene.reduced, a.param)},
+                            {"PARAM", a.param},
+                            {"COUNT", std::to_string(c.label_count)}});
     outputs.keep();
     std::printf("gapchain-attractors: %s from %g to %g (%d values): %d attractor labels, %.2f s\n",
                 a.param.c_str(), a.from, a.to, a.steps, c.label_count, c.wall_time_s);

@@ -19,17 +19,9 @@ constexpr const char* fig13_scene =
 // The figure's title: the fixed parameters (the swept one is on the x axis) and the run.
 std::string diagram_title(const gapchain::ReducedParameters& p, const std::string& param,
                           const std::string& mode, const gapchain::BifurcationOptions& o) {
-    std::string title = "Nm=" + std::to_string(p.Nm);
-    const std::pair<const char*, double> fixed[] = {
-        {"fc", p.fc}, {"eps", p.eps}, {"e_r", p.e_r}, {"f_r", p.f_r}};
-    for (const auto& [name, value] : fixed) {
-        if (param == name) continue;
-        char buffer[64];
-        std::snprintf(buffer, sizeof buffer, "  %s=%g", name, value);
-        title += buffer;
-    }
-    return title + "  (" + mode + ", " + std::to_string(o.transient_periods) + "+" +
-           std::to_string(o.record_periods) + " periods per value)";
+    return gapchain::cli::row_title(p, param) + "  (" + mode + ", " +
+           std::to_string(o.transient_periods) + "+" + std::to_string(o.record_periods) +
+           " periods per value)";
 }
 
 void print_summary(const gapchain::BifurcationResult& r, const gapchain::BifurcationOptions& o,

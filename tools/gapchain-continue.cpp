@@ -114,11 +114,11 @@ bool write_outputs(const ContinuationResult& r, const ContinueArguments& a,
                    const ReducedParameters& p) {
     write_file_atomically(a.out_dir + "/branch.csv", branch_csv(r));
     write_file_atomically(a.out_dir + "/special.csv", special_csv(r));
-    const std::string overlay =
-        a.overlay.empty() ? "" : std::filesystem::absolute(a.overlay).string();
-    char title[160];
-    std::snprintf(title, sizeof title, "Periodic orbits: Nm=%d fc=%g eps=%g e_r=%g f_r=%g", p.Nm,
-                  p.fc, p.eps, p.e_r, p.f_r);
+    // The path goes into a single-quoted gnuplot string, where a quote is written twice.
+    std::string overlay;
+    for (const char c : a.overlay.empty() ? "" : std::filesystem::absolute(a.overlay).string())
+        overlay += c == '\'' ? std::string("''") : std::string(1, c);
+    const std::string title = "Periodic orbits: " + cli::row_title(p, a.param);
     return !a.no_plot &&
            cli::plot_template(a.out_dir, "branch",
                               {{"TITLE", title}, {"PARAM", a.param}, {"OVERLAY", overlay}});

@@ -10,8 +10,9 @@ set key outside right
 set xlabel '@PARAM@'
 set ylabel 'F_m (reduced)'
 overlay = '@OVERLAY@'
-brute = overlay ne '' ? sprintf("'%s' every ::1 using 1:3 with points pt 7 ps 0.2 lc rgb '#bbbbbb' title 'brute force (gapchain-bifurcation)', ", overlay) : ''
-plot @brute \
+has_overlay = overlay ne ''
+# Without an overlay this first plot draws nothing (every point undefined) and has no key entry.
+plot (has_overlay ? overlay : 'branch.csv') every ::1 using 1:(has_overlay ? $3 : 1/0) with points pt 7 ps 0.2 lc rgb '#bbbbbb' title (has_overlay ? 'brute force (gapchain-bifurcation)' : ''), \
      'branch.csv' every ::1 using 1:($5 == 1 ? $3 : 1/0) with points pt 7 ps 0.35 lc rgb '#1f4e9c' title 'stable orbit', \
      'branch.csv' every ::1 using 1:($5 == 0 ? $3 : 1/0) with points pt 6 ps 0.35 lc rgb '#d62728' title 'unstable orbit', \
      'special.csv' every ::1 using 2:(strcol(1) eq 'fold' ? $4 : 1/0) with points pt 9 ps 1.6 lc rgb 'black' title 'fold', \

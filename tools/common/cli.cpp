@@ -171,11 +171,10 @@ CLI::Validator number_range(double lo, double hi, bool integer) {
             char* end = nullptr;
             errno = 0;
             const bool negative = text.find('-') != std::string::npos;
-            const double x = integer ? (negative ? static_cast<double>(std::strtoll(
-                                                       text.c_str(), &end, 0))
-                                                 : static_cast<double>(std::strtoull(
-                                                       text.c_str(), &end, 0)))
-                                     : std::strtod(text.c_str(), &end);
+            const double x =
+                integer ? (negative ? static_cast<double>(std::strtoll(text.c_str(), &end, 0))
+                                    : static_cast<double>(std::strtoull(text.c_str(), &end, 0)))
+                        : std::strtod(text.c_str(), &end);
             const bool number =
                 end != text.c_str() && *end == '\0' && errno != ERANGE && std::isfinite(x);
             if (!number)
@@ -185,6 +184,19 @@ CLI::Validator number_range(double lo, double hi, bool integer) {
             return {};
         },
         "[" + range + "]");
+}
+
+std::string row_title(const ReducedParameters& p, const std::string& swept) {
+    std::string title = "Nm=" + std::to_string(p.Nm);
+    const std::pair<const char*, double> fields[] = {
+        {"fc", p.fc}, {"eps", p.eps}, {"e_r", p.e_r}, {"f_r", p.f_r}};
+    for (const auto& [name, value] : fields) {
+        if (swept == name) continue;
+        char field[64];
+        std::snprintf(field, sizeof field, " %s=%g", name, value);
+        title += field;
+    }
+    return title;
 }
 
 void require_paper_row(const Scene& scene, const std::string& tool) {

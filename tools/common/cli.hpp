@@ -98,6 +98,10 @@ CLI::Validator range(T lo, T hi) {
 // model arrays or scatter, a nonlinear contact law.
 void require_paper_row(const Scene& scene, const std::string& tool);
 
+// The row's reduced numbers for a figure's title ("Nm=5 fc=60 eps=0.5 e_r=0.06 f_r=3"), without
+// the swept one (its values are on the x axis).
+std::string row_title(const ReducedParameters& p, const std::string& swept = "");
+
 // The library names its own fields in messages ("segment_length: ..."); a tool lists, for
 // each, the flag the user wrote ({"segment_length", "--segment"}) so that messages name it.
 // Fields most tools share ("transient_periods" -> "--transient", "tolerance", "threads", ...)

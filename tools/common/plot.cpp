@@ -2,11 +2,14 @@
 
 #include "gapchain/report.hpp"
 
+#include <cerrno>
 #include <cstdio>
 #include <cstdlib>
+#include <fcntl.h>
 #include <filesystem>
 #include <fstream>
 #include <regex>
+#include <spawn.h>
 #include <sstream>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -35,30 +38,51 @@ std::string last_line_of(const std::string& path) {
     return last;
 }
 
+constexpr int gnuplot_missing = -2;
+
+// Runs gnuplot on `script` (a file name in dir) from dir, its stderr into log, without a shell:
+// the folder's name is the user's and may hold any character. Returns waitpid()'s status, -1 if
+// it could not be run, or gnuplot_missing.
+int run_gnuplot(const fs::path& dir, const std::string& script, const std::string& log) {
+    posix_spawn_file_actions_t actions;
+    posix_spawn_file_actions_init(&actions);
+    posix_spawn_file_actions_addchdir_np(&actions, dir.c_str());
+    posix_spawn_file_actions_addopen(&actions, STDERR_FILENO, log.c_str(),
+                                     O_WRONLY | O_CREAT | O_TRUNC, 0644);
+    std::string program = "gnuplot";
+    std::vector<char*> argv{program.data(), const_cast<char*>(script.c_str()), nullptr};
+    pid_t pid = 0;
+    const int spawned = posix_spawnp(&pid, "gnuplot", &actions, nullptr, argv.data(), environ);
+    posix_spawn_file_actions_destroy(&actions);
+    if (spawned == ENOENT) return gnuplot_missing;
+    if (spawned != 0) return -1;
+    int status = 0;
+    while (::waitpid(pid, &status, 0) == -1)
+        if (errno != EINTR) return -1;
+    return status;
+}
+
 } // namespace
 
 bool plot_with_gnuplot(const std::string& script_path, const std::string& script) {
     write_file_atomically(script_path, script);
-    if (std::system("command -v gnuplot >/dev/null 2>&1") != 0) {
+    const fs::path dir = fs::path(script_path).parent_path().empty()
+                             ? fs::path(".")
+                             : fs::path(script_path).parent_path();
+    // gnuplot's own chatter (font warnings) goes to a log that is shown only if it fails.
+    const std::string log = fs::absolute(script_path + ".log." + std::to_string(::getpid()));
+    for (const auto& png : outputs_of(script))
+        std::remove((dir / png).c_str());
+    const int status = run_gnuplot(dir, fs::path(script_path).filename().string(), log);
+    const std::string reason = last_line_of(log);
+    std::remove(log.c_str());
+    if (status == gnuplot_missing) {
         std::fprintf(stderr,
                      "note: gnuplot not found; the CSV files are complete, run "
                      "'gnuplot %s' to draw the figure\n",
                      script_path.c_str());
         return false;
     }
-    const fs::path dir = fs::path(script_path).parent_path().empty()
-                             ? fs::path(".")
-                             : fs::path(script_path).parent_path();
-    // gnuplot's own chatter (font warnings) goes to a log that is shown only if it fails.
-    const std::string log = script_path + ".log." + std::to_string(::getpid());
-    const std::string command = "cd '" + dir.string() + "' && gnuplot '" +
-                                fs::path(script_path).filename().string() + "' 2>'" +
-                                fs::absolute(log).string() + "'";
-    for (const auto& png : outputs_of(script))
-        std::remove((dir / png).c_str());
-    const int status = std::system(command.c_str());
-    const std::string reason = last_line_of(log);
-    std::remove(log.c_str());
     const bool ran = status != -1 && WIFEXITED(status) && WEXITSTATUS(status) == 0;
     for (const auto& png : outputs_of(script)) {
         std::error_code ec;

@@ -65,17 +65,19 @@ struct SimulationResult {
     std::vector<double> final_state;         ///< state at the end of the main run
     /// Whether the twin run of the multistability check ran (see simulate()).
     bool twin_checked = false;
-    /// The twin run's F_m disagreed with F_m beyond the error estimate: the answer depends on
-    /// the start (several attractors, or a transient longer than the run); F_m_error then
-    /// covers |F_m - F_m_twin|. gapchain-attractors gives the F_m of each attractor.
+    /// The answer depends on the start (several attractors, or a transient longer than the
+    /// run): the twin run's F_m disagreed with F_m beyond both runs' spreads, or a run that
+    /// settled late took its maximum in the transient. F_m_error covers |F_m - F_m_twin| (as it
+    /// does whenever the twin ran). gapchain-attractors gives the F_m of each attractor.
     bool multistable = false;
     double F_m_twin = 0.0; ///< the twin run's F_m (when twin_checked)
     /// A run that settled on a periodic orbit (harmonic forcing; see simulate()): the largest
     /// force over one cycle of that orbit, >= 0.
     std::optional<double> F_m_orbit;
-    /// F_m_orbit is below F_m by more than the error: the maximum fell before the orbit was
-    /// reached (a start-up that decays slower than MODEL.md §2's discarded periods assume, or a
-    /// chaotic transient; the latter is also multistable). F_m_error covers F_m - F_m_orbit.
+    /// F_m_orbit is below F_m by more than the accuracy asked (max(tolerance, 1e-9) F_m): the
+    /// maximum fell before the orbit was reached (a start-up that decays slower than MODEL.md §2's
+    /// discarded periods assume, or a chaotic transient; the latter is also multistable). F_m_error
+    /// covers F_m - F_m_orbit.
     bool maximum_in_transient = false;
     /// Whether the main run kept to the tolerance throughout or finished relaxed.
     AccuracyUsed accuracy_mode_used = AccuracyUsed::strict;
@@ -107,10 +109,11 @@ struct SimulationHooks {
 ///
 /// Transient check (harmonic forcing; with options.estimate_error, and for a run that settled
 /// late also under the multistability check): a run
-/// that settled on a periodic orbit is continued for one cycle of it; if the orbit's largest
-/// force (F_m_orbit) is below F_m by more than max(3 F_m_error, 1e-6 F_m), F_m came from the
-/// transient (maximum_in_transient) and F_m_error covers the difference. The cost is one orbit
-/// cycle (k periods) per periodic run.
+/// that settled on a periodic orbit is continued for one cycle of it; F_m_error covers any
+/// excess of F_m over the orbit's largest force (F_m_orbit), and an excess beyond the accuracy
+/// asked, max(options.tolerance, 1e-9) F_m, means F_m came from the transient
+/// (maximum_in_transient; both runs share one plan, so F_m_error does not enter the test). The
+/// cost is one orbit cycle (k periods) per periodic run.
 ///
 /// Multistability check (options.multistability_check, harmonic forcing): a run that settled
 /// late and took its F_m in the transient is multistable (the maximum is a property of the
@@ -119,8 +122,8 @@ struct SimulationHooks {
 /// relative) from every cycle for longer than it then took to converge, the mark of a chaotic
 /// transient - is repeated from the start with u_1 moved by 1e-8 max(1, |x0|). If the twin's
 /// F_m differs from F_m by more than max(3 F_m_error, 3 x either run's window-halves spread,
-/// 1e-6 F_m), the result is
-/// multistable and F_m_error is raised to that difference. A quickly settled run (the usual
+/// 1e-6 F_m), the result is multistable; F_m_error always covers the difference (the twin's
+/// answer is as valid as the main run's). A quickly settled run (the usual
 /// periodic point) runs no twin: its cost is the transient check's one orbit cycle.
 ///
 /// Accuracy (options.accuracy_mode): in `automatic`, a run on the automatic scheme and step

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The 23 defect classes of the reliability probe (../shared/reports/reliability-probe-2026-11-22.md),
 # each reproduced as the report gives it and checked against what the README promises, and a
-# 24th from the probe of 2026-11-24.
+# 24th and 25th from the probes of 2026-11-24.
 # Usage: probe_classes.sh BIN_DIR SOURCE_DIR   (prints "class N: ok" or "class N: FAIL ...")
 set -u
 bin=$(cd "$1" && pwd)
@@ -310,8 +310,24 @@ expect 24 2 "--phase" "$bin/gapchain-bifurcation" --phase 1 --out b24
 absent 24 a24 b24
 verdict 24
 
+# 25. The probe of 2026-11-24 (session 26).
+nm2='{"model": {"Nm": 2, "fc": 200, "eps": 0.1, "e_r": 0.351}, "excitation": {"f_r": 0.626}}'
+echo "$nm2" >nm2.json
+# A folder name is never handed to a shell: a quote in it neither fails nor runs a command.
+expect 25 0 "" "$bin/gapchain-attractors" nm2.json --samples 2 --grid u1,v1 --resolution 2 --out "x';touch INJECTED;'"
+absent 25 INJECTED
+[ -s "x';touch INJECTED;'/basins.png" ] || { echo "class 25: FAIL: no basins.png in the quoted folder"; failed+=(25); }
+# An attractor search needs 20 recorded periods; a Newton search that fails writes nothing.
+expect 25 2 "run.periods: an attractor search records at least 20 periods" "$bin/gapchain-attractors" nm2.json --set run.periods=1 --samples 6 --no-plot --out a25
+expect 25 1 "no orbit of period 3" "$bin/gapchain-orbit" nm2.json --period 3 --from-transient 0 --out o25.json
+one_line 25
+absent 25 a25 o25.json
+# stdout that cannot be written is a failure.
+expect 25 1 "cannot write to standard output" sh -c "'$bin/gapchain-bounds' nm2.json >/dev/full"
+verdict 25
+
 if [ "${#failed[@]}" -eq 0 ]; then
-    echo "all 24 classes checked"
+    echo "all 25 classes checked"
     exit 0
 fi
 exit 1

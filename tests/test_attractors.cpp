@@ -55,6 +55,8 @@ TEST_CASE("a contact-free row has one attractor, decaying at the rate 2 pi eps o
     CHECK(a.period == 1);
     CHECK(a.F_m == 0.0);
     CHECK(a.basin_fraction == 1.0);
+    // 40 starts of 40 bound the fraction to about 1/40, not to 0.
+    CHECK(a.basin_fraction_error == doctest::Approx(1.0 / 40.0));
     // Every free mode decays as exp(-2 pi eps t) (reduced time; underdamped, any frequency).
     CHECK(a.lambda_max == doctest::Approx(-2.0 * std::numbers::pi * p.eps).epsilon(1e-6));
     // The orbit is eq (20)'s response: u = -A cos(2 pi f_r t - phi) for each body.
@@ -212,4 +214,40 @@ TEST_CASE("bad options are refused naming the option") {
     o.slice = BasinSlice{0, 2, 10}; // Nm = 1: state indices 0 and 1 only
     CHECK_THROWS_WITH_AS(find_attractors(mirror_pair, o), doctest::Contains("slice.second"),
                          std::invalid_argument);
+    // Fewer than 20 recorded periods cannot tell an attractor from a transient.
+    o = AttractorOptions{};
+    o.run.periods = 30;
+    o.run.transient_periods = 11;
+    CHECK_THROWS_WITH_AS(find_attractors(mirror_pair, o), doctest::Contains("run.periods"),
+                         std::invalid_argument);
+    o.run.transient_periods = 10;
+    CHECK_NOTHROW(validate(mirror_pair, o));
+}
+
+TEST_CASE("runs still converging to an orbit are an unsettled group, not a quasi-periodic "
+          "attractor") {
+    // Issue 19's Nm = 2 row: 100 periods end inside the chaotic transient or on the approach
+    // to the period-3 orbit (lambda_max -0.10); 3000 periods reach the orbit.
+    const ReducedParameters p{2, 200, 0.1, 0.351, 0.626};
+    AttractorOptions o;
+    o.samples = 6;
+    o.run.periods = 100;
+    const AttractorSet early = find_attractors(p, o);
+    REQUIRE_FALSE(early.attractors.empty());
+    int unsettled = 0;
+    for (const auto& a : early.attractors) {
+        if (a.settled) continue;
+        ++unsettled;
+        CHECK(a.period == 0);
+        CHECK(a.lambda_max < -0.02);
+        CHECK(regime_label(a) == "unsettled");
+    }
+    CHECK(unsettled >= 1);
+    CHECK(early.unsettled == unsettled);
+    o.run.periods = 3000;
+    const AttractorSet late = find_attractors(p, o);
+    REQUIRE(late.attractors.size() == 1);
+    CHECK(late.attractors.front().settled);
+    CHECK(late.attractors.front().period == 3);
+    CHECK(late.unsettled == 0);
 }

@@ -88,6 +88,26 @@ TEST_CASE("the monodromy of a contact orbit agrees with central differences of t
     CHECK(worst < 1e-5);
 }
 
+TEST_CASE("Liouville's check is withheld where double precision cannot resolve it") {
+    // Issue 19's period-3 orbit: over 3 periods the multipliers span 0.615 .. 0.0039 and the
+    // check holds; counted as a period-30 orbit their product is e^-241, far below what an
+    // eigensolver resolves next to the largest (0.0077): no check rather than a false one.
+    const Dynamics dyn = row({2, 200, 0.1, 0.351, 0.626});
+    const std::vector<double> start = settled(dyn, 3000);
+    OrbitOptions o;
+    o.period = 3;
+    const PeriodicOrbit three = find_periodic_orbit(dyn, o, start);
+    REQUIRE(three.status == OrbitStatus::converged);
+    CHECK(three.liouville_error < 1e-9);
+    o.period = 30;
+    const PeriodicOrbit thirty = find_periodic_orbit(dyn, o, start);
+    REQUIRE(thirty.status == OrbitStatus::converged);
+    CHECK(thirty.minimal_period == 3);
+    CHECK(thirty.max_multiplier ==
+          doctest::Approx(std::pow(three.max_multiplier, 10)).epsilon(1e-4));
+    CHECK(std::isnan(thirty.liouville_error));
+}
+
 TEST_CASE("Fig 5's orbit: Liouville's product, and the F_m of the long run") {
     const ReducedParameters p{5, 100, 0.5, 0.5, 1.0};
     const Dynamics dyn = row(p);

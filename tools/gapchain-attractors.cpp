@@ -128,7 +128,7 @@ void print_set(const AttractorSet& s, const AttractorOptions& o) {
     std::printf("%zu attractor(s) from %ld starts (%ld failed), %.2f s on %d threads\n",
                 s.attractors.size(), o.samples, s.failed, s.wall_time_s, s.threads_used);
     for (const auto& a : s.attractors) {
-        std::printf("  #%d %-14s", a.id, std::string(to_string(a.regime)).c_str());
+        std::printf("  #%d %-14s", a.id, std::string(regime_label(a)).c_str());
         if (a.period > 0)
             std::printf(" period %-3d", a.period);
         else
@@ -138,6 +138,10 @@ void print_set(const AttractorSet& s, const AttractorOptions& o) {
     }
     if (s.F_m_max_id >= 0)
         std::printf("design value F_m_max = %.6g (attractor #%d)\n", s.F_m_max, s.F_m_max_id);
+    if (s.unsettled > 0)
+        std::printf("warning: %d of them unsettled (lambda_max < 0: the runs were still converging "
+                    "to an orbit, their F_m is a transient's); raise run.periods\n",
+                    s.unsettled);
 }
 
 void run_point(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs) {

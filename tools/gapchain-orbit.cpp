@@ -4,6 +4,7 @@
 #include "gapchain/orbit.hpp"
 #include "gapchain/report.hpp"
 
+#include <cmath>
 #include <cstdio>
 
 namespace {
@@ -43,11 +44,24 @@ void print_orbit(const PeriodicOrbit& orbit) {
     std::printf("gapchain-orbit: %s after %d Newton iterations, residual %.2g\n",
                 std::string(to_string(orbit.status)).c_str(), orbit.iterations, orbit.residual);
     if (!orbit.message.empty()) std::printf("  %s\n", orbit.message.c_str());
-    std::printf("  period %d (minimal %d), %s, largest multiplier |mu| = %.6g "
-                "(Liouville check %.1e)\n",
-                orbit.period, orbit.minimal_period, orbit.stable ? "stable" : "unstable",
-                orbit.max_multiplier, orbit.liouville_error);
+    char check[96] = "Liouville check not resolved at this period";
+    if (!std::isnan(orbit.liouville_error))
+        std::snprintf(check, sizeof check, "Liouville check %.1e", orbit.liouville_error);
+    std::printf("  period %d (minimal %d), %s, largest multiplier |mu| = %.6g (%s)\n", orbit.period,
+                orbit.minimal_period, orbit.stable ? "stable" : "unstable", orbit.max_multiplier,
+                check);
     std::printf("  F_m over the orbit = %.10g\n  wall time %.3f s\n", orbit.F_m, orbit.wall_time_s);
+}
+
+std::string no_orbit_message(const PeriodicOrbit& orbit, const OrbitOptions& o) {
+    char text[320];
+    std::snprintf(text, sizeof text,
+                  "no orbit of period %d: Newton %s after %d iterations (residual %.2g, asked "
+                  "%.2g)%s%s; a longer --from-transient, or another --period, may reach one",
+                  o.period, std::string(to_string(orbit.status)).c_str(), orbit.iterations,
+                  orbit.residual, o.tolerance, orbit.message.empty() ? "" : ": ",
+                  orbit.message.c_str());
+    return text;
 }
 
 } // namespace
@@ -70,11 +84,12 @@ int main(int argc, char** argv) {
                         const PeriodicOrbit orbit = find_periodic_orbit_after(
                             dyn, a.options, scene.initial, a.transient, progress.callback());
                         cli::throw_if_interrupted();
+                        // Multipliers and F_m of a state that is not an orbit mean nothing.
+                        if (orbit.status != OrbitStatus::converged)
+                            throw cli::NumericalFailure(no_orbit_message(orbit, a.options));
                         write_file_atomically(a.out, to_json(orbit, scene));
                         outputs.keep();
                         print_orbit(orbit);
-                        if (orbit.status == OrbitStatus::non_finite)
-                            throw cli::NumericalFailure(orbit.message);
                     },
                     {{"transient_periods", "--from-transient"},
                      {"period", "--period"},

@@ -37,6 +37,22 @@ void validate(const AttractorOptions& o, int Nm) {
     }
 }
 
+std::string_view regime_label(const Attractor& a) {
+    return a.settled ? to_string(a.regime) : std::string_view("unsettled");
+}
+
+void validate(const ReducedParameters& p, const AttractorOptions& options) {
+    validate(p);
+    validate(options, p.Nm);
+    const RunOptions run = with_transient_resolved(Dynamics::paper_row(p), options.run);
+    const long window = run.periods - run.transient_periods;
+    if (window < 20)
+        throw std::invalid_argument(
+            "run.periods: an attractor search records at least 20 periods of each run (its "
+            "section points), got run.periods - run.transient_periods = " +
+            std::to_string(window) + "; raise run.periods");
+}
+
 namespace {
 
 using Points = std::vector<std::vector<double>>;
@@ -335,6 +351,9 @@ void characterise(const Dynamics& dyn, const ReducedParameters& p, const Attract
             a.regime = a.F_m == 0.0            ? Regime::no_contact
                        : a.lambda_max > margin ? Regime::chaotic
                                                : Regime::quasi_periodic;
+            // A torus has lambda_max = 0 and chaos > 0: a clearly negative one is the approach
+            // to a stable orbit that the runs did not reach.
+            a.settled = a.F_m == 0.0 || a.lambda_max >= -margin;
         },
         [](long) { return true; });
 }
@@ -353,7 +372,11 @@ void count_members(const std::vector<int>& labels, long random_starts, Attractor
     const auto n = static_cast<double>(random_starts);
     for (auto& a : set.attractors) {
         a.basin_fraction = static_cast<double>(a.samples) / n;
-        a.basin_fraction_error = std::sqrt(a.basin_fraction * (1.0 - a.basin_fraction) / n);
+        // The binomial error vanishes when none or all of the starts reach it, yet N straight
+        // outcomes bound the fraction only to about 1/N (one sigma: 1.14 / N).
+        a.basin_fraction_error =
+            std::max(std::sqrt(a.basin_fraction * (1.0 - a.basin_fraction) / n), 1.0 / n);
+        set.unsettled += a.settled ? 0 : 1;
         if (a.F_m > set.F_m_max || set.F_m_max_id < 0) {
             set.F_m_max = a.F_m;
             set.F_m_max_id = a.id;
@@ -381,8 +404,7 @@ std::vector<double> axis_values(const AttractorOptions& o, const StateScale& sca
 
 std::vector<std::vector<double>> attractor_starts(const ReducedParameters& p,
                                                   const AttractorOptions& o) {
-    validate(p);
-    validate(o, p.Nm);
+    validate(p, o);
     const StateScale scale = state_scale(p);
     const int dim = 2 * p.Nm;
     std::vector<std::vector<double>> starts;
@@ -529,9 +551,8 @@ FractionContinuation continue_basin_fractions(const ReducedParameters& base,
                                               const ProgressCallback& progress) {
     const auto clock = std::chrono::steady_clock::now();
     if (values.empty()) throw std::invalid_argument("steps: at least one value, got none");
-    validate(options, base.Nm);
     for (double v : values)
-        validate(with_value(base, parameter, v));
+        validate(with_value(base, parameter, v), options);
     FractionContinuation fc;
     fc.parameter = parameter;
     for (std::size_t k = 0; k < values.size(); ++k) {

@@ -316,9 +316,9 @@ std::string special_csv(const ContinuationResult& result) {
 namespace {
 
 void attractor_row(std::ostream& os, const Attractor& a) {
-    os << a.id << ',' << to_string(a.regime) << ',' << a.period << ',' << a.F_m << ','
-       << a.F_m_error << ',' << a.lambda_max << ',' << a.lambda_max_error << ',' << a.basin_fraction
-       << ',' << a.basin_fraction_error << ',' << a.samples << ',' << a.slice_points << '\n';
+    os << a.id << ',' << regime_label(a) << ',' << a.period << ',' << a.F_m << ',' << a.F_m_error
+       << ',' << a.lambda_max << ',' << a.lambda_max_error << ',' << a.basin_fraction << ','
+       << a.basin_fraction_error << ',' << a.samples << ',' << a.slice_points << '\n';
 }
 
 } // namespace
@@ -337,12 +337,16 @@ std::string to_json(const AttractorSet& set, const AttractorOptions& o,
                     const ReducedParameters& p) {
     nlohmann::ordered_json j;
     j["F_m_max"] = set.F_m_max;
+    j["F_m_max_error"] = set.F_m_max_id >= 0
+                             ? set.attractors[static_cast<std::size_t>(set.F_m_max_id)].F_m_error
+                             : 0.0;
     j["F_m_max_attractor"] = set.F_m_max_id;
+    j["unsettled"] = set.unsettled;
     j["attractor_count"] = set.attractors.size();
     auto list = nlohmann::ordered_json::array();
     for (const auto& a : set.attractors)
         list.push_back({{"id", a.id},
-                        {"regime", to_string(a.regime)},
+                        {"regime", regime_label(a)},
                         {"period", a.period},
                         {"newton_confirmed", a.newton_confirmed},
                         {"max_multiplier", a.max_multiplier},
@@ -362,6 +366,11 @@ std::string to_json(const AttractorSet& set, const AttractorOptions& o,
     j["seed"] = o.seed;
     j["box"] = o.box;
     j["amplitude"] = set.amplitude;
+    j["section_points"] = o.section_points;
+    j["run"] = {{"periods", o.run.periods},
+                {"transient_periods", o.run.transient_periods},
+                {"tolerance", o.run.tolerance},
+                {"steady_state", o.run.stop_at_steady_state}};
     j["parameters"] = parameters_json(p);
     j["threads"] = set.threads_used;
     j["wall_time_s"] = set.wall_time_s;

@@ -3,6 +3,7 @@
 #include "detail/check.hpp"
 #include "detail/json_reader.hpp"
 #include "detail/scene_json.hpp"
+#include "gapchain/attractors.hpp"
 #include "gapchain/grid.hpp"
 #include "gapchain/run.hpp"
 
@@ -143,6 +144,18 @@ json axis_value(double v) {
     return json(v);
 }
 
+/// An attractor search needs a recorded window of 20 periods (attractors.hpp's validate()).
+void check_attractor_window(const Scene& scene, long starts) {
+    AttractorOptions options;
+    options.samples = starts;
+    options.run = scene.run;
+    try {
+        validate(scene.reduced, options);
+    } catch (const std::invalid_argument& e) {
+        throw SceneError(std::string("attractors: ") + e.what());
+    }
+}
+
 /// Every axis value must make a valid scene on its own: fail before any point runs.
 void check_axis_values(const Study& s) {
     for (const auto& axis : s.axes)
@@ -151,6 +164,8 @@ void check_axis_values(const Study& s) {
             one.axes = {{axis.key, {v}}};
             one.sampling = Sampling::grid;
             const Scene scene = point_scene(one, 0);
+            if (s.attractor_starts > 0 && scene.uniform() && scene.harmonic())
+                check_attractor_window(scene, s.attractor_starts);
             if ((s.keep.regime || s.attractor_starts > 0) &&
                 (!scene.uniform() || !scene.harmonic()))
                 throw SceneError(

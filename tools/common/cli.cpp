@@ -263,6 +263,14 @@ int run(CLI::App& app, int argc, char** argv, const std::function<void()>& body,
     }
     try {
         body();
+        // Without --out, stdout is a tool's only output: a write that failed (a full disk) is
+        // a failed run, not a success with nothing printed.
+        std::cout.flush();
+        if (std::fflush(stdout) != 0 || std::ferror(stdout) || !std::cout) {
+            std::cerr << app.get_name()
+                      << ": cannot write to standard output: " << std::strerror(errno) << "\n";
+            return static_cast<int>(ExitCode::failure);
+        }
         return static_cast<int>(ExitCode::success);
     } catch (const Interrupted& e) {
         std::cerr << app.get_name() << ": " << e.what() << "; outputs not finished were removed\n";

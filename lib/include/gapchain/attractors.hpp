@@ -57,22 +57,34 @@ struct AttractorOptions {
 /// Throws std::invalid_argument naming the first option outside its range (Nm: the row's).
 void validate(const AttractorOptions& options, int Nm);
 
+/// The checks of find_attractors() on row p: p and options valid, and a recorded window
+/// (run.periods - run.transient_periods, the latter resolved for p) of at least 20 periods, the
+/// fewest section points that tell a non-periodic attractor from a transient. Throws
+/// std::invalid_argument naming run.periods.
+void validate(const ReducedParameters& p, const AttractorOptions& options);
+
 /// One attractor.
 struct Attractor {
     int id = 0;                       ///< 0, 1, ... in order of discovery (start index order)
     Regime regime = Regime::periodic; ///< periodic, quasi-periodic or chaotic (or no-contact)
     int period = 0;                   ///< minimal period [forcing periods]; 0 if not periodic
-    bool newton_confirmed = false;    ///< periodic: the orbit converged under Newton
-    double max_multiplier = 0.0;      ///< periodic: largest Floquet multiplier modulus
-    double F_m = 0.0;                 ///< largest reduced impact force on the attractor
+    /// False for a non-periodic group whose lambda_max is negative beyond max(chaos_threshold,
+    /// 3 errors): its runs were still converging to a stable orbit when they ended, so its F_m
+    /// is a transient's (raise run.periods). Shown as the regime "unsettled".
+    bool settled = true;
+    bool newton_confirmed = false; ///< periodic: the orbit converged under Newton
+    double max_multiplier = 0.0;   ///< periodic: largest Floquet multiplier modulus
+    double F_m = 0.0;              ///< largest reduced impact force on the attractor
     /// A confirmed orbit: |F_m (exact propagator) - F_m (rk8pd at 1e-10)| on the orbit; an
     /// unconfirmed periodic one: |its F_m - the run's F_m over the recorded window|; otherwise
     /// the window-halves sampling spread of the member whose F_m is the largest (F_m).
     double F_m_error = 0.0;
-    double lambda_max = 0.0;           ///< largest Lyapunov exponent [1 / reduced time]
-    double lambda_max_error = 0.0;     ///< its standard error (0 for a Newton-confirmed orbit)
-    double basin_fraction = 0.0;       ///< share of the random starts that reach it
-    double basin_fraction_error = 0.0; ///< binomial standard error sqrt(p (1 - p) / N)
+    double lambda_max = 0.0;       ///< largest Lyapunov exponent [1 / reduced time]
+    double lambda_max_error = 0.0; ///< its standard error (0 for a Newton-confirmed orbit)
+    double basin_fraction = 0.0;   ///< share of the random starts that reach it
+    /// binomial standard error sqrt(p (1 - p) / N), at least 1 / N (N starts all alike bound
+    /// the fraction to about that)
+    double basin_fraction_error = 0.0;
     long samples = 0;                  ///< random starts that reach it
     long slice_points = 0;             ///< slice starts that reach it
     std::vector<double> initial_state; ///< the first start that reached it (2 Nm)
@@ -81,10 +93,15 @@ struct Attractor {
     std::vector<std::vector<double>> section;
 };
 
+/// The attractor's regime as written in results: to_string(regime), or "unsettled".
+std::string_view regime_label(const Attractor& a);
+
 /// The attractors found.
 struct AttractorSet {
     std::vector<Attractor> attractors;
     double F_m_max = 0.0;              ///< the design value: the largest F_m over the attractors
+    int unsettled = 0;                 ///< attractors with settled false (F_m_max may be a
+                                       ///< transient's then)
     int F_m_max_id = -1;               ///< the attractor it belongs to (-1: none)
     std::vector<int> sample_attractor; ///< per random start: attractor id, -1 if its run failed
     long failed = 0;                   ///< starts whose run failed (non-finite)

@@ -50,7 +50,9 @@ struct PeriodicOrbit {
     double max_multiplier = 0.0; ///< largest modulus
     bool stable = false;         ///< every modulus < 1
     /// |log|prod mu| - log det| / |log det|, det = exp(-k T sum_i c_i) (Liouville, MODEL.md §5,
-    /// c_i the damping rates): the multipliers' own check, ~1e-10 or better.
+    /// c_i the damping rates): the multipliers' own check, ~1e-10 or better. NaN (null in JSON)
+    /// when det^(1 / 2Nm) < 1e-6 max|mu|: the smallest multipliers are then below what double
+    /// precision resolves next to the largest (a smaller period resolves them).
     double liouville_error = 0.0;
     double F_m = 0.0; ///< largest reduced impact force over one orbit (located between steps)
     std::vector<ContactMaximum> per_contact; ///< per contact j = 0..Nm over one orbit

@@ -322,6 +322,15 @@ expect 25 2 "run.periods: an attractor search records at least 20 periods" "$bin
 expect 25 1 "no orbit of period 3" "$bin/gapchain-orbit" nm2.json --period 3 --from-transient 0 --out o25.json
 one_line 25
 absent 25 a25 o25.json
+# A failed run leaves a folder's previous content; a successful one leaves no file of another
+# mode's earlier run (a basin slice next to a new attractor list).
+"$bin/gapchain-attractors" nm2.json --samples 2 --grid u1,v1 --resolution 2 --out keep25 >/dev/null 2>&1
+before=$(cat keep25/attractors.json keep25/basins.csv | md5sum)
+expect 25 1 "keep25/basins.png: gnuplot could not write" env PATH="$dir/fakebin:$PATH" "$bin/gapchain-attractors" nm2.json --samples 3 --seed 2 --grid u1,v1 --resolution 3 --out keep25
+[ "$(cat keep25/attractors.json keep25/basins.csv | md5sum)" = "$before" ] || { echo "class 25: FAIL: a failed run changed the folder"; failed+=(25); }
+ls -a keep25 | grep -q staging && { echo "class 25: FAIL: a staging folder was left"; failed+=(25); }
+expect 25 0 "" "$bin/gapchain-attractors" nm2.json --samples 2 --no-plot --out keep25
+absent 25 keep25/basins.csv keep25/basins.png keep25/basins.gp
 # stdout that cannot be written is a failure.
 expect 25 1 "cannot write to standard output" sh -c "'$bin/gapchain-bounds' nm2.json >/dev/full"
 verdict 25

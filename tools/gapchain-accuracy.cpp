@@ -96,15 +96,17 @@ int main(int argc, char** argv) {
         o.schemes = distinct_schemes(schemes);
         o.unsplit_too = !no_unsplit;
         cli::Outputs outputs({scene_args.path});
-        outputs.folder(out, "--out");
+        outputs.folder(out, "--out",
+                       {"work_precision.csv", "work_precision.gp", "work_precision.png"});
         const WorkPrecision study = work_precision(scene.dynamics(), o);
         outputs.create_folders();
-        write_file_atomically(out + "/work_precision.csv", work_precision_csv(study));
+        const std::string staged = outputs.staged(out);
+        write_file_atomically(staged + "/work_precision.csv", work_precision_csv(study));
         const ReducedParameters& p = scene.reduced;
         char title[200];
         std::snprintf(title, sizeof title, "Nm=%d fc=%g eps=%g e_r=%g f_r=%g, %ld periods", p.Nm,
                       p.fc, p.eps, p.e_r, p.f_r, o.periods);
-        if (!no_plot) cli::plot_template(out, "work_precision", {{"TITLE", title}});
+        if (!no_plot) cli::plot_template(staged, "work_precision", {{"TITLE", title}});
         outputs.keep();
         print_study(study, title, target);
         std::printf("wrote %s/work_precision.csv%s (%.1f s)\n", out.c_str(),

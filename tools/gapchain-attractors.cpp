@@ -149,13 +149,14 @@ void run_point(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs)
     const AttractorSet set = find_attractors(scene.reduced, a.options, progress.callback());
     cli::throw_if_interrupted();
     outputs.create_folders();
-    write_file_atomically(a.out_dir + "/attractors.csv", attractors_csv(set));
-    write_file_atomically(a.out_dir + "/attractors.json", to_json(set, a.options, scene.reduced));
+    const std::string dir = outputs.staged(a.out_dir);
+    write_file_atomically(dir + "/attractors.csv", attractors_csv(set));
+    write_file_atomically(dir + "/attractors.json", to_json(set, a.options, scene.reduced));
     if (a.options.slice) {
-        write_file_atomically(a.out_dir + "/basins.csv", basin_slice_csv(set));
+        write_file_atomically(dir + "/basins.csv", basin_slice_csv(set));
         const auto comma = a.grid.find(',');
         if (!a.no_plot)
-            cli::plot_template(a.out_dir, "basins",
+            cli::plot_template(dir, "basins",
                                {{"TITLE", "Basins: " + cli::row_title(scene.reduced)},
                                 {"XLABEL", a.grid.substr(0, comma)},
                                 {"YLABEL", a.grid.substr(comma + 1)},
@@ -175,9 +176,10 @@ void run_line(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs) 
                                  line_values(a, scene.reduced), a.options, progress.callback());
     cli::throw_if_interrupted();
     outputs.create_folders();
-    write_file_atomically(a.out_dir + "/fractions.csv", fractions_csv(c));
+    const std::string dir = outputs.staged(a.out_dir);
+    write_file_atomically(dir + "/fractions.csv", fractions_csv(c));
     if (!a.no_plot)
-        cli::plot_template(a.out_dir, "fractions",
+        cli::plot_template(dir, "fractions",
                            {{"TITLE", "Basin fractions: " + cli::row_title(scene.reduced, a.param)},
                             {"PARAM", a.param},
                             {"COUNT", std::to_string(c.label_count)}});
@@ -205,7 +207,10 @@ int main(int argc, char** argv) {
                         a.options.slice = parse_slice(a, scene.reduced.Nm);
                         validate(a.options, scene.reduced.Nm);
                         cli::Outputs outputs({a.scene.path});
-                        outputs.folder(a.out_dir, "--out");
+                        outputs.folder(a.out_dir, "--out",
+                                       {"attractors.csv", "attractors.json", "basins.csv",
+                                        "basins.gp", "basins.png", "fractions.csv", "fractions.gp",
+                                        "fractions.png"});
                         if (a.param.empty())
                             run_point(scene, a, outputs);
                         else

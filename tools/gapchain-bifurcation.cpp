@@ -104,9 +104,8 @@ void resolve_options(BifurcationArguments& a, const gapchain::Scene& scene) {
 // Writes points.csv, summary.csv, bifurcation.json and (unless --no-plot) the plot; returns
 // whether the plot was made.
 bool write_outputs(const gapchain::BifurcationResult& r, const BifurcationArguments& a,
-                   const gapchain::ReducedParameters& p) {
+                   const std::string& out_dir, const gapchain::ReducedParameters& p) {
     using namespace gapchain;
-    const std::string& out_dir = a.out_dir;
     write_file_atomically(out_dir + "/points.csv", points_csv(r, a.options.section));
     write_file_atomically(out_dir + "/summary.csv", summary_csv(r));
     write_file_atomically(out_dir + "/bifurcation.json", to_json(r, a.options, p));
@@ -133,13 +132,16 @@ int main(int argc, char** argv) {
                         cli::require_paper_row(scene, "gapchain-bifurcation");
                         resolve_options(a, scene);
                         cli::Outputs outputs({a.scene.path});
-                        outputs.folder(a.out_dir, "--out");
+                        outputs.folder(a.out_dir, "--out",
+                                       {"points.csv", "summary.csv", "bifurcation.json",
+                                        "bifurcation.gp", "bifurcation.png"});
                         cli::Progress progress("gapchain-bifurcation");
                         const BifurcationResult r =
                             bifurcation(scene.reduced, a.options, progress.callback());
                         cli::throw_if_interrupted();
                         outputs.create_folders();
-                        const bool plotted = write_outputs(r, a, scene.reduced);
+                        const bool plotted =
+                            write_outputs(r, a, outputs.staged(a.out_dir), scene.reduced);
                         outputs.keep();
                         print_summary(r, a.options, a.param, a.mode, a.out_dir, plotted);
                     },

@@ -55,7 +55,8 @@ void classify_map(const ReducedParameters& p, const ClassifyOptions& o, const st
     const RegimeMap m = regime_map(p, e_r, f_r, o, threads, progress.callback());
     cli::throw_if_interrupted();
     outputs.create_folders();
-    write_file_atomically(out + "/map.csv", map_csv(m));
+    const std::string staged = outputs.staged(out);
+    write_file_atomically(staged + "/map.csv", map_csv(m));
     int counts[4] = {0, 0, 0, 0};
     for (const auto& c : m.cells)
         ++counts[static_cast<int>(c.regime)];
@@ -67,7 +68,7 @@ void classify_map(const ReducedParameters& p, const ClassifyOptions& o, const st
         return std::string(text);
     };
     if (plot)
-        cli::plot_template(out, "map",
+        cli::plot_template(staged, "map",
                            {{"TITLE", title},
                             {"EPS", number(p.eps)},
                             {"F_FROM", number(f_r.front())},
@@ -129,7 +130,7 @@ int main(int argc, char** argv) {
             return classify_point(scene.reduced, o, out, outputs);
         }
         if (out.empty()) out = "map";
-        outputs.folder(out, "--out");
+        outputs.folder(out, "--out", {"map.csv", "map.gp", "regimes.png", "force.png"});
         const std::vector<double> e_r = parse_range(e_r_range, "--e_r");
         const std::vector<double> f_r = parse_range(f_r_range, "--f_r");
         classify_map(scene.reduced, o, out, e_r, f_r, threads, !no_plot, outputs);

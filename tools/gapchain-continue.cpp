@@ -111,16 +111,16 @@ void print_summary(const ContinuationResult& r, const ContinueArguments& a) {
 }
 
 bool write_outputs(const ContinuationResult& r, const ContinueArguments& a,
-                   const ReducedParameters& p) {
-    write_file_atomically(a.out_dir + "/branch.csv", branch_csv(r));
-    write_file_atomically(a.out_dir + "/special.csv", special_csv(r));
+                   const std::string& out_dir, const ReducedParameters& p) {
+    write_file_atomically(out_dir + "/branch.csv", branch_csv(r));
+    write_file_atomically(out_dir + "/special.csv", special_csv(r));
     // The path goes into a single-quoted gnuplot string, where a quote is written twice.
     std::string overlay;
     for (const char c : a.overlay.empty() ? "" : std::filesystem::absolute(a.overlay).string())
         overlay += c == '\'' ? std::string("''") : std::string(1, c);
     const std::string title = "Periodic orbits: " + cli::row_title(p, a.param);
     return !a.no_plot &&
-           cli::plot_template(a.out_dir, "branch",
+           cli::plot_template(out_dir, "branch",
                               {{"TITLE", title}, {"PARAM", a.param}, {"OVERLAY", overlay}});
 }
 
@@ -141,7 +141,8 @@ int main(int argc, char** argv) {
                         validate(a.options);
                         if (!a.overlay.empty()) check_overlay(a.overlay);
                         cli::Outputs outputs({a.scene.path, a.overlay});
-                        outputs.folder(a.out_dir, "--out");
+                        outputs.folder(a.out_dir, "--out",
+                                       {"branch.csv", "special.csv", "branch.gp", "branch.png"});
                         cli::Progress progress("gapchain-continue");
                         const ContinuationResult r = continue_orbits(
                             scene.reduced, a.options, scene.initial, progress.callback());
@@ -150,7 +151,7 @@ int main(int argc, char** argv) {
                             throw cli::NumericalFailure(
                                 r.branch_end.empty() ? "no orbit found" : r.branch_end.front());
                         outputs.create_folders();
-                        write_outputs(r, a, scene.reduced);
+                        write_outputs(r, a, outputs.staged(a.out_dir), scene.reduced);
                         outputs.keep();
                         print_summary(r, a);
                     },

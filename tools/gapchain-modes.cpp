@@ -26,7 +26,7 @@ void grid_study(const GridArguments& a, const std::string& out, cli::Outputs& ou
     if (!(a.fc_max >= a.fc_min))
         throw std::invalid_argument("--grid-fc-max: must be >= --grid-fc-min = " +
                                     std::to_string(a.fc_min) + ", got " + std::to_string(a.fc_max));
-    if (!out.empty()) outputs.folder(out, "--out");
+    if (!out.empty()) outputs.folder(out, "--out", {"grid.csv", "grid.gp", "grid-f1-error.png"});
     std::vector<int> Nms;
     for (int n = 1; n <= a.Nm_max; ++n)
         Nms.push_back(n);
@@ -42,8 +42,9 @@ void grid_study(const GridArguments& a, const std::string& out, cli::Outputs& ou
     std::printf("  %.2f s\n", g.wall_time_s);
     if (out.empty()) return;
     outputs.create_folders();
-    write_file_atomically(out + "/grid.csv", grid_csv(g));
-    cli::plot_template(out, "grid",
+    const std::string staged = outputs.staged(out);
+    write_file_atomically(staged + "/grid.csv", grid_csv(g));
+    cli::plot_template(staged, "grid",
                        {{"FC_FROM", std::to_string(a.fc_min * 0.9)},
                         {"FC_TO", std::to_string(a.fc_max * 1.1)},
                         {"NM_MAX", std::to_string(a.Nm_max)}});

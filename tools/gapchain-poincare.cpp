@@ -93,12 +93,13 @@ int main(int argc, char** argv) {
             const Scene scene = cli::load(scene_args);
             spec = section_spec(a, spec, scene.reduced.Nm);
             cli::Outputs outputs({scene_args.path});
-            outputs.folder(out_dir, "--out");
+            outputs.folder(out_dir, "--out", {"section.csv", "section.gp", "section.png"});
             outputs.create_folders();
-            const long count = take_section_to_csv(scene, spec, out_dir);
+            const std::string staged = outputs.staged(out_dir);
+            const long count = take_section_to_csv(scene, spec, staged);
             if (!no_plot && spec.record.size() >= 2)
                 cli::plot_template(
-                    out_dir, "section",
+                    staged, "section",
                     {{"X", spec.record[0].name()},
                      {"Y", spec.record[1].name()},
                      {"TITLE", a.kind == "event" ? "event section " + a.trigger + " = level"

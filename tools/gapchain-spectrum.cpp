@@ -74,12 +74,12 @@ void require_segment_fits(const SpectrumArguments& a, const Scene& scene, const 
                                     std::to_string(a.segment));
 }
 
-void write_outputs(const SpectrumArguments& a, const Psd& psd, const SpectralContent& content,
-                   double f_r) {
-    write_file_atomically(a.out + "/psd.csv", psd_csv(psd, f_r));
-    write_file_atomically(a.out + "/peaks.csv", peaks_csv(content, f_r));
+void write_outputs(const SpectrumArguments& a, const std::string& dir, const Psd& psd,
+                   const SpectralContent& content, double f_r) {
+    write_file_atomically(dir + "/psd.csv", psd_csv(psd, f_r));
+    write_file_atomically(dir + "/peaks.csv", peaks_csv(content, f_r));
     if (!a.no_plot)
-        cli::plot_template(a.out, "spectrum",
+        cli::plot_template(dir, "spectrum",
                            {{"VARIABLE", a.variable},
                             {"SEGMENTS", std::to_string(psd.segments)},
                             {"SEGMENT", std::to_string(a.segment)}});
@@ -105,7 +105,7 @@ int main(int argc, char** argv) {
             po.segment_length = a.segment;
             require_segment_fits(a, scene, dyn);
             cli::Outputs outputs({a.scene.path});
-            outputs.folder(a.out, "--out");
+            outputs.folder(a.out, "--out", {"psd.csv", "peaks.csv", "spectrum.gp", "spectrum.png"});
             cli::Progress progress("gapchain-spectrum");
             RunOutcome outcome;
             const Signal signal = record_signal(dyn, scene.run, var, a.samples_per_period, outcome,
@@ -117,7 +117,7 @@ int main(int argc, char** argv) {
             const Psd psd = welch_psd(signal.values, po);
             const SpectralContent content = spectral_content(psd, scene.reduced.f_r, a.order);
             outputs.create_folders();
-            write_outputs(a, psd, content, scene.reduced.f_r);
+            write_outputs(a, outputs.staged(a.out), psd, content, scene.reduced.f_r);
             outputs.keep();
             print_spectrum(a.variable, signal, psd, content, a.order);
         },

@@ -71,11 +71,20 @@ void throw_if_interrupted() {
     if (interrupted()) throw Interrupted(g_signal.load());
 }
 
+std::string shown_path(const std::string& path) {
+    fs::path shown;
+    for (const auto& part : fs::path(path))
+        if (part.string().rfind(staging_prefix, 0) != 0) shown /= part;
+    return shown.string();
+}
+
 Outputs::Outputs(std::vector<std::string> inputs) : m_inputs(std::move(inputs)) {}
 
 Outputs::~Outputs() {
     if (m_kept) return;
     std::error_code ec;
+    for (const auto& f : m_folders)
+        if (!f.staging.empty()) fs::remove_all(f.staging, ec);
     for (auto it = m_created.rbegin(); it != m_created.rend(); ++it)
         fs::remove_all(*it, ec);
 }
@@ -102,7 +111,8 @@ void Outputs::file(const std::string& path, const std::string& flag) {
     m_paths.emplace_back(path, flag);
 }
 
-void Outputs::folder(const std::string& path, const std::string& flag) {
+void Outputs::folder(const std::string& path, const std::string& flag,
+                     std::vector<std::string> owned) {
     if (path.empty()) throw std::invalid_argument(flag + ": must name a folder");
     std::error_code ec;
     if (fs::exists(path, ec) && !fs::is_directory(path, ec))
@@ -111,24 +121,58 @@ void Outputs::folder(const std::string& path, const std::string& flag) {
     check_writable_parent(fs::is_directory(path, ec) ? (fs::path(path) / "x").string() : path,
                           flag);
     m_paths.emplace_back(path, flag);
-    m_folders.push_back(path);
+    m_folders.push_back({path, std::move(owned), {}});
 }
 
 void Outputs::create_folders() {
-    for (const auto& folder : m_folders) {
+    for (auto& folder : m_folders) {
         // Remember the outermost folder this run creates, so that a failure removes it all.
         fs::path first_new;
-        for (fs::path p = fs::absolute(folder); !p.empty() && p != p.parent_path();
+        for (fs::path p = fs::absolute(folder.path); !p.empty() && p != p.parent_path();
              p = p.parent_path()) {
             std::error_code ec;
             if (fs::exists(p, ec)) break;
             first_new = p;
         }
         std::error_code ec;
-        fs::create_directories(folder, ec);
-        if (ec) throw std::invalid_argument(folder + ": cannot create the folder: " + ec.message());
+        fs::create_directories(folder.path, ec);
+        if (ec)
+            throw std::invalid_argument(folder.path +
+                                        ": cannot create the folder: " + ec.message());
         if (!first_new.empty()) m_created.push_back(first_new.string());
+        // Inside the folder, so that keep()'s renames stay on one file system.
+        folder.staging =
+            (fs::path(folder.path) / (std::string(staging_prefix) + std::to_string(::getpid())))
+                .string();
+        fs::create_directories(folder.staging, ec);
+        if (ec)
+            throw std::invalid_argument(folder.path +
+                                        ": cannot write in the folder: " + ec.message());
     }
+}
+
+std::string Outputs::staged(const std::string& path) const {
+    for (const auto& f : m_folders)
+        if (f.path == path && !f.staging.empty()) return f.staging;
+    throw std::logic_error("Outputs::staged: " + path + " is not a created output folder");
+}
+
+void Outputs::keep() {
+    for (auto& f : m_folders) {
+        if (f.staging.empty()) continue;
+        std::error_code ec;
+        for (const auto& name : f.owned)
+            if (!fs::exists(fs::path(f.staging) / name, ec))
+                fs::remove(fs::path(f.path) / name, ec);
+        for (const auto& entry : fs::directory_iterator(f.staging, ec)) {
+            const fs::path target = fs::path(f.path) / entry.path().filename();
+            fs::rename(entry.path(), target, ec);
+            if (ec) throw OutputError(target.string() + ": cannot write: " + ec.message());
+        }
+        fs::remove_all(f.staging, ec);
+        f.staging.clear();
+    }
+    m_kept = true;
 }
 
 void add_scene_arguments(CLI::App& app, SceneArguments& args, bool required) {

@@ -10,6 +10,7 @@
 #include <functional>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -40,8 +41,16 @@ void throw_if_interrupted();
 
 // The output paths of one tool run. Every path is checked when it is added, before anything
 // runs: its folder must exist (or be creatable) and be writable, it must not be an input file
-// or another output. Folders are created by create_folders(); if the run does not reach
-// keep(), the folders it created are removed again (with what was written into them).
+// or another output. Folders are created by create_folders(), each with a staging folder the
+// run writes into (staged()); keep() moves the staged files into place. If the run does not
+// reach keep(), the staging folders and the folders it created are removed again, and a folder
+// that existed keeps its previous content.
+// The name of the staging folders Outputs makes inside an output folder (then a process id).
+inline constexpr std::string_view staging_prefix = ".gapchain-staging.";
+
+// path as the user knows it: a staging folder component dropped (for messages).
+std::string shown_path(const std::string& path);
+
 class Outputs {
 public:
     // inputs: the files the run reads (scene, study), never to be overwritten.
@@ -51,18 +60,29 @@ public:
     Outputs& operator=(const Outputs&) = delete;
     // A file output given by flag (for messages); empty paths are ignored.
     void file(const std::string& path, const std::string& flag);
-    // A folder output given by flag.
-    void folder(const std::string& path, const std::string& flag);
-    // Creates the folders not there yet (remembered for removal on failure).
+    // A folder output given by flag. owned: every file name the tool may write there, in any
+    // of its modes; keep() removes those this run did not write, so that no file of an earlier
+    // run (a basin slice next to a new attractor list) passes for this run's.
+    void folder(const std::string& path, const std::string& flag, std::vector<std::string> owned);
+    // Creates the folders not there yet (remembered for removal on failure) and their staging
+    // folders.
     void create_folders();
-    // The run succeeded: nothing is removed.
-    void keep() { m_kept = true; }
+    // The folder a run writes folder `path`'s files into (after create_folders()).
+    [[nodiscard]] std::string staged(const std::string& path) const;
+    // The run succeeded: staged files replace the folders' ones, owned files not written are
+    // removed, nothing else is. Throws OutputError if a file cannot be moved.
+    void keep();
 
 private:
+    struct FolderOutput {
+        std::string path;
+        std::vector<std::string> owned;
+        std::string staging; // empty until create_folders()
+    };
     void check_distinct(const std::string& path, const std::string& flag);
     std::vector<std::string> m_inputs;
     std::vector<std::pair<std::string, std::string>> m_paths; // path, flag
-    std::vector<std::string> m_folders;
+    std::vector<FolderOutput> m_folders;
     std::vector<std::string> m_created;
     bool m_kept = false;
 };

@@ -1,5 +1,7 @@
 #include "plot.hpp"
 
+#include "cli.hpp"
+
 #include "gapchain/report.hpp"
 
 #include <cerrno>
@@ -80,7 +82,7 @@ bool plot_with_gnuplot(const std::string& script_path, const std::string& script
         std::fprintf(stderr,
                      "note: gnuplot not found; the CSV files are complete, run "
                      "'gnuplot %s' to draw the figure\n",
-                     script_path.c_str());
+                     shown_path(script_path).c_str());
         return false;
     }
     const bool ran = status != -1 && WIFEXITED(status) && WEXITSTATUS(status) == 0;
@@ -89,7 +91,8 @@ bool plot_with_gnuplot(const std::string& script_path, const std::string& script
         const auto size = fs::file_size(dir / png, ec);
         if (!ran || ec || size == 0) {
             std::remove((dir / png).c_str());
-            throw OutputError((dir / png).string() + ": gnuplot could not write the figure" +
+            throw OutputError(shown_path((dir / png).string()) +
+                              ": gnuplot could not write the figure" +
                               (reason.empty() ? std::string() : ": " + reason) +
                               "; --no-plot writes the CSV files without it");
         }

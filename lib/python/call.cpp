@@ -29,8 +29,10 @@ std::optional<std::string> as_path(const py::object& object) {
     return std::nullopt;
 }
 
+// Through gapchain._scene_json: NumPy values as JSON numbers, and a non-finite number raises
+// ValueError naming its key (json.dumps would write NaN, which no JSON parser names).
 std::string json_text(const py::object& dict) {
-    return py::module_::import("json").attr("dumps")(dict).cast<std::string>();
+    return py::module_::import("gapchain").attr("_scene_json")(dict).cast<std::string>();
 }
 
 std::string type_name(const py::object& object) {

@@ -92,5 +92,6 @@ void register_simulate(py::module_& m);
 void register_analyses(py::module_& m);
 void register_regimes(py::module_& m);
 void register_orbits(py::module_& m);
+void register_attractors(py::module_& m);
 
 } // namespace gapchain::python

@@ -12,4 +12,5 @@ PYBIND11_MODULE(_gapchain, m) {
     gapchain::python::register_analyses(m);
     gapchain::python::register_regimes(m);
     gapchain::python::register_orbits(m);
+    gapchain::python::register_attractors(m);
 }

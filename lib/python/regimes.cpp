@@ -174,6 +174,11 @@ void kept_columns(py::dict& d, const Study& study, const std::vector<SweepPointR
         d["maximum_in_transient"] =
             column<bool>(rows, [](const R& r) { return r.simulation.maximum_in_transient; });
     }
+    if (study.attractor_starts > 0) {
+        d["F_m_max"] =
+            column<double>(rows, [](const R& r) { return r.F_m_max.value_or(r.simulation.F_m); });
+        d["attractors"] = column<int>(rows, [](const R& r) { return r.attractors_found; });
+    }
     if (!rows.empty() && rows.front().F_m_newton)
         d["F_m_newton"] = column<double>(rows, [](const R& r) { return *r.F_m_newton; });
 }

@@ -401,14 +401,14 @@ std::string fractions_csv(const FractionContinuation& c) {
         const auto& labels = c.labels[k];
         for (int label = 0; label < c.label_count; ++label) {
             const auto it = std::find(labels.begin(), labels.end(), label);
-            if (it == labels.end()) {
-                os << ",0,0,0,-1";
+            if (it == labels.end()) { // absent: no starts, no F_m, no period
+                os << ",0,0,,";
                 continue;
             }
             const Attractor& a =
                 c.sets[k].attractors[static_cast<std::size_t>(it - labels.begin())];
             os << ',' << a.basin_fraction << ',' << a.basin_fraction_error << ',' << a.F_m << ','
-               << (a.period > 0 ? a.period : -1);
+               << a.period;
         }
         os << '\n';
     }

@@ -203,3 +203,54 @@ def test_continuation_points_carry_their_orbit_state():
     found = gapchain.orbit(start, transient=0)
     assert found["status"] == "converged"
     assert abs(found["F_m"] - r["points"]["F_m"][i]) < 1e-7
+
+
+MIRROR_PAIR = {"model": {"Nm": 1, "fc": 100, "eps": 0.1, "e_r": 0.6}, "excitation": {"f_r": 1.2},
+               "run": {"periods": 600}}
+
+
+def test_attractors_match_gapchain_attractors(tmp_path):
+    # Nm = 1 between the walls: two mirror-image period-1 orbits of equal F_m (MODEL.md §5).
+    a = gapchain.attractors(MIRROR_PAIR, samples=40, box=2, grid=("u1", "v1"), resolution=4)
+    columns = a["attractors"]
+    assert len(columns["id"]) == 2 and columns["state"].shape == (2, 2)
+    assert columns["F_m"][0] == pytest.approx(columns["F_m"][1], rel=1e-9)
+    assert a["F_m_max"] == max(columns["F_m"])
+    assert a["slice_attractor"].shape == (4, 4) and set(np.unique(a["slice_attractor"])) <= {0, 1}
+    assert columns["basin_fraction"].sum() == pytest.approx(1.0)
+    scene = tmp_path / "mirror.json"
+    scene.write_text(json.dumps(MIRROR_PAIR))
+    tool = os.path.join(os.path.dirname(SIM), "gapchain-attractors")
+    subprocess.run([tool, str(scene), "--samples", "40", "--box", "2", "--no-plot", "--out",
+                    str(tmp_path / "a")], check=True, stdout=subprocess.DEVNULL)
+    written = json.loads((tmp_path / "a" / "attractors.json").read_text())
+    assert [x["F_m"] for x in written["attractors"]] == columns["F_m"].tolist()
+    assert [x["basin_fraction"] for x in written["attractors"]] == \
+        columns["basin_fraction"].tolist()
+
+
+def test_basin_fractions_label_each_attractor_along_the_line():
+    f = gapchain.basin_fractions(MIRROR_PAIR, from_=1.2, to=1.22, steps=2, samples=20, box=2)
+    assert f["values"].tolist() == [1.2, 1.22]
+    assert f["fraction"].shape == (2, f["label_count"])
+    assert np.nansum(f["fraction"], axis=1) == pytest.approx([1.0, 1.0])
+    assert np.all(np.isnan(f["F_m"]) == np.isnan(f["fraction"]))
+
+
+def test_numpy_values_in_dicts_and_non_finite_numbers_name_their_key():
+    base = {"model": {"Nm": np.int32(2), "fc": np.float64(100.0), "e_r": 0.5}}
+    assert gapchain.simulate(base, **SHORT)["F_m"] == \
+        gapchain.simulate({"model": {"Nm": 2, "fc": 100.0, "e_r": 0.5}}, **SHORT)["F_m"]
+    with pytest.raises(ValueError, match=r"model\.fc: must be a finite number"):
+        gapchain.simulate({"model": {"fc": float("nan")}})
+    with pytest.raises(ValueError, match=r"model\.fc: must be a number"):
+        gapchain.simulate({"model": {"fc": 1j}})
+    with pytest.raises(ValueError, match=r"run\.periods"):
+        gapchain.attractors(MIRROR_PAIR, periods=10)
+
+
+def test_a_sweep_with_attractors_has_the_design_value_columns():
+    study = {"scene": MIRROR_PAIR, "parameters": {"e_r": np.array([0.6])}, "attractors": 8}
+    s = gapchain.sweep(study)
+    assert s["attractors"].tolist() == [2]
+    assert s["F_m_max"][0] >= s["F_m"][0]

@@ -110,8 +110,8 @@ std::string to_json(const AttractorSet& set, const AttractorOptions& options,
 std::string basin_slice_csv(const AttractorSet& set);
 
 /// Basin fractions along a line, one row per value: value, then for every label L the columns
-/// fraction_L, fraction_error_L, F_m_L, period_L (0 and -1 for period where L is absent or not
-/// periodic), so that a plot can stack the fractions.
+/// fraction_L, fraction_error_L, F_m_L, period_L (period 0 for a non-periodic attractor; where
+/// L is absent, fractions 0, so that a plot can stack them, and F_m and period empty).
 std::string fractions_csv(const FractionContinuation& continuation);
 
 /// A periodic orbit as JSON: period, minimal_period, state, residual, iterations, multipliers

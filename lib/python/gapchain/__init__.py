@@ -6,11 +6,13 @@ natural periods, f0 = sqrt(K/M) / (2 pi)), frequencies f_r = f / f0, forces F = 
 sqrt(fc) (F_m, eq 19); see help() of each function and docs/python.md.
 
 Functions: simulate, modes, bifurcation, poincare, spectrum, lyapunov, classify, regime_map,
-sweep, orbit, continuation. Bad input raises ValueError naming the key; numerical outcomes
-are in each result's "status".
+sweep, orbit, continuation, attractors, basin_fractions. Bad input raises ValueError naming the
+key; numerical outcomes are in each result's "status".
 """
 
-import sys
+import math as _math
+import numbers as _numbers
+import sys as _sys
 
 
 def _import_numpy():
@@ -25,10 +27,10 @@ def _import_numpy():
         pass
     import glob
     debian = "/usr/lib/python3/dist-packages"
-    tag = "cpython-%d%d-" % sys.version_info[:2]
+    tag = "cpython-%d%d-" % _sys.version_info[:2]
     built_for_us = glob.glob(debian + "/numpy/core/_multiarray_umath." + tag + "*.so")
-    if built_for_us and debian not in sys.path:
-        sys.path.append(debian)
+    if built_for_us and debian not in _sys.path:
+        _sys.path.append(debian)
         try:
             import numpy
             return numpy
@@ -36,13 +38,15 @@ def _import_numpy():
             pass
     raise ImportError("gapchain needs NumPy for this Python (%s): install Debian's "
                       "python3-numpy (sudo apt-get install python3-numpy), which serves the "
-                      "CPython version of /usr/bin/python3" % sys.executable)
+                      "CPython version of /usr/bin/python3" % _sys.executable)
 
 
 _import_numpy()
 
 from ._gapchain import (  # noqa: E402  (after NumPy is importable)
     __version__,
+    attractors,
+    basin_fractions,
     bifurcation,
     classify,
     continuation,
@@ -57,4 +61,32 @@ from ._gapchain import (  # noqa: E402  (after NumPy is importable)
 )
 
 __all__ = ["simulate", "modes", "bifurcation", "poincare", "spectrum", "lyapunov", "classify",
-           "regime_map", "sweep", "orbit", "continuation", "__version__"]
+           "regime_map", "sweep", "orbit", "continuation", "attractors", "basin_fractions",
+           "__version__"]
+
+
+def _scene_json(value):
+    """A scene or study dict as JSON text for the library (called by it): NumPy scalars and
+    arrays become numbers and lists; a non-finite number, or a value JSON cannot hold, raises
+    ValueError naming its dotted key, as the scene parser does for keywords."""
+    import json
+
+    def plain(v, key):
+        if isinstance(v, dict):
+            return {k: plain(x, "%s.%s" % (key, k) if key else str(k)) for k, x in v.items()}
+        if isinstance(v, (list, tuple)):
+            return [plain(x, "%s[%d]" % (key, i)) for i, x in enumerate(v)]
+        if v is None or isinstance(v, (bool, str)):
+            return v
+        if hasattr(v, "tolist"):  # NumPy scalars and arrays
+            return plain(v.tolist(), key)
+        if isinstance(v, _numbers.Integral):
+            return int(v)
+        if isinstance(v, _numbers.Real):
+            if not _math.isfinite(float(v)):
+                raise ValueError("%s: must be a finite number, got %r" % (key, float(v)))
+            return float(v)
+        raise ValueError("%s: must be a number, string, list or object, got %s"
+                         % (key or "scene", type(v).__name__))
+
+    return json.dumps(plain(value, ""))

@@ -1,0 +1,206 @@
+// gapchain.attractors and basin_fractions: coexisting attractors from many starts, and their
+// basin fractions along one parameter.
+#include "call.hpp"
+
+#include "gapchain/attractors.hpp"
+#include "gapchain/poincare.hpp"
+
+#include <pybind11/stl.h>
+
+namespace gapchain::python {
+
+namespace {
+
+constexpr const char* attractors_doc =
+    R"(attractors(scene=None, *, samples=200, seed=1, box=1.0, section_points=200, grid=None, resolution=50, threads=0, progress=None, **keys) -> dict
+
+The coexisting attractors of the paper's uniform row (harmonic forcing, linear law) from many
+starts: gapchain-attractors in-process (docs/attractors.md). Each start, drawn uniformly in a
+box of half-width box x A (A: eq (20)'s contact-free amplitude; velocities box x 2 pi f_r A),
+runs the scene's run section; the runs are grouped into attractors.
+
+samples         random starts, 1 .. 1e7;  seed  their seed, >= 0;  box  (0, 100]
+section_points  stroboscopic points kept of a run that does not settle, 20 .. 100000
+grid            two state variables ("u1", "v1", ... "uNm", "vNm") for a basin slice of
+                resolution x resolution starts (2 .. 2000), the others at rest; or None
+threads         OpenMP threads (0: all); the results do not depend on it
+progress        callable(fraction)
+
+Returns a dict: F_m_max (the design value: the largest F_m over the attractors), F_m_max_error,
+F_m_max_attractor, unsettled (groups whose runs were still converging: raise run.periods),
+attractors (dict of columns id, regime, period, F_m, F_m_error, lambda_max, lambda_max_error,
+basin_fraction, basin_fraction_error, samples, and state: one row of 2 Nm values per attractor,
+a state on it at phase 0), sample_attractor (per random start: attractor id, -1 if its run
+failed), failed, amplitude (A), and with grid: slice_x, slice_y and slice_attractor
+(resolution x resolution, rows along y); wall_time_s, cancelled.)";
+
+constexpr const char* basin_fractions_doc =
+    R"(basin_fractions(scene=None, *, param="f_r", from_, to, steps, samples=200, seed=1, box=1.0, section_points=200, threads=0, progress=None, **keys) -> dict
+
+attractors() at `steps` values of `param` ("f_r", "e_r", "fc" or "eps") from from_ to to, with
+each attractor labelled across the line (seeded from the previous value's attractors, then
+by nearest centroid): gapchain-attractors --param in-process.
+
+Returns a dict: values, labels (label_count columns), and per value x label arrays fraction,
+fraction_error, F_m, period (NaN where the label is absent; period 0 for a
+non-periodic attractor); label_count, wall_time_s, cancelled.)";
+
+// The paper's row at one point, as attractors.hpp needs it.
+const ReducedParameters& paper_row(const Scene& scene) {
+    if (!scene.harmonic() || !scene.uniform())
+        throw std::invalid_argument("scene: attractors need the paper's uniform row with the "
+                                    "linear contact law and harmonic forcing");
+    return scene.reduced;
+}
+
+AttractorOptions search_options(const Scene& scene, long samples, std::uint64_t seed, double box,
+                                int section_points, int threads) {
+    AttractorOptions o;
+    o.samples = samples;
+    o.seed = seed;
+    o.box = box;
+    o.section_points = section_points;
+    o.threads = threads;
+    o.run = scene.run;
+    return o;
+}
+
+// "u3" -> 2, "v1" -> Nm: a state index for the basin slice.
+int state_index(const std::string& name, int Nm) {
+    const SectionVariable v = SectionVariable::parse(name, Nm, "grid");
+    using K = SectionVariable::Kind;
+    if (v.kind != K::displacement && v.kind != K::velocity)
+        throw std::invalid_argument("grid: expected u1..u" + std::to_string(Nm) + " or v1..v" +
+                                    std::to_string(Nm) + ", got \"" + name + "\"");
+    return (v.kind == K::velocity ? Nm : 0) + v.index;
+}
+
+py::dict attractor_columns(const std::vector<Attractor>& as) {
+    using A = Attractor;
+    py::dict d;
+    d["id"] = column<int>(as, [](const A& a) { return a.id; });
+    d["regime"] = strings(as, [](const A& a) { return regime_label(a); });
+    d["period"] = column<int>(as, [](const A& a) { return a.period; });
+    d["F_m"] = column<double>(as, [](const A& a) { return a.F_m; });
+    d["F_m_error"] = column<double>(as, [](const A& a) { return a.F_m_error; });
+    d["lambda_max"] = column<double>(as, [](const A& a) { return a.lambda_max; });
+    d["lambda_max_error"] = column<double>(as, [](const A& a) { return a.lambda_max_error; });
+    d["basin_fraction"] = column<double>(as, [](const A& a) { return a.basin_fraction; });
+    d["basin_fraction_error"] =
+        column<double>(as, [](const A& a) { return a.basin_fraction_error; });
+    d["samples"] = column<long>(as, [](const A& a) { return a.samples; });
+    std::vector<double> states;
+    for (const auto& a : as)
+        states.insert(states.end(), a.state.begin(), a.state.end());
+    d["state"] = matrix(states, as.size(), as.empty() ? 0 : as.front().state.size());
+    return d;
+}
+
+py::dict set_dict(const AttractorSet& s) {
+    py::dict d;
+    d["F_m_max"] = s.F_m_max;
+    d["F_m_max_error"] =
+        s.F_m_max_id >= 0 ? s.attractors[static_cast<std::size_t>(s.F_m_max_id)].F_m_error : 0.0;
+    d["F_m_max_attractor"] = s.F_m_max_id;
+    d["unsettled"] = s.unsettled;
+    d["attractors"] = attractor_columns(s.attractors);
+    d["sample_attractor"] = column<int>(s.sample_attractor, [](int id) { return id; });
+    d["failed"] = s.failed;
+    d["amplitude"] = s.amplitude;
+    if (!s.slice_first.empty()) {
+        d["slice_x"] = array(s.slice_first);
+        d["slice_y"] = array(s.slice_second);
+        d["slice_attractor"] = column<int>(s.slice_attractor, [](int id) {
+                                   return id;
+                               }).attr("reshape")(s.slice_second.size(), s.slice_first.size());
+    }
+    d["wall_time_s"] = s.wall_time_s;
+    d["cancelled"] = s.cancelled;
+    return d;
+}
+
+py::dict attractors_py(const py::object& scene_arg, long samples, std::uint64_t seed, double box,
+                       int section_points, const py::object& grid, int resolution, int threads,
+                       const py::object& progress, const py::kwargs& keys) {
+    const Scene scene = to_scene(scene_arg, keys);
+    const ReducedParameters& p = paper_row(scene);
+    AttractorOptions o = search_options(scene, samples, seed, box, section_points, threads);
+    if (!grid.is_none()) {
+        const auto names = grid.cast<std::vector<std::string>>();
+        if (names.size() != 2)
+            throw std::invalid_argument("grid: expected two state variables, got " +
+                                        std::to_string(names.size()));
+        o.slice = BasinSlice{state_index(names[0], p.Nm), state_index(names[1], p.Nm), resolution};
+    }
+    Call call(progress);
+    const AttractorSet s = call.run([&] { return find_attractors(p, o, call.callback()); });
+    return set_dict(s);
+}
+
+// values x labels, NaN (or `absent`) where a label is absent at a value.
+template <class F>
+py::array_t<double> per_label(const FractionContinuation& c, F field, double absent) {
+    py::array_t<double> out(
+        {static_cast<py::ssize_t>(c.values.size()), static_cast<py::ssize_t>(c.label_count)});
+    auto view = out.mutable_unchecked<2>();
+    for (std::size_t k = 0; k < c.values.size(); ++k) {
+        for (int l = 0; l < c.label_count; ++l)
+            view(static_cast<py::ssize_t>(k), l) = absent;
+        for (std::size_t i = 0; i < c.sets[k].attractors.size(); ++i)
+            view(static_cast<py::ssize_t>(k), c.labels[k][i]) = field(c.sets[k].attractors[i]);
+    }
+    return out;
+}
+
+py::dict basin_fractions_py(const py::object& scene_arg, const std::string& param, double from,
+                            double to, int steps, long samples, std::uint64_t seed, double box,
+                            int section_points, int threads, const py::object& progress,
+                            const py::kwargs& keys) {
+    const Scene scene = to_scene(scene_arg, keys);
+    const ReducedParameters& p = paper_row(scene);
+    if (steps < 1 || steps > 100000)
+        throw std::invalid_argument("steps: must be an integer in [1, 100000], got " +
+                                    std::to_string(steps));
+    std::vector<double> values;
+    for (int k = 0; k < steps; ++k)
+        values.push_back(steps == 1 ? from : from + (to - from) * k / (steps - 1));
+    const AttractorOptions o = search_options(scene, samples, seed, box, section_points, threads);
+    Call call(progress);
+    const FractionContinuation c = call.run([&] {
+        return continue_basin_fractions(p, parse_swept_parameter(param), values, o,
+                                        call.callback());
+    });
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    py::dict d;
+    d["values"] = array(c.values);
+    d["fraction"] = per_label(
+        c, [](const Attractor& a) { return a.basin_fraction; }, nan);
+    d["fraction_error"] = per_label(
+        c, [](const Attractor& a) { return a.basin_fraction_error; }, nan);
+    d["F_m"] = per_label(
+        c, [](const Attractor& a) { return a.F_m; }, nan);
+    d["period"] = per_label(
+        c, [](const Attractor& a) { return double(a.period); }, nan);
+    d["label_count"] = c.label_count;
+    d["wall_time_s"] = c.wall_time_s;
+    d["cancelled"] = c.cancelled;
+    return d;
+}
+
+} // namespace
+
+void register_attractors(py::module_& m) {
+    const AttractorOptions o;
+    m.def("attractors", &attractors_py, attractors_doc, py::arg("scene") = py::none(),
+          py::kw_only(), py::arg("samples") = o.samples, py::arg("seed") = o.seed,
+          py::arg("box") = o.box, py::arg("section_points") = o.section_points,
+          py::arg("grid") = py::none(), py::arg("resolution") = 50, py::arg("threads") = 0,
+          py::arg("progress") = py::none());
+    m.def("basin_fractions", &basin_fractions_py, basin_fractions_doc,
+          py::arg("scene") = py::none(), py::kw_only(), py::arg("param") = "f_r", py::arg("from_"),
+          py::arg("to"), py::arg("steps"), py::arg("samples") = o.samples, py::arg("seed") = o.seed,
+          py::arg("box") = o.box, py::arg("section_points") = o.section_points,
+          py::arg("threads") = 0, py::arg("progress") = py::none());
+}
+
+} // namespace gapchain::python

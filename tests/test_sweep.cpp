@@ -68,6 +68,12 @@ TEST_CASE("bad studies name the key") {
     CHECK_THROWS_WITH_AS(parse_study(R"({"parameters": {"fc": [1]}, "keep": ["speed"]})"),
                          doctest::Contains("keep"), SceneError);
     CHECK_THROWS_AS(parse_study("{nope"), SceneError);
+    // "multistable" is always written, so keeping it is no error; 2e0 starts are 2 starts.
+    const Study kept = parse_study(
+        R"({"parameters": {"fc": [1]}, "keep": ["F_m", "multistable"], "attractors": 2e0})");
+    CHECK(kept.attractor_starts == 2);
+    CHECK_THROWS_WITH_AS(parse_study(R"({"parameters": {"fc": [1]}, "attractors": 2.5})"),
+                         doctest::Contains("attractors: starts per point"), SceneError);
 }
 
 TEST_CASE("a study point above run.max_work is refused when the study is read") {

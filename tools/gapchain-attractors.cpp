@@ -118,6 +118,9 @@ std::vector<double> line_values(const AttractorArguments& a, const ReducedParame
     for (const auto& [flag, value] : {std::pair{"--from", a.from}, std::pair{"--to", a.to}})
         if (const auto error = swept_value_error(base, parse_swept_parameter(a.param), value))
             throw std::invalid_argument(std::string(flag) + ": " + *error);
+    if (a.steps == 1 && a.from != a.to)
+        throw std::invalid_argument("--steps: one value needs --from = --to, got --from " +
+                                    std::to_string(a.from) + " and --to " + std::to_string(a.to));
     std::vector<double> v;
     for (int k = 0; k < a.steps; ++k)
         v.push_back(a.steps == 1 ? a.from : a.from + (a.to - a.from) * k / (a.steps - 1));

@@ -161,6 +161,7 @@ py::dict basin_fractions_py(const py::object& scene_arg, const std::string& para
     if (steps < 1 || steps > 100000)
         throw std::invalid_argument("steps: must be an integer in [1, 100000], got " +
                                     std::to_string(steps));
+    if (steps == 1 && from != to) throw std::invalid_argument("steps: one value needs from_ = to");
     std::vector<double> values;
     for (int k = 0; k < steps; ++k)
         values.push_back(steps == 1 ? from : from + (to - from) * k / (steps - 1));

@@ -178,6 +178,7 @@ void kept_columns(py::dict& d, const Study& study, const std::vector<SweepPointR
         d["F_m_max"] =
             column<double>(rows, [](const R& r) { return r.F_m_max.value_or(r.simulation.F_m); });
         d["attractors"] = column<int>(rows, [](const R& r) { return r.attractors_found; });
+        d["unsettled"] = column<int>(rows, [](const R& r) { return r.attractors_unsettled; });
     }
     if (!rows.empty() && rows.front().F_m_newton)
         d["F_m_newton"] = column<double>(rows, [](const R& r) { return *r.F_m_newton; });

@@ -93,7 +93,10 @@ std::string to_json(const SimulationResult& r, const Scene& scene) {
                        {"transient_periods", scene.run.transient_periods == auto_transient
                                                  ? json("auto")
                                                  : json(scene.run.transient_periods)},
-                       {"tolerance", scene.run.tolerance}};
+                       {"tolerance", scene.run.tolerance},
+                       {"accuracy_mode", to_string(scene.run.accuracy_mode)},
+                       {"estimate_error", scene.run.estimate_error},
+                       {"multistability_check", scene.run.multistability_check}};
     j["scene"] = scene.source;
     return j.dump(2) + "\n";
 }
@@ -568,7 +571,7 @@ std::string sweep_csv_header(const Study& study) {
         h += ",axis:" + a.key;
     h += ",Nm,fc,eps,e_r,f_r,F_m,F_m_error,status,multistable";
     if (parse_scene(study.scene_json).physical) h += ",F_m_newton";
-    if (study.attractor_starts > 0) h += ",F_m_max,attractors";
+    if (study.attractor_starts > 0) h += ",F_m_max,attractors,unsettled";
     if (study.keep.steady_state) h += ",steady_state_period";
     if (study.keep.wall_time) h += ",wall_time_s";
     if (study.keep.orbit) h += ",F_m_orbit,maximum_in_transient";
@@ -589,7 +592,8 @@ std::string sweep_csv_row(const Study& study, const SweepPointResult& r) {
        << ',' << s.F_m_error << ',' << to_string(s.status) << ',' << (s.multistable ? 1 : 0);
     if (r.F_m_newton) os << ',' << *r.F_m_newton;
     if (study.attractor_starts > 0)
-        os << ',' << (r.F_m_max ? *r.F_m_max : s.F_m) << ',' << r.attractors_found;
+        os << ',' << (r.F_m_max ? *r.F_m_max : s.F_m) << ',' << r.attractors_found << ','
+           << r.attractors_unsettled;
     if (study.keep.steady_state)
         os << ','
            << (s.steady_state_period ? std::to_string(*s.steady_state_period) : std::string(""));

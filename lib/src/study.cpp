@@ -99,11 +99,13 @@ void read_sampling(const ojson& sample, Study& s) {
 }
 
 /// "attractors": starts per point for F_m_max, an integer in [0, 10000].
+/// An integral number written as 1e3 counts, as it does for the scene's integer keys.
 long read_attractor_starts(const ojson& value) {
-    if (!value.is_number_integer() || value.get<long long>() < 0 || value.get<long long>() > 10000)
+    const double starts = value.is_number() ? value.get<double>() : -1.0;
+    if (!(starts >= 0.0 && starts <= 10000.0 && starts == std::floor(starts)))
         throw SceneError("attractors: starts per point, an integer in [0, 10000], got " +
                          value.dump());
-    return static_cast<long>(value.get<long long>());
+    return static_cast<long>(starts);
 }
 
 /// "keep": the result names a study writes (F_m always).
@@ -112,7 +114,7 @@ KeptResults read_kept(const ojson& keep) {
     KeptResults kept{false, false, false, false};
     for (const auto& k : keep) {
         const std::string name = k.is_string() ? k.get<std::string>() : "";
-        if (name == "F_m") continue;
+        if (name == "F_m" || name == "multistable") continue; // always written
         if (name == "per_body")
             kept.per_body = true;
         else if (name == "regime")
@@ -124,8 +126,8 @@ KeptResults read_kept(const ojson& keep) {
         else if (name == "F_m_orbit")
             kept.orbit = true;
         else
-            throw SceneError("keep: entries must be F_m, per_body, regime, steady_state_period, "
-                             "wall_time or F_m_orbit, got " +
+            throw SceneError("keep: entries must be F_m, multistable, per_body, regime, "
+                             "steady_state_period, wall_time or F_m_orbit, got " +
                              k.dump());
     }
     return kept;

@@ -151,6 +151,7 @@ SweepPointResult run_point(const Study& s, const SweepPointFactory& make_point, 
         const AttractorSet set = find_attractors(in.reduced, ao, keep_going);
         r.F_m_max = std::max(set.F_m_max, r.simulation.F_m);
         r.attractors_found = static_cast<int>(set.attractors.size());
+        r.attractors_unsettled = set.unsettled;
     }
     return r;
 }

@@ -329,8 +329,10 @@ before=$(cat keep25/attractors.json keep25/basins.csv | md5sum)
 expect 25 1 "keep25/basins.png: gnuplot could not write" env PATH="$dir/fakebin:$PATH" "$bin/gapchain-attractors" nm2.json --samples 3 --seed 2 --grid u1,v1 --resolution 3 --out keep25
 [ "$(cat keep25/attractors.json keep25/basins.csv | md5sum)" = "$before" ] || { echo "class 25: FAIL: a failed run changed the folder"; failed+=(25); }
 ls -a keep25 | grep -q staging && { echo "class 25: FAIL: a staging folder was left"; failed+=(25); }
+gone=$(sh -c 'echo $$') # the pid of a process that has ended: its staging folder is stale
+mkdir -p "keep25/.gapchain-staging.$gone"
 expect 25 0 "" "$bin/gapchain-attractors" nm2.json --samples 2 --no-plot --out keep25
-absent 25 keep25/basins.csv keep25/basins.png keep25/basins.gp
+absent 25 keep25/basins.csv keep25/basins.png keep25/basins.gp "keep25/.gapchain-staging.$gone"
 # stdout that cannot be written is a failure.
 expect 25 1 "cannot write to standard output" sh -c "'$bin/gapchain-bounds' nm2.json >/dev/full"
 verdict 25

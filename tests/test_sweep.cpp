@@ -94,6 +94,13 @@ TEST_CASE("a study point above run.max_work is refused when the study is read") 
         allowed.replace(allowed.find("@MAX@"), 5, R"(, "max_work": 1e12)");
         CHECK_NOTHROW((void)parse_study(allowed));
     }
+    // An attractor search needs 20 recorded periods: 30 periods pass at f_r = 1 (3 discarded)
+    // but not at f_r = 5 (15 discarded), a combination no single axis value shows.
+    CHECK_THROWS_WITH_AS(
+        parse_study(R"({"scene": {"model": {"Nm": 2, "fc": 10, "eps": 0.5, "e_r": 0.3}},
+                        "parameters": {"run.periods": [100, 30], "f_r": [1, 5]},
+                        "attractors": 2})"),
+        doctest::Contains("(study point with run.periods = 30, f_r = 5)"), SceneError);
     // The same point alone: refused by the run itself, with the same rule.
     const Scene big = parse_scene(R"({"model": {"Nm": 2000, "fc": 100, "eps": 0.1, "e_r": 0.5},
                                       "excitation": {"f_r": 0.01}, "run": {"periods": 1000}})");

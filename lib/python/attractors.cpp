@@ -41,7 +41,7 @@ attractors() at `steps` values of `param` ("f_r", "e_r", "fc" or "eps") from fro
 each attractor labelled across the line (seeded from the previous value's attractors, then
 by nearest centroid): gapchain-attractors --param in-process.
 
-Returns a dict: values, labels (label_count columns), and per value x label arrays fraction,
+Returns a dict: values, and per value x label (label_count columns) arrays fraction,
 fraction_error, F_m, period (NaN where the label is absent; period 0 for a
 non-periodic attractor); label_count, wall_time_s, cancelled.)";
 

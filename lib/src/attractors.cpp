@@ -308,6 +308,62 @@ std::vector<int> group_outcomes(const std::vector<StartOutcome>& outcomes,
     return label;
 }
 
+/// The attractor among `attractors` a run reached (other than `skip`), or -1. A non-periodic
+/// attractor's F_m is compared with its largest member's, within that member's spread.
+int reached(const StartOutcome& s, const std::vector<Attractor>& attractors,
+            const StateScale& scale, const AttractorOptions& o, int skip = -1) {
+    if (s.failed) return -1;
+    for (const auto& a : attractors) {
+        if (a.id == skip) continue;
+        StartOutcome representative;
+        representative.F_m = a.F_m;
+        representative.spread = a.F_m_error;
+        if (belongs(s, a, representative, scale, o)) return a.id;
+    }
+    return -1;
+}
+
+/// A non-settling group may be a chaotic transient that outlasted its runs (issue 19's Nm = 2
+/// row: 1 start in 200 still wandering after 1000 periods, F_m 1.176 against the one
+/// attractor's 1.070). Its first member's run is continued as long again: a group whose
+/// continuation reaches another attractor merges into it; one whose continuation settles on an
+/// orbit no start reached becomes that orbit; one that still does not settle stands. Ids are
+/// renumbered in order. False if progress cancelled a continuation.
+bool confirm_non_periodic(const Dynamics& dyn, const StateScale& scale, const AttractorOptions& o,
+                          std::vector<Attractor>& attractors, std::vector<int>& labels,
+                          const ProgressCallback& keep_going) {
+    std::vector<int> merged_into(attractors.size(), -1);
+    const auto root = [&](int id) {
+        while (merged_into[static_cast<std::size_t>(id)] >= 0)
+            id = merged_into[static_cast<std::size_t>(id)];
+        return id;
+    };
+    for (auto& a : attractors) {
+        if (a.period != 0) continue;
+        const StartOutcome more = run_start(dyn, o, a.state, keep_going);
+        if (keep_going && !keep_going(1.0)) return false;
+        if (more.failed) continue;
+        const int other = reached(more, attractors, scale, o, a.id);
+        // Never into itself through a group that merged into it (no cycles).
+        if (other >= 0 && root(other) != a.id)
+            merged_into[static_cast<std::size_t>(a.id)] = root(other);
+        else if (other < 0 && more.periodic)
+            a = new_attractor(more, a.initial_state, a.id);
+    }
+    std::vector<int> new_id(attractors.size(), -1);
+    std::vector<Attractor> kept;
+    for (auto& a : attractors)
+        if (merged_into[static_cast<std::size_t>(a.id)] < 0) {
+            new_id[static_cast<std::size_t>(a.id)] = static_cast<int>(kept.size());
+            kept.push_back(std::move(a));
+            kept.back().id = static_cast<int>(kept.size()) - 1;
+        }
+    for (int& label : labels)
+        if (label >= 0) label = new_id[static_cast<std::size_t>(root(label))];
+    attractors = std::move(kept);
+    return true;
+}
+
 /// The error of a confirmed orbit's F_m (exact propagator): its difference from the same
 /// orbit's F_m on rk8pd at 1e-10, an independent scheme; never below 1e-12 F_m.
 double orbit_force_error(const Dynamics& dyn, const Attractor& a) {
@@ -448,7 +504,14 @@ AttractorSet find_attractors(const ReducedParameters& p, const AttractorOptions&
         set.cancelled = true;
         return set;
     }
-    const auto labels = group_outcomes(outcomes, starts, scale, o, set.attractors);
+    auto labels = group_outcomes(outcomes, starts, scale, o, set.attractors);
+    // The extra runs come after every start: they report the search as done, and may cancel it.
+    const ProgressCallback at_end = [&](double) { return !progress || progress(1.0); };
+    if (!confirm_non_periodic(dyn, scale, o, set.attractors, labels, at_end)) {
+        set.attractors.clear();
+        set.cancelled = true;
+        return set;
+    }
     characterise(dyn, p, o, set.attractors, set.threads_used);
     count_members(labels, o.samples, set);
     if (o.slice) {
@@ -471,24 +534,11 @@ std::vector<double> centroid(const Attractor& a, const StateScale& scale) {
     return c;
 }
 
-/// The attractor of `set` a run reached, or -1. A non-periodic attractor's F_m is compared with
-/// its largest member's, within that member's spread.
-int reached(const StartOutcome& s, const AttractorSet& set, const StateScale& scale,
-            const AttractorOptions& o) {
-    if (s.failed) return -1;
-    for (const auto& a : set.attractors) {
-        StartOutcome representative;
-        representative.F_m = a.F_m;
-        representative.spread = a.F_m_error;
-        if (belongs(s, a, representative, scale, o)) return a.id;
-    }
-    return -1;
-}
-
 /// Where each of previous's attractors went at the next value p (Attractors.jl's seeding): the
 /// attractor of `next` that a run at p from a state on it reaches, or -1. An attractor that
 /// persists is followed however far it moved; one that died hands its label to where its
-/// state now goes only if nothing nearer claims that attractor (match_labels()).
+/// state now goes only if no other seed nearer in F_m reaches that attractor, and never across
+/// a jump of F_m by more than 25 % (match_labels()).
 std::vector<int> seeded_successors(const AttractorSet& previous, const AttractorSet& next,
                                    const ReducedParameters& p, const AttractorOptions& o,
                                    const ProgressCallback& keep_going) {
@@ -496,20 +546,22 @@ std::vector<int> seeded_successors(const AttractorSet& previous, const Attractor
     const StateScale scale = state_scale(p);
     std::vector<int> successor;
     for (const auto& a : previous.attractors)
-        successor.push_back(reached(run_start(dyn, o, a.state, keep_going), next, scale, o));
+        successor.push_back(
+            reached(run_start(dyn, o, a.state, keep_going), next.attractors, scale, o));
     return successor;
 }
 
 /// Labels for `next`'s attractors. First the seeds: an attractor that a previous one's seed
-/// reached takes that one's label (of several seeds, the one with the nearest centroid). Then
+/// reached takes that one's label (of several seeds, the one with the nearest F_m). Then
 /// the rest by nearest centroid (within 0.2, scaled), each previous label used once, nearest
-/// pairs first; a new label otherwise.
+/// pairs first; a new label otherwise. Either way the two F_m are within 25 %.
 std::vector<int> match_labels(const AttractorSet& previous, const std::vector<int>& previous_labels,
                               const AttractorSet& next, const std::vector<int>& successor,
                               const StateScale& previous_scale, const StateScale& next_scale,
                               int& label_count) {
     struct Pair {
         bool seeded;
+        double force_gap; // |F_m - F_m'| / max(F_m, F_m')
         double distance;
         std::size_t from, to;
     };
@@ -525,10 +577,20 @@ std::vector<int> match_labels(const AttractorSet& previous, const std::vector<in
             for (std::size_t m = 0; m < before[i].size(); ++m)
                 d = std::max(d, std::abs(before[i][m] - after[j][m]));
             const bool seeded = successor[i] == static_cast<int>(j);
-            if (seeded || d <= 0.2) pairs.push_back({seeded, d, i, j});
+            const double a = previous.attractors[i].F_m, b = next.attractors[j].F_m;
+            const double gap = std::max(a, b) > 0.0 ? std::abs(a - b) / std::max(a, b) : 0.0;
+            // F_m moves continuously along an attractor that persists: a jump of more than 25 %
+            // from one value to the next is another attractor, whatever the seed or the
+            // centroid say (a seed whose attractor died lands on one that lives on).
+            if (gap <= 0.25 && (seeded || d <= 0.2)) pairs.push_back({seeded, gap, d, i, j});
         }
+    // Of several seeds that reach one attractor (the others' attractors died into it), the one
+    // whose F_m it continues wins: F_m moves continuously along an attractor, while the
+    // centroid of a chaotic cloud says little.
     std::sort(pairs.begin(), pairs.end(), [](const Pair& x, const Pair& y) {
-        return x.seeded != y.seeded ? x.seeded : x.distance < y.distance;
+        if (x.seeded != y.seeded) return x.seeded;
+        if (x.seeded && x.force_gap != y.force_gap) return x.force_gap < y.force_gap;
+        return x.distance < y.distance;
     });
     std::vector<int> labels(next.attractors.size(), -1);
     std::vector<char> used(previous.attractors.size(), 0);
@@ -572,7 +634,9 @@ FractionContinuation continue_basin_fractions(const ReducedParameters& base,
                 labels.push_back(a.id);
             fc.label_count = static_cast<int>(labels.size());
         } else {
-            const auto successor = seeded_successors(fc.sets.back(), set, p, options, keep_going);
+            // The seeds report this value as done (their own fractions would run backwards).
+            const auto successor = seeded_successors(fc.sets.back(), set, p, options,
+                                                     [&](double) { return keep_going(1.0); });
             if (!keep_going(1.0)) {
                 fc.cancelled = true;
                 break;

@@ -29,9 +29,9 @@ void validate(const ContinuationOptions& o) {
     detail::require_range("step", o.step, 0.0, 1.0, detail::Bound::open_low);
     detail::require_range("max_step", o.max_step, 0.0, 1.0, detail::Bound::open_low);
     if (o.max_step < o.step)
-        throw std::invalid_argument(
-            "max_step: must be at least step = " + detail::format_number(o.step) + ", got " +
-            detail::format_number(o.max_step));
+        throw std::invalid_argument("max_step: must be at least the first arclength step, " +
+                                    detail::format_number(o.step) + ", got " +
+                                    detail::format_number(o.max_step));
     detail::require_range("max_points", o.max_points, 1, 1'000'000);
     detail::require_range("max_branches", o.max_branches, 1, 64);
     detail::require_range("locate_tolerance", o.locate_tolerance, 1e-12, 1e-2);

@@ -371,7 +371,9 @@ std::string to_json(const AttractorSet& set, const AttractorOptions& o,
     j["amplitude"] = set.amplitude;
     j["section_points"] = o.section_points;
     j["run"] = {{"periods", o.run.periods},
-                {"transient_periods", o.run.transient_periods},
+                {"transient_periods", o.run.transient_periods == auto_transient
+                                          ? nlohmann::ordered_json("auto")
+                                          : nlohmann::ordered_json(o.run.transient_periods)},
                 {"tolerance", o.run.tolerance},
                 {"steady_state", o.run.stop_at_steady_state}};
     j["parameters"] = parameters_json(p);

@@ -154,7 +154,7 @@ void check_attractor_window(const Scene& scene, long starts) {
     try {
         validate(scene.reduced, options);
     } catch (const std::invalid_argument& e) {
-        throw SceneError(std::string("attractors: ") + e.what());
+        throw std::invalid_argument(std::string("attractors: ") + e.what());
     }
 }
 
@@ -166,8 +166,6 @@ void check_axis_values(const Study& s) {
             one.axes = {{axis.key, {v}}};
             one.sampling = Sampling::grid;
             const Scene scene = point_scene(one, 0);
-            if (s.attractor_starts > 0 && scene.uniform() && scene.harmonic())
-                check_attractor_window(scene, s.attractor_starts);
             if ((s.keep.regime || s.attractor_starts > 0) &&
                 (!scene.uniform() || !scene.harmonic()))
                 throw SceneError(
@@ -179,13 +177,14 @@ void check_axis_values(const Study& s) {
         }
 }
 
-/// A point above run.max_work would stop a sweep when its turn comes, hours in: refuse it
-/// before any file is written. A study of up to max_checked points is checked point by point;
-/// a larger one at the corners of its axes (each axis at its smallest and largest value), where
-/// the work peaks because it grows monotonically with every key that changes it (Nm, periods,
-/// fc, 1 / f_r, 1 / tolerance, 1 / step). A point the corners miss is still refused when it
-/// runs.
-void check_work(const Study& s, long max_checked) {
+/// A point above run.max_work, or with an attractor search on fewer than 20 recorded periods,
+/// would stop a sweep when its turn comes, hours in: refuse it before any file is written. A
+/// study of up to max_checked points is checked point by point; a larger one at the corners of
+/// its axes (each axis at its smallest and largest value), where the work peaks and the
+/// recorded window is shortest, because they change monotonically with every key that changes
+/// them (Nm, periods, fc, f_r, eps, tolerance, step). A point the corners miss is still refused
+/// when it runs.
+void check_points(const Study& s, long max_checked) {
     Study checked = s;
     if (point_count(s) > max_checked) {
         checked.sampling = Sampling::grid;
@@ -199,6 +198,7 @@ void check_work(const Study& s, long max_checked) {
         const Scene scene = scenes.scene(i);
         try {
             require_affordable(scene.dynamics(), scene.run);
+            if (s.attractor_starts > 0) check_attractor_window(scene, s.attractor_starts);
         } catch (const std::invalid_argument& e) {
             std::string where;
             const std::vector<double> values = point_values(checked, i);
@@ -241,7 +241,7 @@ Study parse_study(const std::string& text, const std::string& source) {
     if (n < 1 || n > 100'000'000)
         throw SceneError("parameters: the study must have 1 .. 1e8 points");
     check_axis_values(s);
-    check_work(s, 4096);
+    check_points(s, 4096);
     return s;
 }
 

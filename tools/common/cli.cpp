@@ -78,6 +78,26 @@ std::string shown_path(const std::string& path) {
     return shown.string();
 }
 
+namespace {
+
+// The staging folders a killed run (kill -9, a crash) left in folder: those whose process is
+// gone. A live one belongs to a run still writing there.
+void remove_dead_staging(const std::string& folder) {
+    std::error_code ec;
+    for (const auto& entry : fs::directory_iterator(folder, ec)) {
+        const std::string name = entry.path().filename().string();
+        if (name.rfind(staging_prefix, 0) != 0) continue;
+        const std::string digits = name.substr(staging_prefix.size());
+        if (digits.empty() || digits.find_first_not_of("0123456789") != std::string::npos ||
+            digits.size() > 9)
+            continue;
+        const auto pid = static_cast<pid_t>(std::stol(digits));
+        if (::kill(pid, 0) == -1 && errno == ESRCH) fs::remove_all(entry.path(), ec);
+    }
+}
+
+} // namespace
+
 Outputs::Outputs(std::vector<std::string> inputs) : m_inputs(std::move(inputs)) {}
 
 Outputs::~Outputs() {
@@ -140,6 +160,7 @@ void Outputs::create_folders() {
             throw std::invalid_argument(folder.path +
                                         ": cannot create the folder: " + ec.message());
         if (!first_new.empty()) m_created.push_back(first_new.string());
+        remove_dead_staging(folder.path);
         // Inside the folder, so that keep()'s renames stay on one file system.
         folder.staging =
             (fs::path(folder.path) / (std::string(staging_prefix) + std::to_string(::getpid())))

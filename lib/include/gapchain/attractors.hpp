@@ -18,7 +18,9 @@
 /// the same invariant measure, so their clouds interleave at the clouds' own point spacing;
 /// disjoint attractors are separated by a distance that does not shrink as points are added.
 /// A run that ends within 1e-2 (scaled) of a stable periodic attractor's points is still
-/// converging to it and joins it.
+/// converging to it and joins it. Each non-periodic group is confirmed by continuing its first
+/// member's run as long again: if that reaches another attractor, or settles on an orbit, the
+/// group was a transient that outlasted its runs and joins it (or becomes that orbit).
 
 #include "gapchain/classify.hpp"
 #include "gapchain/model.hpp"
@@ -126,8 +128,9 @@ AttractorSet find_attractors(const ReducedParameters& p, const AttractorOptions&
 /// Basin fractions along one parameter: find_attractors() at each value, attractors matched
 /// from one value to the next, so that a label follows an attractor across the line: first by
 /// seeding (a run at the new value from a state on each previous attractor; the attractor it
-/// reaches takes that label, the nearest by centroid if several seeds reach it), then the
-/// unmatched by the nearest centroid of the section points within 0.2 A.
+/// reaches takes that label, the one nearest in F_m if several seeds reach it), then the
+/// unmatched by the nearest centroid of the section points within 0.2 A; never across a jump of
+/// F_m by more than 25 % (F_m is continuous along an attractor that persists).
 struct FractionContinuation {
     SweptParameter parameter = SweptParameter::f_r;
     std::vector<double> values;

@@ -112,7 +112,8 @@ struct SimulationHooks {
 /// that settled on a periodic orbit is continued for one cycle of it; F_m_error covers any
 /// excess of F_m over the orbit's largest force (F_m_orbit), and an excess beyond the accuracy
 /// asked, max(options.tolerance, 1e-9) F_m, means F_m came from the transient
-/// (maximum_in_transient; both runs share one plan, so F_m_error does not enter the test). The
+/// (maximum_in_transient; both runs share one plan, so F_m_error does not enter the test, except
+/// for a run that finished on the relaxed plan: also beyond 3 F_m_error). The
 /// cost is one orbit cycle (k periods) per periodic run.
 ///
 /// Multistability check (options.multistability_check, harmonic forcing): a run that settled

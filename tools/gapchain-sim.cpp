@@ -56,10 +56,16 @@ void print_result(const Scene& scene, const SimulationResult& r) {
                     p.Nm, p.fc, p.eps, p.e_r, scene.physical->a0,
                     std::string(to_string(r.scheme)).c_str(), r.step, scene.record_duration,
                     r.periods_simulated);
-    std::printf("F_m = %.9g +- %.2g", r.F_m, r.F_m_error);
-    if (scene.physical)
-        std::printf("  (%.6g N +- %.2g N)", force_in_newtons(r.F_m, *scene.physical),
-                    force_in_newtons(r.F_m_error, *scene.physical));
+    if (!scene.run.estimate_error && r.F_m_error == 0.0) {
+        // "+- 0" would claim an exact answer.
+        std::printf("F_m = %.9g (no error estimate: run.estimate_error is false)", r.F_m);
+        if (scene.physical) std::printf("  (%.6g N)", force_in_newtons(r.F_m, *scene.physical));
+    } else {
+        std::printf("F_m = %.9g +- %.2g", r.F_m, r.F_m_error);
+        if (scene.physical)
+            std::printf("  (%.6g N +- %.2g N)", force_in_newtons(r.F_m, *scene.physical),
+                        force_in_newtons(r.F_m_error, *scene.physical));
+    }
     print_where(r, p.Nm);
     if (r.steady_state_period)
         std::printf("periodic steady state: period %d x T, reached by t = %.6g\n",

@@ -2,6 +2,7 @@
 
 #include "gapchain/report.hpp"
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cmath>
@@ -12,6 +13,7 @@
 #include <fcntl.h>
 #include <filesystem>
 #include <iostream>
+#include <regex>
 #include <system_error>
 #include <unistd.h>
 
@@ -182,14 +184,17 @@ void Outputs::keep() {
     for (auto& f : m_folders) {
         if (f.staging.empty()) continue;
         std::error_code ec;
-        for (const auto& name : f.owned)
-            if (!fs::exists(fs::path(f.staging) / name, ec))
-                fs::remove(fs::path(f.path) / name, ec);
+        // The new files first: if a rename fails, no old file has been removed yet.
+        std::vector<std::string> written;
         for (const auto& entry : fs::directory_iterator(f.staging, ec)) {
             const fs::path target = fs::path(f.path) / entry.path().filename();
             fs::rename(entry.path(), target, ec);
             if (ec) throw OutputError(target.string() + ": cannot write: " + ec.message());
+            written.push_back(target.filename().string());
         }
+        for (const auto& name : f.owned)
+            if (std::find(written.begin(), written.end(), name) == written.end())
+                fs::remove(fs::path(f.path) / name, ec);
         fs::remove_all(f.staging, ec);
         f.staging.clear();
     }
@@ -347,7 +352,9 @@ int run(CLI::App& app, int argc, char** argv, const std::function<void()>& body,
         std::cerr << app.get_name() << ": " << with_flag_names(e.what(), flag_names) << "\n";
         return static_cast<int>(ExitCode::bad_input);
     } catch (const std::exception& e) {
-        std::cerr << app.get_name() << ": " << e.what() << "\n";
+        // A write that failed in a staging folder is named by the folder the user gave.
+        static const std::regex staging("/\\.gapchain-staging\\.[0-9]+");
+        std::cerr << app.get_name() << ": " << std::regex_replace(e.what(), staging, "") << "\n";
         return static_cast<int>(ExitCode::failure);
     }
 }

@@ -78,6 +78,8 @@ bool plot_with_gnuplot(const std::string& script_path, const std::string& script
     const int status = run_gnuplot(dir, fs::path(script_path).filename().string(), log);
     const std::string reason = last_line_of(log);
     std::remove(log.c_str());
+    // Ctrl-C reaches gnuplot too: the run was interrupted, the figure did not fail.
+    throw_if_interrupted();
     if (status == gnuplot_missing) {
         std::fprintf(stderr,
                      "note: gnuplot not found; the CSV files are complete, run "

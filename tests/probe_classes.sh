@@ -333,6 +333,14 @@ gone=$(sh -c 'echo $$') # the pid of a process that has ended: its staging folde
 mkdir -p "keep25/.gapchain-staging.$gone"
 expect 25 0 "" "$bin/gapchain-attractors" nm2.json --samples 2 --no-plot --out keep25
 absent 25 keep25/basins.csv keep25/basins.png keep25/basins.gp "keep25/.gapchain-staging.$gone"
+# An input kept in the output folder under a name the tool writes is refused, untouched; a run
+# that cannot place one file places none (a folder named like an output is in the way).
+mkdir -p in25 && cp nm2.json in25/attractors.json
+expect 25 2 "--out: in25/attractors.json is an input of this run" "$bin/gapchain-attractors" in25/attractors.json --samples 2 --out in25
+cmp -s nm2.json in25/attractors.json || { echo "class 25: FAIL: the input in the folder changed"; failed+=(25); }
+mkdir -p way25/attractors.json && echo old >way25/attractors.csv
+expect 25 1 "way25/attractors.json: cannot write: a folder of that name is in the way" "$bin/gapchain-attractors" nm2.json --samples 2 --no-plot --out way25
+[ "$(cat way25/attractors.csv)" = old ] || { echo "class 25: FAIL: a failed run replaced attractors.csv"; failed+=(25); }
 # stdout that cannot be written is a failure.
 expect 25 1 "cannot write to standard output" sh -c "'$bin/gapchain-bounds' nm2.json >/dev/full"
 verdict 25

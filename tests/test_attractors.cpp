@@ -260,6 +260,20 @@ TEST_CASE("runs still converging to an orbit are an unsettled group, not a quasi
     }
     CHECK(unsettled >= 1);
     CHECK(early.unsettled == unsettled);
+    // The design value is over the settled attractors: at e_r = 0.34 with 100 periods, period-1
+    // orbits (F_m 0.772, 0.916) and a group still converging whose transient reaches 1.01.
+    AttractorOptions mixed = o;
+    mixed.samples = 10;
+    mixed.run.periods = 100;
+    mixed.run.transient_periods = 50;
+    const AttractorSet both = find_attractors({2, 200, 0.1, 0.34, 0.626}, mixed);
+    double settled_max = -1.0, unsettled_max = -1.0;
+    for (const auto& a : both.attractors)
+        (a.settled ? settled_max : unsettled_max) =
+            std::max(a.settled ? settled_max : unsettled_max, a.F_m);
+    REQUIRE(settled_max > 0.0);
+    REQUIRE(unsettled_max > settled_max);
+    CHECK(both.F_m_max == settled_max);
     o.run.periods = 3000;
     const AttractorSet late = find_attractors(p, o);
     REQUIRE(late.attractors.size() == 1);

@@ -189,6 +189,14 @@ void run_line(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs) 
     outputs.keep();
     std::printf("gapchain-attractors: %s from %g to %g (%d values): %d attractor labels, %.2f s\n",
                 a.param.c_str(), a.from, a.to, a.steps, c.label_count, c.wall_time_s);
+    int unsettled = 0;
+    for (const auto& set : c.sets)
+        unsettled += set.unsettled;
+    if (unsettled > 0)
+        std::printf("warning: %d attractor(s) along the line unsettled (lambda_max < 0: the runs "
+                    "were still converging to an orbit, their F_m is a transient's); raise "
+                    "run.periods\n",
+                    unsettled);
     std::printf("wrote %s/fractions.csv\n", a.out_dir.c_str());
 }
 

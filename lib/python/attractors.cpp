@@ -43,7 +43,8 @@ by nearest centroid): gapchain-attractors --param in-process.
 
 Returns a dict: values, and per value x label (label_count columns) arrays fraction,
 fraction_error, F_m, period (NaN where the label is absent; period 0 for a
-non-periodic attractor); label_count, wall_time_s, cancelled.)";
+non-periodic attractor); unsettled (per value: groups still converging, whose F_m is a
+transient's); label_count, wall_time_s, cancelled.)";
 
 // The paper's row at one point, as attractors.hpp needs it.
 const ReducedParameters& paper_row(const Scene& scene) {
@@ -73,6 +74,29 @@ int state_index(const std::string& name, int Nm) {
         throw std::invalid_argument("grid: expected u1..u" + std::to_string(Nm) + " or v1..v" +
                                     std::to_string(Nm) + ", got \"" + name + "\"");
     return (v.kind == K::velocity ? Nm : 0) + v.index;
+}
+
+// grid as ("u1", "v1") or "u1,v1" (the CLI's form).
+std::vector<std::string> grid_names(const py::object& grid) {
+    std::vector<std::string> names;
+    if (py::isinstance<py::str>(grid)) {
+        const std::string text = grid.cast<std::string>();
+        const auto comma = text.find(',');
+        if (comma != std::string::npos) names = {text.substr(0, comma), text.substr(comma + 1)};
+    } else if (py::isinstance<py::sequence>(grid)) {
+        for (const auto& item : grid.cast<py::sequence>()) {
+            if (!py::isinstance<py::str>(item)) {
+                names.clear();
+                break;
+            }
+            names.push_back(item.cast<std::string>());
+        }
+    }
+    if (names.size() != 2)
+        throw std::invalid_argument("grid: expected two state variables, (\"u1\", \"v1\") or "
+                                    "\"u1,v1\", got " +
+                                    py::repr(grid).cast<std::string>());
+    return names;
 }
 
 py::dict attractor_columns(const std::vector<Attractor>& as) {
@@ -126,11 +150,13 @@ py::dict attractors_py(const py::object& scene_arg, long samples, std::uint64_t 
     const ReducedParameters& p = paper_row(scene);
     AttractorOptions o = search_options(scene, samples, seed, box, section_points, threads);
     if (!grid.is_none()) {
-        const auto names = grid.cast<std::vector<std::string>>();
-        if (names.size() != 2)
-            throw std::invalid_argument("grid: expected two state variables, got " +
-                                        std::to_string(names.size()));
+        const auto names = grid_names(grid);
+        if (names[0] == names[1])
+            throw std::invalid_argument("grid: two different state variables, got \"" + names[0] +
+                                        "\" twice");
         o.slice = BasinSlice{state_index(names[0], p.Nm), state_index(names[1], p.Nm), resolution};
+    } else if (resolution != 50) {
+        throw std::invalid_argument("resolution: applies only with grid");
     }
     Call call(progress);
     const AttractorSet s = call.run([&] { return find_attractors(p, o, call.callback()); });
@@ -182,6 +208,7 @@ py::dict basin_fractions_py(const py::object& scene_arg, const std::string& para
         c, [](const Attractor& a) { return a.F_m; }, nan);
     d["period"] = per_label(
         c, [](const Attractor& a) { return double(a.period); }, nan);
+    d["unsettled"] = column<int>(c.sets, [](const AttractorSet& set) { return set.unsettled; });
     d["label_count"] = c.label_count;
     d["wall_time_s"] = c.wall_time_s;
     d["cancelled"] = c.cancelled;

@@ -433,11 +433,15 @@ void count_members(const std::vector<int>& labels, long random_starts, Attractor
         a.basin_fraction_error =
             std::max(std::sqrt(a.basin_fraction * (1.0 - a.basin_fraction) / n), 1.0 / n);
         set.unsettled += a.settled ? 0 : 1;
-        if (a.F_m > set.F_m_max || set.F_m_max_id < 0) {
+    }
+    // The design value is over attractors: an unsettled group's F_m is a transient's, and counts
+    // only when nothing settled (then with the warning the tools print).
+    const bool any_settled = static_cast<long>(set.attractors.size()) > set.unsettled;
+    for (const auto& a : set.attractors)
+        if ((a.settled || !any_settled) && (a.F_m > set.F_m_max || set.F_m_max_id < 0)) {
             set.F_m_max = a.F_m;
             set.F_m_max_id = a.id;
         }
-    }
     set.sample_attractor.assign(labels.begin(), labels.begin() + random_starts);
     set.slice_attractor.assign(labels.begin() + random_starts, labels.end());
 }

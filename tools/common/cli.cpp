@@ -102,13 +102,28 @@ void remove_dead_staging(const std::string& folder) {
 
 Outputs::Outputs(std::vector<std::string> inputs) : m_inputs(std::move(inputs)) {}
 
+namespace {
+
+// Removes the empty folders of the tree at p, then p if it is empty; false if anything is left
+// (a file another run wrote into a folder this run created is never removed).
+bool remove_empty_tree(const fs::path& p) {
+    std::error_code ec;
+    if (fs::is_symlink(p, ec) || !fs::is_directory(p, ec)) return false;
+    bool empty = true;
+    for (const auto& entry : fs::directory_iterator(p, ec))
+        empty = remove_empty_tree(entry.path()) && empty;
+    return empty && fs::remove(p, ec);
+}
+
+} // namespace
+
 Outputs::~Outputs() {
     if (m_kept) return;
     std::error_code ec;
     for (const auto& f : m_folders)
         if (!f.staging.empty()) fs::remove_all(f.staging, ec);
     for (auto it = m_created.rbegin(); it != m_created.rend(); ++it)
-        fs::remove_all(*it, ec);
+        remove_empty_tree(*it);
 }
 
 void Outputs::check_distinct(const std::string& path, const std::string& flag) {
@@ -139,11 +154,21 @@ void Outputs::folder(const std::string& path, const std::string& flag,
     std::error_code ec;
     if (fs::exists(path, ec) && !fs::is_directory(path, ec))
         throw std::invalid_argument(flag + ": " + path + " exists and is not a folder");
+    if (fs::is_symlink(path, ec) && !fs::exists(path, ec))
+        throw std::invalid_argument(flag + ": " + path + " is a symbolic link to nothing");
     check_distinct(path, flag);
+    // A scene kept in the output folder under a name the tool writes would be replaced or
+    // removed by keep().
+    for (const auto& name : owned)
+        for (const auto& input : m_inputs)
+            if (!input.empty() && same_file((fs::path(path) / name).string(), input))
+                throw std::invalid_argument(flag + ": " + (fs::path(path) / name).string() +
+                                            " is an input of this run and a file this tool "
+                                            "writes there; choose another output folder");
     check_writable_parent(fs::is_directory(path, ec) ? (fs::path(path) / "x").string() : path,
                           flag);
     m_paths.emplace_back(path, flag);
-    m_folders.push_back({path, std::move(owned), {}});
+    m_folders.push_back({path, flag, std::move(owned), {}});
 }
 
 void Outputs::create_folders() {
@@ -159,8 +184,8 @@ void Outputs::create_folders() {
         std::error_code ec;
         fs::create_directories(folder.path, ec);
         if (ec)
-            throw std::invalid_argument(folder.path +
-                                        ": cannot create the folder: " + ec.message());
+            throw OutputError(folder.flag + ": " + folder.path +
+                              ": cannot create the folder: " + ec.message());
         if (!first_new.empty()) m_created.push_back(first_new.string());
         remove_dead_staging(folder.path);
         // Inside the folder, so that keep()'s renames stay on one file system.
@@ -169,8 +194,8 @@ void Outputs::create_folders() {
                 .string();
         fs::create_directories(folder.staging, ec);
         if (ec)
-            throw std::invalid_argument(folder.path +
-                                        ": cannot write in the folder: " + ec.message());
+            throw OutputError(folder.flag + ": " + folder.path +
+                              ": cannot write in the folder: " + ec.message());
     }
 }
 
@@ -180,20 +205,54 @@ std::string Outputs::staged(const std::string& path) const {
     throw std::logic_error("Outputs::staged: " + path + " is not a created output folder");
 }
 
+namespace {
+
+// Moves the staged files of one folder into place, all or nothing: the files they replace are
+// first moved aside into the staging folder, and put back if any step fails. Returns the names
+// placed.
+std::vector<fs::path> commit_staged(const fs::path& folder, const fs::path& staging) {
+    std::error_code ec;
+    std::vector<fs::path> staged;
+    for (const auto& entry : fs::directory_iterator(staging, ec))
+        staged.push_back(entry.path().filename());
+    const fs::path aside = staging / ".replaced";
+    fs::create_directory(aside, ec);
+    std::vector<fs::path> set_aside, placed;
+    const auto undo = [&](const std::string& reason) {
+        std::error_code ignored;
+        for (const auto& name : placed)
+            fs::rename(folder / name, staging / name, ignored);
+        for (const auto& name : set_aside)
+            fs::rename(aside / name, folder / name, ignored);
+        throw OutputError(reason);
+    };
+    for (const auto& name : staged) {
+        const fs::path target = folder / name;
+        if (!fs::exists(fs::symlink_status(target, ec))) continue;
+        if (fs::is_directory(fs::symlink_status(target, ec)))
+            undo(target.string() + ": cannot write: a folder of that name is in the way");
+        fs::rename(target, aside / name, ec);
+        if (ec) undo(target.string() + ": cannot write: " + ec.message());
+        set_aside.push_back(name);
+    }
+    for (const auto& name : staged) {
+        fs::rename(staging / name, folder / name, ec);
+        if (ec) undo((folder / name).string() + ": cannot write: " + ec.message());
+        placed.push_back(name);
+    }
+    return placed;
+}
+
+} // namespace
+
 void Outputs::keep() {
     for (auto& f : m_folders) {
         if (f.staging.empty()) continue;
+        const std::vector<fs::path> written = commit_staged(f.path, f.staging);
         std::error_code ec;
-        // The new files first: if a rename fails, no old file has been removed yet.
-        std::vector<std::string> written;
-        for (const auto& entry : fs::directory_iterator(f.staging, ec)) {
-            const fs::path target = fs::path(f.path) / entry.path().filename();
-            fs::rename(entry.path(), target, ec);
-            if (ec) throw OutputError(target.string() + ": cannot write: " + ec.message());
-            written.push_back(target.filename().string());
-        }
+        // Files this tool writes in its other modes, left by an earlier run: not this run's.
         for (const auto& name : f.owned)
-            if (std::find(written.begin(), written.end(), name) == written.end())
+            if (std::find(written.begin(), written.end(), fs::path(name)) == written.end())
                 fs::remove(fs::path(f.path) / name, ec);
         fs::remove_all(f.staging, ec);
         f.staging.clear();

@@ -76,6 +76,7 @@ public:
 private:
     struct FolderOutput {
         std::string path;
+        std::string flag;
         std::vector<std::string> owned;
         std::string staging; // empty until create_folders()
     };

@@ -101,7 +101,9 @@ std::string_view regime_label(const Attractor& a);
 /// The attractors found.
 struct AttractorSet {
     std::vector<Attractor> attractors;
-    double F_m_max = 0.0;              ///< the design value: the largest F_m over the attractors
+    /// The design value: the largest F_m over the attractors (the settled ones; over the
+    /// unsettled groups only if none settled).
+    double F_m_max = 0.0;
     int unsettled = 0;                 ///< attractors with settled false (F_m_max may be a
                                        ///< transient's then)
     int F_m_max_id = -1;               ///< the attractor it belongs to (-1: none)

@@ -64,23 +64,6 @@ void add_options(CLI::App& app, AttractorArguments& a) {
     app.add_flag("--no-plot", a.no_plot, "Write the CSV and JSON files only");
 }
 
-/// "u3" -> 2, "v1" -> Nm (state indices).
-int state_index(const std::string& name, int Nm) {
-    const auto bad = [&] {
-        return std::invalid_argument("--grid: expected two of u1..u" + std::to_string(Nm) +
-                                     ", v1..v" + std::to_string(Nm) +
-                                     " separated by a comma, got \"" + name + "\"");
-    };
-    if (name.size() < 2 || (name[0] != 'u' && name[0] != 'v')) throw bad();
-    int body = 0;
-    for (std::size_t i = 1; i < name.size(); ++i) {
-        if (name[i] < '0' || name[i] > '9' || body > 100000) throw bad();
-        body = 10 * body + (name[i] - '0');
-    }
-    if (body < 1 || body > Nm) throw bad();
-    return (name[0] == 'u' ? 0 : Nm) + body - 1;
-}
-
 std::optional<BasinSlice> parse_slice(const AttractorArguments& a, int Nm) {
     if (a.grid.empty()) return std::nullopt;
     const auto comma = a.grid.find(',');
@@ -88,14 +71,8 @@ std::optional<BasinSlice> parse_slice(const AttractorArguments& a, int Nm) {
         throw std::invalid_argument(
             "--grid: expected two state variables separated by a comma (e.g. u1,v1), got \"" +
             a.grid + "\"");
-    BasinSlice slice;
-    slice.first = state_index(a.grid.substr(0, comma), Nm);
-    slice.second = state_index(a.grid.substr(comma + 1), Nm);
-    slice.resolution = a.resolution;
-    if (slice.first == slice.second)
-        throw std::invalid_argument("--grid: two different state variables, got \"" + a.grid +
-                                    "\"");
-    return slice;
+    return basin_slice(std::string_view(a.grid).substr(0, comma),
+                       std::string_view(a.grid).substr(comma + 1), Nm, a.resolution);
 }
 
 /// --param needs --from, --to and --steps, and excludes --grid.
@@ -121,6 +98,7 @@ std::vector<double> line_values(const AttractorArguments& a, const ReducedParame
     if (a.steps == 1 && a.from != a.to)
         throw std::invalid_argument("--steps: one value needs --from = --to, got --from " +
                                     std::to_string(a.from) + " and --to " + std::to_string(a.to));
+    // Not linspace(): the documented figures were made with these values, bit for bit.
     std::vector<double> v;
     for (int k = 0; k < a.steps; ++k)
         v.push_back(a.steps == 1 ? a.from : a.from + (a.to - a.from) * k / (a.steps - 1));
@@ -232,5 +210,6 @@ int main(int argc, char** argv) {
                      {"section_points", "--section-points"},
                      {"threads", "--threads"},
                      {"slice.resolution", "--resolution"},
+                     {"grid", "--grid"},
                      {"steps", "--steps"}});
 }

@@ -3,7 +3,6 @@
 #include "call.hpp"
 
 #include "gapchain/attractors.hpp"
-#include "gapchain/poincare.hpp"
 
 #include <pybind11/stl.h>
 
@@ -66,16 +65,6 @@ AttractorOptions search_options(const Scene& scene, long samples, std::uint64_t 
     return o;
 }
 
-// "u3" -> 2, "v1" -> Nm: a state index for the basin slice.
-int state_index(const std::string& name, int Nm) {
-    const SectionVariable v = SectionVariable::parse(name, Nm, "grid");
-    using K = SectionVariable::Kind;
-    if (v.kind != K::displacement && v.kind != K::velocity)
-        throw std::invalid_argument("grid: expected u1..u" + std::to_string(Nm) + " or v1..v" +
-                                    std::to_string(Nm) + ", got \"" + name + "\"");
-    return (v.kind == K::velocity ? Nm : 0) + v.index;
-}
-
 // grid as ("u1", "v1") or "u1,v1" (the CLI's form).
 std::vector<std::string> grid_names(const py::object& grid) {
     std::vector<std::string> names;
@@ -123,8 +112,7 @@ py::dict attractor_columns(const std::vector<Attractor>& as) {
 py::dict set_dict(const AttractorSet& s) {
     py::dict d;
     d["F_m_max"] = s.F_m_max;
-    d["F_m_max_error"] =
-        s.F_m_max_id >= 0 ? s.attractors[static_cast<std::size_t>(s.F_m_max_id)].F_m_error : 0.0;
+    d["F_m_max_error"] = s.F_m_max_error;
     d["F_m_max_attractor"] = s.F_m_max_id;
     d["unsettled"] = s.unsettled;
     d["attractors"] = attractor_columns(s.attractors);
@@ -151,10 +139,7 @@ py::dict attractors_py(const py::object& scene_arg, long samples, std::uint64_t 
     AttractorOptions o = search_options(scene, samples, seed, box, section_points, threads);
     if (!grid.is_none()) {
         const auto names = grid_names(grid);
-        if (names[0] == names[1])
-            throw std::invalid_argument("grid: two different state variables, got \"" + names[0] +
-                                        "\" twice");
-        o.slice = BasinSlice{state_index(names[0], p.Nm), state_index(names[1], p.Nm), resolution};
+        o.slice = basin_slice(names[0], names[1], p.Nm, resolution);
     } else if (resolution != 50) {
         throw std::invalid_argument("resolution: applies only with grid");
     }
@@ -188,7 +173,7 @@ py::dict basin_fractions_py(const py::object& scene_arg, const std::string& para
         throw std::invalid_argument("steps: must be an integer in [1, 100000], got " +
                                     std::to_string(steps));
     if (steps == 1 && from != to) throw std::invalid_argument("steps: one value needs from_ = to");
-    std::vector<double> values;
+    std::vector<double> values; // as gapchain-attractors --param, bit for bit
     for (int k = 0; k < steps; ++k)
         values.push_back(steps == 1 ? from : from + (to - from) * k / (steps - 1));
     const AttractorOptions o = search_options(scene, samples, seed, box, section_points, threads);

@@ -1,5 +1,7 @@
 #include "gapchain/attractors.hpp"
 
+#include "gapchain/poincare.hpp"
+
 #include "gapchain/bounds.hpp"
 #include "gapchain/lyapunov.hpp"
 #include "gapchain/orbit.hpp"
@@ -35,6 +37,26 @@ void validate(const AttractorOptions& o, int Nm) {
             throw std::invalid_argument("slice: the two state variables must differ, got " +
                                         std::to_string(o.slice->first) + " twice");
     }
+}
+
+BasinSlice basin_slice(std::string_view first, std::string_view second, int Nm, int resolution) {
+    const auto index = [Nm](std::string_view name) {
+        const std::invalid_argument bad("grid: expected u1..u" + std::to_string(Nm) + " or v1..v" +
+                                        std::to_string(Nm) + ", got \"" + std::string(name) + "\"");
+        SectionVariable v;
+        try {
+            v = SectionVariable::parse(name, Nm, "grid");
+        } catch (const std::invalid_argument&) {
+            throw bad;
+        }
+        using K = SectionVariable::Kind;
+        if (v.kind != K::displacement && v.kind != K::velocity) throw bad;
+        return (v.kind == K::velocity ? Nm : 0) + v.index;
+    };
+    if (first == second)
+        throw std::invalid_argument("grid: two different state variables, got \"" +
+                                    std::string(first) + "\" twice");
+    return BasinSlice{index(first), index(second), resolution};
 }
 
 std::string_view regime_label(const Attractor& a) {
@@ -440,6 +462,7 @@ void count_members(const std::vector<int>& labels, long random_starts, Attractor
     for (const auto& a : set.attractors)
         if ((a.settled || !any_settled) && (a.F_m > set.F_m_max || set.F_m_max_id < 0)) {
             set.F_m_max = a.F_m;
+            set.F_m_max_error = a.F_m_error;
             set.F_m_max_id = a.id;
         }
     set.sample_attractor.assign(labels.begin(), labels.begin() + random_starts);

@@ -340,9 +340,7 @@ std::string to_json(const AttractorSet& set, const AttractorOptions& o,
                     const ReducedParameters& p) {
     nlohmann::ordered_json j;
     j["F_m_max"] = set.F_m_max;
-    j["F_m_max_error"] = set.F_m_max_id >= 0
-                             ? set.attractors[static_cast<std::size_t>(set.F_m_max_id)].F_m_error
-                             : 0.0;
+    j["F_m_max_error"] = set.F_m_max_error;
     j["F_m_max_attractor"] = set.F_m_max_id;
     j["unsettled"] = set.unsettled;
     j["attractor_count"] = set.attractors.size();

@@ -73,11 +73,9 @@ void throw_if_interrupted() {
     if (interrupted()) throw Interrupted(g_signal.load());
 }
 
-std::string shown_path(const std::string& path) {
-    fs::path shown;
-    for (const auto& part : fs::path(path))
-        if (part.string().rfind(staging_prefix, 0) != 0) shown /= part;
-    return shown.string();
+std::string shown_path(const std::string& text) {
+    static const std::regex staging("/\\.gapchain-staging\\.[0-9]+");
+    return std::regex_replace(text, staging, "");
 }
 
 namespace {
@@ -412,8 +410,7 @@ int run(CLI::App& app, int argc, char** argv, const std::function<void()>& body,
         return static_cast<int>(ExitCode::bad_input);
     } catch (const std::exception& e) {
         // A write that failed in a staging folder is named by the folder the user gave.
-        static const std::regex staging("/\\.gapchain-staging\\.[0-9]+");
-        std::cerr << app.get_name() << ": " << std::regex_replace(e.what(), staging, "") << "\n";
+        std::cerr << app.get_name() << ": " << shown_path(e.what()) << "\n";
         return static_cast<int>(ExitCode::failure);
     }
 }

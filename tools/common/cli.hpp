@@ -48,8 +48,8 @@ void throw_if_interrupted();
 // The name of the staging folders Outputs makes inside an output folder (then a process id).
 inline constexpr std::string_view staging_prefix = ".gapchain-staging.";
 
-// path as the user knows it: a staging folder component dropped (for messages).
-std::string shown_path(const std::string& path);
+// A path, or a message naming paths, as the user knows them: staging folder components dropped.
+std::string shown_path(const std::string& text);
 
 class Outputs {
 public:

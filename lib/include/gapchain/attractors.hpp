@@ -28,6 +28,7 @@
 
 #include <cstdint>
 #include <optional>
+#include <string_view>
 #include <vector>
 
 namespace gapchain {
@@ -58,6 +59,11 @@ struct AttractorOptions {
 
 /// Throws std::invalid_argument naming the first option outside its range (Nm: the row's).
 void validate(const AttractorOptions& options, int Nm);
+
+/// The basin slice over the state variables named first and second ("u1".."uNm",
+/// "v1".."vNm"), resolution points per axis. Throws std::invalid_argument naming "grid" for any
+/// other name or the same name twice.
+BasinSlice basin_slice(std::string_view first, std::string_view second, int Nm, int resolution);
 
 /// The checks of find_attractors() on row p: p and options valid, and a recorded window
 /// (run.periods - run.transient_periods, the latter resolved for p) of at least 20 periods, the
@@ -106,6 +112,7 @@ struct AttractorSet {
     double F_m_max = 0.0;
     int unsettled = 0;                 ///< attractors with settled false (F_m_max may be a
                                        ///< transient's then)
+    double F_m_max_error = 0.0;        ///< that attractor's F_m_error
     int F_m_max_id = -1;               ///< the attractor it belongs to (-1: none)
     std::vector<int> sample_attractor; ///< per random start: attractor id, -1 if its run failed
     long failed = 0;                   ///< starts whose run failed (non-finite)

@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
+#include <utility>
 #include <vector>
 
 using namespace gapchain;
@@ -98,4 +100,32 @@ TEST_CASE("SteadyStateDetector: a cycle approached along a negative multiplier i
     }
     REQUIRE(stopped_at > 0);
     CHECK(doubled.period() == 6);
+}
+
+TEST_CASE(
+    "SteadyStateDetector: a period-1 cycle approached along a turning deviation is period 1") {
+    // A lightly damped body (eps = 0.01) forced at f_r = 1.3: its free deviation decays by
+    // exp(-2 pi eps / f_r) and turns by 2 pi sqrt(1 - eps^2) / f_r per forcing period, u and
+    // v = u' on scales 1 and 2 pi. Four periods make 3.08 turns, so the 4-period test passes
+    // before the 1-period one; the stored cycle is (0.3, -2.1).
+    // At f_r = 2.7, 8 periods make 2.96 turns and 2 make 0.74: 8 is shortened to 2, then 1.
+    const double eps = 0.01, pi = 3.14159265358979323846;
+    for (const auto& [f_r, phase] : {std::pair{1.3, 0.0}, std::pair{1.3, 0.7}, std::pair{1.3, 1.9},
+                                     std::pair{2.7, 0.0}, std::pair{2.7, 1.1}}) {
+        const double decay = std::exp(-2 * pi * eps / f_r);
+        const double turn = 2 * pi * std::sqrt(1 - eps * eps) / f_r;
+        SteadyStateDetector steady(2, 16, 1e-10, 0);
+        long stopped_at = -1;
+        double size = 0.5;
+        for (long n = 0; n < 5000 && stopped_at < 0; ++n, size *= decay) {
+            const double angle = phase + turn * static_cast<double>(n);
+            const std::array<double, 2> y{0.3 + size * std::cos(angle),
+                                          -2.1 - 2 * pi * size * std::sin(angle)};
+            if (steady.on_period(n, static_cast<double>(n), y.data())) stopped_at = n;
+        }
+        CAPTURE(f_r);
+        CAPTURE(phase);
+        REQUIRE(stopped_at > 0);
+        CHECK(steady.period() == 1);
+    }
 }

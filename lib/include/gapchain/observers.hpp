@@ -71,8 +71,10 @@ public:
     bool on_period(long n, double t, const double* y) override;
     /// Period k of the steady state, once found: the smallest k whose test passed, shortened to
     /// a divisor d of k that passes later, when d's distance was already within
-    /// near_divisor_factor * tolerance and keeps shrinking (the stop waits for that: at most
-    /// 64 k periods).
+    /// near_divisor_factor * tolerance and keeps shrinking: its largest value over consecutive
+    /// windows of max(4 k, 16) periods falls by 1 % or more (the stop waits for that: at most
+    /// max(64 k, 4096) periods). A deviation that turns and decays slower than that (eps below
+    /// about 0.001) may keep a multiple of the true period.
     [[nodiscard]] std::optional<int> period() const { return m_period; }
     /// Reduced time at which it was found.
     [[nodiscard]] std::optional<double> time() const { return m_time; }
@@ -99,6 +101,10 @@ private:
     bool shorten_to_divisor(long n);
     /// Smallest distance from boundary n to a proper divisor of m_period back (+inf if none).
     [[nodiscard]] double divisor_distance(long n) const;
+    /// Watches m_period's divisors from boundary n if one is within near_divisor_factor.
+    void start_watch(long n);
+    /// Periods over which the watch takes the largest divisor distance: max(4 k, 16).
+    [[nodiscard]] long watch_window() const;
     /// One boundary of the watch on a nearly matching divisor (see period()).
     void watch_divisors(long n);
     int m_dim;
@@ -109,11 +115,12 @@ private:
     std::optional<int> m_period;
     std::optional<double> m_time;
     long m_last_far = -1;
-    /// A divisor being watched: its last distance, the next review and the last boundary
-    /// (end < 0: none).
+    /// A divisor being watched: the largest distance over the last whole window and over the
+    /// current one, the current window's last boundary and the watch's (end < 0: none).
     struct DivisorWatch {
-        double distance = 0.0;
-        long review = -1;
+        double previous_max = 0.0;
+        double window_max = 0.0;
+        long window_end = -1;
         long end = -1;
     } m_watch;
     double m_nearest = std::numeric_limits<double>::infinity();

@@ -66,6 +66,15 @@ TEST_CASE("a contact-free row has one attractor, decaying at the rate 2 pi eps o
     const double v0 = -w * (2.0 * p.eps * p.f_r) / (A * A);
     CHECK(a.state[0] == doctest::Approx(u0).epsilon(1e-8));
     CHECK(a.state[2] == doctest::Approx(v0).epsilon(1e-8));
+    // Every start settles; its period-to-period difference, at most a few A at the start, falls
+    // below 1e-3 within ln(1e5) / (2 pi eps / f_r) = 18 periods of the first one tested (17).
+    CHECK(a.still_settling == 0);
+    CHECK(a.settle_median <= a.settle_max);
+    CHECK(a.settle_max <= 17 + std::log(1e5) / (2.0 * std::numbers::pi * p.eps / p.f_r));
+    CHECK(a.F_m_runs == 0.0);
+    REQUIRE(set.sample_settle_period.size() == 40);
+    CHECK(std::all_of(set.sample_settle_period.begin(), set.sample_settle_period.end(),
+                      [&](long n) { return n >= 2 && n <= a.settle_max; }));
 }
 
 TEST_CASE("mirror-image orbits are two attractors of equal F_m and equal basin fractions") {
@@ -237,6 +246,18 @@ TEST_CASE("a chaotic transient that outlasts the runs is not an attractor (issue
     CHECK(set.attractors.front().samples == 200);
     CHECK(set.F_m_max == doctest::Approx(1.0703507).epsilon(1e-6));
     CHECK(std::count(set.sample_attractor.begin(), set.sample_attractor.end(), 0) == 200);
+    // The start still in the transient is counted as still settling, not as settled; the runs'
+    // own F_m come from the transient, which wanders near the saddle orbits of period 11 that
+    // gapchain-continue finds at this f_r (F_m 1.162, docs/attractors.md).
+    const Attractor& a = set.attractors.front();
+    CHECK(a.still_settling >= 1);
+    CHECK(a.settle_median < 1000);
+    CHECK(a.settle_max < 1000);
+    CHECK(a.F_m_runs > 1.15);
+    CHECK(a.F_m_runs < 1.19);
+    const auto unsettled = std::count(set.sample_settle_period.begin(),
+                                      set.sample_settle_period.end(), -1L);
+    CHECK(unsettled == a.still_settling);
 }
 
 TEST_CASE("runs still converging to an orbit are an unsettled group, not a quasi-periodic "

@@ -55,6 +55,43 @@ TEST_CASE("no contact: the steady response is eq (20) in amplitude and phase") {
     }
 }
 
+TEST_CASE("cycle entry: the transient ends where the free decay exp(-2 pi eps t) says") {
+    // One body that never reaches the walls, started at b off its orbit (eq (20), phase 0):
+    // the deviation decays as exp(-2 pi eps t) while it turns at 2 pi sqrt(1 - eps^2), and
+    // its period-to-period difference falls below 1e-3 (the cycle entry) and then below the
+    // steady-state test's 1e-10 at periods fixed by b.
+    const double eps = 0.01, f_r = 1.3;
+    const ReducedParameters p{1, 100, eps, 1e3, f_r};
+    const Dynamics dyn = Dynamics::paper_row(p);
+    const std::complex<double> H = 1.0 / std::complex<double>(1 - f_r * f_r, 2 * eps * f_r);
+    const double decay = 2 * pi * eps / f_r; // of ln |deviation| per forcing period
+    RunOptions o;
+    o.periods = 3000;
+    o.transient_periods = 0;
+    o.tolerance = 1e-9;
+    o.estimate_error = false;
+    o.multistability_check = false;
+    const auto from = [&](double b) {
+        const SimulationResult r = simulate(dyn, o, {-H.real() + b, 2 * pi * f_r * H.imag()});
+        REQUIRE(r.steady_state_period);
+        return r;
+    };
+    const SimulationResult near = from(0.5);
+    // 52 periods turn the deviation through 40 whole turns (to 0.013 rad): a start
+    // exp(52 decay) times farther off is the same motion 52 periods earlier.
+    const SimulationResult far = from(0.5 * std::exp(52 * decay));
+    CHECK(far.cycle_entry_period - near.cycle_entry_period >= 51);
+    CHECK(far.cycle_entry_period - near.cycle_entry_period <= 53);
+    // From 1e-3 to 1e-10 takes ln(1e7) / decay = 333.5 periods, give or take the max-norm's
+    // swing along the turn (v / u = 2 pi: ln(2 pi) / decay = 38 periods).
+    for (const SimulationResult* r : {&near, &far}) {
+        const double approach = *r->steady_state_time * f_r - r->cycle_entry_period;
+        CHECK(approach == doctest::Approx(std::log(1e7) / decay).epsilon(38.0 / 333.5));
+    }
+    // A start on the orbit is steady after two periods, before any is tested for being far.
+    CHECK(from(0.0).cycle_entry_period == 2);
+}
+
 TEST_CASE("one body between two walls agrees with an independent GSL rk8pd integration") {
     for (double f_r : {0.8, 1.0, 1.4}) {
         const ReducedParameters p{1, 30, 0.3, 0.4, f_r};

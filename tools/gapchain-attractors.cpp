@@ -8,6 +8,7 @@
 #include "gapchain/attractors.hpp"
 #include "gapchain/report.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <stdexcept>
 
@@ -105,6 +106,26 @@ std::vector<double> line_values(const AttractorArguments& a, const ReducedParame
     return v;
 }
 
+/// How long the starts of a periodic attractor took to reach it, and what their runs reported
+/// on the way when that exceeds the attractor's F_m beyond the accuracy asked.
+void print_settling(const Attractor& a, const AttractorOptions& o) {
+    if (a.period == 0 || a.samples == 0) return;
+    std::printf("     transients end after ");
+    if (std::isnan(a.settle_median))
+        std::printf("more than %ld periods (median)", o.run.periods);
+    else
+        std::printf("%.0f periods (median)", a.settle_median);
+    if (!std::isnan(a.settle_max)) std::printf(", %.0f at most", a.settle_max);
+    if (a.still_settling > 0)
+        std::printf(", %ld start(s) still settling at %ld periods", a.still_settling,
+                    o.run.periods);
+    std::printf("\n");
+    if (a.F_m_runs > a.F_m * (1.0 + o.run.tolerance) + a.F_m_error)
+        std::printf("     runs from these starts report F_m up to %.6g: their transients outlast "
+                    "the discarded periods\n",
+                    a.F_m_runs);
+}
+
 void print_set(const AttractorSet& s, const AttractorOptions& o) {
     std::printf("%zu attractor(s) from %ld starts (%ld failed), %.2f s on %d threads\n",
                 s.attractors.size(), o.samples, s.failed, s.wall_time_s, s.threads_used);
@@ -116,6 +137,7 @@ void print_set(const AttractorSet& s, const AttractorOptions& o) {
             std::printf("           ");
         std::printf(" F_m = %.6g +- %.2g  lambda_max = %+.3g  basin %.3f +- %.3f\n", a.F_m,
                     a.F_m_error, a.lambda_max, a.basin_fraction, a.basin_fraction_error);
+        print_settling(a, o);
     }
     if (s.F_m_max_id >= 0)
         std::printf("design value F_m_max = %.6g (attractor #%d)\n", s.F_m_max, s.F_m_max_id);
@@ -133,6 +155,7 @@ void run_point(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs)
     const std::string dir = outputs.staged(a.out_dir);
     write_file_atomically(dir + "/attractors.csv", attractors_csv(set));
     write_file_atomically(dir + "/attractors.json", to_json(set, a.options, scene.reduced));
+    write_file_atomically(dir + "/starts.csv", attractor_starts_csv(set));
     if (a.options.slice) {
         write_file_atomically(dir + "/basins.csv", basin_slice_csv(set));
         const auto comma = a.grid.find(',');
@@ -146,7 +169,7 @@ void run_point(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs)
     outputs.keep();
     std::printf("gapchain-attractors: %s\n", cli::row_title(scene.reduced).c_str());
     print_set(set, a.options);
-    std::printf("wrote %s/attractors.csv, attractors.json%s\n", a.out_dir.c_str(),
+    std::printf("wrote %s/attractors.csv, attractors.json, starts.csv%s\n", a.out_dir.c_str(),
                 a.options.slice ? ", basins.csv" : "");
 }
 
@@ -197,9 +220,9 @@ int main(int argc, char** argv) {
                         validate(a.options, scene.reduced.Nm);
                         cli::Outputs outputs({a.scene.path});
                         outputs.folder(a.out_dir, "--out",
-                                       {"attractors.csv", "attractors.json", "basins.csv",
-                                        "basins.gp", "basins.png", "fractions.csv", "fractions.gp",
-                                        "fractions.png"});
+                                       {"attractors.csv", "attractors.json", "starts.csv",
+                                        "basins.csv", "basins.gp", "basins.png", "fractions.csv",
+                                        "fractions.gp", "fractions.png"});
                         if (a.param.empty())
                             run_point(scene, a, outputs);
                         else

@@ -28,9 +28,13 @@ progress        callable(fraction)
 Returns a dict: F_m_max (the design value: the largest F_m over the attractors), F_m_max_error,
 F_m_max_attractor, unsettled (groups whose runs were still converging: raise run.periods),
 attractors (dict of columns id, regime, period, F_m, F_m_error, lambda_max, lambda_max_error,
-basin_fraction, basin_fraction_error, samples, and state: one row of 2 Nm values per attractor,
-a state on it at phase 0), sample_attractor (per random start: attractor id, -1 if its run
-failed), failed, amplitude (A), and with grid: slice_x, slice_y and slice_attractor
+basin_fraction, basin_fraction_error, samples, settle_median and settle_max (periods until the
+starts' transients ended, NaN where undefined), still_settling (starts whose runs ended still
+approaching it), F_m_runs (the largest F_m the starts' runs recorded, transients included), and
+state: one row of 2 Nm values per attractor, a state on it at phase 0), sample_attractor (per
+random start: attractor id, -1 if its run failed), sample_settle_period (per random start: the
+period where its transient ended, -1 if it did not settle on an orbit), sample_F_m (per random
+start: its run's F_m), failed, amplitude (A), and with grid: slice_x, slice_y and slice_attractor
 (resolution x resolution, rows along y); wall_time_s, cancelled.)";
 
 constexpr const char* basin_fractions_doc =
@@ -102,6 +106,10 @@ py::dict attractor_columns(const std::vector<Attractor>& as) {
     d["basin_fraction_error"] =
         column<double>(as, [](const A& a) { return a.basin_fraction_error; });
     d["samples"] = column<long>(as, [](const A& a) { return a.samples; });
+    d["settle_median"] = column<double>(as, [](const A& a) { return a.settle_median; });
+    d["settle_max"] = column<double>(as, [](const A& a) { return a.settle_max; });
+    d["still_settling"] = column<long>(as, [](const A& a) { return a.still_settling; });
+    d["F_m_runs"] = column<double>(as, [](const A& a) { return a.F_m_runs; });
     std::vector<double> states;
     for (const auto& a : as)
         states.insert(states.end(), a.state.begin(), a.state.end());
@@ -117,6 +125,8 @@ py::dict set_dict(const AttractorSet& s) {
     d["unsettled"] = s.unsettled;
     d["attractors"] = attractor_columns(s.attractors);
     d["sample_attractor"] = column<int>(s.sample_attractor, [](int id) { return id; });
+    d["sample_settle_period"] = column<long>(s.sample_settle_period, [](long n) { return n; });
+    d["sample_F_m"] = array(s.sample_F_m);
     d["failed"] = s.failed;
     d["amplitude"] = s.amplitude;
     if (!s.slice_first.empty()) {

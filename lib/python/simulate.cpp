@@ -37,7 +37,9 @@ an F_m beyond the error; F_m_error then covers it), F_m_twin (or None), F_m_orbi
 force over one cycle of the orbit a periodic run settled on, or None), maximum_in_transient
 (bool: F_m fell before that orbit was reached; F_m_error covers F_m - F_m_orbit), per_body (Nm x 2 float64: max force on the left and right of
 each body), per_body_time (Nm x 2), per_contact (dict of arrays force, time, impacts, Nm + 1
-entries), steady_state_period (int or None), steady_state_time, status ("completed",
+entries), steady_state_period (int or None), steady_state_time, cycle_entry_period (int or
+None: the period from which on the state stayed within 1e-3 of repeating, where the transient
+ended), status ("completed",
 "steady_state", "non_finite", "cancelled"), message, scheme, step, periods_simulated,
 transient_periods_used, steps, evaluations, final_state (2 Nm: u then v), wall_time_s,
 run (the run options), F_m_newton (physical scenes), and with trajectory=True trajectory =
@@ -71,6 +73,8 @@ py::dict result_dict(const SimulationResult& r, const Scene& scene) {
                                                      : py::object(py::none());
     d["steady_state_time"] =
         r.steady_state_time ? py::object(py::float_(*r.steady_state_time)) : py::object(py::none());
+    d["cycle_entry_period"] = r.cycle_entry_period >= 0 ? py::object(py::int_(r.cycle_entry_period))
+                                                        : py::object(py::none());
     d["status"] = std::string(to_string(r.status));
     d["message"] = r.message;
     d["scheme"] = std::string(to_string(r.scheme));

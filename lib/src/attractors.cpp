@@ -15,6 +15,8 @@
 #include <chrono>
 #include <cmath>
 #include <deque>
+#include <iterator>
+#include <limits>
 #include <numbers>
 #include <stdexcept>
 
@@ -133,6 +135,7 @@ struct StartOutcome {
     double F_m = 0.0;          // the orbit's (Newton) or the run's
     double run_F_m = 0.0;      // over the run's recorded window
     double spread = 0.0;       // the run's F_m_error
+    long settle_period = -1;   // the run's cycle_entry_period (-1: did not settle)
     std::vector<double> state; // on the attractor at phase 0
     Points section;            // the orbit's points, or the run's last ones
 };
@@ -164,6 +167,7 @@ StartOutcome run_start(const Dynamics& dyn, const AttractorOptions& o,
     if (!r.steady_state_period) return s;
     s.periodic = true;
     s.period = *r.steady_state_period;
+    s.settle_period = r.cycle_entry_period;
     OrbitOptions orbit_options;
     orbit_options.period = s.period;
     orbit_options.tolerance = 1e-9;
@@ -469,6 +473,37 @@ void count_members(const std::vector<int>& labels, long random_starts, Attractor
     set.slice_attractor.assign(labels.begin() + random_starts, labels.end());
 }
 
+/// The settling statistics and F_m_runs of each attractor over its random starts. A start that
+/// joined a periodic attractor without settling (still converging, or a transient group merged
+/// into it) is still settling: its lifetime is longer than its run.
+void settle_statistics(const std::vector<StartOutcome>& outcomes, AttractorSet& set) {
+    std::vector<std::vector<long>> lifetimes(set.attractors.size());
+    constexpr long censored = std::numeric_limits<long>::max();
+    for (std::size_t k = 0; k < set.sample_attractor.size(); ++k) {
+        const StartOutcome& s = outcomes[k];
+        set.sample_settle_period.push_back(s.failed ? -1 : s.settle_period);
+        set.sample_F_m.push_back(s.failed ? 0.0 : s.run_F_m);
+        const int id = set.sample_attractor[k];
+        if (id < 0) continue;
+        Attractor& a = set.attractors[static_cast<std::size_t>(id)];
+        a.F_m_runs = std::max(a.F_m_runs, s.run_F_m);
+        if (a.period != 0)
+            lifetimes[static_cast<std::size_t>(id)].push_back(s.settle_period >= 0 ? s.settle_period
+                                                                                   : censored);
+    }
+    for (auto& a : set.attractors) {
+        auto& t = lifetimes[static_cast<std::size_t>(a.id)];
+        if (t.empty()) continue;
+        std::sort(t.begin(), t.end());
+        const long median = t[t.size() / 2];
+        if (median != censored) a.settle_median = static_cast<double>(median);
+        a.still_settling = std::count(t.begin(), t.end(), censored);
+        if (t.front() != censored)
+            a.settle_max =
+                static_cast<double>(*std::prev(std::lower_bound(t.begin(), t.end(), censored)));
+    }
+}
+
 StateScale state_scale(const ReducedParameters& p) {
     const double A = single_body_amplitude(p.f_r, p.eps);
     return {A, 2.0 * std::numbers::pi * p.f_r * A, p.Nm};
@@ -541,6 +576,7 @@ AttractorSet find_attractors(const ReducedParameters& p, const AttractorOptions&
     }
     characterise(dyn, p, o, set.attractors, set.threads_used);
     count_members(labels, o.samples, set);
+    settle_statistics(outcomes, set);
     if (o.slice) {
         set.slice_first = axis_values(o, scale, o.slice->first);
         set.slice_second = axis_values(o, scale, o.slice->second);

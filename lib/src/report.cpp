@@ -75,6 +75,8 @@ std::string to_json(const SimulationResult& r, const Scene& scene) {
     j["per_contact"] = contacts;
     j["steady_state_period"] = r.steady_state_period ? json(*r.steady_state_period) : json(nullptr);
     j["steady_state_time"] = r.steady_state_time ? json(*r.steady_state_time) : json(nullptr);
+    j["cycle_entry_period"] =
+        r.cycle_entry_period >= 0 ? json(r.cycle_entry_period) : json(nullptr);
     j["status"] = std::string(to_string(r.status));
     j["scheme"] = std::string(to_string(r.scheme));
     j["step"] = r.step;
@@ -321,7 +323,9 @@ namespace {
 void attractor_row(std::ostream& os, const Attractor& a) {
     os << a.id << ',' << regime_label(a) << ',' << a.period << ',' << a.F_m << ',' << a.F_m_error
        << ',' << a.lambda_max << ',' << a.lambda_max_error << ',' << a.basin_fraction << ','
-       << a.basin_fraction_error << ',' << a.samples << ',' << a.slice_points << '\n';
+       << a.basin_fraction_error << ',' << a.samples << ',' << a.slice_points << ','
+       << a.settle_median << ',' << a.settle_max << ',' << a.still_settling << ',' << a.F_m_runs
+       << '\n';
 }
 
 } // namespace
@@ -330,9 +334,20 @@ std::string attractors_csv(const AttractorSet& set) {
     std::ostringstream os;
     os.precision(12);
     os << "id,regime,period,F_m,F_m_error,lambda_max,lambda_max_error,basin_fraction,"
-          "basin_fraction_error,samples,slice_points\n";
+          "basin_fraction_error,samples,slice_points,settle_median,settle_max,still_settling,"
+          "F_m_runs\n";
     for (const auto& a : set.attractors)
         attractor_row(os, a);
+    return os.str();
+}
+
+std::string attractor_starts_csv(const AttractorSet& set) {
+    std::ostringstream os;
+    os.precision(12);
+    os << "start,attractor,settle_period,F_m_run\n";
+    for (std::size_t k = 0; k < set.sample_attractor.size(); ++k)
+        os << k << ',' << set.sample_attractor[k] << ',' << set.sample_settle_period[k] << ','
+           << set.sample_F_m[k] << '\n';
     return os.str();
 }
 
@@ -359,6 +374,10 @@ std::string to_json(const AttractorSet& set, const AttractorOptions& o,
                         {"basin_fraction_error", a.basin_fraction_error},
                         {"samples", a.samples},
                         {"slice_points", a.slice_points},
+                        {"settle_median", a.settle_median},
+                        {"settle_max", a.settle_max},
+                        {"still_settling", a.still_settling},
+                        {"F_m_runs", a.F_m_runs},
                         {"initial_state", a.initial_state},
                         {"state", a.state}});
     j["attractors"] = list;

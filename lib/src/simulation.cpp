@@ -496,6 +496,13 @@ SimulationResult simulate(const Dynamics& dyn, const RunOptions& requested,
     result.evaluations = main.evaluations;
     result.steady_state_period = main.period;
     result.steady_state_time = main.period_time;
+    // The first max_steady_period periods are not tested for being far from a cycle: a run
+    // never seen far entered by the first period tested, or by its steady state if earlier.
+    if (main.period)
+        result.cycle_entry_period = main.last_far_period >= 0
+                                        ? main.last_far_period + 1
+                                        : std::min(static_cast<long>(options.max_steady_period) + 1,
+                                                   std::lround(*main.period_time / dyn.period()));
     result.final_state = main.final_state;
     report_maxima(main, result);
     // The runs after the main one (comparison, orbit cycle, twin) can be cancelled too; they

@@ -227,6 +227,17 @@ def test_attractors_match_gapchain_attractors(tmp_path):
     assert [x["F_m"] for x in written["attractors"]] == columns["F_m"].tolist()
     assert [x["basin_fraction"] for x in written["attractors"]] == \
         columns["basin_fraction"].tolist()
+    # Per start: where its transient ended, as starts.csv says; the per-attractor statistics.
+    rows = (tmp_path / "a" / "starts.csv").read_text().splitlines()
+    assert rows[0] == "start,attractor,settle_period,F_m_run" and len(rows) == 41
+    assert [int(r.split(",")[2]) for r in rows[1:]] == a["sample_settle_period"].tolist()
+    assert a["sample_F_m"].shape == (40,)
+    for i in range(2):
+        members = a["sample_settle_period"][a["sample_attractor"] == i]
+        settled = members[members >= 0]
+        assert columns["still_settling"][i] == np.count_nonzero(members < 0)
+        assert columns["settle_max"][i] == settled.max()
+        assert columns["F_m_runs"][i] >= columns["F_m"][i] * (1 - 1e-4)
 
 
 def test_basin_fractions_label_each_attractor_along_the_line():

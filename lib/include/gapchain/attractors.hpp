@@ -21,12 +21,20 @@
 /// converging to it and joins it. Each non-periodic group is confirmed by continuing its first
 /// member's run as long again: if that reaches another attractor, or settles on an orbit, the
 /// group was a transient that outlasted its runs and joins it (or becomes that orbit).
+///
+/// Settling. Each start that settles on a periodic attractor reports where its transient ended:
+/// the period from which on its state stayed within 1e-3 (relative) of repeating
+/// (SimulationResult::cycle_entry_period). Where a chaotic saddle coexists with the attractors
+/// these lifetimes are long and exponentially distributed (escape from the saddle is
+/// memoryless); a run that records part of them reports the transient's F_m, which F_m_runs
+/// shows.
 
 #include "gapchain/classify.hpp"
 #include "gapchain/model.hpp"
 #include "gapchain/run.hpp"
 
 #include <cstdint>
+#include <limits>
 #include <optional>
 #include <string_view>
 #include <vector>
@@ -93,7 +101,20 @@ struct Attractor {
     /// binomial standard error sqrt(p (1 - p) / N), at least 1 / N (N starts all alike bound
     /// the fraction to about that)
     double basin_fraction_error = 0.0;
-    long samples = 0;                  ///< random starts that reach it
+    long samples = 0; ///< random starts that reach it
+    /// A periodic attractor: the median over its random starts of the period where their
+    /// transient ended (cycle_entry_period), counting those still_settling as longer than any;
+    /// NaN if the median is one of those, and for a non-periodic attractor.
+    double settle_median = std::numeric_limits<double>::quiet_NaN();
+    /// The longest of those periods over the starts that settled [forcing periods]; NaN if none.
+    double settle_max = std::numeric_limits<double>::quiet_NaN();
+    /// Random starts that reach it but whose runs ended still approaching it (a transient
+    /// longer than run.periods); 0 for a non-periodic attractor.
+    long still_settling = 0;
+    /// The largest F_m the runs of its random starts recorded, over their windows after the
+    /// discarded start-up (run.transient_periods): what single runs from those starts report,
+    /// their transients included. Above F_m when transients outlast the discarded periods.
+    double F_m_runs = 0.0;
     long slice_points = 0;             ///< slice starts that reach it
     std::vector<double> initial_state; ///< the first start that reached it (2 Nm)
     std::vector<double> state;         ///< a state on it at phase 0 (the orbit's, if periodic)
@@ -115,12 +136,16 @@ struct AttractorSet {
     double F_m_max_error = 0.0;        ///< that attractor's F_m_error
     int F_m_max_id = -1;               ///< the attractor it belongs to (-1: none)
     std::vector<int> sample_attractor; ///< per random start: attractor id, -1 if its run failed
-    long failed = 0;                   ///< starts whose run failed (non-finite)
-    std::vector<int> slice_attractor;  ///< resolution^2, second axis slowest; -1: failed
-    std::vector<double> slice_first;   ///< the slice's x values
-    std::vector<double> slice_second;  ///< the slice's y values
-    double amplitude = 0.0;            ///< A of eq (20), the box's unit
-    double wall_time_s = 0.0;          ///< [s]
+    /// Per random start: the period where its transient ended (cycle_entry_period); -1 if its
+    /// run did not settle on an orbit (a non-periodic attractor, still approaching, or failed).
+    std::vector<long> sample_settle_period;
+    std::vector<double> sample_F_m;   ///< per random start: its run's F_m (0 if its run failed)
+    long failed = 0;                  ///< starts whose run failed (non-finite)
+    std::vector<int> slice_attractor; ///< resolution^2, second axis slowest; -1: failed
+    std::vector<double> slice_first;  ///< the slice's x values
+    std::vector<double> slice_second; ///< the slice's y values
+    double amplitude = 0.0;           ///< A of eq (20), the box's unit
+    double wall_time_s = 0.0;         ///< [s]
     int threads_used = 1;
     bool cancelled = false; ///< progress asked to stop; nothing was grouped
 };

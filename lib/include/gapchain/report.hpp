@@ -97,8 +97,13 @@ std::string branch_csv(const ContinuationResult& result);
 std::string special_csv(const ContinuationResult& result);
 
 /// Attractors, one row each: id,regime,period,F_m,F_m_error,lambda_max,lambda_max_error,
-/// basin_fraction,basin_fraction_error,samples,slice_points.
+/// basin_fraction,basin_fraction_error,samples,slice_points,settle_median,settle_max,
+/// still_settling,F_m_runs (settle_median and settle_max "nan" where undefined).
 std::string attractors_csv(const AttractorSet& set);
+
+/// The random starts, one row each: start,attractor,settle_period,F_m_run (attractor -1: the
+/// run failed; settle_period -1: the run did not settle on an orbit).
+std::string attractor_starts_csv(const AttractorSet& set);
 
 /// Attractors as JSON: F_m_max (the design value) and its attractor, each attractor with its
 /// row of attractors_csv(), max_multiplier, initial_state and state, the search's options and

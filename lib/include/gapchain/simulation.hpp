@@ -54,6 +54,13 @@ struct SimulationResult {
     std::vector<BodyMaximum> per_body;       ///< Nm entries
     std::optional<int> steady_state_period;  ///< k if a periodic steady state was found
     std::optional<double> steady_state_time; ///< reduced time it was found at
+    /// A run that found a steady state: the first period from which on its state stayed within
+    /// SteadyStateDetector::far_distance (1e-3, relative) of repeating with some period up to
+    /// run.max_steady_period, i.e. where its transient ended and the final approach began. The
+    /// first max_steady_period periods are not tested: a run never seen far from a cycle reports
+    /// max_steady_period + 1, or the period its steady state was found at if that is earlier.
+    /// -1 without a steady state.
+    long cycle_entry_period = -1;
     RunStatus status = RunStatus::completed; ///< how the main run ended
     std::string message;                     ///< failure explanation, empty on success
     Scheme scheme = Scheme::rk4;             ///< concrete scheme used

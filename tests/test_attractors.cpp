@@ -1,5 +1,6 @@
 #include "gapchain/attractors.hpp"
 
+#include "gapchain/report.hpp"
 #include "gapchain/simulation.hpp"
 
 #include <doctest/doctest.h>
@@ -7,6 +8,8 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <sstream>
+#include <string>
 
 using namespace gapchain;
 
@@ -255,8 +258,8 @@ TEST_CASE("a chaotic transient that outlasts the runs is not an attractor (issue
     CHECK(a.settle_max < 1000);
     CHECK(a.F_m_runs > 1.15);
     CHECK(a.F_m_runs < 1.19);
-    const auto unsettled = std::count(set.sample_settle_period.begin(),
-                                      set.sample_settle_period.end(), -1L);
+    const auto unsettled =
+        std::count(set.sample_settle_period.begin(), set.sample_settle_period.end(), -1L);
     CHECK(unsettled == a.still_settling);
 }
 
@@ -301,4 +304,37 @@ TEST_CASE("runs still converging to an orbit are an unsettled group, not a quasi
     CHECK(late.attractors.front().settled);
     CHECK(late.attractors.front().period == 3);
     CHECK(late.unsettled == 0);
+}
+
+TEST_CASE("fractions.csv: a label absent at a value has fraction 0 +- 1/N, not 0 +- 0") {
+    // Two values, 25 starts each: label 1 is reached only at the first.
+    FractionContinuation c;
+    c.values = {1.0, 2.0};
+    c.label_count = 2;
+    for (int k = 0; k < 2; ++k) {
+        AttractorSet set;
+        set.sample_attractor.assign(25, 0);
+        Attractor a;
+        a.F_m = 1.5;
+        a.period = 1;
+        a.basin_fraction = k == 0 ? 0.6 : 1.0;
+        a.basin_fraction_error = 0.1;
+        set.attractors.push_back(a);
+        if (k == 0) {
+            a.id = 1;
+            a.basin_fraction = 0.4;
+            set.attractors.push_back(a);
+        }
+        c.sets.push_back(set);
+        c.labels.push_back(k == 0 ? std::vector<int>{0, 1} : std::vector<int>{0});
+    }
+    std::istringstream csv(fractions_csv(c));
+    std::string header, first, second;
+    std::getline(csv, header);
+    std::getline(csv, first);
+    std::getline(csv, second);
+    CHECK(header == "value,fraction_0,fraction_error_0,F_m_0,period_0,fraction_1,"
+                    "fraction_error_1,F_m_1,period_1");
+    CHECK(first == "1,0.6,0.1,1.5,1,0.4,0.1,1.5,1");
+    CHECK(second == "2,1,0.1,1.5,1,0,0.04,,");
 }

@@ -423,8 +423,10 @@ std::string fractions_csv(const FractionContinuation& c) {
         const auto& labels = c.labels[k];
         for (int label = 0; label < c.label_count; ++label) {
             const auto it = std::find(labels.begin(), labels.end(), label);
-            if (it == labels.end()) { // absent: no starts, no F_m, no period
-                os << ",0,0,,";
+            // Absent: none of the N starts reached it, which bounds its fraction to about 1/N
+            // (as basin_fraction_error's floor), not to 0; no F_m, no period.
+            if (it == labels.end()) {
+                os << ",0," << 1.0 / static_cast<double>(c.sets[k].sample_attractor.size()) << ",,";
                 continue;
             }
             const Attractor& a =

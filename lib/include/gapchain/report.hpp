@@ -116,7 +116,8 @@ std::string basin_slice_csv(const AttractorSet& set);
 
 /// Basin fractions along a line, one row per value: value, then for every label L the columns
 /// fraction_L, fraction_error_L, F_m_L, period_L (period 0 for a non-periodic attractor; where
-/// L is absent, fractions 0, so that a plot can stack them, and F_m and period empty).
+/// L is absent, fraction 0, so that a plot can stack them, with the error 1/N of N starts none
+/// of which reached it, and F_m and period empty).
 std::string fractions_csv(const FractionContinuation& continuation);
 
 /// A periodic orbit as JSON: period, minimal_period, state, residual, iterations, multipliers

@@ -265,3 +265,21 @@ def test_a_sweep_with_attractors_has_the_design_value_columns():
     s = gapchain.sweep(study)
     assert s["attractors"].tolist() == [2]
     assert s["F_m_max"][0] >= s["F_m"][0]
+
+
+def test_an_argument_of_the_wrong_type_is_named_in_one_line():
+    cases = [(gapchain.attractors, {"samples": 1.5}, "samples: must be an integer, got 1.5"),
+             (gapchain.attractors, {"seed": -1}, r"seed: must be an integer in \[0, 2\*\*64\)"),
+             (gapchain.orbit, {"period": 3.0}, "period: must be an integer, got 3.0"),
+             (gapchain.classify, {"transient": None}, "transient: must be an integer, got None"),
+             (gapchain.simulate, {"trajectory": "yes"}, "trajectory: must be True or False"),
+             (gapchain.regime_map, {"e_r": [0.1, "x"], "f_r": [1.0]},
+              "e_r: must be a list of numbers")]
+    for function, kwargs, message in cases:
+        with pytest.raises(TypeError, match=message) as raised:
+            function(MIRROR_PAIR, **kwargs)
+        assert "\n" not in str(raised.value)
+    # The wrapper keeps the name and the help text, and lets right-typed calls through.
+    assert gapchain.attractors.__name__ == "attractors"
+    assert gapchain.attractors.__doc__.startswith("attractors(scene=None")
+    assert gapchain.orbit(MIRROR_PAIR, period=np.int64(1))["status"] == "converged"

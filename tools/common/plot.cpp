@@ -5,6 +5,7 @@
 #include "gapchain/report.hpp"
 
 #include <cerrno>
+#include <csignal>
 #include <cstdio>
 #include <cstdlib>
 #include <fcntl.h>
@@ -58,10 +59,21 @@ int run_gnuplot(const fs::path& dir, const std::string& script, const std::strin
     posix_spawn_file_actions_destroy(&actions);
     if (spawned == ENOENT) return gnuplot_missing;
     if (spawned != 0) return -1;
+    // A SIGTERM sent to this process alone (a batch system's) does not reach gnuplot, and the
+    // handler restarts waitpid(): the wait polls, and passes the signal on.
     int status = 0;
-    while (::waitpid(pid, &status, 0) == -1)
-        if (errno != EINTR) return -1;
-    return status;
+    bool passed_on = false;
+    for (;;) {
+        const pid_t done = ::waitpid(pid, &status, passed_on ? 0 : WNOHANG);
+        if (done == pid) return status;
+        if (done == -1 && errno != EINTR) return -1;
+        if (!passed_on && interrupted()) {
+            ::kill(pid, SIGTERM);
+            passed_on = true;
+        } else if (!passed_on) {
+            ::usleep(10'000);
+        }
+    }
 }
 
 } // namespace

@@ -127,22 +127,22 @@ TEST_CASE("bifurcation and regime maps: a cancelled run stops within one value p
         o.transient_periods = 20;
         o.record_periods = 10;
         o.threads = threads;
-        int calls = 0;
-        const BifurcationResult r = bifurcation(base, o, [&](double) { return ++calls < 3; });
+        // Cancel once 3 of the 40 values are done.
+        const BifurcationResult r =
+            bifurcation(base, o, [&](double done) { return done < 3.0 / 40.0 - 1e-12; });
         CHECK(r.cancelled);
         long ran = 0;
         for (const auto& row : r.rows)
             ran += row.status != RunStatus::cancelled;
-        CHECK(calls == 3);
         CHECK(ran >= 3);
-        CHECK(ran <= 3 + threads); // values already started may finish
+        CHECK(ran <= 3 + threads); // values that finished while the third did
 
         ClassifyOptions co;
         co.transient_periods = 10;
         co.record_periods = 10;
-        calls = 0;
-        const RegimeMap map = regime_map(base, {0.0, 0.1, 0.2, 0.3, 0.4}, {1.0, 2.0, 3.0, 4.0}, co,
-                                         threads, [&](double) { return ++calls < 2; });
+        const RegimeMap map =
+            regime_map(base, {0.0, 0.1, 0.2, 0.3, 0.4}, {1.0, 2.0, 3.0, 4.0}, co, threads,
+                       [&](double done) { return done < 2.0 / 20.0 - 1e-12; });
         CHECK(map.cancelled);
         long cells = 0;
         for (const auto& c : map.cells)
@@ -155,8 +155,35 @@ TEST_CASE("bifurcation and regime maps: a cancelled run stops within one value p
     o.transient_periods = 20;
     o.record_periods = 10;
     o.mode = SweepMode::continuation;
-    int calls = 0;
-    const BifurcationResult r = bifurcation(base, o, [&](double) { return ++calls < 4; });
+    const BifurcationResult r =
+        bifurcation(base, o, [&](double done) { return done < 4.0 / 20.0 - 1e-12; });
     CHECK(r.cancelled);
     CHECK(r.rows.size() == 4);
+}
+
+TEST_CASE("bifurcation and regime maps: a cancel stops a long value inside its run") {
+    // One value of a million periods (minutes): the first call from inside the run cancels it.
+    const ReducedParameters base{3, 60.0, 0.5, 0.06, 3.0};
+    for (const SweepMode mode : {SweepMode::independent, SweepMode::continuation}) {
+        BifurcationOptions o;
+        o.steps = 1;
+        o.from = o.to = 3.0;
+        o.transient_periods = 0;
+        o.record_periods = 1'000'000;
+        o.mode = mode;
+        int calls = 0;
+        const BifurcationResult r = bifurcation(base, o, [&](double) { return ++calls < 2; });
+        CHECK(r.cancelled);
+        for (const auto& row : r.rows)
+            CHECK(row.status == RunStatus::cancelled);
+    }
+    ClassifyOptions co;
+    co.transient_periods = 10;
+    co.record_periods = 1'000'000;
+    co.max_period = 1; // the chaotic point never settles: the record runs to its end
+    int calls = 0;
+    const RegimeMap map =
+        regime_map(base, {0.06}, {3.0}, co, 1, [&](double) { return ++calls < 2; });
+    CHECK(map.cancelled);
+    CHECK(map.cells.front().status == RunStatus::cancelled);
 }

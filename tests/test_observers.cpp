@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -109,12 +110,17 @@ TEST_CASE(
     // v = u' on scales 1 and 2 pi. Four periods make 3.08 turns, so the 4-period test passes
     // before the 1-period one; the stored cycle is (0.3, -2.1).
     // At f_r = 2.7, 8 periods make 2.96 turns and 2 make 0.74: 8 is shortened to 2, then 1.
-    const double eps = 0.01, pi = 3.14159265358979323846;
-    for (const auto& [f_r, phase] : {std::pair{1.3, 0.0}, std::pair{1.3, 0.7}, std::pair{1.3, 1.9},
-                                     std::pair{2.7, 0.0}, std::pair{2.7, 1.1}}) {
+    // Near f_r = 2 j / m the largest component, sampled once a period, beats over tens of
+    // periods (1.944, 3.9: a second read found period 2 and 4 there).
+    const double pi = 3.14159265358979323846;
+    for (const auto& [eps, f_r, phase] :
+         {std::tuple{0.01, 1.3, 0.0}, std::tuple{0.01, 1.3, 0.7}, std::tuple{0.01, 1.3, 1.9},
+          std::tuple{0.01, 2.7, 0.0}, std::tuple{0.01, 2.7, 1.1}, std::tuple{0.01, 1.9444, 0.0},
+          std::tuple{0.01, 3.9, 0.0}, std::tuple{0.003, 2.0, 0.4}, std::tuple{0.003, 3.8, 2.0},
+          std::tuple{0.003, 0.66, 0.0}}) {
         const double decay = std::exp(-2 * pi * eps / f_r);
         const double turn = 2 * pi * std::sqrt(1 - eps * eps) / f_r;
-        SteadyStateDetector steady(2, 16, 1e-10, 0);
+        SteadyStateDetector steady(2, 16, 1e-10, 0, 2 * pi);
         long stopped_at = -1;
         double size = 0.5;
         for (long n = 0; n < 5000 && stopped_at < 0; ++n, size *= decay) {
@@ -123,9 +129,35 @@ TEST_CASE(
                                           -2.1 - 2 * pi * size * std::sin(angle)};
             if (steady.on_period(n, static_cast<double>(n), y.data())) stopped_at = n;
         }
+        CAPTURE(eps);
         CAPTURE(f_r);
         CAPTURE(phase);
         REQUIRE(stopped_at > 0);
         CHECK(steady.period() == 1);
+    }
+}
+
+TEST_CASE("SteadyStateDetector: a genuine period-2 orbit approached along a turning deviation "
+          "stays 2") {
+    // The two points of the orbit differ by 10 tolerances in u; the deviation turns as in the
+    // test above (eps = 0.01, f_r = 5.0109: 10 periods nearly close its turns, so 10 passes
+    // first, with divisor distances 1 and 5 stuck at the split while 2's decays).
+    const double eps = 0.01, f_r = 5.0109, pi = 3.14159265358979323846, tolerance = 1e-10;
+    const double decay = std::exp(-2 * pi * eps / f_r);
+    const double turn = 2 * pi * std::sqrt(1 - eps * eps) / f_r;
+    for (const double phase : {0.0, 1.75, 3.0}) {
+        SteadyStateDetector steady(2, 16, tolerance, 0, 2 * pi);
+        long stopped_at = -1;
+        double size = 0.5;
+        for (long n = 0; n < 20000 && stopped_at < 0; ++n, size *= decay) {
+            const double angle = phase + turn * static_cast<double>(n);
+            const double split = n % 2 == 0 ? 5 * tolerance : -5 * tolerance;
+            const std::array<double, 2> y{0.3 + split + size * std::cos(angle),
+                                          -2.1 - 2 * pi * size * std::sin(angle)};
+            if (steady.on_period(n, static_cast<double>(n), y.data())) stopped_at = n;
+        }
+        CAPTURE(phase);
+        REQUIRE(stopped_at > 0);
+        CHECK(steady.period() == 2);
     }
 }

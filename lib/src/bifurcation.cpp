@@ -25,9 +25,11 @@ std::string_view to_string(SweepDirection d) {
 
 namespace {
 
-/// One value: run transient + record periods from y (updated to the end state).
+/// One value: run transient + record periods from y (updated to the end state); keep_going
+/// may stop it (status cancelled).
 BifurcationRow diagram_row(const ReducedParameters& p, const BifurcationOptions& o,
-                           std::vector<double>& y, SweepDirection direction, double value) {
+                           std::vector<double>& y, SweepDirection direction, double value,
+                           const ProgressCallback& keep_going) {
     const Dynamics dyn = Dynamics::paper_row(p);
     RunOptions options;
     options.periods = o.transient_periods + o.record_periods;
@@ -45,7 +47,7 @@ BifurcationRow diagram_row(const ReducedParameters& p, const BifurcationOptions&
     const long split = o.record_periods >= 2 ? o.transient_periods + o.record_periods / 2 : -1;
     MaxForceTracker forces(dyn, split);
     Observer* observers[] = {&sampler, &forces};
-    row.status = planned.run(observers).status;
+    row.status = planned.run(observers, keep_going).status;
     y = planned.state();
     row.F_m = forces.max_force();
     row.F_m_error = std::max(forces.half_spread(), o.tolerance * row.F_m);
@@ -63,15 +65,15 @@ void independent_rows(const ReducedParameters& base, const BifurcationOptions& o
         result.rows[k].status = RunStatus::cancelled;
     }
     result.threads_used = detail::thread_count(o.threads);
-    long done = 0;
+    detail::SharedProgress shared(progress, o.steps);
     const auto end = detail::parallel_for(
         o.steps, result.threads_used,
         [&](long k) {
             std::vector<double> y(2 * base.Nm, 0.0);
             result.rows[k] = diagram_row(with_value(base, o.parameter, values[k]), o, y,
-                                         SweepDirection::up, values[k]);
+                                         SweepDirection::up, values[k], shared.item_callback());
         },
-        [&](long) { return !progress || progress(static_cast<double>(++done) / o.steps); });
+        [&](long) { return shared.finished(); });
     result.cancelled = end == detail::LoopEnd::cancelled;
 }
 
@@ -82,11 +84,19 @@ void continued_rows(const ReducedParameters& base, const BifurcationOptions& o,
     std::vector<double> y(2 * base.Nm, 0.0);
     const int total = 2 * o.steps;
     int done = 0;
+    const ProgressCallback keep_going = [&](double) {
+        return !progress || progress(static_cast<double>(done) / total);
+    };
     for (SweepDirection dir : {SweepDirection::up, SweepDirection::down}) {
         for (int i = 0; i < o.steps; ++i) {
             const int k = dir == SweepDirection::up ? i : o.steps - 1 - i;
-            result.rows.push_back(
-                diagram_row(with_value(base, o.parameter, values[k]), o, y, dir, values[k]));
+            result.rows.push_back(diagram_row(with_value(base, o.parameter, values[k]), o, y, dir,
+                                              values[k], keep_going));
+            if (result.rows.back().status == RunStatus::cancelled) {
+                result.rows.pop_back();
+                result.cancelled = true;
+                return;
+            }
             // A run that blew up cannot seed the next value: restart that one from rest.
             if (result.rows.back().status == RunStatus::non_finite)
                 std::fill(y.begin(), y.end(), 0.0);

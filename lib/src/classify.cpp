@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 namespace gapchain {
@@ -145,9 +146,23 @@ void take_forces(const MaxForceTracker& forces, double tolerance, RecordedEviden
     evidence.impacts = total_impacts(forces);
 }
 
+/// The regime of a point that settled on a cycle of `period` periods (periodic or no contact),
+/// or else from the recorded evidence.
+void label_regime(const ClassifyOptions& o, const RecordedEvidence& evidence, double f_r,
+                  std::optional<int> period, Classification& c) {
+    if (!period) {
+        label_unsettled(o, evidence, f_r, c);
+        return;
+    }
+    c.stopped_at_steady_state = true;
+    c.period = *period;
+    c.regime = (c.F_m > 0.0 || evidence.impacts > 0) ? Regime::periodic : Regime::no_contact;
+}
+
 } // namespace
 
-Classification classify(const ReducedParameters& p, const ClassifyOptions& o) {
+Classification classify(const ReducedParameters& p, const ClassifyOptions& o,
+                        const ProgressCallback& keep_going) {
     const auto start = std::chrono::steady_clock::now();
     validate(o);
     validate(p);
@@ -159,15 +174,16 @@ Classification classify(const ReducedParameters& p, const ClassifyOptions& o) {
     // is found. The tangent vector rides along; for a periodic point its average over this
     // phase is the evidence of contraction.
     TangentObserver tangent(dyn, 1, 0);
-    SteadyStateDetector steady(dyn.dimension(), o.max_period, o.steady_tolerance, 0);
+    SteadyStateDetector steady(dyn.dimension(), o.max_period, o.steady_tolerance, 0,
+                               natural_angular_frequency);
     Classification c;
     double t = 0.0;
     if (o.transient_periods > 0) {
         Observer* settling[] = {&steady, &tangent};
-        const RunOutcome first = planned.run({o.transient_periods, 0, 0.0}, settling);
+        const RunOutcome first = planned.run({o.transient_periods, 0, 0.0}, settling, keep_going);
         c.periods_run = first.periods_done;
         c.status = first.status;
-        if (first.status == RunStatus::non_finite) return c;
+        if (first.status == RunStatus::non_finite || first.status == RunStatus::cancelled) return c;
         t = first.t_end;
     }
     const LyapunovResult settling_lyap = tangent.result();
@@ -185,23 +201,17 @@ Classification classify(const ReducedParameters& p, const ClassifyOptions& o) {
     SignalRecorder recorder(dyn, SectionVariable{}, dyn.period() / o.samples_per_period,
                             evidence.u1);
     Observer* recording[] = {&forces, &tangent, &sampler, &recorder};
-    const RunOutcome outcome = planned.run({record, 0, t}, recording);
+    const RunOutcome outcome = planned.run({record, 0, t}, recording, keep_going);
     c.periods_run += outcome.periods_done;
     c.status = outcome.status;
-    if (outcome.status == RunStatus::non_finite) return c;
+    if (outcome.status == RunStatus::non_finite || outcome.status == RunStatus::cancelled) return c;
     const LyapunovResult lyap = periodic_state ? settling_lyap : tangent.result();
     c.lambda_max = lyap.exponents.front();
     c.lambda_max_error = lyap.errors.front();
     take_forces(forces, o.tolerance, evidence, c);
     count_section_points(evidence.section, o.period_tolerance, c);
 
-    if (periodic_state) {
-        c.stopped_at_steady_state = true;
-        c.period = *steady.period();
-        c.regime = (c.F_m > 0.0 || evidence.impacts > 0) ? Regime::periodic : Regime::no_contact;
-    } else {
-        label_unsettled(o, evidence, p.f_r, c);
-    }
+    label_regime(o, evidence, p.f_r, steady.period(), c);
     if (o.confirm_by_newton && c.regime == Regime::periodic && c.period > 0)
         confirm_periodic(dyn, planned.state(), c);
     c.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -228,16 +238,16 @@ RegimeMap regime_map(const ReducedParameters& base, const std::vector<double>& e
     for (auto& cell : map.cells)
         cell.status = RunStatus::cancelled;
     map.threads_used = detail::thread_count(threads);
-    long done = 0;
+    detail::SharedProgress shared(progress, cells);
     const auto end = detail::parallel_for(
         cells, map.threads_used,
         [&](long k) {
             ReducedParameters p = base;
             p.e_r = e_r[k / f_r.size()];
             p.f_r = f_r[k % f_r.size()];
-            map.cells[k] = classify(p, o);
+            map.cells[k] = classify(p, o, shared.item_callback());
         },
-        [&](long) { return !progress || progress(static_cast<double>(++done) / cells); });
+        [&](long) { return shared.finished(); });
     map.cancelled = end == detail::LoopEnd::cancelled;
     map.wall_time_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

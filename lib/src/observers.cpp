@@ -210,12 +210,14 @@ double MaxForceTracker::max_force() const {
 }
 
 SteadyStateDetector::SteadyStateDetector(int dimension, int max_period, double tolerance,
-                                         long earliest_stop)
+                                         long earliest_stop, double velocity_scale)
     : m_dim(dimension), m_max_period(max_period), m_tolerance(tolerance),
       m_earliest_stop(earliest_stop),
-      m_ring(static_cast<std::size_t>(max_period) + 2, std::vector<double>(dimension)) {
+      m_ring(static_cast<std::size_t>(max_period) + 2, std::vector<double>(dimension)),
+      m_velocity_scale(velocity_scale) {
     detail::require_range("run.max_steady_period", max_period, 1, 1000);
     detail::require_range("run.steady_tolerance", tolerance, 0.0, 1.0, detail::Bound::open_low);
+    detail::require_range("velocity_scale", velocity_scale, 0.0, 1e12, detail::Bound::open_low);
 }
 
 double SteadyStateDetector::distance(long a, long b) const {
@@ -244,11 +246,14 @@ bool SteadyStateDetector::matches_period(long n, int k) const {
 // lightly damped row: eps = 0.01, f_r = 1.3 turns 0.77 of a turn per period) passes the k test
 // first for the k whose turns nearly close (period 4). A divisor that nearly matches is watched
 // while its distance keeps shrinking; a genuine k-cycle's divisor distance settles at its split
-// and ends the watch. The distance of a turning deviation swings with its direction (the
-// largest component, sampled once a period), so "shrinking" compares the largest distance over
-// consecutive windows of max(4 k, 16) periods, which sample the turn at many phases, not two
-// distances k periods apart; a fall of 1 % per window is enough (eps = 0.003 at f_r = 2.7
-// falls 11 %), a genuine cycle's window maxima settle at its split.
+// and ends the watch. The test's distance (the largest component) of a turning deviation swings
+// with its direction, sampled once a period with beats of tens of periods near f_r = 2 j / m:
+// the watch measures u and v / (natural angular frequency) instead, in which a free vibration
+// turns on a circle and its deviation only decays. Each divisor is watched on its own (a
+// genuine period-2 orbit detected as 10 has divisor distances 1 and 5 stuck at its split while
+// 2's decays), by its largest distance over windows of max(4 k, 64) periods (the distance still
+// ripples by some 5 % over tens of periods); a fall of 1 % per window is enough (eps = 0.003 at f_r
+// = 2.7 falls 11 %).
 bool SteadyStateDetector::shorten_to_divisor(long n) {
     for (int d = 1; d < *m_period; ++d) {
         if (*m_period % d == 0 && matches_period(n, d)) {
@@ -268,13 +273,31 @@ double SteadyStateDetector::divisor_distance(long n) const {
 
 void SteadyStateDetector::start_watch(long n) {
     m_watch = {};
-    if (const double d = divisor_distance(n); d <= near_divisor_factor * m_tolerance)
-        m_watch = {std::numeric_limits<double>::infinity(), d, n + watch_window(),
-                   n + std::max(64L * *m_period, 4096L)};
+    if (divisor_distance(n) > near_divisor_factor * m_tolerance) return;
+    for (int d = 1; d < *m_period; ++d)
+        if (*m_period % d == 0) {
+            m_watch.divisors.push_back(d);
+            m_watch.previous_max.push_back(std::numeric_limits<double>::infinity());
+            m_watch.window_max.push_back(turn_free_distance(n, n - d));
+        }
+    m_watch.window_end = n + watch_window();
+    m_watch.end = n + std::max(64L * *m_period, 4096L);
 }
 
 long SteadyStateDetector::watch_window() const {
-    return std::max(4L * *m_period, 16L);
+    return std::max(4L * *m_period, 64L);
+}
+
+double SteadyStateDetector::turn_free_distance(long a, long b) const {
+    const auto& ya = m_ring[a % m_ring.size()];
+    const auto& yb = m_ring[b % m_ring.size()];
+    const int half = m_dim / 2;
+    double sum = 0.0;
+    for (int i = 0; i < m_dim; ++i) {
+        const double d = (ya[i] - yb[i]) / (i < half ? 1.0 : m_velocity_scale);
+        sum += d * d;
+    }
+    return std::sqrt(sum);
 }
 
 void SteadyStateDetector::watch_divisors(long n) {
@@ -288,15 +311,20 @@ void SteadyStateDetector::watch_divisors(long n) {
         m_watch = {};
         return;
     }
-    m_watch.window_max = std::max(m_watch.window_max, divisor_distance(n));
-    if (n < m_watch.window_end) return;
-    if (m_watch.window_max > 0.99 * m_watch.previous_max) {
+    DivisorWatch& w = m_watch;
+    for (std::size_t i = 0; i < w.divisors.size(); ++i)
+        w.window_max[i] = std::max(w.window_max[i], turn_free_distance(n, n - w.divisors[i]));
+    if (n < w.window_end) return;
+    bool shrinking = false;
+    for (std::size_t i = 0; i < w.divisors.size(); ++i)
+        shrinking = shrinking || w.window_max[i] <= 0.99 * w.previous_max[i];
+    if (!shrinking) {
         m_watch = {};
         return;
     }
-    m_watch.previous_max = m_watch.window_max;
-    m_watch.window_max = 0.0;
-    m_watch.window_end = n + watch_window();
+    w.previous_max = w.window_max;
+    std::fill(w.window_max.begin(), w.window_max.end(), 0.0);
+    w.window_end = n + watch_window();
 }
 
 bool SteadyStateDetector::on_period(long n, double t, const double* y) {

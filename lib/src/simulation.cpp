@@ -53,7 +53,7 @@ public:
         // A record has no period, so no periodic steady state: it runs to its end.
         if (options.stop_at_steady_state && dyn.ground_motion().is_harmonic()) {
             m_steady.emplace(dyn.dimension(), options.max_steady_period, options.steady_tolerance,
-                             options.transient_periods);
+                             options.transient_periods, natural_angular_frequency);
             m_list.push_back(&*m_steady);
             m_list.push_back(&m_distances);
         }

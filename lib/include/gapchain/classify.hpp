@@ -68,8 +68,11 @@ struct Classification {
 };
 
 /// Classifies one point: one run with the max-force tracker, the steady-state detector, a
-/// one-vector tangent observer, a stroboscopic section and a u_1 recorder.
-Classification classify(const ReducedParameters& p, const ClassifyOptions& options);
+/// one-vector tangent observer, a stroboscopic section and a u_1 recorder. keep_going is asked
+/// as the run advances (its argument is not a fraction of this point); false stops it with
+/// status cancelled.
+Classification classify(const ReducedParameters& p, const ClassifyOptions& options,
+                        const ProgressCallback& keep_going = {});
 
 /// A regime map over e_r (rows) and f_r (columns).
 struct RegimeMap {
@@ -84,7 +87,7 @@ struct RegimeMap {
 
 /// Classifies every (e_r, f_r) around base in parallel (OpenMP, dynamic schedule; threads 0 =
 /// all). Results do not depend on the thread count. Progress is called with the fraction done
-/// (serialised).
+/// (serialised), also while a cell runs, so that a cancel stops a long cell.
 RegimeMap regime_map(const ReducedParameters& base, const std::vector<double>& e_r,
                      const std::vector<double>& f_r, const ClassifyOptions& options,
                      int threads = 0, const ProgressCallback& progress = {});

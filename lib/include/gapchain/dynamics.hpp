@@ -11,11 +11,16 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <string>
 #include <utility>
 #include <vector>
 
 namespace gapchain {
+
+/// A body's natural angular frequency on its spring at the nominal mass, in reduced units (time
+/// in natural periods): 2 pi [rad / reduced time].
+inline constexpr double natural_angular_frequency = 2.0 * std::numbers::pi;
 
 /// Harmonic ground acceleration a0 cos(2 pi f_r t); in the reduced equations every body feels
 /// ground(t) = -4 pi^2 amplitude cos(2 pi f_r t).

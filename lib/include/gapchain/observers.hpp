@@ -65,16 +65,21 @@ class SteadyStateDetector final : public Observer {
 public:
     /// dimension: state size 2 Nm; max_period: largest k tried (>= 1); tolerance > 0;
     /// earliest_stop: first recorded period; a stop is asked for only once a whole steady
-    /// period k has been recorded after it (so the recorded maxima cover the orbit).
-    SteadyStateDetector(int dimension, int max_period, double tolerance, long earliest_stop);
+    /// period k has been recorded after it (so the recorded maxima cover the orbit);
+    /// velocity_scale > 0: the divisor watch measures u and v / velocity_scale (a body's natural
+    /// angular frequency, 2 pi in reduced units, keeps the size of a free vibration's deviation
+    /// as it turns).
+    SteadyStateDetector(int dimension, int max_period, double tolerance, long earliest_stop,
+                        double velocity_scale = 1.0);
     void on_step(const StepView&) override {}
     bool on_period(long n, double t, const double* y) override;
     /// Period k of the steady state, once found: the smallest k whose test passed, shortened to
-    /// a divisor d of k that passes later, when d's distance was already within
-    /// near_divisor_factor * tolerance and keeps shrinking: its largest value over consecutive
-    /// windows of max(4 k, 16) periods falls by 1 % or more (the stop waits for that: at most
-    /// max(64 k, 4096) periods). A deviation that turns and decays slower than that (eps below
-    /// about 0.001) may keep a multiple of the true period.
+    /// a divisor d of k that passes later, when the divisors' distance was already within
+    /// near_divisor_factor * tolerance and one of them keeps shrinking: its largest value (u, v
+    /// / velocity_scale, 2-norm) over consecutive windows of max(4 k, 64) periods falls by 1 %
+    /// or more (the stop waits for that: at most max(64 k, 4096) periods). A shortened period's
+    /// own divisors are watched in turn. A deviation that decays by less than 1 % in 64 periods
+    /// (eps below about 0.0003 at f_r = 2.7) may keep a multiple of the true period.
     [[nodiscard]] std::optional<int> period() const { return m_period; }
     /// Reduced time at which it was found.
     [[nodiscard]] std::optional<double> time() const { return m_time; }
@@ -83,7 +88,7 @@ public:
     /// on. -1 if none.
     [[nodiscard]] long last_far_period() const { return m_last_far; }
     /// How close (in tolerances) a divisor of a detected period must be to get its extra periods.
-    static constexpr double near_divisor_factor = 100.0;
+    static constexpr double near_divisor_factor = 1e4;
     /// The relative distance last_far_period() uses.
     static constexpr double far_distance = 1e-3;
     /// At the last period boundary n > max_period: the relative distance from the state there
@@ -103,8 +108,10 @@ private:
     [[nodiscard]] double divisor_distance(long n) const;
     /// Watches m_period's divisors from boundary n if one is within near_divisor_factor.
     void start_watch(long n);
-    /// Periods over which the watch takes the largest divisor distance: max(4 k, 16).
+    /// Periods over which the watch takes the largest divisor distance: max(4 k, 64).
     [[nodiscard]] long watch_window() const;
+    /// |y_a - y_b| in the watch's norm: 2-norm of u and v / velocity_scale.
+    [[nodiscard]] double turn_free_distance(long a, long b) const;
     /// One boundary of the watch on a nearly matching divisor (see period()).
     void watch_divisors(long n);
     int m_dim;
@@ -115,11 +122,14 @@ private:
     std::optional<int> m_period;
     std::optional<double> m_time;
     long m_last_far = -1;
-    /// A divisor being watched: the largest distance over the last whole window and over the
-    /// current one, the current window's last boundary and the watch's (end < 0: none).
+    double m_velocity_scale;
+    /// The divisors being watched, each with its largest turn_free_distance() over the last
+    /// whole window and over the current one; the current window's last boundary and the
+    /// watch's (end < 0: none).
     struct DivisorWatch {
-        double previous_max = 0.0;
-        double window_max = 0.0;
+        std::vector<int> divisors;
+        std::vector<double> previous_max;
+        std::vector<double> window_max;
         long window_end = -1;
         long end = -1;
     } m_watch;

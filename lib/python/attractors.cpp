@@ -30,7 +30,8 @@ F_m_max_attractor, unsettled (groups whose runs were still converging: raise run
 attractors (dict of columns id, regime, period, F_m, F_m_error, lambda_max, lambda_max_error,
 basin_fraction, basin_fraction_error, samples, settle_median and settle_max (periods until the
 starts' transients ended, NaN where undefined), still_settling (starts whose runs ended still
-approaching it), F_m_runs (the largest F_m the starts' runs recorded, transients included), and
+approaching it), F_m_runs (the largest F_m the starts' runs recorded, transients included) with
+F_m_runs_error (that run's F_m_error), and
 state: one row of 2 Nm values per attractor, a state on it at phase 0), sample_attractor (per
 random start: attractor id, -1 if its run failed), sample_settle_period (per random start: the
 period where its transient ended, -1 if it did not settle on an orbit), sample_F_m (per random
@@ -110,6 +111,7 @@ py::dict attractor_columns(const std::vector<Attractor>& as) {
     d["settle_max"] = column<double>(as, [](const A& a) { return a.settle_max; });
     d["still_settling"] = column<long>(as, [](const A& a) { return a.still_settling; });
     d["F_m_runs"] = column<double>(as, [](const A& a) { return a.F_m_runs; });
+    d["F_m_runs_error"] = column<double>(as, [](const A& a) { return a.F_m_runs_error; });
     std::vector<double> states;
     for (const auto& a : as)
         states.insert(states.end(), a.state.begin(), a.state.end());

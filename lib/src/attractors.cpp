@@ -473,7 +473,8 @@ void count_members(const std::vector<int>& labels, long random_starts, Attractor
     set.slice_attractor.assign(labels.begin() + random_starts, labels.end());
 }
 
-/// The settling statistics and F_m_runs of each attractor over its random starts. A start that
+/// The settling statistics and F_m_runs of each attractor over its random starts (an attractor
+/// only slice starts reach keeps NaN: it has none). A start that
 /// joined a periodic attractor without settling (still converging, or a transient group merged
 /// into it) is still settling: its lifetime is longer than its run.
 void settle_statistics(const std::vector<StartOutcome>& outcomes, AttractorSet& set) {
@@ -486,7 +487,10 @@ void settle_statistics(const std::vector<StartOutcome>& outcomes, AttractorSet& 
         const int id = set.sample_attractor[k];
         if (id < 0) continue;
         Attractor& a = set.attractors[static_cast<std::size_t>(id)];
-        a.F_m_runs = std::max(a.F_m_runs, s.run_F_m);
+        if (std::isnan(a.F_m_runs) || s.run_F_m > a.F_m_runs) {
+            a.F_m_runs = s.run_F_m;
+            a.F_m_runs_error = s.spread;
+        }
         if (a.period != 0)
             lifetimes[static_cast<std::size_t>(id)].push_back(s.settle_period >= 0 ? s.settle_period
                                                                                    : censored);
@@ -495,8 +499,11 @@ void settle_statistics(const std::vector<StartOutcome>& outcomes, AttractorSet& 
         auto& t = lifetimes[static_cast<std::size_t>(a.id)];
         if (t.empty()) continue;
         std::sort(t.begin(), t.end());
-        const long median = t[t.size() / 2];
-        if (median != censored) a.settle_median = static_cast<double>(median);
+        const std::size_t mid = t.size() / 2;
+        // The usual median (the mean of the middle two of an even count); unknown if either
+        // is a start still settling.
+        const long upper = t[mid], lower = t.size() % 2 == 1 ? upper : t[mid - 1];
+        if (upper != censored) a.settle_median = 0.5 * (static_cast<double>(lower) + upper);
         a.still_settling = std::count(t.begin(), t.end(), censored);
         if (t.front() != censored)
             a.settle_max =

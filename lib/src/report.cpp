@@ -325,7 +325,7 @@ void attractor_row(std::ostream& os, const Attractor& a) {
        << ',' << a.lambda_max << ',' << a.lambda_max_error << ',' << a.basin_fraction << ','
        << a.basin_fraction_error << ',' << a.samples << ',' << a.slice_points << ','
        << a.settle_median << ',' << a.settle_max << ',' << a.still_settling << ',' << a.F_m_runs
-       << '\n';
+       << ',' << a.F_m_runs_error << '\n';
 }
 
 } // namespace
@@ -335,7 +335,7 @@ std::string attractors_csv(const AttractorSet& set) {
     os.precision(12);
     os << "id,regime,period,F_m,F_m_error,lambda_max,lambda_max_error,basin_fraction,"
           "basin_fraction_error,samples,slice_points,settle_median,settle_max,still_settling,"
-          "F_m_runs\n";
+          "F_m_runs,F_m_runs_error\n";
     for (const auto& a : set.attractors)
         attractor_row(os, a);
     return os.str();
@@ -378,6 +378,7 @@ std::string to_json(const AttractorSet& set, const AttractorOptions& o,
                         {"settle_max", a.settle_max},
                         {"still_settling", a.still_settling},
                         {"F_m_runs", a.F_m_runs},
+                        {"F_m_runs_error", a.F_m_runs_error},
                         {"initial_state", a.initial_state},
                         {"state", a.state}});
     j["attractors"] = list;

@@ -104,7 +104,8 @@ struct Attractor {
     long samples = 0; ///< random starts that reach it
     /// A periodic attractor: the median over its random starts of the period where their
     /// transient ended (cycle_entry_period), counting those still_settling as longer than any;
-    /// NaN if the median is one of those, and for a non-periodic attractor.
+    /// NaN if the median is one of those, for a non-periodic attractor, and for one that no
+    /// random start reached (only slice starts).
     double settle_median = std::numeric_limits<double>::quiet_NaN();
     /// The longest of those periods over the starts that settled [forcing periods]; NaN if none.
     double settle_max = std::numeric_limits<double>::quiet_NaN();
@@ -113,8 +114,10 @@ struct Attractor {
     long still_settling = 0;
     /// The largest F_m the runs of its random starts recorded, over their windows after the
     /// discarded start-up (run.transient_periods): what single runs from those starts report,
-    /// their transients included. Above F_m when transients outlast the discarded periods.
-    double F_m_runs = 0.0;
+    /// their transients included. Above F_m when transients outlast the discarded periods; NaN
+    /// if no random start reached it.
+    double F_m_runs = std::numeric_limits<double>::quiet_NaN();
+    double F_m_runs_error = 0.0;       ///< that run's F_m_error
     long slice_points = 0;             ///< slice starts that reach it
     std::vector<double> initial_state; ///< the first start that reached it (2 Nm)
     std::vector<double> state;         ///< a state on it at phase 0 (the orbit's, if periodic)

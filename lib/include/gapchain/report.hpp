@@ -98,7 +98,7 @@ std::string special_csv(const ContinuationResult& result);
 
 /// Attractors, one row each: id,regime,period,F_m,F_m_error,lambda_max,lambda_max_error,
 /// basin_fraction,basin_fraction_error,samples,slice_points,settle_median,settle_max,
-/// still_settling,F_m_runs (settle_median and settle_max "nan" where undefined).
+/// still_settling,F_m_runs,F_m_runs_error ("nan" where a figure is undefined).
 std::string attractors_csv(const AttractorSet& set);
 
 /// The random starts, one row each: start,attractor,settle_period,F_m_run (attractor -1: the

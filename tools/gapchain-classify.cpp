@@ -28,7 +28,9 @@ std::vector<double> parse_range(const std::string& text, const std::string& flag
 
 void classify_point(const ReducedParameters& p, const ClassifyOptions& o, const std::string& out,
                     cli::Outputs& outputs) {
-    const Classification c = classify(p, o);
+    // The run asks as it goes: a signal stops it (a long --record took a minute to notice).
+    const Classification c = classify(p, o, [](double) { return !cli::interrupted(); });
+    cli::throw_if_interrupted();
     if (c.status == RunStatus::non_finite) throw cli::NumericalFailure("the run became non-finite");
     if (!out.empty()) write_file_atomically(out, to_json(c, p));
     outputs.keep();

@@ -10,15 +10,18 @@ namespace {
 
 // A keyword's value as the text of a "section.key=value" override: floats by repr (which
 // round-trips and writes nan / inf as the scene parser reads them), bools and integers as
-// JSON, everything else through json.dumps (strings, lists, dicts).
-std::string override_text(const py::handle& value) {
+// JSON, everything else through gapchain._scene_json (strings, lists, dicts, NumPy values; a
+// value JSON cannot hold raises ValueError naming the key).
+std::string override_text(const std::string& key, const py::handle& value) {
     if (py::isinstance<py::bool_>(value)) return value.cast<bool>() ? "true" : "false";
     const py::module_ numbers = py::module_::import("numbers");
     if (py::isinstance(value, numbers.attr("Integral")))
         return py::str(py::int_(py::reinterpret_borrow<py::object>(value)));
     if (py::isinstance(value, numbers.attr("Real")))
         return py::repr(py::float_(py::reinterpret_borrow<py::object>(value)));
-    return py::module_::import("json").attr("dumps")(value).cast<std::string>();
+    return py::module_::import("gapchain")
+        .attr("_scene_json")(value, key, true)
+        .cast<std::string>();
 }
 
 // A str or os.PathLike as a path string, or nothing.
@@ -43,8 +46,10 @@ std::string type_name(const py::object& object) {
 
 Scene to_scene(const py::object& scene, const py::kwargs& keys) {
     std::vector<std::string> overrides;
-    for (const auto& [key, value] : keys)
-        overrides.push_back(scene_key(key.cast<std::string>()) + "=" + override_text(value));
+    for (const auto& [key, value] : keys) {
+        const std::string name = scene_key(key.cast<std::string>());
+        overrides.push_back(name + "=" + override_text(name, value));
+    }
     if (scene.is_none()) return parse_scene("{}", overrides, "<built-in>");
     if (py::isinstance<py::dict>(scene)) return parse_scene(json_text(scene), overrides, "<dict>");
     if (const auto path = as_path(scene)) return load_scene(*path, overrides);

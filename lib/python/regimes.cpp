@@ -76,7 +76,8 @@ py::dict classify_py(const py::object& scene_arg, long transient, long record, b
                      const py::kwargs& keys) {
     const Scene scene = to_scene(scene_arg, keys);
     const ClassifyOptions o = classify_options(scene, transient, record, confirm);
-    const Classification c = Call().run([&] { return classify(scene.reduced, o); });
+    Call call;
+    const Classification c = call.run([&] { return classify(scene.reduced, o, call.callback()); });
     py::dict d;
     d["regime"] = std::string(to_string(c.regime));
     d["period"] = c.period;

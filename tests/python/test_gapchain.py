@@ -3,6 +3,7 @@ file), and its contract: arrays, errors naming the key, the GIL released, progre
 KeyboardInterrupt. Run by CTest (tests/CMakeLists.txt) with PYTHONPATH at the built package
 and GAPCHAIN_SIM / GAPCHAIN_SCENES set."""
 
+import decimal
 import glob
 import json
 import math
@@ -274,11 +275,25 @@ def test_an_argument_of_the_wrong_type_is_named_in_one_line():
              (gapchain.classify, {"transient": None}, "transient: must be an integer, got None"),
              (gapchain.simulate, {"trajectory": "yes"}, "trajectory: must be True or False"),
              (gapchain.regime_map, {"e_r": [0.1, "x"], "f_r": [1.0]},
-              "e_r: must be a list of numbers")]
+              "e_r: must be a list of numbers"),
+             # pybind11 would take these silently: True as 1, 3.7 as 3, a 2-D array's rows.
+             (gapchain.attractors, {"samples": True}, "samples: must be an integer, got True"),
+             (gapchain.attractors, {"samples": np.float32(3.7)}, "samples: must be an integer"),
+             (gapchain.attractors, {"box": True}, "box: must be a number, got True"),
+             (gapchain.simulate, {"trajectory": 0.5}, "trajectory: must be True or False"),
+             (gapchain.regime_map, {"e_r": np.zeros((20, 20)), "f_r": [1.0]},
+              r"e_r: must be a list of numbers, got array\(\[\[0\."),
+             (gapchain.simulate, {"progress": 1}, "progress: must be a callable"),
+             (gapchain.simulate, {"scene": MIRROR_PAIR}, "simulate\\(\\): got two values for scene")]
     for function, kwargs, message in cases:
         with pytest.raises(TypeError, match=message) as raised:
             function(MIRROR_PAIR, **kwargs)
         assert "\n" not in str(raised.value)
+    with pytest.raises(TypeError, match=r"attractors\(\): takes 1 positional argument"):
+        gapchain.attractors(MIRROR_PAIR, True)
+    # A scene keyword of a kind JSON cannot hold names its key.
+    with pytest.raises(ValueError, match="model.fc: must be a number, string, list or object"):
+        gapchain.simulate(fc=decimal.Decimal("3"))
     # The wrapper keeps the name and the help text, and lets right-typed calls through.
     assert gapchain.attractors.__name__ == "attractors"
     assert gapchain.attractors.__doc__.startswith("attractors(scene=None")

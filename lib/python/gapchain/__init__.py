@@ -65,14 +65,15 @@ from ._gapchain import (  # noqa: E402  (after NumPy is importable)
 
 
 def _signature(message):
-    """(name, type) of each parameter in the signature pybind11 lists in its TypeError."""
+    """(name, type) of each parameter in the signature pybind11 lists in its TypeError, and how
+    many may be given by position (those before "*")."""
     for line in message.splitlines():
         line = line.strip()
         if line.startswith("1. ("):
             text = line[len("1. ("):line.rfind(")")]
             break
     else:
-        return []
+        return [], 0
     parts, depth, start = [], 0, 0
     for i, c in enumerate(text):
         depth += c == "["
@@ -81,20 +82,29 @@ def _signature(message):
             parts.append(text[start:i].strip())
             start = i + 1
     parts.append(text[start:].strip())
-    return [(p.split(":")[0].strip(), p.split(":")[1].split("=")[0].strip())
-            for p in parts if ":" in p]
+    positional = parts.index("*") if "*" in parts else len(parts)
+    return ([(p.split(":")[0].strip(), p.split(":")[1].split("=")[0].strip())
+             for p in parts if ":" in p], positional)
+
+
+def _is_bool(value):
+    return isinstance(value, bool) or type(value).__name__ == "bool_"
 
 
 def _fits(kind, value):
+    """Whether value is of the parameter kind exactly: no bool for a number, no fraction for an
+    integer (pybind11 would take True as 1 and truncate 3.7 to 3)."""
     if kind == "int":
-        return isinstance(value, _numbers.Integral) and not isinstance(value, bool)
+        return isinstance(value, _numbers.Integral) and not _is_bool(value)
     if kind == "float":
-        return isinstance(value, _numbers.Real) and not isinstance(value, bool)
+        return isinstance(value, _numbers.Real) and not _is_bool(value)
     if kind == "bool":
-        return isinstance(value, bool) or type(value).__name__ == "bool_"
+        return _is_bool(value)
     if kind == "str":
         return isinstance(value, str)
     if kind.startswith("List[") and kind.endswith("]"):
+        if hasattr(value, "ndim") and value.ndim != 1:
+            return False
         if hasattr(value, "tolist"):
             value = value.tolist()
         return isinstance(value, (list, tuple)) and all(_fits(kind[5:-1], v) for v in value)
@@ -105,43 +115,78 @@ _KINDS = {"int": "an integer", "float": "a number", "bool": "True or False", "st
           "List[float]": "a list of numbers", "List[str]": "a list of strings"}
 
 
-def _bad_argument(name, message, args, kwargs):
-    """One line naming the argument pybind11 refused and what it accepts."""
-    parameters = _signature(message)
-    given = dict(zip((p for p, _ in parameters), args))
+def _shown(value):
+    text = repr(value).replace("\n", " ")
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+def _wrong_argument(name, parameters, positional, args, kwargs):
+    """One line naming the first argument of the wrong kind, or None."""
+    names = [p for p, _ in parameters]
+    if len(args) > positional:
+        return "%s(): takes %d positional argument%s (%s), got %d" % (
+            name, positional, "" if positional == 1 else "s", ", ".join(names[:positional]),
+            len(args))
+    given = dict(zip(names, args))
+    for key in kwargs:
+        if key in given:
+            return "%s(): got two values for %s" % (name, key)
     given.update(kwargs)
     for parameter, kind in parameters:
         if parameter in given and not _fits(kind, given[parameter]):
             value = given[parameter]
-            return "%s: must be %s, got %r (%s)" % (
-                parameter, _KINDS.get(kind, kind), value, type(value).__name__)
-    for parameter, kind in parameters:  # the right type, beyond what the C++ type holds
+            return "%s: must be %s, got %s (%s)" % (
+                parameter, _KINDS.get(kind, kind), _shown(value), type(value).__name__)
+    progress = given.get("progress")
+    if progress is not None and not callable(progress):
+        return "progress: must be a callable(fraction) or None, got %s (%s)" % (
+            _shown(progress), type(progress).__name__)
+    return None
+
+
+def _out_of_range(name, parameters, args, kwargs):
+    """An integer of the right kind that the C++ type cannot hold."""
+    given = dict(zip((p for p, _ in parameters), args))
+    given.update(kwargs)
+    for parameter, kind in parameters:
         value = given.get(parameter)
         if kind == "int" and _fits(kind, value):
             if parameter == "seed" and not 0 <= value < 2 ** 64:
                 return "seed: must be an integer in [0, 2**64), got %r" % value
+            if not -2 ** 63 <= value < 2 ** 63:
+                return "%s: must be an integer in [-2**63, 2**63), got %r" % (parameter, value)
             if not -2 ** 31 <= value < 2 ** 31:
                 return "%s: must be an integer in [-2**31, 2**31), got %r" % (parameter, value)
     return "%s(): arguments of the wrong type; see help(gapchain.%s)" % (name, name)
 
 
-def _one_line_type_errors(function):
-    """function, with pybind11's multi-line list of signatures for arguments of the wrong type
-    replaced by one line naming the argument."""
+def _typed(function):
+    """function, with its arguments checked against its C++ signature first: one line naming
+    the argument of the wrong kind, instead of pybind11's multi-line list of signatures or a
+    silent conversion (True as 1, 3.7 as 3)."""
+    try:
+        function(*([None] * 64))  # too many: pybind11 lists the signature, runs nothing
+        parameters, positional = [], 0
+    except TypeError as error:
+        parameters, positional = _signature(str(error))
+
     @_functools.wraps(function)
     def call(*args, **kwargs):
+        wrong = _wrong_argument(function.__name__, parameters, positional, args, kwargs)
+        if wrong:
+            raise TypeError(wrong)
         try:
             return function(*args, **kwargs)
         except TypeError as error:
             if "incompatible function arguments" not in str(error):
                 raise
-            raise TypeError(_bad_argument(function.__name__, str(error), args, kwargs)) from None
+            raise TypeError(_out_of_range(function.__name__, parameters, args, kwargs)) from None
     return call
 
 
 attractors, basin_fractions, bifurcation, classify, continuation, lyapunov, modes, orbit, \
     poincare, regime_map, simulate, spectrum, sweep = (
-        _one_line_type_errors(f) for f in (
+        _typed(f) for f in (
             attractors, basin_fractions, bifurcation, classify, continuation, lyapunov, modes,
             orbit, poincare, regime_map, simulate, spectrum, sweep))
 
@@ -150,9 +195,10 @@ __all__ = ["simulate", "modes", "bifurcation", "poincare", "spectrum", "lyapunov
            "__version__"]
 
 
-def _scene_json(value):
-    """A scene or study dict as JSON text for the library (called by it): NumPy scalars and
-    arrays become numbers and lists; a non-finite number, or a value JSON cannot hold, raises
+def _scene_json(value, key="", allow_nan=False):
+    """A scene or study dict (or one keyword's value, named key) as JSON text for the library
+    (called by it): NumPy scalars and arrays become numbers and lists; a non-finite number
+    (unless allow_nan: the scene parser names a keyword's), or a value JSON cannot hold, raises
     ValueError naming its dotted key, as the scene parser does for keywords."""
     import json
 
@@ -168,10 +214,11 @@ def _scene_json(value):
         if isinstance(v, _numbers.Integral):
             return int(v)
         if isinstance(v, _numbers.Real):
-            if not _math.isfinite(float(v)):
+            if not allow_nan and not _math.isfinite(float(v)):
                 raise ValueError("%s: must be a finite number, got %r" % (key, float(v)))
             return float(v)
         raise ValueError("%s: must be a number, string, list or object, got %s"
                          % (key or "scene", type(v).__name__))
 
-    return json.dumps(plain(value, ""))
+    text = json.dumps(plain(value, key))
+    return text.replace("NaN", "nan").replace("Infinity", "inf") if allow_nan else text

@@ -88,6 +88,15 @@ TEST_CASE("bad input: every class gives one line naming the key") {
     CHECK(error_of("{}", {"model.eps=nan"}).find("model.eps: must be a finite number") !=
           std::string::npos);
     CHECK(error_of("{}", {"model.fc=inf"}).find("model.fc") != std::string::npos);
+    // The value as written, not JSON's null for nan and inf; the range, not only "auto".
+    CHECK(error_of("{}", {"run.periods=nan"}).find("got nan") != std::string::npos);
+    CHECK(error_of("{}", {"run.periods=-inf"}).find("got -inf") != std::string::npos);
+    CHECK(error_of("{}", {"model.eps=-nan"})
+              .find("model.eps: must be a number in [0, 100], "
+                    "got \"-nan\"") != std::string::npos);
+    CHECK(error_of("{}", {"run.transient_periods=abc"})
+              .find("must be \"auto\" or an integer in [0, 999999999], got \"abc\"") !=
+          std::string::npos);
     CHECK(error_of(R"({"run": {"scheme": "euler"}})").find("run.scheme: must be one of") !=
           std::string::npos);
     CHECK(error_of(R"({"run": {"accuracy_mode": "fast"}})")

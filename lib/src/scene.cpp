@@ -296,7 +296,10 @@ void read_run_length(SectionReader& run, const std::string& type, Scene& scene) 
     RunOptions& o = scene.run;
     o.periods = run.integer("periods", 1000, 1, 1'000'000'000);
     if (run.has_text("transient_periods")) {
-        run.text("transient_periods", "auto", {"auto"});
+        if (run.text("transient_periods", "auto", {}) != "auto")
+            throw SceneError(run.full("transient_periods") +
+                             ": must be \"auto\" or an integer in [0, 999999999], got \"" +
+                             run.text("transient_periods", "auto", {}) + "\"");
         o.transient_periods = auto_transient;
     } else {
         o.transient_periods = run.integer("transient_periods", auto_transient, 0, 999'999'999);

@@ -41,19 +41,21 @@ bool same_file(const std::string& a, const std::string& b) {
 }
 
 // The nearest existing ancestor of path must be a directory a file can be created in: tried
-// for real with a probe file (access(2) says yes to root everywhere, even in /proc).
-void check_writable_parent(const std::string& path, const std::string& flag) {
+// for real with a probe file (access(2) says yes to root everywhere, even in /proc). Messages
+// name `shown`, the path the user gave.
+void check_writable_parent(const std::string& path, const std::string& flag,
+                           const std::string& shown) {
     fs::path dir = fs::absolute(path).parent_path();
     std::error_code ec;
     while (!dir.empty() && !fs::exists(dir, ec) && dir != dir.parent_path())
         dir = dir.parent_path();
     if (!fs::is_directory(dir, ec))
-        throw std::invalid_argument(flag + ": " + path + ": " + dir.string() +
+        throw std::invalid_argument(flag + ": " + shown + ": " + dir.string() +
                                     " is not a directory");
     const fs::path probe = dir / (".gapchain-probe." + std::to_string(::getpid()));
     const int fd = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL, 0600);
     if (fd < 0)
-        throw std::invalid_argument(flag + ": " + path + ": cannot create files in " +
+        throw std::invalid_argument(flag + ": " + shown + ": cannot create files in " +
                                     dir.string() + ": " + std::strerror(errno));
     ::close(fd);
     ::unlink(probe.c_str());
@@ -142,7 +144,7 @@ void Outputs::file(const std::string& path, const std::string& flag) {
     if (fs::is_directory(path, ec))
         throw std::invalid_argument(flag + ": " + path + " is a directory; give a file name");
     check_distinct(path, flag);
-    check_writable_parent(path, flag);
+    check_writable_parent(path, flag, path);
     m_paths.emplace_back(path, flag);
 }
 
@@ -163,8 +165,9 @@ void Outputs::folder(const std::string& path, const std::string& flag,
                 throw std::invalid_argument(flag + ": " + (fs::path(path) / name).string() +
                                             " is an input of this run and a file this tool "
                                             "writes there; choose another output folder");
-    check_writable_parent(fs::is_directory(path, ec) ? (fs::path(path) / "x").string() : path,
-                          flag);
+    // An existing folder must take new files itself: a file in it is checked.
+    check_writable_parent(fs::is_directory(path, ec) ? (fs::path(path) / "x").string() : path, flag,
+                          path);
     m_paths.emplace_back(path, flag);
     m_folders.push_back({path, flag, std::move(owned), {}});
 }

@@ -47,7 +47,8 @@ public:
         if (!has(key)) return fallback;
         const auto& v = m_object.at(key);
         if (!v.is_number())
-            throw SceneError(full(key) + ": must be a number" + range(lo, hi, bound));
+            throw SceneError(full(key) + ": must be a number" + range(lo, hi, bound) + ", got " +
+                             shown(v));
         const double x = v.get<double>();
         try {
             require_range(full(key), x, lo, hi, bound);
@@ -68,11 +69,11 @@ public:
             x = v.get<double>();
         } else {
             throw SceneError(full(key) + ": must be an integer in [" + std::to_string(lo) + ", " +
-                             std::to_string(hi) + "], got " + v.dump());
+                             std::to_string(hi) + "], got " + shown(v));
         }
         if (x < static_cast<double>(lo) || x > static_cast<double>(hi))
             throw SceneError(full(key) + ": must be an integer in [" + std::to_string(lo) + ", " +
-                             std::to_string(hi) + "], got " + v.dump());
+                             std::to_string(hi) + "], got " + shown(v));
         return static_cast<long>(x);
     }
 
@@ -109,15 +110,23 @@ public:
         }
     }
 
-private:
+    // The dotted name of key in this section ("run.periods").
     [[nodiscard]] std::string full(const std::string& key) const {
         return m_path.empty() ? key : m_path + "." + key;
     }
+
+private:
     static std::string join(const std::vector<std::string>& items) {
         std::string s;
         for (const auto& i : items)
             s += (s.empty() ? "" : ", ") + i;
         return s;
+    }
+    // A value as the user wrote it: JSON writes NaN and infinities as null.
+    static std::string shown(const nlohmann::json& v) {
+        if (v.is_number_float() && !std::isfinite(v.get<double>()))
+            return std::isnan(v.get<double>()) ? "nan" : (v.get<double>() > 0 ? "inf" : "-inf");
+        return v.dump();
     }
     static std::string range(double lo, double hi, Bound bound) {
         return std::string(" in ") + (bound == Bound::open_low ? "(" : "[") + format_number(lo) +

@@ -71,9 +71,10 @@ constexpr const char* spectrum_doc =
 Power spectral density (Welch, FFTW) of a variable over the scene's run.periods after
 run.transient_periods, peaks labelled as (sub)harmonics m/n f_r: gapchain-spectrum in-process.
 
-variable  u1..uNm, v1..vNm, g0..gNm or F0..FNm;  samples_per_period  >= 2
-segment   Welch segment length in samples, 8 .. 2^24 and at most the recorded samples
-window    "hann" or "rectangular";  order  largest subharmonic order n labelled, >= 1
+variable  u1..uNm, v1..vNm, g0..gNm or F0..FNm;  samples_per_period  2 .. 100000
+segment   Welch segment length in samples, 16 .. 2^24 and at most the recorded samples
+window    "hann" or "rectangular";  order  largest subharmonic order n labelled, 1 .. 64
+(the limits of gapchain-spectrum: both use RowSpectrumOptions)
 
 Returns a dict: frequency ((n,) cycles per reduced time unit), f_over_f_r, density
 (signal^2 per unit frequency), df, segments, broadband_share (power away from m/n f_r, [0, 1]),
@@ -238,33 +239,30 @@ py::dict spectrum_py(const py::object& scene_arg, const std::string& variable,
                      const py::object& progress, const py::kwargs& keys) {
     const Scene scene = to_scene(scene_arg, keys);
     const Dynamics dyn = scene.dynamics();
-    const SectionVariable var = SectionVariable::parse(variable, dyn.bodies(), "variable");
-    PsdOptions po;
-    po.window = parse_window(window);
-    po.segment_length = segment;
+    RowSpectrumOptions o;
+    o.variable = variable;
+    o.samples_per_period = samples_per_period;
+    o.segment = segment;
+    o.window = parse_window(window);
+    o.order = order;
+    validate(o, dyn, scene.run);
     Call call(progress);
-    RunOutcome outcome;
-    const Signal signal = call.run([&] {
-        return record_signal(dyn, scene.run, var, samples_per_period, outcome, scene.initial,
-                             call.callback());
-    });
+    const RowSpectrum s =
+        call.run([&] { return row_spectrum(dyn, scene.run, o, scene.initial, call.callback()); });
     py::dict d;
-    d["status"] = std::string(to_string(outcome.status));
-    if (outcome.status != RunStatus::completed) return d;
-    po.sample_rate = signal.sample_rate;
-    const Psd psd = welch_psd(signal.values, po);
-    const SpectralContent content = spectral_content(psd, scene.reduced.f_r, order);
+    d["status"] = std::string(to_string(s.outcome.status));
+    if (s.outcome.status != RunStatus::completed) return d;
     std::vector<double> ratio;
-    for (double f : psd.frequency)
+    for (double f : s.psd.frequency)
         ratio.push_back(f / scene.reduced.f_r);
-    d["frequency"] = array(psd.frequency);
+    d["frequency"] = array(s.psd.frequency);
     d["f_over_f_r"] = array(ratio);
-    d["density"] = array(psd.density);
-    d["df"] = psd.df;
-    d["segments"] = psd.segments;
-    d["broadband_share"] = content.broadband_share;
-    d["peaks"] = peaks_dict(content);
-    d["sample_rate"] = signal.sample_rate;
+    d["density"] = array(s.psd.density);
+    d["df"] = s.psd.df;
+    d["segments"] = s.psd.segments;
+    d["broadband_share"] = s.content.broadband_share;
+    d["peaks"] = peaks_dict(s.content);
+    d["sample_rate"] = s.sample_rate;
     return d;
 }
 

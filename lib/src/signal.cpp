@@ -39,4 +39,49 @@ Signal record_signal(const Dynamics& dyn, const RunOptions& options,
     return signal;
 }
 
+namespace {
+
+SectionVariable spectrum_variable(const std::string& name, const Dynamics& dyn) {
+    const SectionVariable v = SectionVariable::parse(name, dyn.bodies(), "variable");
+    if (v.kind == SectionVariable::Kind::time)
+        throw std::invalid_argument("variable: must be a state variable (u, v, g or F), got t");
+    return v;
+}
+
+} // namespace
+
+void validate(const RowSpectrumOptions& o, const Dynamics& dyn, const RunOptions& run) {
+    validate(run);
+    require_harmonic(dyn, "spectrum"); // before the sample count, which needs a period
+    (void)spectrum_variable(o.variable, dyn);
+    detail::require_range("samples_per_period", o.samples_per_period, 2, 100000);
+    detail::require_range("segment", o.segment, 16, 1 << 24);
+    detail::require_range("order", o.order, 1, 64);
+    const long samples = (run.periods - with_transient_resolved(dyn, run).transient_periods) *
+                         static_cast<long>(o.samples_per_period);
+    if (samples < o.segment)
+        throw std::invalid_argument(
+            "segment: must be at most the recorded samples " + std::to_string(samples) +
+            " ((run.periods - run.transient_periods) x samples_per_period), got " +
+            std::to_string(o.segment));
+}
+
+RowSpectrum row_spectrum(const Dynamics& dyn, const RunOptions& run, const RowSpectrumOptions& o,
+                         const std::vector<double>& initial, const ProgressCallback& progress) {
+    validate(o, dyn, run);
+    RowSpectrum r;
+    const Signal signal = record_signal(dyn, run, spectrum_variable(o.variable, dyn),
+                                        o.samples_per_period, r.outcome, initial, progress);
+    r.samples = static_cast<long>(signal.values.size());
+    r.sample_rate = signal.sample_rate;
+    if (r.outcome.status != RunStatus::completed) return r;
+    PsdOptions po;
+    po.sample_rate = signal.sample_rate;
+    po.segment_length = o.segment;
+    po.window = o.window;
+    r.psd = welch_psd(signal.values, po);
+    r.content = spectral_content(r.psd, dyn.ground_motion().f_r(), o.order);
+    return r;
+}
+
 } // namespace gapchain

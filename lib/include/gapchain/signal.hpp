@@ -6,7 +6,9 @@
 
 #include "gapchain/poincare.hpp"
 #include "gapchain/run.hpp"
+#include "gapchain/spectrum.hpp"
 
+#include <string>
 #include <vector>
 
 namespace gapchain {
@@ -40,5 +42,34 @@ Signal record_signal(const Dynamics& dyn, const RunOptions& options,
                      const SectionVariable& variable, int samples_per_period, RunOutcome& outcome,
                      const std::vector<double>& initial = {},
                      const ProgressCallback& progress = {});
+
+/// The spectrum of one variable of a run, as gapchain-spectrum and Python's spectrum() ask for
+/// it (one set of rules and limits for both).
+struct RowSpectrumOptions {
+    std::string variable = "u1";  ///< a state variable: u1..uNm, v1..vNm, g0..gNm or F0..FNm
+    int samples_per_period = 32;  ///< samples per forcing period, 2 .. 100000
+    int segment = 4096;           ///< Welch segment [samples], 16 .. 2^24, at most those recorded
+    Window window = Window::hann; ///< segment taper
+    int order = 4;                ///< largest subharmonic order n labelled (m/n f_r), 1 .. 64
+};
+
+/// The recorded signal's size, its PSD and its reading against f_r.
+struct RowSpectrum {
+    RunOutcome outcome;      ///< the run (psd and content are empty unless it completed)
+    long samples = 0;        ///< samples recorded
+    double sample_rate = 0;  ///< [samples per unit reduced time]
+    Psd psd;                 ///< Welch PSD of the variable
+    SpectralContent content; ///< peaks and broadband share
+};
+
+/// Throws std::invalid_argument naming variable, samples_per_period, segment (also when longer
+/// than the samples run records: (periods - transient) x samples_per_period) or order; dyn
+/// must have harmonic forcing.
+void validate(const RowSpectrumOptions& options, const Dynamics& dyn, const RunOptions& run);
+
+/// Records options.variable over run (validate() first) and takes its spectrum.
+RowSpectrum row_spectrum(const Dynamics& dyn, const RunOptions& run,
+                         const RowSpectrumOptions& options, const std::vector<double>& initial = {},
+                         const ProgressCallback& progress = {});
 
 } // namespace gapchain

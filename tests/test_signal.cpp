@@ -1,0 +1,68 @@
+#include "gapchain/signal.hpp"
+
+#include <doctest/doctest.h>
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+
+using namespace gapchain;
+
+namespace {
+
+std::string refusal(const RowSpectrumOptions& o, const RunOptions& run = {}) {
+    const Dynamics dyn = Dynamics::paper_row({2, 100, 0.1, 1e3, 1.3});
+    try {
+        validate(o, dyn, run);
+    } catch (const std::invalid_argument& e) {
+        return e.what();
+    }
+    return "";
+}
+
+} // namespace
+
+TEST_CASE("a contact-free row's spectrum is one line at the forcing frequency") {
+    // Clearances never reached: u_1 is eq (20)'s response, a pure cosine at f_r after the
+    // discarded start-up.
+    const double f_r = 1.3;
+    const Dynamics dyn = Dynamics::paper_row({2, 100, 0.1, 1e3, f_r});
+    RunOptions run;
+    run.periods = 400;
+    run.transient_periods = 200;
+    run.stop_at_steady_state = false;
+    RowSpectrumOptions o;
+    o.segment = 1024;
+    const RowSpectrum s = row_spectrum(dyn, run, o);
+    REQUIRE(s.outcome.status == RunStatus::completed);
+    CHECK(s.samples == 200L * o.samples_per_period + 1); // both ends of the recorded window
+    CHECK(s.sample_rate == doctest::Approx(o.samples_per_period * f_r));
+    REQUIRE_FALSE(s.content.peaks.empty());
+    const SpectralPeak& top = s.content.peaks.front();
+    CHECK(std::abs(top.frequency - f_r) <= s.psd.df);
+    CHECK(top.label() == "1 f_r");
+    CHECK(s.content.broadband_share < 1e-3);
+}
+
+TEST_CASE("a row spectrum's options are refused naming the option and its range") {
+    RowSpectrumOptions o;
+    o.variable = "t";
+    CHECK(refusal(o).find("variable: must be a state variable") == 0);
+    o = {};
+    o.variable = "u3";
+    CHECK(refusal(o).find("variable") == 0);
+    o = {};
+    o.samples_per_period = 1;
+    CHECK(refusal(o).find("samples_per_period: must be an integer in [2, 100000]") == 0);
+    o = {};
+    o.segment = 8;
+    CHECK(refusal(o).find("segment: must be an integer in [16, 16777216]") == 0);
+    o = {};
+    o.order = 65;
+    CHECK(refusal(o).find("order: must be an integer in [1, 64]") == 0);
+    // 1000 periods less the default transient, 32 samples each: fewer than 2^20.
+    o = {};
+    o.segment = 1 << 20;
+    CHECK(refusal(o).find("segment: must be at most the recorded samples") == 0);
+    CHECK(refusal(RowSpectrumOptions{}).empty());
+}

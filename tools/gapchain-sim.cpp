@@ -68,8 +68,10 @@ void print_result(const Scene& scene, const SimulationResult& r) {
     }
     print_where(r, p.Nm);
     if (r.steady_state_period)
-        std::printf("periodic steady state: period %d x T, reached by t = %.6g\n",
-                    *r.steady_state_period, *r.steady_state_time);
+        std::printf("periodic steady state: period %d x T, reached by t = %.6g (transient ended "
+                    "at period %ld, %ld discarded)\n",
+                    *r.steady_state_period, *r.steady_state_time, r.cycle_entry_period,
+                    r.transient_periods_used);
     else
         std::printf("no periodic steady state within %ld periods%s\n", r.periods_simulated,
                     r.error_method == ErrorMethod::window_halves

@@ -291,6 +291,11 @@ def test_an_argument_of_the_wrong_type_is_named_in_one_line():
         assert "\n" not in str(raised.value)
     with pytest.raises(TypeError, match=r"attractors\(\): takes 1 positional argument"):
         gapchain.attractors(MIRROR_PAIR, True)
+    # Errors name the Python argument, not the library's option behind it.
+    with pytest.raises(ValueError, match=r"^record: must be"):
+        gapchain.classify(MIRROR_PAIR, record=0)
+    with pytest.raises(ValueError, match=r"^transient: must be"):
+        gapchain.orbit(MIRROR_PAIR, transient=-5)
     # A scene keyword of a kind JSON cannot hold names its key.
     with pytest.raises(ValueError, match="model.fc: must be a number, string, list or object"):
         gapchain.simulate(fc=decimal.Decimal("3"))

@@ -170,6 +170,12 @@ def _typed(function):
     except TypeError as error:
         parameters, positional = _signature(str(error))
 
+    # The library names the options behind these arguments (the command-line tools map them to
+    # their flags the same way).
+    renamed = [(field + ":", argument + ":") for field, argument in
+               (("transient_periods", "transient"), ("record_periods", "record"))
+               if argument in (p for p, _ in parameters)]
+
     @_functools.wraps(function)
     def call(*args, **kwargs):
         wrong = _wrong_argument(function.__name__, parameters, positional, args, kwargs)
@@ -181,6 +187,11 @@ def _typed(function):
             if "incompatible function arguments" not in str(error):
                 raise
             raise TypeError(_out_of_range(function.__name__, parameters, args, kwargs)) from None
+        except ValueError as error:
+            for field, argument in renamed:
+                if str(error).startswith(field):
+                    raise ValueError(argument + str(error)[len(field):]) from None
+            raise
     return call
 
 

@@ -107,7 +107,7 @@ std::vector<double> line_values(const AttractorArguments& a, const ReducedParame
 }
 
 /// How long the starts of a periodic attractor took to reach it, and what their runs reported
-/// on the way when that exceeds the attractor's F_m beyond the accuracy asked.
+/// on the way when that exceeds the attractor's F_m by more than ten times the accuracy asked.
 void print_settling(const Attractor& a, const AttractorOptions& o) {
     if (a.period == 0 || a.samples == 0) return;
     std::printf("     transients end after ");

@@ -474,9 +474,9 @@ void count_members(const std::vector<int>& labels, long random_starts, Attractor
 }
 
 /// The settling statistics and F_m_runs of each attractor over its random starts (an attractor
-/// only slice starts reach keeps NaN: it has none). A start that
-/// joined a periodic attractor without settling (still converging, or a transient group merged
-/// into it) is still settling: its lifetime is longer than its run.
+/// only slice starts reach keeps NaN: it has none). A start that joined a periodic attractor
+/// without settling (still converging, or a transient group merged into it) is still settling:
+/// its lifetime is longer than its run.
 void settle_statistics(const std::vector<StartOutcome>& outcomes, AttractorSet& set) {
     std::vector<std::vector<long>> lifetimes(set.attractors.size());
     constexpr long censored = std::numeric_limits<long>::max();

@@ -63,7 +63,6 @@ from ._gapchain import (  # noqa: E402  (after NumPy is importable)
 )
 
 
-
 def _signature(message):
     """(name, type) of each parameter in the signature pybind11 lists in its TypeError, and how
     many may be given by position (those before "*")."""

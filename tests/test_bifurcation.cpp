@@ -186,4 +186,5 @@ TEST_CASE("bifurcation and regime maps: a cancel stops a long value inside its r
         regime_map(base, {0.06}, {3.0}, co, 1, [&](double) { return ++calls < 2; });
     CHECK(map.cancelled);
     CHECK(map.cells.front().status == RunStatus::cancelled);
+    CHECK(classify(base, co, [](double) { return false; }).status == RunStatus::cancelled);
 }

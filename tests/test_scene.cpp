@@ -91,9 +91,14 @@ TEST_CASE("bad input: every class gives one line naming the key") {
     // The value as written, not JSON's null for nan and inf; the range, not only "auto".
     CHECK(error_of("{}", {"run.periods=nan"}).find("got nan") != std::string::npos);
     CHECK(error_of("{}", {"run.periods=-inf"}).find("got -inf") != std::string::npos);
-    CHECK(error_of("{}", {"model.eps=-nan"})
+    CHECK(error_of("{}", {"model.eps=-nan"}).find("model.eps: must be a finite number") !=
+          std::string::npos);
+    CHECK(error_of("{}", {"model.eps=abc"})
               .find("model.eps: must be a number in [0, 100], "
-                    "got \"-nan\"") != std::string::npos);
+                    "got \"abc\"") != std::string::npos);
+    CHECK(error_of("{}", {"run.transient_periods=-1"})
+              .find("must be \"auto\" or an integer in [0, 999999999], got -1") !=
+          std::string::npos);
     CHECK(error_of("{}", {"run.transient_periods=abc"})
               .find("must be \"auto\" or an integer in [0, 999999999], got \"abc\"") !=
           std::string::npos);

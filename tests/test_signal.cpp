@@ -60,9 +60,17 @@ TEST_CASE("a row spectrum's options are refused naming the option and its range"
     o = {};
     o.order = 65;
     CHECK(refusal(o).find("order: must be an integer in [1, 64]") == 0);
-    // 1000 periods less the default transient, 32 samples each: fewer than 2^20.
+    // 1000 periods less the default transient, 32 samples each: fewer than 2^20. Exactly the
+    // samples recorded (both ends of the window) is a segment; one more is not.
     o = {};
     o.segment = 1 << 20;
     CHECK(refusal(o).find("segment: must be at most the recorded samples") == 0);
+    RunOptions run;
+    run.periods = 100;
+    run.transient_periods = 0;
+    o.segment = 100 * 32 + 1;
+    CHECK(refusal(o, run).empty());
+    o.segment = 100 * 32 + 2;
+    CHECK(refusal(o, run).find("segment: must be at most the recorded samples 3201") == 0);
     CHECK(refusal(RowSpectrumOptions{}).empty());
 }

@@ -19,9 +19,7 @@ std::string override_text(const std::string& key, const py::handle& value) {
         return py::str(py::int_(py::reinterpret_borrow<py::object>(value)));
     if (py::isinstance(value, numbers.attr("Real")))
         return py::repr(py::float_(py::reinterpret_borrow<py::object>(value)));
-    return py::module_::import("gapchain")
-        .attr("_scene_json")(value, key, true)
-        .cast<std::string>();
+    return py::module_::import("gapchain").attr("_scene_json")(value, key).cast<std::string>();
 }
 
 // A str or os.PathLike as a path string, or nothing.

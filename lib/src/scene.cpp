@@ -29,7 +29,8 @@ namespace {
 
 /// json value of an override's text: JSON, else the text as a string; nan/inf are numbers.
 json override_value(const std::string& text) {
-    if (text == "nan" || text == "NaN") return std::numeric_limits<double>::quiet_NaN();
+    if (text == "nan" || text == "NaN" || text == "-nan")
+        return std::numeric_limits<double>::quiet_NaN();
     if (text == "inf" || text == "Inf" || text == "infinity")
         return std::numeric_limits<double>::infinity();
     if (text == "-inf" || text == "-Inf") return -std::numeric_limits<double>::infinity();
@@ -302,7 +303,15 @@ void read_run_length(SectionReader& run, const std::string& type, Scene& scene) 
                              run.text("transient_periods", "auto", {}) + "\"");
         o.transient_periods = auto_transient;
     } else {
-        o.transient_periods = run.integer("transient_periods", auto_transient, 0, 999'999'999);
+        try {
+            o.transient_periods = run.integer("transient_periods", auto_transient, 0, 999'999'999);
+        } catch (const SceneError& e) { // the message names the other form too
+            std::string m = e.what();
+            const std::string integer = "must be an integer";
+            if (const auto at = m.find(integer); at != std::string::npos)
+                m.replace(at, integer.size(), "must be \"auto\" or an integer");
+            throw SceneError(m);
+        }
     }
     if (scene.ground_record) {
         if (run.has("periods") || run.has("transient_periods"))

@@ -57,13 +57,16 @@ void validate(const RowSpectrumOptions& o, const Dynamics& dyn, const RunOptions
     detail::require_range("samples_per_period", o.samples_per_period, 2, 100000);
     detail::require_range("segment", o.segment, 16, 1 << 24);
     detail::require_range("order", o.order, 1, 64);
+    // Both ends of the recorded window are samples.
     const long samples = (run.periods - with_transient_resolved(dyn, run).transient_periods) *
-                         static_cast<long>(o.samples_per_period);
+                             static_cast<long>(o.samples_per_period) +
+                         1;
     if (samples < o.segment)
-        throw std::invalid_argument(
-            "segment: must be at most the recorded samples " + std::to_string(samples) +
-            " ((run.periods - run.transient_periods) x samples_per_period), got " +
-            std::to_string(o.segment));
+        throw std::invalid_argument("segment: must be at most the recorded samples " +
+                                    std::to_string(samples) +
+                                    " ((run.periods - run.transient_periods) x samples per "
+                                    "period + 1), got " +
+                                    std::to_string(o.segment));
 }
 
 RowSpectrum row_spectrum(const Dynamics& dyn, const RunOptions& run, const RowSpectrumOptions& o,

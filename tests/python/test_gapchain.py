@@ -299,6 +299,16 @@ def test_an_argument_of_the_wrong_type_is_named_in_one_line():
     # A scene keyword of a kind JSON cannot hold names its key.
     with pytest.raises(ValueError, match="model.fc: must be a number, string, list or object"):
         gapchain.simulate(fc=decimal.Decimal("3"))
+    # What pybind11 took before and users pass: flags as 0, 1 or None, any sequence, 0-d
+    # arrays, Decimal for a number; a string keyword reaches the scene parser unchanged.
+    assert "trajectory" in gapchain.simulate(MIRROR_PAIR, trajectory=1, **SHORT)
+    assert "trajectory" not in gapchain.simulate(MIRROR_PAIR, trajectory=None, **SHORT)
+    assert gapchain.orbit(MIRROR_PAIR, period=np.array(1),
+                          tolerance=decimal.Decimal("1e-10"))["status"] == "converged"
+    assert gapchain.regime_map(MIRROR_PAIR, e_r=range(1, 2), f_r=(1.2,), transient=10,
+                               record=20)["regime"].shape == (1, 1)
+    assert gapchain._scene_json("/data/NaN_Infinity.csv", "excitation.file") == \
+        '"/data/NaN_Infinity.csv"'
     # The wrapper keeps the name and the help text, and lets right-typed calls through.
     assert gapchain.attractors.__name__ == "attractors"
     assert gapchain.attractors.__doc__.startswith("attractors(scene=None")

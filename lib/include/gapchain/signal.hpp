@@ -63,7 +63,7 @@ struct RowSpectrum {
 };
 
 /// Throws std::invalid_argument naming variable, samples_per_period, segment (also when longer
-/// than the samples run records: (periods - transient) x samples_per_period) or order; dyn
+/// than the samples run records: (periods - transient) x samples_per_period + 1) or order; dyn
 /// must have harmonic forcing.
 void validate(const RowSpectrumOptions& options, const Dynamics& dyn, const RunOptions& run);
 

@@ -11,6 +11,7 @@ key (TypeError, in one line naming it, for an argument of the wrong type); numer
 are in each result's "status".
 """
 
+import collections.abc as _abc
 import functools as _functools
 import math as _math
 import numbers as _numbers
@@ -87,26 +88,36 @@ def _signature(message):
 
 
 def _is_bool(value):
-    return isinstance(value, bool) or type(value).__name__ == "bool_"
+    kind = type(value)
+    return isinstance(value, bool) or (kind.__module__ == "numpy" and
+                                       kind.__name__ in ("bool_", "bool"))
 
 
 def _fits(kind, value):
-    """Whether value is of the parameter kind exactly: no bool for a number, no fraction for an
-    integer (pybind11 would take True as 1 and truncate 3.7 to 3)."""
+    """Whether value is of the parameter kind: no bool for a number, no fraction for an integer
+    (pybind11 would take True as 1 and truncate 3.7 to 3), no 0.5 for a flag; NumPy scalars and
+    0-d arrays, Decimal for a number, and 0, 1 or None for a flag (as pybind11 takes them) are
+    accepted."""
+    if getattr(value, "ndim", None) == 0 and hasattr(value, "item"):
+        value = value.item()
     if kind == "int":
         return isinstance(value, _numbers.Integral) and not _is_bool(value)
     if kind == "float":
-        return isinstance(value, _numbers.Real) and not _is_bool(value)
+        return (isinstance(value, _numbers.Real) or
+                (hasattr(value, "__float__") and not isinstance(value, (str, bytes)))) \
+            and not _is_bool(value)
     if kind == "bool":
-        return _is_bool(value)
+        return _is_bool(value) or value is None or (
+            isinstance(value, _numbers.Integral) and value in (0, 1))
     if kind == "str":
         return isinstance(value, str)
     if kind.startswith("List[") and kind.endswith("]"):
-        if hasattr(value, "ndim") and value.ndim != 1:
+        if getattr(value, "ndim", 1) != 1:
             return False
         if hasattr(value, "tolist"):
             value = value.tolist()
-        return isinstance(value, (list, tuple)) and all(_fits(kind[5:-1], v) for v in value)
+        return isinstance(value, _abc.Sequence) and not isinstance(value, (str, bytes)) and \
+            all(_fits(kind[5:-1], v) for v in value)
     return True
 
 
@@ -122,7 +133,7 @@ def _shown(value):
 def _wrong_argument(name, parameters, positional, args, kwargs):
     """One line naming the first argument of the wrong kind, or None."""
     names = [p for p, _ in parameters]
-    if len(args) > positional:
+    if parameters and len(args) > positional:
         return "%s(): takes %d positional argument%s (%s), got %d" % (
             name, positional, "" if positional == 1 else "s", ", ".join(names[:positional]),
             len(args))
@@ -205,11 +216,11 @@ __all__ = ["simulate", "modes", "bifurcation", "poincare", "spectrum", "lyapunov
            "__version__"]
 
 
-def _scene_json(value, key="", allow_nan=False):
+def _scene_json(value, key=""):
     """A scene or study dict (or one keyword's value, named key) as JSON text for the library
-    (called by it): NumPy scalars and arrays become numbers and lists; a non-finite number
-    (unless allow_nan: the scene parser names a keyword's), or a value JSON cannot hold, raises
-    ValueError naming its dotted key, as the scene parser does for keywords."""
+    (called by it): NumPy scalars and arrays become numbers and lists; a non-finite number, or a
+    value JSON cannot hold, raises ValueError naming its dotted key, as the scene parser does
+    for keywords."""
     import json
 
     def plain(v, key):
@@ -224,11 +235,10 @@ def _scene_json(value, key="", allow_nan=False):
         if isinstance(v, _numbers.Integral):
             return int(v)
         if isinstance(v, _numbers.Real):
-            if not allow_nan and not _math.isfinite(float(v)):
+            if not _math.isfinite(float(v)):
                 raise ValueError("%s: must be a finite number, got %r" % (key, float(v)))
             return float(v)
         raise ValueError("%s: must be a number, string, list or object, got %s"
                          % (key or "scene", type(v).__name__))
 
-    text = json.dumps(plain(value, key))
-    return text.replace("NaN", "nan").replace("Infinity", "inf") if allow_nan else text
+    return json.dumps(plain(value, key))

@@ -7,6 +7,7 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <cstdio>
@@ -194,6 +195,45 @@ TEST_CASE("keep \"F_m_orbit\": the orbit's maximum and the transient flag, as si
           std::string::npos);
     CHECK(results[0].simulation.F_m_error >=
           results[0].simulation.F_m - *results[0].simulation.F_m_orbit);
+}
+
+TEST_CASE("an F_m_error nothing estimated is written empty, never as an exact 0") {
+    // Fig 5's periodic point: it settles early, so no twin or orbit check widens the error bar.
+    const auto study = [](const char* estimate) {
+        return parse_study(std::string(R"({"scene": {"model": {"Nm": 5, "fc": 100, "eps": 0.5},
+                                                      "run": {"periods": 200, "estimate_error": )") +
+                           estimate + R"(}}, "parameters": {"e_r": [0.5]}})");
+    };
+    const Study s = study("true");
+    std::vector<SweepPointResult> results;
+    for (const Study& each : {s, study("false")}) {
+        const StudyScenes scenes(each);
+        run_sweep(
+            each, {}, [&](long i) { return sweep_point_input(scenes.scene(i)); },
+            [&](const SweepPointResult& r) { results.push_back(r); });
+    }
+    REQUIRE(results.size() == 2);
+    const auto field = [&](const SweepPointResult& r, const std::string& name) {
+        const auto split = [](const std::string& line) {
+            std::vector<std::string> cells(1);
+            for (char c : line) {
+                if (c == ',')
+                    cells.emplace_back();
+                else
+                    cells.back().push_back(c);
+            }
+            return cells;
+        };
+        const std::vector<std::string> header = split(sweep_csv_header(s));
+        const auto at = std::find(header.begin(), header.end(), name) - header.begin();
+        return split(sweep_csv_row(s, r)).at(static_cast<std::size_t>(at));
+    };
+    REQUIRE(results[0].simulation.steady_state_period);
+    CHECK(has_error_estimate(results[0].simulation));
+    CHECK(std::stod(field(results[0], "F_m_error")) > 0.0);
+    CHECK_FALSE(has_error_estimate(results[1].simulation));
+    CHECK(field(results[1], "F_m_error").empty());
+    CHECK(std::stod(field(results[1], "F_m")) == doctest::Approx(results[0].simulation.F_m));
 }
 
 TEST_CASE("a results CSV is resumed only by the same study and results version") {

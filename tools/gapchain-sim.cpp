@@ -56,9 +56,10 @@ void print_result(const Scene& scene, const SimulationResult& r) {
                     p.Nm, p.fc, p.eps, p.e_r, scene.physical->a0,
                     std::string(to_string(r.scheme)).c_str(), r.step, scene.record_duration,
                     r.periods_simulated);
-    if (!scene.run.estimate_error && r.F_m_error == 0.0) {
+    if (!has_error_estimate(r)) {
         // "+- 0" would claim an exact answer.
-        std::printf("F_m = %.9g (no error estimate: run.estimate_error is false)", r.F_m);
+        std::printf("F_m = %.9g (no error estimate%s)", r.F_m,
+                    scene.run.estimate_error ? "" : ": run.estimate_error is false");
         if (scene.physical) std::printf("  (%.6g N)", force_in_newtons(r.F_m, *scene.physical));
     } else {
         std::printf("F_m = %.9g +- %.2g", r.F_m, r.F_m_error);

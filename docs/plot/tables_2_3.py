@@ -28,7 +28,9 @@ def largest(pts):
 def where(r):
     if r is None:
         return "-"
-    return (f"{float(r['F_m']):.3f} +- {float(r['F_m_error']):.2g} (Nm {r['Nm']}, fc {float(r['fc']):g}, "
+    # An empty F_m_error: the study asked for no estimate (run.estimate_error false).
+    error = f" +- {float(r['F_m_error']):.2g}" if r["F_m_error"] else ""
+    return (f"{float(r['F_m']):.3f}{error} (Nm {r['Nm']}, fc {float(r['fc']):g}, "
             f"e_r {float(r['e_r']):.3g}, f_r {float(r['f_r']):.3g})")
 
 

@@ -56,7 +56,7 @@ study     a study dict ({"scene": {...}, "parameters": {"fc": [1, 10], "e_r": {"
 threads   OpenMP threads (0: all cores);  progress  callable(fraction of points done)
 
 Returns a dict of columns in index order: index, one column per axis (named by its key), Nm,
-fc, eps, e_r, f_r, F_m, F_m_error, status, multistable (bool), steady_state_period (0: none),
+fc, eps, e_r, f_r, F_m, F_m_error (NaN: not estimated), status, multistable (bool), steady_state_period (0: none),
 wall_time_s; with "per_body" kept, per_body (points x Nm x 2); with "regime" kept, regime,
 period, lambda_max, lambda_max_error; with "F_m_orbit" kept, F_m_orbit (NaN: did not settle)
 and maximum_in_transient (bool); F_m_newton for physical scenes; and cancelled.)";
@@ -192,7 +192,10 @@ py::dict sweep_dict(const Study& study, std::vector<SweepPointResult> rows) {
     d["index"] = column<long>(rows, [](const R& r) { return r.index; });
     axis_columns(d, study, rows);
     d["F_m"] = column<double>(rows, [](const R& r) { return r.simulation.F_m; });
-    d["F_m_error"] = column<double>(rows, [](const R& r) { return r.simulation.F_m_error; });
+    d["F_m_error"] = column<double>(rows, [](const R& r) {
+        return has_error_estimate(r.simulation) ? r.simulation.F_m_error
+                                                : std::numeric_limits<double>::quiet_NaN();
+    });
     d["status"] = strings(rows, [](const R& r) { return to_string(r.simulation.status); });
     d["multistable"] = column<bool>(rows, [](const R& r) { return r.simulation.multistable; });
     d["steady_state_period"] =

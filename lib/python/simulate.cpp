@@ -30,7 +30,8 @@ scene     None (the paper's defaults), a scene dict, or the path of a scene file
 trajectory  also return the (decimated) trajectory of the main run.
 progress    callable(fraction in [0, 1]), called as the run advances.
 
-Returns a dict: F_m and F_m_error (reduced force; physically F = F_m M a0 sqrt(fc)),
+Returns a dict: F_m and F_m_error (reduced force; physically F = F_m M a0 sqrt(fc); F_m_error
+None when not estimated),
 F_m_error_method, F_m_contact (j = 0 left wall .. Nm right wall, -1 no contact), F_m_time
 (reduced time), contact (bool), multistable (bool: a twin run from a start moved by 1e-8 gave
 an F_m beyond the error; F_m_error then covers it), F_m_twin (or None), F_m_orbit (the largest
@@ -51,7 +52,7 @@ released while it runs; Ctrl-C (KeyboardInterrupt) stops it.)";
 py::dict result_dict(const SimulationResult& r, const Scene& scene) {
     py::dict d;
     d["F_m"] = r.F_m;
-    d["F_m_error"] = r.F_m_error;
+    d["F_m_error"] = has_error_estimate(r) ? py::object(py::float_(r.F_m_error)) : py::none();
     d["F_m_error_method"] = std::string(to_string(r.error_method));
     d["F_m_contact"] = r.F_m_contact;
     d["F_m_time"] = r.F_m_time;

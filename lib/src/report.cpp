@@ -49,7 +49,8 @@ json per_body_json(const SimulationResult& r, const Scene& scene) {
 std::string to_json(const SimulationResult& r, const Scene& scene) {
     json j;
     j["F_m"] = r.F_m;
-    j["F_m_error"] = r.F_m_error;
+    const bool estimated = has_error_estimate(r);
+    j["F_m_error"] = estimated ? json(r.F_m_error) : json(nullptr);
     j["F_m_error_method"] = to_string(r.error_method);
     j["F_m_contact"] = r.F_m_contact;
     j["F_m_time"] = r.F_m_time;
@@ -62,7 +63,8 @@ std::string to_json(const SimulationResult& r, const Scene& scene) {
     if (r.relaxed_from_period >= 0) j["relaxed_from_period"] = r.relaxed_from_period;
     if (scene.physical) {
         j["F_m_newton"] = force_in_newtons(r.F_m, *scene.physical);
-        j["F_m_error_newton"] = force_in_newtons(r.F_m_error, *scene.physical);
+        j["F_m_error_newton"] =
+            estimated ? json(force_in_newtons(r.F_m_error, *scene.physical)) : json(nullptr);
         j["excitation"] = {{"harmonic", scene.harmonic()},
                            {"a0_m_s2", scene.physical->a0},
                            {"natural_frequency_hz", natural_frequency(*scene.physical)}};
@@ -611,7 +613,9 @@ std::string sweep_csv_row(const Study& study, const SweepPointResult& r) {
     const ReducedParameters& p = r.parameters;
     const SimulationResult& s = r.simulation;
     os << ',' << p.Nm << ',' << p.fc << ',' << p.eps << ',' << p.e_r << ',' << p.f_r << ',' << s.F_m
-       << ',' << s.F_m_error << ',' << to_string(s.status) << ',' << (s.multistable ? 1 : 0);
+       << ',';
+    if (has_error_estimate(s)) os << s.F_m_error;
+    os << ',' << to_string(s.status) << ',' << (s.multistable ? 1 : 0);
     if (r.F_m_newton) os << ',' << *r.F_m_newton;
     if (study.attractor_starts > 0)
         os << ',' << (r.F_m_max ? *r.F_m_max : s.F_m) << ',' << r.attractors_found << ','

@@ -24,6 +24,10 @@ std::string_view to_string(ErrorMethod method) {
     return "?";
 }
 
+bool has_error_estimate(const SimulationResult& r) {
+    return r.error_method != ErrorMethod::none || r.F_m_error > 0.0;
+}
+
 namespace {
 
 struct SingleRun {

@@ -313,3 +313,15 @@ def test_an_argument_of_the_wrong_type_is_named_in_one_line():
     assert gapchain.attractors.__name__ == "attractors"
     assert gapchain.attractors.__doc__.startswith("attractors(scene=None")
     assert gapchain.orbit(MIRROR_PAIR, period=np.int64(1))["status"] == "converged"
+
+
+def test_an_error_nothing_estimated_is_none_or_nan_not_zero():
+    # Fig 5's periodic point settles early: no twin or orbit check widens the error bar.
+    r = gapchain.simulate(Nm=5, fc=100, eps=0.5, e_r=0.5, f_r=1.0, periods=200,
+                          estimate_error=False)
+    assert r["F_m"] > 0 and r["F_m_error"] is None and r["F_m_error_method"] == "none"
+    study = {"scene": {"model": {"Nm": 5, "fc": 100, "eps": 0.5, "e_r": 0.5},
+                       "run": {"periods": 200, "estimate_error": False}},
+             "parameters": {"f_r": [1.0]}}
+    assert np.isnan(gapchain.sweep(study)["F_m_error"][0])
+    assert gapchain.simulate(Nm=5, fc=100, eps=0.5, e_r=0.5, f_r=1.0, periods=200)["F_m_error"] > 0

@@ -92,6 +92,11 @@ struct SimulationResult {
     double wall_time_s = 0.0;      ///< wall time of the whole call [s]
 };
 
+/// Whether r.F_m_error holds an estimate. False when nothing estimated it (run.estimate_error
+/// off and no check widened it, or a run that failed), where a 0 would read as an exact F_m:
+/// reports then write null (JSON), an empty field (CSV), None or NaN (Python).
+[[nodiscard]] bool has_error_estimate(const SimulationResult& r);
+
 /// Optional streams of one simulation.
 struct SimulationHooks {
     TrajectorySink trajectory;        ///< receives (decimated) states of the main run, if set

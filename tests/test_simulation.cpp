@@ -430,6 +430,10 @@ TEST_CASE("the error bar covers the twin's F_m and the orbit's gap; the flags do
         CHECK(r.F_m - *r.F_m_orbit > 0.05);
         CHECK(r.maximum_in_transient);
         CHECK(r.F_m_error >= r.F_m - *r.F_m_orbit);
+        // Without an estimate of its own the error bar is the check's difference, labelled so.
+        CHECK(r.error_method == (options.estimate_error ? ErrorMethod::comparison_run
+                                                        : ErrorMethod::start_dependence));
+        CHECK(has_error_estimate(r));
     }
 }
 

@@ -66,6 +66,8 @@ void print_result(const Scene& scene, const SimulationResult& r) {
         if (scene.physical)
             std::printf("  (%.6g N +- %.2g N)", force_in_newtons(r.F_m, *scene.physical),
                         force_in_newtons(r.F_m_error, *scene.physical));
+        if (r.error_method == ErrorMethod::start_dependence)
+            std::printf(" (the start checks' difference only: run.estimate_error is false)");
     }
     print_where(r, p.Nm);
     if (r.steady_state_period)

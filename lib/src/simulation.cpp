@@ -20,12 +20,13 @@ std::string_view to_string(ErrorMethod method) {
     case ErrorMethod::none: return "none";
     case ErrorMethod::comparison_run: return "comparison_run";
     case ErrorMethod::window_halves: return "window_halves";
+    case ErrorMethod::start_dependence: return "start_dependence";
     }
     return "?";
 }
 
 bool has_error_estimate(const SimulationResult& r) {
-    return r.error_method != ErrorMethod::none || r.F_m_error > 0.0;
+    return r.error_method != ErrorMethod::none;
 }
 
 namespace {
@@ -415,6 +416,14 @@ std::optional<double> orbit_maximum(const Dynamics& dyn, PlannedRun& planned, co
 /// settled early took it in the start-up, whose decay MODEL.md §2's discarded periods (the
 /// contact-free rate) underestimate where contacts slow it (Nm = 10, fc = 100, eps = 0.2,
 /// e_r = 0.35, f_r = 1.125: 3.3784 +- 0.0004 at t = 8.5, against 3.3730 on the orbit).
+/// Widens F_m_error to cover a start check's difference; without an estimate of its own the
+/// error bar is that difference alone, and error_method says so.
+void widen_error(SimulationResult& result, double difference) {
+    result.F_m_error = std::max(result.F_m_error, difference);
+    if (result.error_method == ErrorMethod::none)
+        result.error_method = ErrorMethod::start_dependence;
+}
+
 /// False if progress cancelled the orbit cycle.
 bool check_transient_maximum(const Dynamics& dyn, const RunOptions& options, PlannedRun& planned,
                              const SingleRun& main, bool late, const ProgressCallback& progress,
@@ -434,7 +443,7 @@ bool check_transient_maximum(const Dynamics& dyn, const RunOptions& options, Pla
     // cycle's: the two also differ by the relaxed plan's error.
     const double allowed = std::max(std::max(options.tolerance, 1e-9) * result.F_m,
                                     main.relaxed_from >= 0 ? 3.0 * result.F_m_error : 0.0);
-    if (excess > 0.0) result.F_m_error = std::max(result.F_m_error, excess);
+    if (excess > 0.0) widen_error(result, excess);
     if (excess > allowed) {
         result.maximum_in_transient = true;
         result.multistable = late;
@@ -474,7 +483,7 @@ void check_transient_and_twin(const Dynamics& dyn, const RunOptions& options,
     const double allowed = std::max(
         {3.0 * result.F_m_error, 3.0 * spread(main), 3.0 * spread(twin), 1e-6 * result.F_m});
     if (difference > allowed) result.multistable = true;
-    result.F_m_error = std::max(result.F_m_error, difference);
+    if (difference > 0.0) widen_error(result, difference);
 }
 
 } // namespace

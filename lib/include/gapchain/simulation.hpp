@@ -28,9 +28,12 @@ enum class ErrorMethod {
     comparison_run, ///< a second run at another step (or tolerance): truncation error
     window_halves,  ///< a run that never settled: |max over first half - max over second
                     ///< half| of the recorded window, the sampling spread of F_m
+    /// estimate_error off, but the start checks widened F_m_error: it is only the difference
+    /// to the twin run's F_m or to the settled orbit's maximum (no truncation error in it)
+    start_dependence,
 };
 
-/// "none", "comparison_run" or "window_halves".
+/// "none", "comparison_run", "window_halves" or "start_dependence".
 std::string_view to_string(ErrorMethod method);
 
 /// Which accuracy a simulation's main run kept (see RunOptions::accuracy_mode).
@@ -92,8 +95,9 @@ struct SimulationResult {
     double wall_time_s = 0.0;      ///< wall time of the whole call [s]
 };
 
-/// Whether r.F_m_error holds an estimate. False when nothing estimated it (run.estimate_error
-/// off and no check widened it, or a run that failed), where a 0 would read as an exact F_m:
+/// Whether r.F_m_error holds an estimate. False when nothing estimated it (error_method none:
+/// run.estimate_error off and no check widened it, or a run that failed), where a 0 would read
+/// as an exact F_m:
 /// reports then write null (JSON), an empty field (CSV), None or NaN (Python).
 [[nodiscard]] bool has_error_estimate(const SimulationResult& r);
 

@@ -410,12 +410,6 @@ std::optional<double> orbit_maximum(const Dynamics& dyn, PlannedRun& planned, co
     return cycle.max_force();
 }
 
-/// A run whose orbit stays below its F_m took the maximum before it reached the orbit. A run
-/// that settled late took it in a chaotic transient: a property of the start, not of the steady
-/// state (issue 19's Nm = 2 row: 1.160 in the transient, 1.070 on the period-3 orbit). One that
-/// settled early took it in the start-up, whose decay MODEL.md §2's discarded periods (the
-/// contact-free rate) underestimate where contacts slow it (Nm = 10, fc = 100, eps = 0.2,
-/// e_r = 0.35, f_r = 1.125: 3.3784 +- 0.0004 at t = 8.5, against 3.3730 on the orbit).
 /// Widens F_m_error to cover a start check's difference; without an estimate of its own the
 /// error bar is that difference alone, and error_method says so.
 void widen_error(SimulationResult& result, double difference) {
@@ -424,6 +418,12 @@ void widen_error(SimulationResult& result, double difference) {
         result.error_method = ErrorMethod::start_dependence;
 }
 
+/// A run whose orbit stays below its F_m took the maximum before it reached the orbit. A run
+/// that settled late took it in a chaotic transient: a property of the start, not of the steady
+/// state (issue 19's Nm = 2 row: 1.160 in the transient, 1.070 on the period-3 orbit). One that
+/// settled early took it in the start-up, whose decay MODEL.md §2's discarded periods (the
+/// contact-free rate) underestimate where contacts slow it (Nm = 10, fc = 100, eps = 0.2,
+/// e_r = 0.35, f_r = 1.125: 3.3784 +- 0.0004 at t = 8.5, against 3.3730 on the orbit).
 /// False if progress cancelled the orbit cycle.
 bool check_transient_maximum(const Dynamics& dyn, const RunOptions& options, PlannedRun& planned,
                              const SingleRun& main, bool late, const ProgressCallback& progress,

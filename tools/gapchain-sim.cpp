@@ -44,6 +44,23 @@ void print_where(const SimulationResult& r, int bodies) {
     std::printf(", t = %.6g\n", r.F_m_time);
 }
 
+/// "F_m = ... +- ..." in reduced units (and newtons for a physical scene), or without "+-" when
+/// nothing estimated the error: "+- 0" would claim an exact answer.
+void print_force(const Scene& scene, const SimulationResult& r) {
+    if (!has_error_estimate(r)) {
+        std::printf("F_m = %.9g (no error estimate%s)", r.F_m,
+                    scene.run.estimate_error ? "" : ": run.estimate_error is false");
+        if (scene.physical) std::printf("  (%.6g N)", force_in_newtons(r.F_m, *scene.physical));
+        return;
+    }
+    std::printf("F_m = %.9g +- %.2g", r.F_m, r.F_m_error);
+    if (scene.physical)
+        std::printf("  (%.6g N +- %.2g N)", force_in_newtons(r.F_m, *scene.physical),
+                    force_in_newtons(r.F_m_error, *scene.physical));
+    if (r.error_method == ErrorMethod::start_dependence)
+        std::printf(" (the start checks' difference only: run.estimate_error is false)");
+}
+
 void print_result(const Scene& scene, const SimulationResult& r) {
     const ReducedParameters& p = scene.reduced;
     if (scene.harmonic())
@@ -56,19 +73,7 @@ void print_result(const Scene& scene, const SimulationResult& r) {
                     p.Nm, p.fc, p.eps, p.e_r, scene.physical->a0,
                     std::string(to_string(r.scheme)).c_str(), r.step, scene.record_duration,
                     r.periods_simulated);
-    if (!has_error_estimate(r)) {
-        // "+- 0" would claim an exact answer.
-        std::printf("F_m = %.9g (no error estimate%s)", r.F_m,
-                    scene.run.estimate_error ? "" : ": run.estimate_error is false");
-        if (scene.physical) std::printf("  (%.6g N)", force_in_newtons(r.F_m, *scene.physical));
-    } else {
-        std::printf("F_m = %.9g +- %.2g", r.F_m, r.F_m_error);
-        if (scene.physical)
-            std::printf("  (%.6g N +- %.2g N)", force_in_newtons(r.F_m, *scene.physical),
-                        force_in_newtons(r.F_m_error, *scene.physical));
-        if (r.error_method == ErrorMethod::start_dependence)
-            std::printf(" (the start checks' difference only: run.estimate_error is false)");
-    }
+    print_force(scene, r);
     print_where(r, p.Nm);
     if (r.steady_state_period)
         std::printf("periodic steady state: period %d x T, reached by t = %.6g (transient ended "

@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The 23 defect classes of the reliability probe (../shared/reports/reliability-probe-2026-11-22.md),
-# each reproduced as the report gives it and checked against what the README promises, and a
-# 24th and 25th from the probes of 2026-11-24.
+# each reproduced as the report gives it and checked against what the README promises, a
+# 24th and 25th from the probes of 2026-11-24, and a 26th from a later one that day.
 # Usage: probe_classes.sh BIN_DIR SOURCE_DIR   (prints "class N: ok" or "class N: FAIL ...")
 set -u
 bin=$(cd "$1" && pwd)
@@ -345,8 +345,25 @@ expect 25 1 "way25/attractors.json: cannot write: a folder of that name is in th
 expect 25 1 "cannot write to standard output" sh -c "'$bin/gapchain-bounds' nm2.json >/dev/full"
 verdict 25
 
+# 26 (a later probe of 2026-11-24): a file output that is not a regular file (a pipe, a device, a
+# symbolic link) was replaced by the atomic write's rename; a missing folder or an empty --out
+# was found only after the run; a plot that cannot be written left the JSON and CSV behind.
+small='{"model":{"Nm":3,"fc":100,"e_r":0.5},"excitation":{"f_r":1.0},"run":{"periods":50}}'
+echo "$small" >s26.json
+mkfifo fifo26 && ln -s "$dir/target26.json" link26
+expect 26 2 "^gapchain-orbit: --out: fifo26 exists and is not a regular file" "$bin/gapchain-orbit" s26.json --out fifo26 && one_line 26
+[ -p fifo26 ] || { echo "class 26: FAIL: the pipe was replaced"; failed+=(26); }
+expect 26 2 "^gapchain-lyapunov: --out: link26 is a symbolic link" "$bin/gapchain-lyapunov" s26.json --out link26
+[ -L link26 ] || { echo "class 26: FAIL: the link was replaced"; failed+=(26); }
+expect 26 2 "^gapchain-sim: --trajectory: nodir26/t.csv: the folder .*nodir26 does not exist" "$bin/gapchain-sim" s26.json --trajectory nodir26/t.csv
+expect 26 2 "^gapchain-orbit: --out: must name a file" "$bin/gapchain-orbit" s26.json --out ""
+mkdir -p l26_convergence.png/x
+expect 26 2 "--out \(its _convergence.png\): l26_convergence.png is a directory" "$bin/gapchain-lyapunov" s26.json --out l26.json
+absent 26 l26.json l26_history.csv l26_convergence.gp
+verdict 26
+
 if [ "${#failed[@]}" -eq 0 ]; then
-    echo "all 25 classes checked"
+    echo "all 26 classes checked"
     exit 0
 fi
 exit 1

@@ -55,19 +55,26 @@ int main(int argc, char** argv) {
         const std::string stem =
             out.size() > 5 && out.ends_with(".json") ? out.substr(0, out.size() - 5) : out;
         cli::Outputs outputs({scene_args.path});
-        outputs.file(out, "--out");
+        outputs.required_file(out, "--out");
         outputs.file(stem + "_history.csv", "--out (its _history.csv)");
+        if (!no_plot) {
+            outputs.file(stem + "_convergence.gp", "--out (its _convergence.gp)");
+            outputs.file(stem + "_convergence.png", "--out (its _convergence.png)");
+        }
         cli::Progress progress("gapchain-lyapunov");
         const LyapunovResult r =
             chain_lyapunov(dyn, scene.run, k, scene.initial, progress.callback());
         cli::throw_if_interrupted();
         if (r.status == RunStatus::non_finite) throw cli::NumericalFailure(r.message);
         write_file_atomically(out, to_json(r, scene.reduced, k));
+        outputs.written(out);
         write_file_atomically(stem + "_history.csv", history_csv(r));
+        outputs.written(stem + "_history.csv");
         if (!no_plot) {
             auto name = [](const std::string& path) {
                 return std::filesystem::path(path).filename().string();
             };
+            outputs.written(stem + "_convergence.gp");
             cli::plot_with_gnuplot(
                 stem + "_convergence.gp",
                 cli::plot_script("lyapunov", {{"SCRIPT", name(stem + "_convergence.gp")},

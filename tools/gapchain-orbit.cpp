@@ -79,7 +79,7 @@ int main(int argc, char** argv) {
                         const Dynamics dyn = scene.dynamics();
                         a.options.scheme = parse_scheme(a.scheme);
                         cli::Outputs outputs({a.scene.path});
-                        outputs.file(a.out, "--out");
+                        outputs.required_file(a.out, "--out");
                         cli::Progress progress("gapchain-orbit");
                         const PeriodicOrbit orbit = find_periodic_orbit_after(
                             dyn, a.options, scene.initial, a.transient, progress.callback());

@@ -144,7 +144,10 @@ int main(int argc, char** argv) {
         const SimulationResult r = simulate(dyn, scene.run, scene.initial, hooks);
         cli::throw_if_interrupted();
         if (r.status == RunStatus::non_finite) throw cli::NumericalFailure(r.message);
-        if (trajectory) trajectory->commit();
+        if (trajectory) {
+            trajectory->commit();
+            outputs.written(trajectory_path); // gone again if the JSON cannot be written
+        }
         if (!out_path.empty()) write_file_atomically(out_path, to_json(r, scene));
         outputs.keep();
         if (!quiet) print_result(scene, r);

@@ -230,7 +230,7 @@ void sweep(const SweepArguments& a, Ranks& ranks) {
     const Study study = load_study(a.study_path);
     SweepSelection sel = selection(a, study, ranks);
     cli::Outputs outputs({a.study_path});
-    outputs.file(a.out, "--out");
+    outputs.required_file(a.out, "--out");
     outputs.file(a.out + ".json", "--out (its .json sidecar)");
     std::unique_ptr<ResultLog> log;
     if (ranks.rank() == 0) log = open_results(a, study, sel);

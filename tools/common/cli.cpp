@@ -120,6 +120,8 @@ bool remove_empty_tree(const fs::path& p) {
 Outputs::~Outputs() {
     if (m_kept) return;
     std::error_code ec;
+    for (const auto& path : m_written)
+        fs::remove(path, ec);
     for (const auto& f : m_folders)
         if (!f.staging.empty()) fs::remove_all(f.staging, ec);
     for (auto it = m_created.rbegin(); it != m_created.rend(); ++it)
@@ -143,9 +145,26 @@ void Outputs::file(const std::string& path, const std::string& flag) {
     std::error_code ec;
     if (fs::is_directory(path, ec))
         throw std::invalid_argument(flag + ": " + path + " is a directory; give a file name");
+    if (fs::is_symlink(path, ec))
+        throw std::invalid_argument(flag + ": " + path + " is a symbolic link (to " +
+                                    fs::read_symlink(path, ec).string() +
+                                    "), which the write would replace; give the file itself");
+    if (fs::exists(path, ec) && !fs::is_regular_file(path, ec))
+        throw std::invalid_argument(flag + ": " + path +
+                                    " exists and is not a regular file (a device, pipe or "
+                                    "socket), which the write would replace; give a file name");
+    const fs::path folder = fs::absolute(path).parent_path();
+    if (!fs::is_directory(folder, ec))
+        throw std::invalid_argument(flag + ": " + path + ": the folder " + folder.string() +
+                                    " does not exist");
     check_distinct(path, flag);
     check_writable_parent(path, flag, path);
     m_paths.emplace_back(path, flag);
+}
+
+void Outputs::required_file(const std::string& path, const std::string& flag) {
+    if (path.empty()) throw std::invalid_argument(flag + ": must name a file");
+    file(path, flag);
 }
 
 void Outputs::folder(const std::string& path, const std::string& flag,

@@ -58,8 +58,15 @@ public:
     ~Outputs();
     Outputs(const Outputs&) = delete;
     Outputs& operator=(const Outputs&) = delete;
-    // A file output given by flag (for messages); empty paths are ignored.
+    // A file output given by flag (for messages); empty paths are ignored. Refused: a folder, a
+    // path whose folder does not exist, and anything but a regular file at the path (a device,
+    // a pipe, a symbolic link: the atomic write would replace it by a file).
     void file(const std::string& path, const std::string& flag);
+    // The same for an output the tool always writes: an empty path is refused too.
+    void required_file(const std::string& path, const std::string& flag);
+    // A file output written in place before the run is over (a plot reads it): removed again
+    // if the run then fails, so that no part of a failed run's output is left.
+    void written(const std::string& path) { m_written.push_back(path); }
     // A folder output given by flag. owned: every file name the tool may write there, in any
     // of its modes; keep() removes those this run did not write, so that no file of an earlier
     // run (a basin slice next to a new attractor list) passes for this run's.
@@ -85,6 +92,7 @@ private:
     std::vector<std::pair<std::string, std::string>> m_paths; // path, flag
     std::vector<FolderOutput> m_folders;
     std::vector<std::string> m_created;
+    std::vector<std::string> m_written;
     bool m_kept = false;
 };
 

@@ -2,7 +2,9 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <stdexcept>
+#include <vector>
 
 using namespace gapchain;
 
@@ -31,4 +33,30 @@ TEST_CASE("work-precision study: errors fall with the tolerance, exact is its ow
     CHECK(best->F_m_error <= 1e-6);
     CHECK_THROWS_AS(work_precision(dyn, WorkPrecisionOptions{{Scheme::automatic}}),
                     std::invalid_argument);
+}
+
+TEST_CASE("a work-precision study reports its fraction done and stops when progress says so") {
+    const Dynamics dyn = Dynamics::paper_row({3, 50, 0.5, 0.3, 1.1});
+    WorkPrecisionOptions o;
+    o.schemes = {Scheme::rk4};
+    o.tolerances = {1e-3, 1e-5};
+    o.periods = 10;
+    o.repeats = 2;
+    o.unsplit_too = false;
+    std::vector<double> seen;
+    const WorkPrecision whole = work_precision(dyn, o, [&](double f) {
+        seen.push_back(f);
+        return true;
+    });
+    CHECK_FALSE(whole.cancelled);
+    CHECK(whole.points.size() == 2);
+    REQUIRE(!seen.empty());
+    CHECK(std::is_sorted(seen.begin(), seen.end()));
+    CHECK(seen.front() >= 0.0);
+    CHECK(seen.back() == doctest::Approx(1.0)); // 5 runs: the reference and 2 x 2
+    // Stopped inside the fourth run of five (the first repeat of the second tolerance, from 0.6
+    // to 0.8 of the study): the first tolerance's point is kept.
+    const WorkPrecision stopped = work_precision(dyn, o, [](double f) { return f < 0.7; });
+    CHECK(stopped.cancelled);
+    CHECK(stopped.points.size() == 1);
 }

@@ -98,7 +98,9 @@ int main(int argc, char** argv) {
         cli::Outputs outputs({scene_args.path});
         outputs.folder(out, "--out",
                        {"work_precision.csv", "work_precision.gp", "work_precision.png"});
-        const WorkPrecision study = work_precision(scene.dynamics(), o);
+        cli::Progress progress("gapchain-accuracy");
+        const WorkPrecision study = work_precision(scene.dynamics(), o, progress.callback());
+        cli::throw_if_interrupted();
         outputs.create_folders();
         const std::string staged = outputs.staged(out);
         write_file_atomically(staged + "/work_precision.csv", work_precision_csv(study));

@@ -34,14 +34,18 @@ struct Trajectory {
     double seconds = 0.0;
 };
 
-Trajectory integrate(const Dynamics& dyn, const StepPlan& plan, long periods) {
+/// Nothing if progress stopped the run.
+std::optional<Trajectory> integrate(const Dynamics& dyn, const StepPlan& plan, long periods,
+                                    const ProgressCallback& progress) {
     const auto start = std::chrono::steady_clock::now();
     auto stepper = make_stepper(plan, dyn);
     MaxForceTracker forces(dyn);
     PeriodSampler sampler(dyn.dimension());
     Observer* observers[] = {&forces, &sampler};
     std::vector<double> y(dyn.dimension(), 0.0);
-    run(dyn, *stepper, plan, {periods, 0, 0.0}, y, observers);
+    if (run(dyn, *stepper, plan, {periods, 0, 0.0}, y, observers, progress).status ==
+        RunStatus::cancelled)
+        return std::nullopt;
     Trajectory t;
     for (const auto& c : forces.contacts())
         t.F_m = std::max(t.F_m, c.force);
@@ -60,7 +64,8 @@ double max_norm_difference(const std::vector<double>& a, const std::vector<doubl
 
 } // namespace
 
-WorkPrecision work_precision(const Dynamics& dyn, const WorkPrecisionOptions& o) {
+WorkPrecision work_precision(const Dynamics& dyn, const WorkPrecisionOptions& o,
+                             const ProgressCallback& progress) {
     const auto start = std::chrono::steady_clock::now();
     detail::require_range("periods", static_cast<double>(o.periods), 1.0, 1e7);
     detail::require_range("repeats", o.repeats, 1, 100);
@@ -73,16 +78,34 @@ WorkPrecision work_precision(const Dynamics& dyn, const WorkPrecisionOptions& o)
     StepPlan reference_plan = plan_step(dyn, Scheme::exact, 1e-12);
     reference_plan.steps_per_period *= 2;
     reference_plan.step /= 2;
-    const Trajectory reference = integrate(dyn, reference_plan, o.periods);
+    // Each run reports its own fraction; the study's counts the runs before it.
+    const std::size_t plans =
+        o.schemes.size() * o.tolerances.size() + (o.unsplit_too ? 2 * o.tolerances.size() : 0);
+    const double runs = 1.0 + static_cast<double>(plans) * o.repeats;
+    double runs_done = 0.0;
+    const auto next_run = [&](const StepPlan& plan) {
+        std::optional<Trajectory> t = integrate(dyn, plan, o.periods, [&](double f) {
+            return !progress || progress((runs_done + f) / runs);
+        });
+        runs_done += 1.0;
+        if (!t) study.cancelled = true;
+        return t;
+    };
+    const std::optional<Trajectory> reference_run = next_run(reference_plan);
+    if (!reference_run) return study;
+    const Trajectory& reference = *reference_run;
     study.F_m_reference = reference.F_m;
 
     auto measure = [&](Scheme scheme, bool split, double tolerance) {
+        if (study.cancelled) return;
         StepPlan plan = plan_step(dyn, scheme, tolerance);
         plan.split_at_switches = split;
         std::vector<double> seconds;
         Trajectory t;
         for (int r = 0; r < o.repeats; ++r) {
-            t = integrate(dyn, plan, o.periods);
+            std::optional<Trajectory> repeat = next_run(plan);
+            if (!repeat) return;
+            t = std::move(*repeat);
             seconds.push_back(t.seconds);
         }
         std::sort(seconds.begin(), seconds.end());

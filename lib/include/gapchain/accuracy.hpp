@@ -5,6 +5,7 @@
 /// as SciMLBenchmarks define them: final-time error, and L2 over once-per-period samples).
 
 #include "gapchain/dynamics.hpp"
+#include "gapchain/run.hpp"
 #include "gapchain/stepper.hpp"
 
 #include <optional>
@@ -41,10 +42,13 @@ struct WorkPrecision {
     double F_m_reference = 0.0;             ///< exact propagator, half its default interval
     std::vector<WorkPrecisionPoint> points; ///< scheme-major, tolerance order
     double wall_time_s = 0.0;               ///< [s]
+    bool cancelled = false; ///< progress stopped it: points holds the runs finished before
 };
 
-/// Runs the study on dyn from rest. Throws std::invalid_argument on bad options.
-WorkPrecision work_precision(const Dynamics& dyn, const WorkPrecisionOptions& options);
+/// Runs the study on dyn from rest. Throws std::invalid_argument on bad options. progress
+/// reports the fraction of the study's runs done; answering false stops it (cancelled).
+WorkPrecision work_precision(const Dynamics& dyn, const WorkPrecisionOptions& options,
+                             const ProgressCallback& progress = {});
 
 /// The fastest point (any scheme, split steps) whose relative F_m error is at most target.
 std::optional<WorkPrecisionPoint> fastest_for(const WorkPrecision& study, double target);

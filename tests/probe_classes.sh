@@ -360,6 +360,14 @@ expect 26 2 "^gapchain-orbit: --out: must name a file" "$bin/gapchain-orbit" s26
 mkdir -p l26_convergence.png/x
 expect 26 2 "--out \(its _convergence.png\): l26_convergence.png is a directory" "$bin/gapchain-lyapunov" s26.json --out l26.json
 absent 26 l26.json l26_history.csv l26_convergence.gp
+# A SIGTERM reaches Newton's shootings of a large row (one took 25 s before it was asked) and a
+# work-precision study (it ran to its end): exit 143 long before the outer KILL, nothing written.
+# (--foreground: timeout otherwise also signals its process group, and a second SIGTERM ends a
+# tool at once, silently, by design.)
+expect 26 143 "interrupted by SIGTERM" timeout -s KILL 20 timeout --foreground --preserve-status -s TERM 1 "$bin/gapchain-orbit" s26.json --set model.Nm=300 --from-transient 0 --out o26.json
+expect 26 143 "interrupted by SIGTERM" timeout -s KILL 20 timeout --foreground --preserve-status -s TERM 1 "$bin/gapchain-continue" s26.json --set model.Nm=300 --from 1 --to 1.1 --transient 0 --no-plot --out c26
+expect 26 143 "interrupted by SIGTERM" timeout -s KILL 20 timeout --foreground --preserve-status -s TERM 1 "$bin/gapchain-accuracy" s26.json --periods 100000 --repeats 1 --no-unsplit --no-plot --out a26
+absent 26 o26.json c26 a26
 verdict 26
 
 if [ "${#failed[@]}" -eq 0 ]; then

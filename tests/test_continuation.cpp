@@ -31,6 +31,35 @@ TEST_CASE("a contact-free branch: no special point, MODEL.md's multipliers all a
     }
 }
 
+TEST_CASE("a cancel inside a shooting ends the continuation as cancelled") {
+    const ReducedParameters p{5, 60, 0.5, 0.06, 2.6};
+    ContinuationOptions o;
+    o.from = 2.6;
+    o.to = 2.7;
+    o.transient_periods = 200;
+    long calls = 0;
+    // Stopped after the transient run and the first Newton search, inside the branch's walk.
+    long stop_at = 0;
+    std::size_t whole_points = 0;
+    {
+        const ContinuationResult whole = continue_orbits(p, o, {}, [&](double) {
+            ++stop_at;
+            return true;
+        });
+        REQUIRE_FALSE(whole.cancelled);
+        REQUIRE(stop_at > 20);
+        whole_points = whole.points.size();
+    }
+    const ContinuationResult r =
+        continue_orbits(p, o, {}, [&](double) { return ++calls < stop_at / 2; });
+    CHECK(r.cancelled);
+    // After the refusal each shooting still asks once, at its first check, and fails at once.
+    CHECK(calls < stop_at);
+    CHECK(r.points.size() < whole_points);
+    REQUIRE_FALSE(r.branch_end.empty());
+    CHECK(r.branch_end.back() == "cancelled");
+}
+
 TEST_CASE("Fig 13's fold at f_r = 2.762 is located to 1e-6 from two different starts") {
     const ReducedParameters p{5, 60, 0.5, 0.06, 3.0};
     ContinuationOptions o;

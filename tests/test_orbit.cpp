@@ -38,6 +38,26 @@ TEST_CASE("find_periodic_orbit_after: a progress answering false stops the trans
     CHECK(to_string(orbit.status) == "cancelled");
 }
 
+TEST_CASE(
+    "Newton's shootings ask the progress callback inside a period, and stop when it says so") {
+    // Nm = 60: a step of the tangent flow's 120 vectors costs ~120 steps of the row, so the run
+    // asks every ~36 steps, not every ~4400 (more than the period's steps: asked at its end only).
+    const Dynamics dyn = row({60, 100, 0.5, 0.5, 1.0});
+    OrbitOptions o;
+    o.scheme = Scheme::rk4;
+    o.integration_tolerance = 1e-4;
+    std::vector<double> fractions;
+    const PeriodicOrbit stopped =
+        find_periodic_orbit(dyn, o, std::vector<double>(dyn.dimension(), 0.0), [&](double f) {
+            fractions.push_back(f);
+            return fractions.size() < 5;
+        });
+    CHECK(stopped.status == OrbitStatus::cancelled);
+    CHECK(fractions.size() == 5);   // the fifth answer stopped the first shooting
+    CHECK(fractions.back() == 0.0); // no Newton iteration was done
+    CHECK(stopped.iterations == 0);
+}
+
 TEST_CASE("a contact-free orbit: eq (20)'s state and MODEL.md's analytic multipliers") {
     const double eps = 0.1, f_r = 0.7;
     const ReducedParameters p{3, 100, eps, 1e3, f_r};

@@ -62,11 +62,7 @@ double max_norm_difference(const std::vector<double>& a, const std::vector<doubl
     return std::isfinite(d) ? d : std::numeric_limits<double>::infinity();
 }
 
-} // namespace
-
-WorkPrecision work_precision(const Dynamics& dyn, const WorkPrecisionOptions& o,
-                             const ProgressCallback& progress) {
-    const auto start = std::chrono::steady_clock::now();
+void validate(const WorkPrecisionOptions& o) {
     detail::require_range("periods", static_cast<double>(o.periods), 1.0, 1e7);
     detail::require_range("repeats", o.repeats, 1, 100);
     for (double tol : o.tolerances)
@@ -74,6 +70,32 @@ WorkPrecision work_precision(const Dynamics& dyn, const WorkPrecisionOptions& o,
     for (Scheme s : o.schemes)
         if (s == Scheme::automatic)
             throw std::invalid_argument("schemes: name concrete schemes, not auto");
+}
+
+/// A run's errors against the reference: F_m's (relative), the final state's and the RMS over
+/// the once-per-period samples (max norm); F_m and evaluations copied.
+WorkPrecisionPoint against_reference(const Trajectory& t, const Trajectory& reference) {
+    WorkPrecisionPoint p;
+    p.F_m = t.F_m;
+    p.F_m_error =
+        reference.F_m > 0.0 ? std::abs(t.F_m - reference.F_m) / reference.F_m : std::abs(t.F_m);
+    p.final_error = max_norm_difference(t.samples.back(), reference.samples.back());
+    double sum2 = 0.0;
+    for (std::size_t k = 0; k < t.samples.size(); ++k) {
+        const double e = max_norm_difference(t.samples[k], reference.samples[k]);
+        sum2 += e * e;
+    }
+    p.l2_error = std::sqrt(sum2 / t.samples.size());
+    p.evaluations = t.evaluations;
+    return p;
+}
+
+} // namespace
+
+WorkPrecision work_precision(const Dynamics& dyn, const WorkPrecisionOptions& o,
+                             const ProgressCallback& progress) {
+    const auto start = std::chrono::steady_clock::now();
+    validate(o);
     WorkPrecision study;
     StepPlan reference_plan = plan_step(dyn, Scheme::exact, 1e-12);
     reference_plan.steps_per_period *= 2;
@@ -109,23 +131,12 @@ WorkPrecision work_precision(const Dynamics& dyn, const WorkPrecisionOptions& o,
             seconds.push_back(t.seconds);
         }
         std::sort(seconds.begin(), seconds.end());
-        WorkPrecisionPoint p;
+        WorkPrecisionPoint p = against_reference(t, reference);
         p.scheme = scheme;
         p.split = split;
         p.tolerance = tolerance;
         p.step = plan.step;
-        p.F_m = t.F_m;
-        p.F_m_error =
-            reference.F_m > 0.0 ? std::abs(t.F_m - reference.F_m) / reference.F_m : std::abs(t.F_m);
-        p.final_error = max_norm_difference(t.samples.back(), reference.samples.back());
-        double sum2 = 0.0;
-        for (std::size_t k = 0; k < t.samples.size(); ++k) {
-            const double e = max_norm_difference(t.samples[k], reference.samples[k]);
-            sum2 += e * e;
-        }
-        p.l2_error = std::sqrt(sum2 / t.samples.size());
         p.wall_time_s = seconds[seconds.size() / 2];
-        p.evaluations = t.evaluations;
         study.points.push_back(p);
     };
     for (Scheme scheme : o.schemes)

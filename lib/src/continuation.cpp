@@ -59,12 +59,16 @@ struct OrbitPoint {
 /// The continuation of one branch: the extended system F(x, p) = P^k(x; p) - x.
 class BranchTracer {
 public:
-    BranchTracer(const ReducedParameters& base, const ContinuationOptions& o, int period)
-        : m_base(base), m_o(o), m_orbit(o.orbit) {
+    /// keep_going is asked inside every shooting (one of a large row takes minutes).
+    BranchTracer(const ReducedParameters& base, const ContinuationOptions& o, int period,
+                 ProgressCallback keep_going)
+        : m_base(base), m_o(o), m_orbit(o.orbit), m_keep_going(std::move(keep_going)) {
         m_orbit.period = period;
     }
 
     [[nodiscard]] int dimension() const { return 2 * m_base.Nm; }
+    /// Whether keep_going stopped a shooting: every correction fails from then on.
+    [[nodiscard]] bool cancelled() const { return m_cancelled; }
     [[nodiscard]] long shootings() const { return m_shootings; }
 
     /// Whether p is a value the model accepts for the continued parameter.
@@ -83,7 +87,15 @@ public:
         ++m_shootings;
         const ReducedParameters q = with_value(m_base, m_o.parameter, p);
         const Dynamics dyn = Dynamics::paper_row(q);
-        return shoot(dyn, m_orbit, std::vector<double>(x.data(), x.data() + x.size()));
+        // Once cancelled, keep_going stops each shooting at its first check; its partial
+        // result keeps its sizes and is marked failed.
+        ShootingResult s =
+            shoot(dyn, m_orbit, std::vector<double>(x.data(), x.data() + x.size()), m_keep_going);
+        if (m_cancelled || s.cancelled) {
+            m_cancelled = true;
+            s.finite = false;
+        }
+        return s;
     }
 
     /// The Jacobian [M - I, dF/dp] (n x (n + 1)); dF/dp by central differences.
@@ -153,6 +165,8 @@ private:
     ReducedParameters m_base;
     const ContinuationOptions& m_o;
     OrbitOptions m_orbit;
+    ProgressCallback m_keep_going;
+    bool m_cancelled = false;
     long m_shootings = 0;
 };
 
@@ -207,13 +221,17 @@ public:
         double ds = m_o.step;
         for (int count = 1; count < m_o.max_points; ++count) {
             std::optional<OrbitPoint> b;
-            while (!b && ds >= 1e-7) {
+            while (!b && ds >= 1e-7 && !m_tracer.cancelled()) {
                 const Vector guess = a.z + ds * a.tangent;
                 b = m_tracer.correct(guess, a.tangent);
                 // A corrected point far from its prediction sits on another sheet: joining
                 // the two would draw a branch that does not exist.
                 if (b && !near(*b, guess, ds)) b.reset();
                 if (!b) ds /= 2;
+            }
+            if (m_tracer.cancelled()) {
+                m_result.cancelled = true;
+                return end("cancelled");
             }
             if (!b) {
                 return end("the corrector failed at the smallest step (1e-7) at " +
@@ -589,10 +607,12 @@ ContinuationResult continue_orbits(const ReducedParameters& base,
          ++branch) {
         const Pending next = pending.front();
         pending.pop_front();
-        BranchTracer tracer(base, options, next.period);
+        BranchTracer tracer(base, options, next.period, keep_going);
         std::optional<OrbitPoint> first = first_point(tracer, next.x, next.p, next.direction);
-        if (!first) {
-            result.branch_end.push_back("the first point did not converge");
+        if (!first) { // a cancelled tracer's corrections all fail
+            result.cancelled = tracer.cancelled();
+            result.branch_end.push_back(result.cancelled ? "cancelled"
+                                                         : "the first point did not converge");
             continue;
         }
         BranchWalk walk(tracer, options, next.period, branch, result);

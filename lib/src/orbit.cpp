@@ -120,8 +120,8 @@ void describe(const Dynamics& dyn, const OrbitOptions& o, const std::vector<doub
 
 } // namespace
 
-ShootingResult shoot(const Dynamics& dyn, const OrbitOptions& options,
-                     const std::vector<double>& x) {
+ShootingResult shoot(const Dynamics& dyn, const OrbitOptions& options, const std::vector<double>& x,
+                     const ProgressCallback& keep_going) {
     require_harmonic(dyn, "periodic orbits");
     RunOptions run;
     run.periods = options.period;
@@ -135,8 +135,9 @@ ShootingResult shoot(const Dynamics& dyn, const OrbitOptions& options,
     MaxForceTracker forces(dyn);
     PeriodEnds ends(dyn);
     Observer* observers[] = {&flow, &forces, &ends};
-    const RunOutcome outcome = planned.run(observers);
+    const RunOutcome outcome = planned.run(observers, keep_going);
     ShootingResult s;
+    s.cancelled = outcome.status == RunStatus::cancelled;
     s.end_state = planned.state();
     s.monodromy = flow.unscaled_matrix();
     s.at_ends = std::move(ends.m_states);
@@ -148,8 +149,39 @@ ShootingResult shoot(const Dynamics& dyn, const OrbitOptions& options,
     return s;
 }
 
+namespace {
+
+enum class DampedStep { improved, stalled, cancelled };
+
+/// The Newton step from x, damped: halved (up to 10 times) until the residual decreases (the map
+/// is only piecewise smooth, so a full step can cross a switch and overshoot). When it improves,
+/// x, s and residual are the new iterate's.
+DampedStep damped_step(const Dynamics& dyn, const OrbitOptions& options, const Vector& step,
+                       const ProgressCallback& keep_going, std::vector<double>& x,
+                       ShootingResult& s, double& residual) {
+    for (int halving = 0; halving <= 10; ++halving) {
+        const double lambda = std::ldexp(1.0, -halving);
+        std::vector<double> trial(x);
+        for (Eigen::Index i = 0; i < step.size(); ++i)
+            trial[i] += lambda * step[i];
+        ShootingResult t = shoot(dyn, options, trial, keep_going);
+        if (t.cancelled) return DampedStep::cancelled;
+        const double r = relative_residual(trial, t.end_state);
+        if (t.finite && r < residual) {
+            x = std::move(trial);
+            s = std::move(t);
+            residual = r;
+            return DampedStep::improved;
+        }
+    }
+    return DampedStep::stalled;
+}
+
+} // namespace
+
 PeriodicOrbit find_periodic_orbit(const Dynamics& dyn, const OrbitOptions& options,
-                                  const std::vector<double>& start) {
+                                  const std::vector<double>& start,
+                                  const ProgressCallback& progress) {
     const auto clock = std::chrono::steady_clock::now();
     validate(options);
     detail::require_length("start state", start.size(), static_cast<std::size_t>(dyn.dimension()));
@@ -157,18 +189,27 @@ PeriodicOrbit find_periodic_orbit(const Dynamics& dyn, const OrbitOptions& optio
     orbit.period = options.period;
     const auto dim = static_cast<Eigen::Index>(dyn.dimension());
     std::vector<double> x = start;
-    ShootingResult s = shoot(dyn, options, x);
+    const ProgressCallback keep_going = [&](double) {
+        return !progress || progress(static_cast<double>(orbit.iterations) /
+                                     std::max(1, options.max_iterations));
+    };
+    ShootingResult s = shoot(dyn, options, x, keep_going);
     double residual = relative_residual(x, s.end_state);
     auto finish = [&](OrbitStatus status, std::string message) {
         orbit.status = status;
         orbit.message = std::move(message);
         orbit.residual_history.push_back(residual);
-        if (status != OrbitStatus::non_finite) describe(dyn, options, x, s, orbit);
+        if (status != OrbitStatus::non_finite && status != OrbitStatus::cancelled)
+            describe(dyn, options, x, s, orbit);
         orbit.wall_time_s =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - clock).count();
         return orbit;
     };
+    const auto cancelled = [&] {
+        return finish(OrbitStatus::cancelled, "the Newton search was cancelled");
+    };
     for (;;) {
+        if (s.cancelled) return cancelled();
         if (!s.finite) return finish(OrbitStatus::non_finite, "the state became non-finite");
         if (residual <= options.tolerance) return finish(OrbitStatus::converged, "");
         if (orbit.iterations == options.max_iterations)
@@ -183,24 +224,9 @@ PeriodicOrbit find_periodic_orbit(const Dynamics& dyn, const OrbitOptions& optio
         if (!lu.isInvertible())
             return finish(OrbitStatus::singular, "M - I is singular (a multiplier at +1)");
         const Vector step = lu.solve(as_vector(x) - as_vector(s.end_state));
-        // Damped: halve the step until the residual decreases (the map is only piecewise
-        // smooth, so a full step can cross a switch and overshoot).
-        bool improved = false;
-        for (int halving = 0; halving <= 10 && !improved; ++halving) {
-            const double lambda = std::ldexp(1.0, -halving);
-            std::vector<double> trial(x);
-            for (Eigen::Index i = 0; i < dim; ++i)
-                trial[i] += lambda * step[i];
-            ShootingResult t = shoot(dyn, options, trial);
-            const double r = relative_residual(trial, t.end_state);
-            if (t.finite && r < residual) {
-                x = std::move(trial);
-                s = std::move(t);
-                residual = r;
-                improved = true;
-            }
-        }
-        if (!improved)
+        const DampedStep taken = damped_step(dyn, options, step, keep_going, x, s, residual);
+        if (taken == DampedStep::cancelled) return cancelled();
+        if (taken == DampedStep::stalled)
             return finish(OrbitStatus::not_converged,
                           "the damped Newton step no longer decreases the residual");
     }
@@ -237,7 +263,9 @@ PeriodicOrbit find_periodic_orbit_after(const Dynamics& dyn, const OrbitOptions&
         run.stop_at_steady_state = false;
         run.estimate_error = false;
         PlannedRun planned(dyn, run, start);
-        if (planned.run({}, progress).status == RunStatus::cancelled) {
+        // The transient run is the first half of the progress reported, Newton the second.
+        const ProgressCallback first_half = [&](double f) { return !progress || progress(f / 2); };
+        if (planned.run({}, first_half).status == RunStatus::cancelled) {
             PeriodicOrbit cancelled;
             cancelled.status = OrbitStatus::cancelled;
             cancelled.period = options.period;
@@ -246,7 +274,10 @@ PeriodicOrbit find_periodic_orbit_after(const Dynamics& dyn, const OrbitOptions&
         }
         start = planned.state();
     }
-    PeriodicOrbit orbit = find_periodic_orbit(dyn, options, start);
+    const double newton_from = transient_periods > 0 ? 0.5 : 0.0;
+    PeriodicOrbit orbit = find_periodic_orbit(dyn, options, start, [&](double f) {
+        return !progress || progress(newton_from + (1.0 - newton_from) * f);
+    });
     orbit.wall_time_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - clock).count();
     return orbit;

@@ -19,7 +19,7 @@ enum class OrbitStatus {
     not_converged, ///< max_iterations reached, or the damped step stopped decreasing the residual
     singular,      ///< M - I was singular to working precision (a multiplier at +1: a fold)
     non_finite,    ///< the state became NaN or infinite
-    cancelled,     ///< the progress callback stopped the transient run before Newton
+    cancelled,     ///< the progress callback stopped the transient run or a Newton shooting
 };
 
 /// Name of a status, as written in results ("converged", ...).
@@ -75,18 +75,23 @@ struct ShootingResult {
     std::vector<ContactMaximum> per_contact;  ///< maxima over the k periods
     std::vector<double> max_gap;              ///< per contact, largest g_j at step ends
     bool finite = true;                       ///< false if the state became non-finite
+    bool cancelled = false; ///< keep_going answered false: the other fields are partial
 };
 
 /// Integrates k = options.period forcing periods from x at t = 0 with the tangent flow.
-ShootingResult shoot(const Dynamics& dyn, const OrbitOptions& options,
-                     const std::vector<double>& x);
+/// keep_going is asked as the run advances (with its fraction done); false stops it
+/// (cancelled), so that a shooting of a large row (seconds to minutes) can be interrupted.
+ShootingResult shoot(const Dynamics& dyn, const OrbitOptions& options, const std::vector<double>& x,
+                     const ProgressCallback& keep_going = {});
 
 /// Newton shooting from start (2 Nm entries, e.g. the end state of a transient run): damped
 /// Newton on P^k(x) - x with (M - I) dx = -(P^k(x) - x), the step halved (up to 10 times) until
 /// the residual decreases. Needs harmonic forcing and the linear contact law (else
-/// std::invalid_argument); numerical outcomes are in status.
+/// std::invalid_argument); numerical outcomes are in status. progress reports the Newton
+/// iterations' share of max_iterations; answering false stops the search (status cancelled).
 PeriodicOrbit find_periodic_orbit(const Dynamics& dyn, const OrbitOptions& options,
-                                  const std::vector<double>& start);
+                                  const std::vector<double>& start,
+                                  const ProgressCallback& progress = {});
 
 /// find_periodic_orbit() on the k-period map, then, if the orbit's minimal period d is below k,
 /// again on the d-period map from the converged state, so that the multipliers, stability and
@@ -98,7 +103,8 @@ PeriodicOrbit find_minimal_periodic_orbit(const Dynamics& dyn, const OrbitOption
 /// find_periodic_orbit() started from the end of a plain run of transient_periods (0 .. 1e7)
 /// forcing periods from initial (empty: rest), on options.scheme: the usual way to reach an
 /// attracting orbit's neighbourhood, where Newton converges. progress reports the transient
-/// run's fraction done; answering false stops it (status cancelled).
+/// run's fraction done (the first half of the fractions reported), then Newton's; answering
+/// false stops either (status cancelled).
 PeriodicOrbit find_periodic_orbit_after(const Dynamics& dyn, const OrbitOptions& options,
                                         const std::vector<double>& initial, long transient_periods,
                                         const ProgressCallback& progress = {});

@@ -39,6 +39,10 @@ public:
         (void)n, (void)t, (void)y;
         return false;
     }
+    /// The work of one on_step against that of a step of the row itself (>= 0; 0: negligible),
+    /// so that a run asks its progress callback as often in time whatever observes it (a
+    /// tangent flow of k vectors costs about k steps).
+    [[nodiscard]] virtual double step_cost() const { return 0.0; }
 };
 
 /// How long a run lasts, in forcing periods.

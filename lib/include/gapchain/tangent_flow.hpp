@@ -22,6 +22,8 @@ public:
     /// count unit vectors (the identity when count = 2 Nm).
     TangentFlow(const Dynamics& dyn, int count);
     void on_step(const StepView& step) override;
+    /// Each step propagates count() vectors, each about as costly as the row's own step.
+    [[nodiscard]] double step_cost() const override { return m_count; }
     /// Vector k (0-based) in scaled coordinates (du, dv / omega), 2 Nm entries from column(k).
     [[nodiscard]] double* column(int k) { return &m_vectors[static_cast<std::size_t>(k) * m_dim]; }
     /// Number of tangent vectors.

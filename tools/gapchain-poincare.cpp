@@ -97,7 +97,10 @@ int main(int argc, char** argv) {
             outputs.create_folders();
             const std::string staged = outputs.staged(out_dir);
             const long count = take_section_to_csv(scene, spec, staged);
-            if (!no_plot && spec.record.size() >= 2)
+            // No point (an event never met, a contact that never closes): nothing to draw.
+            if (count == 0 && !no_plot)
+                std::fprintf(stderr, "note: the section has no points: no figure\n");
+            if (!no_plot && spec.record.size() >= 2 && count > 0)
                 cli::plot_template(
                     staged, "section",
                     {{"X", spec.record[0].name()},

@@ -6,6 +6,7 @@
 #include "gapchain/signal.hpp"
 #include "gapchain/spectrum.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 
@@ -56,7 +57,16 @@ void write_outputs(const SpectrumArguments& a, const std::string& dir, const Row
                    double f_r) {
     write_file_atomically(dir + "/psd.csv", psd_csv(s.psd, f_r));
     write_file_atomically(dir + "/peaks.csv", peaks_csv(s.content, f_r));
-    if (!a.no_plot)
+    // A variable that never moves (a contact that never closes) has no power to draw on the
+    // figure's log scale: its CSV files say so, and there is no figure.
+    const bool flat =
+        std::none_of(s.psd.density.begin(), s.psd.density.end(), [](double d) { return d > 0.0; });
+    if (flat && !a.no_plot)
+        std::fprintf(stderr,
+                     "note: %s has no power at any frequency (it is constant over the "
+                     "recorded periods): no figure\n",
+                     a.spectrum.variable.c_str());
+    if (!a.no_plot && !flat)
         cli::plot_template(dir, "spectrum",
                            {{"VARIABLE", a.spectrum.variable},
                             {"SEGMENTS", std::to_string(s.psd.segments)},

@@ -20,12 +20,20 @@ using namespace gapchain;
 struct GridArguments {
     int fc_points = 60, Nm_max = 20;
     double fc_min = 1.0, fc_max = 2000.0;
+    bool no_plot = false;
 };
+
+// Full precision: std::to_string's six decimals wrote fc = 1e-8 as 0.000000 (a log axis from 0).
+std::string number_text(double x) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.9g", x);
+    return text;
+}
 
 void grid_study(const GridArguments& a, const std::string& out, cli::Outputs& outputs) {
     if (!(a.fc_max >= a.fc_min))
         throw std::invalid_argument("--grid-fc-max: must be >= --grid-fc-min = " +
-                                    std::to_string(a.fc_min) + ", got " + std::to_string(a.fc_max));
+                                    number_text(a.fc_min) + ", got " + number_text(a.fc_max));
     if (!out.empty()) outputs.folder(out, "--out", {"grid.csv", "grid.gp", "grid-f1-error.png"});
     std::vector<int> Nms;
     for (int n = 1; n <= a.Nm_max; ++n)
@@ -44,12 +52,14 @@ void grid_study(const GridArguments& a, const std::string& out, cli::Outputs& ou
     outputs.create_folders();
     const std::string staged = outputs.staged(out);
     write_file_atomically(staged + "/grid.csv", grid_csv(g));
-    cli::plot_template(staged, "grid",
-                       {{"FC_FROM", std::to_string(a.fc_min * 0.9)},
-                        {"FC_TO", std::to_string(a.fc_max * 1.1)},
-                        {"NM_MAX", std::to_string(a.Nm_max)}});
+    if (!a.no_plot)
+        cli::plot_template(staged, "grid",
+                           {{"FC_FROM", number_text(a.fc_min * 0.9)},
+                            {"FC_TO", number_text(a.fc_max * 1.1)},
+                            {"NM_MAX", std::to_string(a.Nm_max)}});
     outputs.keep();
-    std::printf("wrote %s/grid.csv, %s/grid-f1-error.png\n", out.c_str(), out.c_str());
+    std::printf("wrote %s/grid.csv%s\n", out.c_str(),
+                a.no_plot ? "" : (", " + out + "/grid-f1-error.png").c_str());
 }
 
 void print_modes(const Scene& scene, const ModalResult& r) {
@@ -124,6 +134,7 @@ void add_options(CLI::App& app, ModesArguments& a) {
         ->check(cli::range(1, 2000))
         ->needs(grid_flag)
         ->capture_default_str();
+    app.add_flag("--no-plot", g.no_plot, "Grid: write the CSV only")->needs(grid_flag);
 }
 
 // The scene with --Nm and --fc applied as overrides.

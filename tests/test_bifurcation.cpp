@@ -61,6 +61,20 @@ TEST_CASE("F_m_error: the tolerance where the row settles (covering a 1e-8 run),
     CHECK(chaotic.F_m == doctest::Approx(std::max(first, second)).epsilon(1e-12));
 }
 
+TEST_CASE("a diagram too large is refused up front: run.max_work is honoured, the memory capped") {
+    BifurcationOptions o;
+    o.steps = 1;
+    o.transient_periods = 0;
+    o.record_periods = 10'000'000; // 8.7e8 body-steps: above a max_work of 1e8, below 3e10
+    o.max_work = 1e8;
+    CHECK_THROWS_WITH_AS(bifurcation(fig13, o), doctest::Contains("run.max_work"),
+                         std::invalid_argument);
+    o.steps = 20; // 2e8 section points kept
+    o.max_work = 1e15;
+    CHECK_THROWS_WITH_AS(bifurcation(fig13, o), doctest::Contains("record_periods"),
+                         std::invalid_argument);
+}
+
 TEST_CASE("detect_period on synthetic sequences") {
     auto seq = [](std::vector<double> v) {
         std::vector<SectionPoint> s;

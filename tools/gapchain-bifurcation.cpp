@@ -98,6 +98,7 @@ void resolve_options(BifurcationArguments& a, const gapchain::Scene& scene) {
     o.section.record = {SectionVariable::parse(a.variable, scene.reduced.Nm, "--variable")};
     o.scheme = scene.run.scheme;
     o.tolerance = scene.run.tolerance;
+    o.max_work = scene.run.max_work;
     validate(o, scene.reduced);
 }
 
@@ -145,5 +146,5 @@ int main(int argc, char** argv) {
                         outputs.keep();
                         print_summary(r, a.options, a.param, a.mode, a.out_dir, plotted);
                     },
-                    {{"section.phase", "--phase"}});
+                    {{"section.phase", "--phase"}, {"run.periods", "--transient + --record"}});
 }

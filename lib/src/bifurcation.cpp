@@ -36,6 +36,7 @@ BifurcationRow diagram_row(const ReducedParameters& p, const BifurcationOptions&
     options.transient_periods = o.transient_periods;
     options.scheme = o.scheme;
     options.tolerance = o.tolerance;
+    options.max_work = o.max_work;
     PlannedRun planned(dyn, options, y);
     BifurcationRow row;
     row.value = value;
@@ -119,6 +120,16 @@ void validate(const BifurcationOptions& o, const ReducedParameters& base) {
                           detail::Bound::open_low);
     detail::require_range("threads", o.threads, 0, 4096);
     detail::require_range("tolerance", o.tolerance, 1e-12, 0.1);
+    detail::require_range("max_work", o.max_work, 1.0, 1e15);
+    // Every section point is kept until the diagram is written (~64 bytes each with its values):
+    // refuse up front what would end in bad_alloc hours later.
+    const double kept = static_cast<double>(o.steps) * static_cast<double>(o.record_periods) *
+                        (o.mode == SweepMode::continuation ? 2.0 : 1.0);
+    if (kept > 1e8)
+        throw std::invalid_argument(
+            "record_periods: values x recorded periods = " + detail::format_number(kept) +
+            " section points to keep (about " + detail::format_number(std::ceil(kept * 64e-9)) +
+            " GB); at most 1e8: fewer values or fewer recorded periods");
     // Both ends must make a valid row: the model's message names the parameter and its range.
     if (const auto error = swept_value_error(base, o.parameter, o.from))
         throw std::invalid_argument("from: " + *error);

@@ -102,6 +102,7 @@ RunOptions classify_run_options(const ClassifyOptions& o) {
     run_options.transient_periods = o.transient_periods;
     run_options.scheme = o.scheme;
     run_options.tolerance = o.tolerance;
+    run_options.max_work = o.max_work;
     return run_options;
 }
 

@@ -34,14 +34,15 @@ struct BifurcationOptions {
     double to = 4.5;                                ///< last value
     int steps = 500;                                ///< number of values, >= 1 (ends included)
     SweepMode mode = SweepMode::independent;
-    long transient_periods = 200;      ///< discarded periods per value, >= 0
-    long record_periods = 100;         ///< recorded periods per value, >= 1
-    SectionSpec section;               ///< default: stroboscopic at phase 0, recording u_1
-    Scheme scheme = Scheme::automatic; ///< integration scheme
-    double tolerance = 1e-4;           ///< relative accuracy asked of each run
-    double period_tolerance = 1e-6;    ///< relative tolerance telling section points apart
-    int max_period = 16;               ///< largest period detected, >= 1
-    int threads = 0;                   ///< OpenMP threads for independent mode (0: all)
+    long transient_periods = 200;            ///< discarded periods per value, >= 0
+    long record_periods = 100;               ///< recorded periods per value, >= 1
+    SectionSpec section;                     ///< default: stroboscopic at phase 0, recording u_1
+    Scheme scheme = Scheme::automatic;       ///< integration scheme
+    double tolerance = 1e-4;                 ///< relative accuracy asked of each run
+    double max_work = RunOptions{}.max_work; ///< body-steps a value's run may take (run.max_work)
+    double period_tolerance = 1e-6;          ///< relative tolerance telling section points apart
+    int max_period = 16;                     ///< largest period detected, >= 1
+    int threads = 0;                         ///< OpenMP threads for independent mode (0: all)
 };
 
 /// Throws std::invalid_argument naming the first invalid option.

@@ -28,13 +28,14 @@ struct ClassifyOptions {
                                   ///< run as soon as it is found), >= 0
     long record_periods = 300;    ///< periods of evidence for non-periodic motion, >= 10
     Scheme scheme = Scheme::automatic;
-    double tolerance = 1e-4;        ///< integration tolerance (relative, F_m)
-    int max_period = 16;            ///< largest period recognised, >= 1
-    double period_tolerance = 1e-6; ///< section points closer than this (relative) are one
-    double steady_tolerance = 1e-9; ///< state repeat tolerance for an early periodic stop
-    int samples_per_period = 16;    ///< samples of u_1 per period for the spectrum, >= 4
-    double chaos_threshold = 0.02;  ///< lambda_max must exceed this [1 / reduced time] and three
-                                    ///< standard errors to count as chaos
+    double tolerance = 1e-4;                 ///< integration tolerance (relative, F_m)
+    double max_work = RunOptions{}.max_work; ///< body-steps the run may take (run.max_work)
+    int max_period = 16;                     ///< largest period recognised, >= 1
+    double period_tolerance = 1e-6;          ///< section points closer than this (relative) are one
+    double steady_tolerance = 1e-9;          ///< state repeat tolerance for an early periodic stop
+    int samples_per_period = 16;             ///< samples of u_1 per period for the spectrum, >= 4
+    double chaos_threshold = 0.02; ///< lambda_max must exceed this [1 / reduced time] and three
+                                   ///< standard errors to count as chaos
     /// Confirm a periodic regime by Newton shooting (orbit.hpp) from the final state: the
     /// period becomes the orbit's minimal period, and its largest Floquet multiplier is given.
     bool confirm_by_newton = true;

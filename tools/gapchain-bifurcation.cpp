@@ -146,5 +146,5 @@ int main(int argc, char** argv) {
                         outputs.keep();
                         print_summary(r, a.options, a.param, a.mode, a.out_dir, plotted);
                     },
-                    {{"section.phase", "--phase"}, {"run.periods", "--transient + --record"}});
+                    {{"section.phase", "--phase"}});
 }

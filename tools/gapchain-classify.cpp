@@ -120,25 +120,22 @@ int main(int argc, char** argv) {
         ->needs(map)
         ->capture_default_str();
     app.add_flag("--no-plot", no_plot, "Write the CSV only")->needs(map);
-    return cli::run(
-        app, argc, argv,
-        [&] {
-            const Scene scene = cli::load(scene_args);
-            cli::require_paper_row(scene, "gapchain-classify");
-            o.scheme = scene.run.scheme;
-            o.tolerance = scene.run.tolerance;
-            o.max_work = scene.run.max_work;
-            validate(o);
-            cli::Outputs outputs({scene_args.path});
-            if (!map_flag) {
-                outputs.file(out, "--out");
-                return classify_point(scene.reduced, o, out, outputs);
-            }
-            if (out.empty()) out = "map";
-            outputs.folder(out, "--out", {"map.csv", "map.gp", "regimes.png", "force.png"});
-            const std::vector<double> e_r = parse_range(e_r_range, "--e_r");
-            const std::vector<double> f_r = parse_range(f_r_range, "--f_r");
-            classify_map(scene.reduced, o, out, e_r, f_r, threads, !no_plot, outputs);
-        },
-        {{"run.periods", "--transient + --record"}});
+    return cli::run(app, argc, argv, [&] {
+        const Scene scene = cli::load(scene_args);
+        cli::require_paper_row(scene, "gapchain-classify");
+        o.scheme = scene.run.scheme;
+        o.tolerance = scene.run.tolerance;
+        o.max_work = scene.run.max_work;
+        validate(o);
+        cli::Outputs outputs({scene_args.path});
+        if (!map_flag) {
+            outputs.file(out, "--out");
+            return classify_point(scene.reduced, o, out, outputs);
+        }
+        if (out.empty()) out = "map";
+        outputs.folder(out, "--out", {"map.csv", "map.gp", "regimes.png", "force.png"});
+        const std::vector<double> e_r = parse_range(e_r_range, "--e_r");
+        const std::vector<double> f_r = parse_range(f_r_range, "--f_r");
+        classify_map(scene.reduced, o, out, e_r, f_r, threads, !no_plot, outputs);
+    });
 }

@@ -115,6 +115,7 @@ void validate(const BifurcationOptions& o, const ReducedParameters& base) {
     detail::require_range("steps", o.steps, 1, 10'000'000);
     detail::require_range("transient_periods", static_cast<double>(o.transient_periods), 0.0, 1e9);
     detail::require_range("record_periods", static_cast<double>(o.record_periods), 1.0, 1e9);
+    detail::require_run_length(o.transient_periods, o.record_periods);
     detail::require_range("max_period", o.max_period, 1, 1000);
     detail::require_range("period_tolerance", o.period_tolerance, 0.0, 1.0,
                           detail::Bound::open_low);

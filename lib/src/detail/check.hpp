@@ -36,6 +36,17 @@ inline void require_range(const std::string& key, int value, int lo, int hi) {
                                     std::to_string(hi) + "], got " + std::to_string(value));
 }
 
+/// A run of transient + recorded periods (bifurcation values, classification) is a run of
+/// run.periods, at most 1e9: refused under the name of the option the user gave.
+inline void require_run_length(long transient_periods, long record_periods) {
+    const double total =
+        static_cast<double>(transient_periods) + static_cast<double>(record_periods);
+    if (total > 1e9)
+        throw std::invalid_argument("record_periods: transient + recorded periods must be at most "
+                                    "1e9, got " +
+                                    format_number(total));
+}
+
 inline void require_length(const std::string& key, std::size_t got, std::size_t expected) {
     if (got != expected)
         throw std::invalid_argument(key + ": must have " + std::to_string(expected) +

@@ -73,4 +73,10 @@ TEST_CASE("a row spectrum's options are refused naming the option and its range"
     o.segment = 100 * 32 + 2;
     CHECK(refusal(o, run).find("segment: must be at most the recorded samples 3201") == 0);
     CHECK(refusal(RowSpectrumOptions{}).empty());
+    // 1e5 periods x 1e5 samples: 1e10 doubles, refused before the run, not after it.
+    o = {};
+    o.samples_per_period = 100000;
+    run.periods = 100000;
+    CHECK(refusal(o, run).find("samples_per_period: (run.periods - run.transient_periods) x "
+                               "samples per period = 10000000001 samples") == 0);
 }

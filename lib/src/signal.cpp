@@ -67,6 +67,14 @@ void validate(const RowSpectrumOptions& o, const Dynamics& dyn, const RunOptions
                                     " ((run.periods - run.transient_periods) x samples per "
                                     "period + 1), got " +
                                     std::to_string(o.segment));
+    // The recorded samples are held in memory (a double each, and the PSD's work as much):
+    // refuse up front what the machine cannot hold instead of failing after the run.
+    if (samples > 500'000'000)
+        throw std::invalid_argument(
+            "samples_per_period: (run.periods - run.transient_periods) x samples per period = " +
+            std::to_string(samples) + " samples to hold (about " +
+            detail::format_number(std::ceil(samples * 16e-9)) +
+            " GB); at most 5e8: fewer samples per period or fewer periods");
 }
 
 RowSpectrum row_spectrum(const Dynamics& dyn, const RunOptions& run, const RowSpectrumOptions& o,

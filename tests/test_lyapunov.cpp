@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 
 using namespace gapchain;
 using std::numbers::pi;
@@ -85,4 +86,16 @@ TEST_CASE("the time-series estimate is within 10 % of the tangent-space exponent
     MESSAGE("time series " << r.lambda << " +- " << r.error << ", tangent "
                            << tangent.exponents[0]);
     CHECK(r.lambda == doctest::Approx(tangent.exponents[0]).epsilon(0.10));
+}
+
+TEST_CASE("run.max_work counts the tangent vectors: all 2 Nm exponents of a long row are refused "
+          "before the run, one is not") {
+    const Dynamics dyn = Dynamics::paper_row({100, 100, 0.5, 0.5, 1.0});
+    RunOptions o;
+    o.periods = 2;
+    const long row_work = 100L * PlannedRun(dyn, o).plan().steps_per_period * 2;
+    o.max_work = 20.0 * row_work; // the row alone: 1/20 of it; with 200 vectors: 10 times it
+    CHECK_THROWS_WITH_AS(chain_lyapunov(dyn, o, 200), doctest::Contains("200 tangent vectors"),
+                         std::invalid_argument);
+    CHECK(chain_lyapunov(dyn, o, 1).status == RunStatus::completed);
 }

@@ -374,6 +374,13 @@ expect 26 0 "the section has no points: no figure" "$bin/gapchain-poincare" s26.
 [ -f p26/section.csv ] || { echo "class 26: FAIL: no section.csv"; failed+=(26); }
 expect 26 0 "no power at any frequency" "$bin/gapchain-spectrum" s26.json --set model.e_r=1e6 --variable F0 --segment 512 --out sp26
 [ -f sp26/psd.csv ] || { echo "class 26: FAIL: no psd.csv"; failed+=(26); }
+# A refusal gives the real limitation: orbit's tangent flow and accuracy's exact reference need
+# the linear law (the old message pointed at a scheme that fails too), and bifurcation no longer
+# sends nonlinear laws to gapchain-accuracy.
+expect 26 2 "^gapchain-orbit: model.contact_law: gapchain-orbit needs the linear contact law" "$bin/gapchain-orbit" s26.json --set model.contact_law=hertz --out o26.json
+expect 26 2 "^gapchain-accuracy: model.contact_law: gapchain-accuracy needs the linear contact law" "$bin/gapchain-accuracy" s26.json --set model.contact_law=hertz --out a26
+expect 26 2 "nonlinear laws work in gapchain-sim, -poincare, -spectrum and -modes$" "$bin/gapchain-bifurcation" s26.json --set model.contact_law=hertz --steps 2 --out b26
+absent 26 o26.json a26 b26
 verdict 26
 
 if [ "${#failed[@]}" -eq 0 ]; then

@@ -93,6 +93,9 @@ int main(int argc, char** argv) {
     app.add_flag("--no-plot", no_plot, "Write the CSV only");
     return cli::run(app, argc, argv, [&] {
         const Scene scene = cli::load(scene_args);
+        cli::require_linear_harmonic(
+            scene, "gapchain-accuracy",
+            "every scheme is measured against the exact propagator, which needs both");
         o.schemes = distinct_schemes(schemes);
         o.unsplit_too = !no_unsplit;
         cli::Outputs outputs({scene_args.path});

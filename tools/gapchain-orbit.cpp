@@ -76,6 +76,9 @@ int main(int argc, char** argv) {
     return cli::run(app, argc, argv,
                     [&] {
                         const Scene scene = cli::load(a.scene);
+                        cli::require_linear_harmonic(
+                            scene, "gapchain-orbit",
+                            "the tangent flow assumes a constant Jacobian between switches");
                         const Dynamics dyn = scene.dynamics();
                         a.options.scheme = parse_scheme(a.scheme);
                         cli::Outputs outputs({a.scene.path});

@@ -359,9 +359,22 @@ void require_paper_row(const Scene& scene, const std::string& tool) {
                          ": " + tool +
                          " takes the paper's uniform row with the linear law (Nm, "
                          "fc, eps, e_r, f_r); " +
-                         (law ? "nonlinear laws" : "non-uniform rows") +
-                         " work in gapchain-sim, -poincare, -spectrum, -modes and -accuracy");
+                         (law ? "nonlinear laws work in gapchain-sim, -poincare, -spectrum and "
+                                "-modes"
+                              : "non-uniform rows work in gapchain-sim, -poincare, -spectrum, "
+                                "-modes, -orbit and -accuracy"));
     }
+}
+
+void require_linear_harmonic(const Scene& scene, const std::string& tool, const std::string& why) {
+    if (!scene.harmonic())
+        throw SceneError("excitation.type: " + tool + " needs harmonic forcing (" + why +
+                         "); records and Kanai-Tajimi motion work in gapchain-sim and "
+                         "gapchain-sweep");
+    if (scene.row && scene.row->law != ContactLaw::linear)
+        throw SceneError("model.contact_law: " + tool + " needs the linear contact law (" + why +
+                         "), got " + to_string(scene.row->law) +
+                         "; nonlinear laws work in gapchain-sim, -poincare, -spectrum and -modes");
 }
 
 namespace {

@@ -126,6 +126,9 @@ CLI::Validator range(T lo, T hi) {
 // classify, bounds) refuse other scenes with the rule: a record or Kanai-Tajimi excitation,
 // model arrays or scatter, a nonlinear contact law.
 void require_paper_row(const Scene& scene, const std::string& tool);
+// Tools built on the exact propagator or the tangent flow (orbit, accuracy) refuse the rest with
+// the reason: harmonic forcing and the linear contact law (any row of them).
+void require_linear_harmonic(const Scene& scene, const std::string& tool, const std::string& why);
 
 // The row's reduced numbers for a figure's title ("Nm=5 fc=60 eps=0.5 e_r=0.06 f_r=3"), without
 // the swept one (its values are on the x axis).

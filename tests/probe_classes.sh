@@ -381,6 +381,13 @@ expect 26 2 "^gapchain-orbit: model.contact_law: gapchain-orbit needs the linear
 expect 26 2 "^gapchain-accuracy: model.contact_law: gapchain-accuracy needs the linear contact law" "$bin/gapchain-accuracy" s26.json --set model.contact_law=hertz --out a26
 expect 26 2 "nonlinear laws work in gapchain-sim, -poincare, -spectrum and -modes$" "$bin/gapchain-bifurcation" s26.json --set model.contact_law=hertz --steps 2 --out b26
 absent 26 o26.json a26 b26
+# Input that would be ignored is refused: a scene or --set beside the paper's tables and eq
+# (26)'s grid, a section option of the other kind of section.
+expect 26 2 "scene excludes --table" "$bin/gapchain-bounds" /nonexistent.json --table --set bogus.key=1
+expect 26 2 "scene excludes --grid" "$bin/gapchain-modes" /nonexistent.json --grid --set bogus=1
+expect 26 2 "^gapchain-poincare: --phase: applies to --section stroboscopic only" "$bin/gapchain-poincare" s26.json --section event --phase 0.7 --out q26
+expect 26 2 "^gapchain-poincare: --trigger: applies to --section event only" "$bin/gapchain-poincare" s26.json --trigger v2 --level 3 --out q26
+absent 26 q26
 verdict 26
 
 if [ "${#failed[@]}" -eq 0 ]; then

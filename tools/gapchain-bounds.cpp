@@ -72,6 +72,9 @@ int main(int argc, char** argv) {
     auto* table_flag = app.add_flag("--table", table,
                                     "Tables 2 and 3: the bounds against eps = 0.1, 0.2, 0.3, 0.5");
     app.add_option("--out", out, "Write the estimates as JSON to this file")->excludes(table_flag);
+    // The tables are the paper's: a scene or --set would be ignored.
+    scene_args.option->excludes(table_flag);
+    app.get_option("--set")->excludes(table_flag);
     return cli::run(app, argc, argv, [&] {
         if (table) return print_tables();
         const Scene scene = cli::load(scene_args);

@@ -114,6 +114,9 @@ void add_options(CLI::App& app, ModesArguments& a) {
             ->capture_default_str(),
         app.add_flag("--no-shapes", a.no_shapes, "Do not compute the mode shapes"),
         app.add_option("--csv", a.csv, "Mode shapes as CSV (body, then one column per mode)")};
+    // The grid is eq (26) alone: a scene or --set would be ignored.
+    single.push_back(a.scene.option);
+    single.push_back(app.get_option("--set"));
     for (auto* option : single)
         option->excludes(grid_flag);
     app.add_option("--out", a.out, "JSON result file (with --grid: an output folder)");

@@ -8,6 +8,8 @@
 #include <cstdio>
 #include <filesystem>
 #include <sstream>
+#include <stdexcept>
+#include <string>
 
 namespace {
 
@@ -90,6 +92,14 @@ int main(int argc, char** argv) {
     return cli::run(
         app, argc, argv,
         [&] {
+            // An option of the other kind of section would be ignored.
+            const bool event = a.kind == "event";
+            for (const char* flag : {"--trigger", "--level", "--direction"})
+                if (!event && app.count(flag) > 0)
+                    throw std::invalid_argument(std::string(flag) +
+                                                ": applies to --section event only");
+            if (event && app.count("--phase") > 0)
+                throw std::invalid_argument("--phase: applies to --section stroboscopic only");
             const Scene scene = cli::load(scene_args);
             spec = section_spec(a, spec, scene.reduced.Nm);
             cli::Outputs outputs({scene_args.path});

@@ -14,8 +14,10 @@ namespace {
 
 using namespace gapchain;
 
-// "from:to:count" -> count evenly spaced values, ends included.
-std::vector<double> parse_range(const std::string& text, const std::string& flag) {
+// "from:to:count" -> count evenly spaced values, ends included, each a value the model takes for
+// the parameter (refused under the flag that gave it).
+std::vector<double> parse_range(const std::string& text, const std::string& flag,
+                                const ReducedParameters& base, SweptParameter parameter) {
     double from = 0, to = 0;
     int count = 0;
     char extra = 0;
@@ -23,6 +25,9 @@ std::vector<double> parse_range(const std::string& text, const std::string& flag
         count > 100000 || !std::isfinite(from) || !std::isfinite(to))
         throw std::invalid_argument(
             flag + ": must be from:to:count with 1 <= count <= 100000, got \"" + text + "\"");
+    for (double end : {from, to})
+        if (const auto error = swept_value_error(base, parameter, end))
+            throw std::invalid_argument(flag + ": " + *error);
     return linspace(from, to, count);
 }
 
@@ -134,8 +139,10 @@ int main(int argc, char** argv) {
         }
         if (out.empty()) out = "map";
         outputs.folder(out, "--out", {"map.csv", "map.gp", "regimes.png", "force.png"});
-        const std::vector<double> e_r = parse_range(e_r_range, "--e_r");
-        const std::vector<double> f_r = parse_range(f_r_range, "--f_r");
+        const std::vector<double> e_r =
+            parse_range(e_r_range, "--e_r", scene.reduced, SweptParameter::e_r);
+        const std::vector<double> f_r =
+            parse_range(f_r_range, "--f_r", scene.reduced, SweptParameter::f_r);
         classify_map(scene.reduced, o, out, e_r, f_r, threads, !no_plot, outputs);
     });
 }

@@ -31,6 +31,12 @@ std::string number_text(double x) {
 }
 
 void grid_study(const GridArguments& a, const std::string& out, cli::Outputs& outputs) {
+    for (const auto& [flag, fc] :
+         {std::pair{"--grid-fc-min", a.fc_min}, {"--grid-fc-max", a.fc_max}})
+        if (fc > 1e9)
+            throw std::invalid_argument(std::string(flag) +
+                                        ": must be at most 1e9 (model.fc's range), got " +
+                                        number_text(fc));
     if (!(a.fc_max >= a.fc_min))
         throw std::invalid_argument("--grid-fc-max: must be >= --grid-fc-min = " +
                                     number_text(a.fc_min) + ", got " + number_text(a.fc_max));

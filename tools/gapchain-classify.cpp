@@ -143,6 +143,14 @@ int main(int argc, char** argv) {
             parse_range(e_r_range, "--e_r", scene.reduced, SweptParameter::e_r);
         const std::vector<double> f_r =
             parse_range(f_r_range, "--f_r", scene.reduced, SweptParameter::f_r);
+        // Each cell is a classification run (0.01-1 s): a million is days of work already, and
+        // more would not fit in memory; larger studies are sweeps (resumable, sharded).
+        const double cells = static_cast<double>(e_r.size()) * static_cast<double>(f_r.size());
+        if (cells > 1e6)
+            throw std::invalid_argument(
+                "--f_r: --e_r values x --f_r values = " + std::to_string(static_cast<long>(cells)) +
+                " map cells; at most 1e6 (gapchain-sweep with \"keep\": "
+                "[\"regime\"] runs larger studies)");
         classify_map(scene.reduced, o, out, e_r, f_r, threads, !no_plot, outputs);
     });
 }

@@ -388,6 +388,14 @@ expect 26 2 "scene excludes --grid" "$bin/gapchain-modes" /nonexistent.json --gr
 expect 26 2 "^gapchain-poincare: --phase: applies to --section stroboscopic only" "$bin/gapchain-poincare" s26.json --section event --phase 0.7 --out q26
 expect 26 2 "^gapchain-poincare: --trigger: applies to --section event only" "$bin/gapchain-poincare" s26.json --trigger v2 --level 3 --out q26
 absent 26 q26
+# A plot that fails after the run puts back the previous results that the plot's inputs,
+# written in place, had replaced (the second read's finding: they were deleted instead).
+expect 26 0 "" "$bin/gapchain-lyapunov" s26.json --out lp26.json
+before=$(cat lp26.json lp26_history.csv lp26_convergence.gp lp26_convergence.png | md5sum)
+mkdir -p fail26 && printf '#!/bin/sh\ncat >/dev/null\nexit 1\n' >fail26/gnuplot && chmod +x fail26/gnuplot
+expect 26 1 "gnuplot could not write the figure" env PATH="$dir/fail26:$PATH" "$bin/gapchain-lyapunov" s26.json --set run.periods=60 --out lp26.json
+[ "$(cat lp26.json lp26_history.csv lp26_convergence.gp lp26_convergence.png | md5sum)" = "$before" ] || { echo "class 26: FAIL: a failed plot changed the previous results"; failed+=(26); }
+ls | grep -q "gapchain-old" && { echo "class 26: FAIL: a set-aside file was left"; failed+=(26); }
 verdict 26
 
 if [ "${#failed[@]}" -eq 0 ]; then

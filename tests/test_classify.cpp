@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 
 using namespace gapchain;
 
@@ -86,4 +87,14 @@ TEST_CASE("a periodic label is confirmed by Newton: the period-3 orbit the repet
     CHECK(c.max_multiplier == doctest::Approx(0.7313).epsilon(1e-3));
     o.confirm_by_newton = false;
     CHECK(classify(p, o).period == 6); // the repetition test alone, as before
+}
+
+TEST_CASE("a record whose samples the machine cannot hold is refused before the run") {
+    ClassifyOptions o;
+    o.record_periods = 500'000'000; // 16 samples of u_1 and a section point each: ~96 GB
+    o.max_work = 1e15;
+    CHECK_THROWS_WITH_AS(validate(o), doctest::Contains("record_periods: 500000000 recorded"),
+                         std::invalid_argument);
+    o.record_periods = 1'000'000; // ~0.2 GB
+    CHECK_NOTHROW(validate(o));
 }

@@ -99,3 +99,19 @@ TEST_CASE("run.max_work counts the tangent vectors: all 2 Nm exponents of a long
                          std::invalid_argument);
     CHECK(chain_lyapunov(dyn, o, 1).status == RunStatus::completed);
 }
+
+TEST_CASE("a run with all 2 Nm tangent vectors asks its progress callback inside a period") {
+    // Nm = 60 with 120 vectors: ~36 steps between asks, not ~4400 (more than the period's
+    // steps: asked once, at its end), so that a long row's Lyapunov run stops within ~0.03 s.
+    const Dynamics dyn = Dynamics::paper_row({60, 100, 0.5, 0.5, 1.0});
+    RunOptions o;
+    o.periods = 1;
+    o.transient_periods = 0;
+    o.scheme = Scheme::rk4;
+    long asks = 0;
+    chain_lyapunov(dyn, o, 120, {}, [&](double) {
+        ++asks;
+        return true;
+    });
+    CHECK(asks > 5);
+}

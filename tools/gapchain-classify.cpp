@@ -31,6 +31,17 @@ std::vector<double> parse_range(const std::string& text, const std::string& flag
     return linspace(from, to, count);
 }
 
+// Each cell is a classification run (0.01-1 s): a million is days of work already, and more
+// would not fit in memory; larger studies are sweeps (resumable, sharded).
+void require_map_size(std::size_t e_r_values, std::size_t f_r_values) {
+    const double cells = static_cast<double>(e_r_values) * static_cast<double>(f_r_values);
+    if (cells > 1e6)
+        throw std::invalid_argument(
+            "--f_r: --e_r values x --f_r values = " + std::to_string(static_cast<long>(cells)) +
+            " map cells; at most 1e6 (gapchain-sweep with \"keep\": [\"regime\"] runs larger "
+            "studies)");
+}
+
 void classify_point(const ReducedParameters& p, const ClassifyOptions& o, const std::string& out,
                     cli::Outputs& outputs) {
     // The run asks as it goes: a signal stops it (a long --record took a minute to notice).
@@ -143,14 +154,7 @@ int main(int argc, char** argv) {
             parse_range(e_r_range, "--e_r", scene.reduced, SweptParameter::e_r);
         const std::vector<double> f_r =
             parse_range(f_r_range, "--f_r", scene.reduced, SweptParameter::f_r);
-        // Each cell is a classification run (0.01-1 s): a million is days of work already, and
-        // more would not fit in memory; larger studies are sweeps (resumable, sharded).
-        const double cells = static_cast<double>(e_r.size()) * static_cast<double>(f_r.size());
-        if (cells > 1e6)
-            throw std::invalid_argument(
-                "--f_r: --e_r values x --f_r values = " + std::to_string(static_cast<long>(cells)) +
-                " map cells; at most 1e6 (gapchain-sweep with \"keep\": "
-                "[\"regime\"] runs larger studies)");
+        require_map_size(e_r.size(), f_r.size());
         classify_map(scene.reduced, o, out, e_r, f_r, threads, !no_plot, outputs);
     });
 }

@@ -28,6 +28,31 @@ void print_exponents(const Scene& scene, const LyapunovResult& r, int k) {
 
 } // namespace
 
+// The JSON, the history CSV and (unless no_plot) its figure, written in place: the plot reads
+// them, so a failed plot puts the previous files back (Outputs::replacing).
+void write_results(cli::Outputs& outputs, const LyapunovResult& r, const Scene& scene, int k,
+                   const std::string& out, const std::string& stem, bool no_plot) {
+    outputs.replacing(out);
+    outputs.replacing(stem + "_history.csv");
+    if (!no_plot) {
+        outputs.replacing(stem + "_convergence.gp");
+        outputs.replacing(stem + "_convergence.png");
+    }
+    write_file_atomically(out, to_json(r, scene.reduced, k));
+    write_file_atomically(stem + "_history.csv", history_csv(r));
+    if (!no_plot) {
+        auto name = [](const std::string& path) {
+            return std::filesystem::path(path).filename().string();
+        };
+        cli::plot_with_gnuplot(
+            stem + "_convergence.gp",
+            cli::plot_script("lyapunov", {{"SCRIPT", name(stem + "_convergence.gp")},
+                                          {"PNG", name(stem + "_convergence.png")},
+                                          {"CSV", name(stem + "_history.csv")},
+                                          {"LAST", std::to_string(1 + std::min(k, 8))}}));
+    }
+}
+
 int main(int argc, char** argv) {
     CLI::App app{
         "Lyapunov exponents of a row (Benettin with QR re-orthonormalisation every forcing "
@@ -66,22 +91,7 @@ int main(int argc, char** argv) {
             chain_lyapunov(dyn, scene.run, k, scene.initial, progress.callback());
         cli::throw_if_interrupted();
         if (r.status == RunStatus::non_finite) throw cli::NumericalFailure(r.message);
-        write_file_atomically(out, to_json(r, scene.reduced, k));
-        outputs.written(out);
-        write_file_atomically(stem + "_history.csv", history_csv(r));
-        outputs.written(stem + "_history.csv");
-        if (!no_plot) {
-            auto name = [](const std::string& path) {
-                return std::filesystem::path(path).filename().string();
-            };
-            outputs.written(stem + "_convergence.gp");
-            cli::plot_with_gnuplot(
-                stem + "_convergence.gp",
-                cli::plot_script("lyapunov", {{"SCRIPT", name(stem + "_convergence.gp")},
-                                              {"PNG", name(stem + "_convergence.png")},
-                                              {"CSV", name(stem + "_history.csv")},
-                                              {"LAST", std::to_string(1 + std::min(k, 8))}}));
-        }
+        write_results(outputs, r, scene, k, out, stem, no_plot);
         outputs.keep();
         print_exponents(scene, r, k);
     });

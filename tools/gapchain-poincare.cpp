@@ -34,6 +34,16 @@ SectionSpec section_spec(const SectionArguments& a, SectionSpec spec, int bodies
     return spec;
 }
 
+// An option of the other kind of section would be ignored: refused.
+void refuse_other_kind_options(const CLI::App& app, const std::string& kind) {
+    const bool event = kind == "event";
+    for (const char* flag : {"--trigger", "--level", "--direction"})
+        if (!event && app.count(flag) > 0)
+            throw std::invalid_argument(std::string(flag) + ": applies to --section event only");
+    if (event && app.count("--phase") > 0)
+        throw std::invalid_argument("--phase: applies to --section stroboscopic only");
+}
+
 // Streams the section into out_dir/section.csv; returns the number of points.
 long take_section_to_csv(const Scene& scene, const SectionSpec& spec, const std::string& out_dir) {
     OutputFile csv(out_dir + "/section.csv");
@@ -92,14 +102,7 @@ int main(int argc, char** argv) {
     return cli::run(
         app, argc, argv,
         [&] {
-            // An option of the other kind of section would be ignored.
-            const bool event = a.kind == "event";
-            for (const char* flag : {"--trigger", "--level", "--direction"})
-                if (!event && app.count(flag) > 0)
-                    throw std::invalid_argument(std::string(flag) +
-                                                ": applies to --section event only");
-            if (event && app.count("--phase") > 0)
-                throw std::invalid_argument("--phase: applies to --section stroboscopic only");
+            refuse_other_kind_options(app, a.kind);
             const Scene scene = cli::load(scene_args);
             spec = section_spec(a, spec, scene.reduced.Nm);
             cli::Outputs outputs({scene_args.path});

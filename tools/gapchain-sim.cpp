@@ -145,8 +145,8 @@ int main(int argc, char** argv) {
         cli::throw_if_interrupted();
         if (r.status == RunStatus::non_finite) throw cli::NumericalFailure(r.message);
         if (trajectory) {
+            outputs.replacing(trajectory_path); // put back if the JSON cannot be written
             trajectory->commit();
-            outputs.written(trajectory_path); // gone again if the JSON cannot be written
         }
         if (!out_path.empty()) write_file_atomically(out_path, to_json(r, scene));
         outputs.keep();

@@ -123,7 +123,8 @@ void validate(const BifurcationOptions& o, const ReducedParameters& base) {
     detail::require_range("tolerance", o.tolerance, 1e-12, 0.1);
     detail::require_range("max_work", o.max_work, 1.0, 1e15);
     // Every section point is kept until the diagram is written (~64 bytes each with its values):
-    // refuse up front what would end in bad_alloc hours later.
+    // refuse up front what would end in bad_alloc hours later. A stroboscopic section keeps one
+    // per recorded period; an event section may keep more, which this does not foresee.
     const double kept = static_cast<double>(o.steps) * static_cast<double>(o.record_periods) *
                         (o.mode == SweepMode::continuation ? 2.0 : 1.0);
     if (kept > 1e8)

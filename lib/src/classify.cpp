@@ -40,6 +40,16 @@ void validate(const ClassifyOptions& o) {
                           detail::Bound::open_low);
     detail::require_range("samples_per_period", o.samples_per_period, 4, 4096);
     detail::require_range("chaos_threshold", o.chaos_threshold, 0.0, 1e6);
+    // The recorded samples of u_1 (8 bytes each) and section points (~64 bytes each) are held
+    // in memory (per thread in a map): refuse up front what would end in bad_alloc.
+    const double bytes = static_cast<double>(o.record_periods) * (8.0 * o.samples_per_period + 64);
+    if (bytes > 4e9)
+        throw std::invalid_argument(
+            "record_periods: " + std::to_string(o.record_periods) +
+            " recorded periods hold about " + detail::format_number(std::ceil(bytes * 1e-9)) +
+            " GB of samples; at most 4 GB (about " +
+            detail::format_number(std::floor(4e9 / (8.0 * o.samples_per_period + 64))) +
+            " periods here)");
 }
 
 namespace {

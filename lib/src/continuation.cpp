@@ -486,10 +486,12 @@ std::optional<OrbitPoint> first_point(BranchTracer& tracer, const std::vector<do
 }
 
 /// The doubled orbit next to a period doubling: Newton on the 2k-map from the k-orbit displaced
-/// along the multiplier -1's eigenvector, a little into the side where it exists.
+/// along the multiplier -1's eigenvector, a little into the side where it exists; nothing if
+/// keep_going stopped its Newton search.
 std::optional<std::vector<double>> doubled_orbit(const ReducedParameters& base,
                                                  const ContinuationOptions& o, int period,
-                                                 const OrbitPoint& at, double side, double& p) {
+                                                 const OrbitPoint& at, double side, double& p,
+                                                 const ProgressCallback& keep_going) {
     const Eigen::Index n = static_cast<Eigen::Index>(2 * base.Nm);
     const Matrix m = Eigen::Map<const Matrix>(at.shot.monodromy.data(), n, n);
     const Eigen::EigenSolver<Matrix> solver(m, true);
@@ -509,7 +511,8 @@ std::optional<std::vector<double>> doubled_orbit(const ReducedParameters& base,
             std::vector<double> x(static_cast<std::size_t>(n));
             for (Eigen::Index i = 0; i < n; ++i)
                 x[i] = at.z[i] + a * (1.0 + at.z.head(n).norm()) * v[i];
-            const PeriodicOrbit found = find_periodic_orbit(dyn, orbit, x);
+            const PeriodicOrbit found = find_periodic_orbit(dyn, orbit, x, keep_going);
+            if (found.status == OrbitStatus::cancelled) return std::nullopt;
             if (found.status == OrbitStatus::converged && found.minimal_period == 2 * period)
                 return found.state;
         }
@@ -622,10 +625,10 @@ ContinuationResult continue_orbits(const ReducedParameters& base,
             if (auto restart =
                     restart_beyond(base, options, initial, walk.farthest, keep_going, result))
                 pending.push_front({restart->first, restart->second, options.period, direction});
-        if (!options.follow_doublings) continue;
+        if (result.cancelled || !options.follow_doublings) continue; // the loop's test ends it
         for (const auto& [at, side] : walk.doublings) {
             double p = 0.0;
-            if (auto x = doubled_orbit(base, options, next.period, at, side, p))
+            if (auto x = doubled_orbit(base, options, next.period, at, side, p, keep_going))
                 pending.push_back({*x, p, 2 * next.period, side});
         }
     }

@@ -120,8 +120,10 @@ bool remove_empty_tree(const fs::path& p) {
 Outputs::~Outputs() {
     if (m_kept) return;
     std::error_code ec;
-    for (const auto& path : m_written)
+    for (const auto& [path, aside] : m_replaced) {
         fs::remove(path, ec);
+        if (!aside.empty()) fs::rename(aside, path, ec);
+    }
     for (const auto& f : m_folders)
         if (!f.staging.empty()) fs::remove_all(f.staging, ec);
     for (auto it = m_created.rbegin(); it != m_created.rend(); ++it)
@@ -265,6 +267,17 @@ std::vector<fs::path> commit_staged(const fs::path& folder, const fs::path& stag
 
 } // namespace
 
+void Outputs::replacing(const std::string& path) {
+    std::error_code ec;
+    std::string aside;
+    if (fs::exists(path, ec)) {
+        aside = path + ".gapchain-old." + std::to_string(::getpid());
+        fs::rename(path, aside, ec);
+        if (ec) throw OutputError(path + ": cannot set the previous file aside: " + ec.message());
+    }
+    m_replaced.emplace_back(path, aside);
+}
+
 void Outputs::keep() {
     for (auto& f : m_folders) {
         if (f.staging.empty()) continue;
@@ -276,6 +289,10 @@ void Outputs::keep() {
                 fs::remove(fs::path(f.path) / name, ec);
         fs::remove_all(f.staging, ec);
         f.staging.clear();
+    }
+    for (const auto& [path, aside] : m_replaced) {
+        std::error_code ec;
+        if (!aside.empty()) fs::remove(aside, ec);
     }
     m_kept = true;
 }

@@ -64,9 +64,10 @@ public:
     void file(const std::string& path, const std::string& flag);
     // The same for an output the tool always writes: an empty path is refused too.
     void required_file(const std::string& path, const std::string& flag);
-    // A file output written in place before the run is over (a plot reads it): removed again
-    // if the run then fails, so that no part of a failed run's output is left.
-    void written(const std::string& path) { m_written.push_back(path); }
+    // A file output about to be written in place before the run is over (a plot reads it):
+    // whatever is at the path is set aside, and put back (the new file removed) if the run then
+    // fails, so that a failed run leaves the path as it was; keep() drops what was set aside.
+    void replacing(const std::string& path);
     // A folder output given by flag. owned: every file name the tool may write there, in any
     // of its modes; keep() removes those this run did not write, so that no file of an earlier
     // run (a basin slice next to a new attractor list) passes for this run's.
@@ -92,7 +93,8 @@ private:
     std::vector<std::pair<std::string, std::string>> m_paths; // path, flag
     std::vector<FolderOutput> m_folders;
     std::vector<std::string> m_created;
-    std::vector<std::string> m_written;
+    std::vector<std::pair<std::string, std::string>> m_replaced; // path, its previous file set
+                                                                 // aside (empty: none)
     bool m_kept = false;
 };
 

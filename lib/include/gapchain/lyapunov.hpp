@@ -97,6 +97,8 @@ public:
     TangentObserver(const Dynamics& dyn, int count, long start_period);
     void on_step(const StepView& step) override;
     bool on_period(long n, double t, const double* y) override;
+    /// As its tangent flow's: count steps of the row per step.
+    [[nodiscard]] double step_cost() const override { return m_flow.step_cost(); }
     [[nodiscard]] LyapunovResult result() const { return m_accumulator.result(); }
     /// False once the basis collapsed or became non-finite.
     [[nodiscard]] bool healthy() const { return m_healthy; }

@@ -367,7 +367,8 @@ absent 26 l26.json l26_history.csv l26_convergence.gp
 expect 26 143 "interrupted by SIGTERM" timeout -s KILL 20 timeout --foreground --preserve-status -s TERM 1 "$bin/gapchain-orbit" s26.json --set model.Nm=300 --from-transient 0 --out o26.json
 expect 26 143 "interrupted by SIGTERM" timeout -s KILL 20 timeout --foreground --preserve-status -s TERM 1 "$bin/gapchain-continue" s26.json --set model.Nm=300 --from 1 --to 1.1 --transient 0 --no-plot --out c26
 expect 26 143 "interrupted by SIGTERM" timeout -s KILL 20 timeout --foreground --preserve-status -s TERM 1 "$bin/gapchain-accuracy" s26.json --periods 100000 --repeats 1 --no-unsplit --no-plot --out a26
-absent 26 o26.json c26 a26
+expect 26 143 "interrupted by SIGTERM" timeout -s KILL 20 timeout --foreground --preserve-status -s TERM 1 "$bin/gapchain-modes" --grid --grid-fc-points 100000 --grid-Nm-max 2000 --out g26
+absent 26 o26.json c26 a26 g26
 # A row whose contacts never close is a valid answer, not a failed figure: an event section with
 # no points and a flat spectrum write their CSV files and exit 0.
 expect 26 0 "the section has no points: no figure" "$bin/gapchain-poincare" s26.json --set model.e_r=1e6 --section event --trigger g0 --level 0 --out p26

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <stdexcept>
+#include <vector>
 
 using namespace gapchain;
 
@@ -109,4 +110,23 @@ TEST_CASE("bad options are refused") {
     o.method = EigenMethod::sparse;
     CHECK_THROWS_AS(modal_analysis(row(10, 5.0), o), std::invalid_argument);
     CHECK_THROWS_AS(parse_eigen_method("lapack"), std::invalid_argument);
+}
+
+TEST_CASE("the eq (26) grid reports its progress and stops when progress says so") {
+    std::vector<double> seen;
+    const ApproximationGrid whole = approximation_grid({1, 2, 3}, {10.0, 100.0}, [&](double f) {
+        seen.push_back(f);
+        return true;
+    });
+    CHECK_FALSE(whole.cancelled);
+    CHECK(whole.points.size() == 6);
+    REQUIRE(seen.size() == 6); // asked before each row
+    CHECK(seen.front() == 0.0);
+    CHECK(std::is_sorted(seen.begin(), seen.end()));
+    CHECK(seen.back() < 1.0);
+    int asked = 0;
+    const ApproximationGrid stopped =
+        approximation_grid({1, 2, 3}, {10.0, 100.0}, [&](double) { return ++asked < 3; });
+    CHECK(stopped.cancelled);
+    CHECK(stopped.points.size() == 2);
 }

@@ -44,7 +44,10 @@ void grid_study(const GridArguments& a, const std::string& out, cli::Outputs& ou
     std::vector<int> Nms;
     for (int n = 1; n <= a.Nm_max; ++n)
         Nms.push_back(n);
-    const ApproximationGrid g = approximation_grid(Nms, logspace(a.fc_min, a.fc_max, a.fc_points));
+    cli::Progress progress("gapchain-modes");
+    const ApproximationGrid g =
+        approximation_grid(Nms, logspace(a.fc_min, a.fc_max, a.fc_points), progress.callback());
+    cli::throw_if_interrupted();
     std::printf("eq (26) over Nm in [1, %d] and fc in [%g, %g] (%zu rows):\n", a.Nm_max, a.fc_min,
                 a.fc_max, g.points.size());
     std::printf("  f_1:          max |error| %.3f %% at Nm = %d, fc = %.4g (paper: < 1 %%)\n",

@@ -210,13 +210,23 @@ ModalResult modal_analysis(const Chain& chain, const ModalOptions& o) {
 }
 
 ApproximationGrid approximation_grid(const std::vector<int>& Nm_values,
-                                     const std::vector<double>& fc_values) {
+                                     const std::vector<double>& fc_values,
+                                     const ProgressCallback& progress) {
     const auto start = std::chrono::steady_clock::now();
     ApproximationGrid grid;
     ModalOptions o;
     o.shapes = false;
+    const auto work = [](int Nm) { return 1.0 + std::pow(static_cast<double>(Nm), 3); };
+    double total = 0.0, done = 0.0;
+    for (int Nm : Nm_values)
+        total += work(Nm) * static_cast<double>(fc_values.size());
     for (int Nm : Nm_values)
         for (double fc : fc_values) {
+            if (progress && !progress(done / total)) {
+                grid.cancelled = true;
+                return grid;
+            }
+            done += work(Nm);
             const ModalResult r = modal_analysis(Chain::homogeneous({Nm, fc, 0.5, 0.0, 1.0}), o);
             ApproximationError e;
             e.Nm = Nm;

@@ -6,6 +6,7 @@
 /// natural frequencies f_k = sqrt(eig_k(M^-1 K_lin)) are compared with the paper's eq (26).
 
 #include "gapchain/model.hpp"
+#include "gapchain/run.hpp"
 
 #include <string_view>
 #include <vector>
@@ -91,10 +92,14 @@ struct ApproximationGrid {
     ApproximationError worst_first;         ///< where |first| is largest
     ApproximationError worst_other;         ///< where other is largest
     double wall_time_s = 0.0;               ///< [s]
+    bool cancelled = false; ///< progress stopped it: points holds the rows done before
 };
 
 /// Evaluates eq (26) on every homogeneous row (Nm, fc) of the grid (every Nm >= 1, fc > 0).
+/// progress reports the fraction of rows done (weighted by Nm^3, the dense solver's work);
+/// answering false stops it (cancelled).
 ApproximationGrid approximation_grid(const std::vector<int>& Nm_values,
-                                     const std::vector<double>& fc_values);
+                                     const std::vector<double>& fc_values,
+                                     const ProgressCallback& progress = {});
 
 } // namespace gapchain

@@ -343,7 +343,8 @@ const StepPlan& affordable(const Dynamics& dyn, const RunOptions& options, const
         " steps per forcing period x " + std::to_string(options.periods) + " periods), about " +
         hours +
         " h at 1e7 body-steps/s; above run.max_work = " + detail::format_number(options.max_work) +
-        ": shorten the run (run.periods, excitation.f_r) or raise run.max_work");
+        ": shorten the run (fewer forcing periods: run.periods, or the tool's own --transient / "
+        "--record / --from-transient; or a higher excitation.f_r) or raise run.max_work");
 }
 
 } // namespace

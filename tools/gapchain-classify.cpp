@@ -80,19 +80,14 @@ void classify_map(const ReducedParameters& p, const ClassifyOptions& o, const st
         ++counts[static_cast<int>(c.regime)];
     char title[160];
     std::snprintf(title, sizeof title, "Nm=%d fc=%g eps=%g", p.Nm, p.fc, p.eps);
-    auto number = [](double x) {
-        char text[32];
-        std::snprintf(text, sizeof text, "%.17g", x);
-        return std::string(text);
-    };
     if (plot)
         cli::plot_template(staged, "map",
                            {{"TITLE", title},
-                            {"EPS", number(p.eps)},
-                            {"F_FROM", number(f_r.front())},
-                            {"F_TO", number(f_r.back())},
-                            {"E_FROM", number(e_r.front())},
-                            {"E_TO", number(e_r.back())}});
+                            {"EPS", cli::number_text(p.eps)},
+                            {"F_FROM", cli::number_text(f_r.front())},
+                            {"F_TO", cli::number_text(f_r.back())},
+                            {"E_FROM", cli::number_text(e_r.front())},
+                            {"E_TO", cli::number_text(e_r.back())}});
     outputs.keep();
     std::printf("gapchain-classify: %zu x %zu map (e_r x f_r), %d threads, %.1f s\n", e_r.size(),
                 f_r.size(), m.threads_used, m.wall_time_s);

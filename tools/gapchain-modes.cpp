@@ -23,23 +23,17 @@ struct GridArguments {
     bool no_plot = false;
 };
 
-// Full precision: std::to_string's six decimals wrote fc = 1e-8 as 0.000000 (a log axis from 0).
-std::string number_text(double x) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%.9g", x);
-    return text;
-}
-
 void grid_study(const GridArguments& a, const std::string& out, cli::Outputs& outputs) {
     for (const auto& [flag, fc] :
          {std::pair{"--grid-fc-min", a.fc_min}, {"--grid-fc-max", a.fc_max}})
         if (fc > 1e9)
             throw std::invalid_argument(std::string(flag) +
                                         ": must be at most 1e9 (model.fc's range), got " +
-                                        number_text(fc));
+                                        cli::number_text(fc, 9));
     if (!(a.fc_max >= a.fc_min))
-        throw std::invalid_argument("--grid-fc-max: must be >= --grid-fc-min = " +
-                                    number_text(a.fc_min) + ", got " + number_text(a.fc_max));
+        throw std::invalid_argument(
+            "--grid-fc-max: must be >= --grid-fc-min = " + cli::number_text(a.fc_min, 9) +
+            ", got " + cli::number_text(a.fc_max, 9));
     if (!out.empty()) outputs.folder(out, "--out", {"grid.csv", "grid.gp", "grid-f1-error.png"});
     std::vector<int> Nms;
     for (int n = 1; n <= a.Nm_max; ++n)
@@ -63,8 +57,8 @@ void grid_study(const GridArguments& a, const std::string& out, cli::Outputs& ou
     write_file_atomically(staged + "/grid.csv", grid_csv(g));
     if (!a.no_plot)
         cli::plot_template(staged, "grid",
-                           {{"FC_FROM", number_text(a.fc_min * 0.9)},
-                            {"FC_TO", number_text(a.fc_max * 1.1)},
+                           {{"FC_FROM", cli::number_text(a.fc_min * 0.9)},
+                            {"FC_TO", cli::number_text(a.fc_max * 1.1)},
                             {"NM_MAX", std::to_string(a.Nm_max)}});
     outputs.keep();
     std::printf("wrote %s/grid.csv%s\n", out.c_str(),

@@ -78,6 +78,12 @@ int run_gnuplot(const fs::path& dir, const std::string& script, const std::strin
 
 } // namespace
 
+std::string number_text(double x, int digits) {
+    char text[40];
+    std::snprintf(text, sizeof text, "%.*g", digits, x);
+    return text;
+}
+
 bool plot_with_gnuplot(const std::string& script_path, const std::string& script) {
     write_file_atomically(script_path, script);
     const fs::path dir = fs::path(script_path).parent_path().empty()

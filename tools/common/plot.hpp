@@ -20,6 +20,10 @@ bool plot_with_gnuplot(const std::string& script_path, const std::string& script
 std::string plot_script(const std::string& name,
                         const std::vector<std::pair<std::string, std::string>>& values);
 
+// x with `digits` significant digits (17: reads back as the same double), for template values
+// and messages: std::to_string's six decimals wrote 1e-8 as 0.000000.
+std::string number_text(double x, int digits = 17);
+
 // Fills template `name` and plots it into folder (the script is kept there as name.gp).
 bool plot_template(const std::string& folder, const std::string& name,
                    const std::vector<std::pair<std::string, std::string>>& values);

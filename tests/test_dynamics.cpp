@@ -77,6 +77,25 @@ TEST_CASE("gaps, forces and the sign convention of MODEL.md §2") {
     CHECK(a[2] == doctest::Approx(-c * -0.05 + c * 50 * 0.2));
 }
 
+TEST_CASE("penetration_at_force inverts the elastic laws: sqrt(fc) p (linear), sqrt(fc) p^1.5 "
+          "(Hertz)") {
+    const ReducedParameters p{3, 100, 0.5, 0.1, 1.0};
+    Chain chain = Chain::homogeneous(p);
+    const Dynamics linear(chain, HarmonicForcing{p.f_r});
+    chain.law = ContactLaw::hertz;
+    const Dynamics hertz(chain, HarmonicForcing{p.f_r});
+    // Wall j = 0 has gain sqrt(fc) = 10, body-body j = 1 half of it (MODEL.md §2).
+    CHECK(linear.penetration_at_force(0, 3.0) == doctest::Approx(0.3));
+    CHECK(linear.penetration_at_force(1, 3.0) == doctest::Approx(0.6));
+    CHECK(hertz.penetration_at_force(0, 10.0 * std::pow(0.3, 1.5)) == doctest::Approx(0.3));
+    CHECK(hertz.penetration_at_force(1, 5.0 * std::pow(0.6, 1.5)) == doctest::Approx(0.6));
+    CHECK(linear.penetration_at_force(0, 0.0) == 0.0);
+    CHECK(hertz.penetration_at_force(2, -1.0) == 0.0);
+    for (double q : {1e-6, 0.01, 0.7, 5.0})
+        CHECK(hertz.force_at_penetration(3, hertz.penetration_at_force(3, q)) ==
+              doctest::Approx(q).epsilon(1e-14));
+}
+
 TEST_CASE("energy rate equals minus the damping power plus the forcing power") {
     const ReducedParameters p{5, 80, 0.4, 0.05, 1.0};
     const Dynamics dyn = Dynamics::paper_row(p);

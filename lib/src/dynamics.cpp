@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 namespace gapchain {
@@ -71,6 +72,13 @@ void Dynamics::restoring_acceleration(double ground, const double* u, double* r)
     r[n - 1] = ground - s[n - 1] * u[n - 1] +
                left[n - 1] * std::max(u[n - 2] - u[n - 1] - e[n - 1], 0.0) -
                right[n - 1] * std::max(u[n - 1] - e[n], 0.0);
+}
+
+double Dynamics::penetration_at_force(int j, double force) const {
+    if (!(force > 0.0)) return 0.0;
+    if (!(m_force_gain[j] > 0.0)) return std::numeric_limits<double>::infinity();
+    const double shape_value = force / m_force_gain[j];
+    return m_hertz ? std::cbrt(shape_value * shape_value) : shape_value;
 }
 
 void Dynamics::gaps(const double* u, double* g) const {

@@ -11,8 +11,8 @@ namespace gapchain {
 
 MaxForceTracker::MaxForceTracker(const Dynamics& dyn, long split_period)
     : m_dyn(dyn), m_max(dyn.gaps()), m_gap(dyn.gaps()), m_rate(dyn.gaps()), m_gap_next(dyn.gaps()),
-      m_rate_next(dyn.gaps()), m_active(dyn.gaps()), m_scratch(dyn.dimension()),
-      m_split_period(split_period) {}
+      m_rate_next(dyn.gaps()), m_active(dyn.gaps()), m_flag(dyn.gaps()),
+      m_threshold(dyn.gaps(), 0.0), m_scratch(dyn.dimension()), m_split_period(split_period) {}
 
 namespace {
 
@@ -35,8 +35,9 @@ public:
     StepScan(const Dynamics& dyn, const StepView& step, bool continuous, double* scratch)
         : m_dyn(dyn), m_step(step), m_h(step.t1 - step.t0), m_continuous(continuous),
           m_scratch(scratch) {}
-    /// The largest force of contact j over the step and when; adds the contact's impacts in
-    /// the step to impacts. record: the smallest force that could still count.
+    /// The largest force of contact j over the step and when; adds to impacts a contact that
+    /// closes and reopens inside the step (MaxForceTracker counts those closed at its end).
+    /// record: the smallest force that could still count.
     PeakAt force_peak(int j, const GapEnds& e, double record, long& impacts);
 
 private:
@@ -94,7 +95,6 @@ PeakAt StepScan::gap_peak(int j, const GapEnds& e, double record, long& impacts)
         if (inner.value > peak.value) peak = inner;
         if (open_at_both_ends && inner.value > 0.0) ++impacts; // closed and reopened
     }
-    if (e.g0 <= 0.0 && e.g1 > 0.0) ++impacts;
     return peak;
 }
 
@@ -158,9 +158,40 @@ PeakAt StepScan::dissipative_force_peak(int j, const GapEnds& e) {
 
 } // namespace
 
+int MaxForceTracker::list_contacts_to_scan(double h) {
+    const int gaps = m_dyn.gaps();
+    // Most contacts cannot reach their record within most steps: open at both ends and
+    // not closing in between, or closed but short of the record (the bound of gap_peak()
+    // on the deepest penetration). A branch-free pass counts the closings and lists the
+    // others, so that the scan's branches run on those few only. Thresholds set from the
+    // step's first records only ever lie below the current ones, and gap_peak() checks
+    // again: the answer is the one a scan of every contact gives.
+    const double* g0 = m_gap.data();
+    const double* r0 = m_rate.data();
+    const double* g1 = m_gap_next.data();
+    const double* r1 = m_rate_next.data();
+    const double* threshold = m_threshold.data();
+    unsigned char* flag = m_flag.data();
+    // Over plain arrays and without a loop-carried value, so that it vectorises.
+    for (int j = 0; j < gaps; ++j) {
+        const bool turning = (r0[j] > 0.0) & (r1[j] < 0.0);
+        const double reach = std::max(g0[j], g1[j]) + (turning ? 0.5 * h * (r0[j] - r1[j]) : 0.0);
+        const bool open_at_both_ends = (g0[j] <= 0.0) & (g1[j] <= 0.0);
+        const bool scan = (reach > threshold[j]) | (turning & open_at_both_ends & (reach > 0.0));
+        flag[j] = static_cast<unsigned char>(scan | (((g0[j] <= 0.0) & (g1[j] > 0.0)) << 1));
+    }
+    int active = 0;
+    for (int j = 0; j < gaps; ++j) {
+        if (flag[j] == 0) continue;
+        m_max[j].impacts += flag[j] >> 1;
+        m_active[active] = j;
+        active += flag[j] & 1;
+    }
+    return active;
+}
+
 void MaxForceTracker::on_step(const StepView& step) {
     const int n = m_dyn.bodies();
-    const int gaps = m_dyn.gaps();
     // Values at the start are those the previous step ended on, unless the run restarted.
     const bool continuous = m_have_previous && m_last_t == step.t0;
     if (!continuous) {
@@ -172,20 +203,12 @@ void MaxForceTracker::on_step(const StepView& step) {
     m_last_t = step.t1;
     m_have_previous = true;
     if (step.recording) {
-        // Most contacts are open at both ends of most steps and cannot close in between (the
-        // bound of gap_peak()): they have no force and no impact to count. A branch-free pass
-        // lists the others, so that the scan's branches run on those few only.
-        const double h = step.t1 - step.t0;
-        int active = 0;
-        for (int j = 0; j < gaps; ++j) {
-            const double g0 = m_gap[j], r0 = m_rate[j], g1 = m_gap_next[j], r1 = m_rate_next[j];
-            const bool peak_inside =
-                (r0 > 0.0) & (r1 < 0.0) & (std::max(g0, g1) + 0.5 * h * (r0 - r1) > 0.0);
-            m_active[active] = j;
-            active += static_cast<int>((g0 > 0.0) | (g1 > 0.0) | peak_inside);
-        }
+        const int half_index = step.period < m_split_period ? 0 : 1;
+        if (half_index != m_threshold_half) set_thresholds(half_index);
+        const int active = list_contacts_to_scan(step.t1 - step.t0);
         StepScan scan(m_dyn, step, continuous, m_scratch.data());
-        double& half = m_half_max[step.period < m_split_period ? 0 : 1];
+        double& half = m_half_max[half_index];
+        bool new_record = false;
         for (int k = 0; k < active; ++k) {
             const int j = m_active[k];
             ContactMaximum& best = m_max[j];
@@ -194,12 +217,28 @@ void MaxForceTracker::on_step(const StepView& step) {
             if (peak.value > best.force) {
                 best.force = peak.value;
                 best.time = peak.t;
+                new_record = true;
             }
-            half = std::max(half, peak.value);
+            if (peak.value > half) {
+                half = peak.value;
+                new_record = true;
+            }
         }
+        if (new_record) set_thresholds(half_index);
     }
     m_gap.swap(m_gap_next);
     m_rate.swap(m_rate_next);
+}
+
+void MaxForceTracker::set_thresholds(int half) {
+    m_threshold_half = half;
+    if (m_dyn.dissipative_contacts()) return;
+    // Lowered by a relative 1e-9 so that rounding in the inverse never drops a contact that
+    // the exact test of gap_peak() would keep.
+    for (std::size_t j = 0; j < m_max.size(); ++j)
+        m_threshold[j] =
+            (1.0 - 1e-9) * m_dyn.penetration_at_force(static_cast<int>(j),
+                                                      std::min(m_max[j].force, m_half_max[half]));
 }
 
 double MaxForceTracker::max_force() const {

@@ -101,6 +101,11 @@ public:
     [[nodiscard]] double force_at_penetration(int j, double p, double rate = 0.0) const {
         return m_force_gain[j] * shape(p) * dissipation_factor(rate);
     }
+    /// The penetration at which contact j's force at rest (rate 0) reaches force >= 0: the
+    /// inverse of force_at_penetration(j, p); +inf where the contact has no stiffness. For the
+    /// elastic laws it bounds the force of every penetration below it (Hunt-Crossley's force
+    /// also grows with the closing rate).
+    [[nodiscard]] double penetration_at_force(int j, double force) const;
     /// Hunt-Crossley's max(0, 1 + alpha p') (1 for the linear and Hertz laws).
     [[nodiscard]] double dissipation_factor(double rate) const {
         return m_alpha == 0.0 ? 1.0 : std::max(0.0, 1.0 + m_alpha * rate);

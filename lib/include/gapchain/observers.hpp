@@ -51,11 +51,23 @@ private:
     std::vector<double> m_rate;                  ///< dg_j/dt there
     std::vector<double> m_gap_next, m_rate_next; ///< the same at the end of this step
     std::vector<int> m_active;                   ///< contacts this step has to scan
-    std::vector<double> m_scratch;               ///< a state from the stepper's dense output
+    std::vector<unsigned char> m_flag;           ///< per contact: 1 to scan, 2 closed in this step
+    /// Per contact, the penetration below which no peak can beat its record (its own maximum
+    /// or the current half's, whichever is lower); 0 for Hunt-Crossley, whose force also
+    /// grows with the closing rate.
+    std::vector<double> m_threshold;
+    int m_threshold_half = -1;     ///< the window half the thresholds were set for
+    std::vector<double> m_scratch; ///< a state from the stepper's dense output
     double m_last_t = -1.0;
     bool m_have_previous = false;
     long m_split_period;
     double m_half_max[2] = {0.0, 0.0};
+
+    /// Sets m_threshold from the records, for window half `half` (0 or 1).
+    void set_thresholds(int half);
+    /// Counts the closings of a recorded step of length h and lists in m_active the contacts
+    /// that could beat their records in it; returns how many.
+    int list_contacts_to_scan(double h);
 };
 
 /// Detects a periodic steady state from the states at the forcing-period boundaries: the run

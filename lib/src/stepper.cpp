@@ -109,10 +109,10 @@ public:
 
     void step(double t, double h, std::vector<double>& y) override {
         const int dim = 2 * m_n;
-        // Consecutive steps share an end: reuse its ground term (one cosine fewer per step).
-        const double g0 = (m_have_end && m_end_t == t) ? m_end_ground : m_dyn.ground(t);
-        double gh = 0.0, g1 = 0.0;
-        if (!tabulated_ground(t, h, gh, g1)) {
+        double g0 = 0.0, gh = 0.0, g1 = 0.0;
+        if (!tabulated_ground(t, h, g0, gh, g1)) {
+            // Consecutive steps share an end: reuse its ground term (one cosine fewer per step).
+            g0 = (m_have_end && m_end_t == t) ? m_end_ground : m_dyn.ground(t);
             gh = m_dyn.ground(t + 0.5 * h);
             g1 = m_dyn.ground(t + h);
         }
@@ -134,19 +134,27 @@ public:
 
 private:
     /// Harmonic forcing repeats every period, and a plan's steps fall on the same phases in
-    /// every period: the ground terms at a plan step's middle and end come from a table of
-    /// one period (the cosines were a tenth of a relaxed run's time). Other steps return false
-    /// and are computed directly. The table's values differ from the direct ones in the last
-    /// bits, so plans that split at switches (strict runs) keep the direct ones: a strict run
-    /// stays bit for bit what it was.
-    bool tabulated_ground(double t, double h, double& middle, double& end) const {
-        if (m_table_middle.empty() || std::abs(h - m_table_step) > 1e-12 * m_table_step)
+    /// every period: the ground terms at a plan step's start, middle and end come from a table
+    /// of one period (the cosines were a tenth of a relaxed run's time, and a step's start,
+    /// computed from the step count, rarely equals the previous step's end to the bit). Other
+    /// steps return false and are computed directly. The table's values differ from the
+    /// direct ones in the last bits, so plans that split at switches (strict runs) keep the
+    /// direct ones: a strict run stays bit for bit what it was.
+    bool tabulated_ground(double t, double h, double& start, double& middle, double& end) const {
+        // A plan step's length arrives as a difference of two times counted from the run's
+        // start, so it carries their rounding (~1e-16 t: 1e-10 of a step late in a long stiff
+        // run); a step that is not the plan's (a split piece) differs by far more.
+        if (m_table_middle.empty() ||
+            std::abs(h - m_table_step) > 1e-12 * m_table_step + 1e-14 * std::abs(t))
             return false;
-        const double steps = t / h;
+        // Counted in the table's step: h's rounding, times the step count, would reach the
+        // 1e-6 bound after ~1e5 steps and send every later step to the cosines.
+        const double steps = t / m_table_step;
         const double k = std::round(steps);
         if (std::abs(steps - k) > 1e-6) return false;
         const auto i = static_cast<std::size_t>(static_cast<long long>(k) %
                                                 static_cast<long long>(m_table_middle.size()));
+        start = m_table_start[i];
         middle = m_table_middle[i];
         end = m_table_end[i];
         return true;
@@ -159,9 +167,11 @@ private:
         if (whole < 1.0 || whole > 1048576.0 || std::abs(per_period - whole) > 1e-9) return;
         m_table_step = h;
         const auto size = static_cast<std::size_t>(whole);
+        m_table_start.resize(size);
         m_table_middle.resize(size);
         m_table_end.resize(size);
         for (std::size_t i = 0; i < size; ++i) {
+            m_table_start[i] = m_dyn.ground(static_cast<double>(i) * h);
             m_table_middle[i] = m_dyn.ground((static_cast<double>(i) + 0.5) * h);
             m_table_end[i] = m_dyn.ground((static_cast<double>(i) + 1.0) * h);
         }
@@ -185,7 +195,7 @@ private:
     double m_end_t = 0.0;
     double m_end_ground = 0.0;
     double m_table_step = 0.0;
-    std::vector<double> m_table_middle, m_table_end;
+    std::vector<double> m_table_start, m_table_middle, m_table_end;
 };
 
 /// Largest h * omega_max that meets a relative tolerance. Calibrated on the smooth and stiff

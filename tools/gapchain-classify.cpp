@@ -6,6 +6,7 @@
 #include "gapchain/grid.hpp"
 #include "gapchain/report.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -80,14 +81,22 @@ void classify_map(const ReducedParameters& p, const ClassifyOptions& o, const st
         ++counts[static_cast<int>(c.regime)];
     char title[160];
     std::snprintf(title, sizeof title, "Nm=%d fc=%g eps=%g", p.Nm, p.fc, p.eps);
+    // A map one cell wide or high (a line through the plane) is drawn as a strip of squares:
+    // gnuplot's image needs two cells each way, and its axis a range of non-zero length.
+    const bool line = e_r.size() == 1 || f_r.size() == 1;
+    auto axis_end = [](const std::vector<double>& v, double side) {
+        const double pad = v.size() == 1 ? side * std::max(0.05 * std::abs(v[0]), 0.01) : 0.0;
+        return cli::number_text((side < 0 ? v.front() : v.back()) + pad);
+    };
     if (plot)
         cli::plot_template(staged, "map",
                            {{"TITLE", title},
                             {"EPS", cli::number_text(p.eps)},
-                            {"F_FROM", cli::number_text(f_r.front())},
-                            {"F_TO", cli::number_text(f_r.back())},
-                            {"E_FROM", cli::number_text(e_r.front())},
-                            {"E_TO", cli::number_text(e_r.back())}});
+                            {"F_FROM", axis_end(f_r, -1.0)},
+                            {"F_TO", axis_end(f_r, 1.0)},
+                            {"E_FROM", axis_end(e_r, -1.0)},
+                            {"E_TO", axis_end(e_r, 1.0)},
+                            {"STYLE", line ? "with points pt 5 ps 2 lc palette" : "with image"}});
     outputs.keep();
     std::printf("gapchain-classify: %zu x %zu map (e_r x f_r), %d threads, %.1f s\n", e_r.size(),
                 f_r.size(), m.threads_used, m.wall_time_s);

@@ -110,13 +110,17 @@ std::vector<double> line_values(const AttractorArguments& a, const ReducedParame
 /// on the way when that exceeds the attractor's F_m by more than ten times the accuracy asked.
 void print_settling(const Attractor& a, const AttractorOptions& o) {
     if (a.period == 0 || a.samples == 0) return;
-    std::printf("     transients end after ");
+    // settle_max covers the starts that settled only; the median counts the others as longer.
     if (std::isnan(a.settle_median))
-        std::printf("more than %ld periods (median)", o.run.periods);
+        std::printf("     most of its starts still settling at %ld periods (%ld of %ld)",
+                    o.run.periods, a.still_settling, a.samples);
     else
-        std::printf("%.0f periods (median)", a.settle_median);
-    if (!std::isnan(a.settle_max)) std::printf(", %.0f at most", a.settle_max);
-    if (a.still_settling > 0)
+        std::printf("     transients end after %.0f periods (median)", a.settle_median);
+    if (!std::isnan(a.settle_max))
+        std::printf(a.still_settling > 0 ? ", %.0f at most among those that settled"
+                                         : ", %.0f at most",
+                    a.settle_max);
+    if (a.still_settling > 0 && !std::isnan(a.settle_median))
         std::printf(", %ld start(s) still settling at %ld periods", a.still_settling,
                     o.run.periods);
     std::printf("\n");
@@ -172,7 +176,9 @@ void run_point(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs)
     std::printf("gapchain-attractors: %s\n", cli::row_title(scene.reduced).c_str());
     print_set(set, a.options);
     std::printf("wrote %s/attractors.csv, attractors.json, starts.csv%s\n", a.out_dir.c_str(),
-                a.options.slice ? ", basins.csv" : "");
+                !a.options.slice ? ""
+                : a.no_plot      ? ", basins.csv"
+                                 : ", basins.csv, basins.png");
 }
 
 void run_line(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs) {

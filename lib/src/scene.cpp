@@ -390,6 +390,10 @@ void read_initial(const SectionReader& top, const json& root, Scene& scene) {
 Scene scene_from_json(json root, const std::vector<std::string>& overrides,
                       const std::string& source) {
     if (!root.is_object()) throw SceneError("scene: the top level must be a JSON object");
+    // A tool's result JSON holds the scene it ran under "scene": a likely mix-up of files.
+    if (root.contains("scene") && root.contains("F_m"))
+        throw SceneError("scene: this file is a gapchain result (F_m, scene, ...), not a scene; "
+                         "its \"scene\" key holds the scene it was computed from");
     for (const auto& o : overrides)
         apply_override(root, o);
     SectionReader top(root, "", {"units", "model", "excitation", "run", "initial", "output"});

@@ -172,7 +172,8 @@ int MaxForceTracker::list_contacts_to_scan(double h) {
     const double* r1 = m_rate_next.data();
     const double* threshold = m_threshold.data();
     unsigned char* flag = m_flag.data();
-    // Over plain arrays and without a loop-carried value, so that it vectorises.
+    // Comparisons combined with & and |, not && and ||: no branch per contact (g++ does not
+    // vectorise it for the default x86-64 target; docs/performance.md).
     for (int j = 0; j < gaps; ++j) {
         const bool turning = (r0[j] > 0.0) & (r1[j] < 0.0);
         const double reach = std::max(g0[j], g1[j]) + (turning ? 0.5 * h * (r0[j] - r1[j]) : 0.0);

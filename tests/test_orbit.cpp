@@ -25,6 +25,17 @@ std::vector<double> settled(const Dynamics& dyn, long periods) {
 }
 } // namespace
 
+TEST_CASE("an orbit search longer than max_orbit_bodies is refused before any allocation") {
+    // Newton's dense (2 Nm)^2 matrices: Nm = 1e5 ended in std::bad_alloc (exit 1) before.
+    const Dynamics dyn = Dynamics::paper_row({max_orbit_bodies + 1, 60, 0.5, 0.06, 3.0});
+    OrbitOptions o;
+    o.scheme = Scheme::rk4;
+    CHECK_THROWS_WITH_AS(find_periodic_orbit_after(dyn, o, {}, 0),
+                         doctest::Contains("model.Nm: a periodic-orbit search takes rows of up to"),
+                         std::invalid_argument);
+    CHECK_NOTHROW(require_orbit_size(Dynamics::paper_row({max_orbit_bodies, 60, 0.5, 0.06, 3.0})));
+}
+
 TEST_CASE("find_periodic_orbit_after: a progress answering false stops the transient run") {
     const Dynamics dyn = row({5, 60, 0.5, 0.06, 3.0});
     OrbitOptions o;

@@ -57,6 +57,19 @@ TEST_CASE("a user step beyond the stability bound is refused with the bound") {
     CHECK_NOTHROW((void)plan_step(dyn, Scheme::central_difference, 1e-4, 0.9 * limit));
 }
 
+TEST_CASE("the exact scheme is refused above max_exact_bodies, naming run.scheme and Nm") {
+    // A long row visits new contact states at almost every step, each an O(Nm^3) set-up that
+    // no cancel interrupts (Nm = 2000: hours, deaf to SIGINT).
+    const Dynamics largest = Dynamics::paper_row({max_exact_bodies, 100, 0.5, 0.5, 1.0});
+    CHECK(plan_step(largest, Scheme::exact, 1e-6).scheme == Scheme::exact);
+    const Dynamics longer = Dynamics::paper_row({max_exact_bodies + 1, 100, 0.5, 0.5, 1.0});
+    CHECK_THROWS_WITH_AS(plan_step(longer, Scheme::exact, 1e-6),
+                         doctest::Contains("run.scheme: exact takes rows of up to 64 bodies"),
+                         std::invalid_argument);
+    // auto never picks it there.
+    CHECK(plan_step(longer, Scheme::automatic, 1e-10).scheme == Scheme::rk4);
+}
+
 TEST_CASE("the planned step fits the forcing period and tightens with the tolerance") {
     const ReducedParameters p{3, 60, 0.5, 0.1, 2.7};
     const Dynamics dyn = Dynamics::paper_row(p);

@@ -583,6 +583,7 @@ ContinuationResult continue_orbits(const ReducedParameters& base,
     const auto clock = std::chrono::steady_clock::now();
     validate(options);
     const ReducedParameters start = model_with(base, options, options.from, "from");
+    require_orbit_size(Dynamics::paper_row(start));
     model_with(base, options, options.to, "to");
     // The first branch reports its fraction; transient runs and later branches repeat the last
     // one, so that every part of the call can be cancelled.

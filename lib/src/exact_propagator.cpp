@@ -2,6 +2,7 @@
 
 #include <Eigen/Dense>
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <numbers>
@@ -75,8 +76,11 @@ private:
         auto it = m_cache.find(key);
         if (it != m_cache.end()) return it->second;
         // A chaotic long row can visit a great many configurations: bound the memory (each
-        // entry holds O(Nm^2) numbers) by starting the cache afresh when it is full.
-        if (m_cache.size() >= 4096) {
+        // entry holds two complex (2 Nm)^2 matrices) to about 1 GB by starting the cache
+        // afresh when it is full (4096 entries of Nm = 150 took 4.5 GB and more).
+        const double entry_bytes = 2.0 * 16.0 * static_cast<double>(m_dim) * m_dim;
+        const auto capacity = static_cast<std::size_t>(std::clamp(1e9 / entry_bytes, 16.0, 4096.0));
+        if (m_cache.size() >= capacity) {
             m_cache.clear();
             m_last = nullptr;
         }

@@ -35,6 +35,14 @@ void validate(const OrbitOptions& o) {
         throw std::invalid_argument("scheme: name a concrete scheme for the shooting, not auto");
 }
 
+void require_orbit_size(const Dynamics& dyn) {
+    if (dyn.bodies() > max_orbit_bodies)
+        throw std::invalid_argument("model.Nm: a periodic-orbit search takes rows of up to " +
+                                    std::to_string(max_orbit_bodies) +
+                                    " bodies (Newton's dense (2 Nm)^2 matrices), got " +
+                                    std::to_string(dyn.bodies()));
+}
+
 namespace {
 
 /// The states at the period ends and the largest gap of every contact at step ends.
@@ -184,6 +192,7 @@ PeriodicOrbit find_periodic_orbit(const Dynamics& dyn, const OrbitOptions& optio
                                   const ProgressCallback& progress) {
     const auto clock = std::chrono::steady_clock::now();
     validate(options);
+    require_orbit_size(dyn);
     detail::require_length("start state", start.size(), static_cast<std::size_t>(dyn.dimension()));
     PeriodicOrbit orbit;
     orbit.period = options.period;
@@ -251,6 +260,7 @@ PeriodicOrbit find_periodic_orbit_after(const Dynamics& dyn, const OrbitOptions&
                                         const ProgressCallback& progress) {
     const auto clock = std::chrono::steady_clock::now();
     validate(options);
+    require_orbit_size(dyn);
     detail::require_range("transient_periods", static_cast<double>(transient_periods), 0.0, 1e7);
     std::vector<double> start =
         initial.empty() ? std::vector<double>(dyn.dimension(), 0.0) : initial;

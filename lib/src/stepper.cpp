@@ -236,6 +236,15 @@ Scheme resolved_scheme(const Dynamics& dyn, Scheme scheme, double tolerance) {
         throw std::invalid_argument("run.scheme: central_difference needs contact forces that do "
                                     "not depend on the velocities; use rk4, rkf45 or rk8pd with "
                                     "model.contact_law = hunt_crossley");
+    // Each contact state the row visits costs the exact scheme an eigendecomposition of
+    // (2 Nm)^2 numbers, O(Nm^3), which no cancel can interrupt: a long row, whose states hardly
+    // repeat, spends its time there (Nm = 150: 14 min for one orbit, Nm = 2000: hours).
+    if (scheme == Scheme::exact && dyn.bodies() > max_exact_bodies)
+        throw std::invalid_argument(
+            "run.scheme: exact takes rows of up to " + std::to_string(max_exact_bodies) +
+            " bodies (an O(Nm^3) set-up per contact state), got model.Nm = " +
+            std::to_string(dyn.bodies()) +
+            "; use rk4 (gapchain-orbit and gapchain-continue: --scheme rk4)");
     if (scheme == Scheme::exact && !harmonic)
         throw std::invalid_argument("run.scheme: exact needs harmonic forcing (its particular "
                                     "solution is closed-form); use rk4, rkf45 or rk8pd with "

@@ -66,6 +66,13 @@ struct PeriodicOrbit {
 /// Throws std::invalid_argument naming the first option outside its range.
 void validate(const OrbitOptions& options);
 
+/// Largest row (bodies) a periodic-orbit search takes: Newton holds dense (2 Nm)^2 matrices
+/// (the monodromy matrix, its Jacobian and their factorisations), 0.5 GB each at this size.
+inline constexpr int max_orbit_bodies = 4096;
+
+/// Throws std::invalid_argument naming model.Nm when dyn is longer than max_orbit_bodies.
+void require_orbit_size(const Dynamics& dyn);
+
 /// One shooting evaluation: P^k(x), the monodromy dP^k/dx (2 Nm x 2 Nm, column-major) and the
 /// contact maxima over the k periods. A harmonic, linear-law row only.
 struct ShootingResult {

@@ -12,6 +12,10 @@
 
 namespace gapchain {
 
+/// Largest row (bodies) the exact scheme takes: it sets up an O(Nm^3) eigendecomposition for
+/// every contact state the row visits, and a long row's states hardly repeat.
+inline constexpr int max_exact_bodies = 64;
+
 /// Integration schemes. `automatic` resolves to the scheme measured fastest for the accuracy.
 enum class Scheme {
     automatic,          ///< "auto": chosen by choose_scheme()

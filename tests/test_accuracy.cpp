@@ -35,6 +35,27 @@ TEST_CASE("work-precision study: errors fall with the tolerance, exact is its ow
                     std::invalid_argument);
 }
 
+TEST_CASE("a work-precision study runs only the schemes asked for, within run.max_work") {
+    const Dynamics dyn = Dynamics::paper_row({3, 50, 0.5, 0.3, 1.1});
+    WorkPrecisionOptions o;
+    o.schemes = {Scheme::exact};
+    o.tolerances = {1e-3, 1e-6};
+    o.periods = 5;
+    o.repeats = 1;
+    // unsplit_too stays on: it adds the unsplit runs of central_difference and rk4 only when
+    // they are among the schemes (they ran whatever was asked before).
+    const WorkPrecision study = work_precision(dyn, o);
+    CHECK(study.points.size() == 2);
+    for (const WorkPrecisionPoint& p : study.points)
+        CHECK((p.scheme == Scheme::exact && p.split));
+    o.schemes = {Scheme::rk4};
+    CHECK(work_precision(dyn, o).points.size() == 4);
+    // The whole study is checked before it starts (gapchain-accuracy accepted 3.4 h).
+    o.max_work = 1e4;
+    CHECK_THROWS_WITH_AS(work_precision(dyn, o), doctest::Contains("run.max_work: this study"),
+                         std::invalid_argument);
+}
+
 TEST_CASE("a work-precision study reports its fraction done and stops when progress says so") {
     const Dynamics dyn = Dynamics::paper_row({3, 50, 0.5, 0.3, 1.1});
     WorkPrecisionOptions o;

@@ -98,6 +98,7 @@ int main(int argc, char** argv) {
             "every scheme is measured against the exact propagator, which needs both");
         o.schemes = distinct_schemes(schemes);
         o.unsplit_too = !no_unsplit;
+        o.max_work = scene.run.max_work;
         cli::Outputs outputs({scene_args.path});
         outputs.folder(out, "--out",
                        {"work_precision.csv", "work_precision.gp", "work_precision.png"});

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 
 namespace gapchain {
 
@@ -70,6 +71,43 @@ void validate(const WorkPrecisionOptions& o) {
     for (Scheme s : o.schemes)
         if (s == Scheme::automatic)
             throw std::invalid_argument("schemes: name concrete schemes, not auto");
+    detail::require_range("run.max_work", o.max_work, 1.0, 1e15);
+}
+
+/// The schemes the study also runs without switch splitting: central_difference and rk4, where
+/// they were asked for.
+std::vector<Scheme> unsplit_schemes(const WorkPrecisionOptions& o) {
+    std::vector<Scheme> unsplit;
+    if (!o.unsplit_too) return unsplit;
+    for (Scheme s : {Scheme::central_difference, Scheme::rk4})
+        if (std::find(o.schemes.begin(), o.schemes.end(), s) != o.schemes.end())
+            unsplit.push_back(s);
+    return unsplit;
+}
+
+/// Refuses a study whose runs together exceed o.max_work body-steps, with the estimate.
+void require_affordable_study(const Dynamics& dyn, const WorkPrecisionOptions& o,
+                              const StepPlan& reference_plan) {
+    double steps_per_period = reference_plan.steps_per_period;
+    const auto count = [&](Scheme scheme, double copies) {
+        for (double tol : o.tolerances)
+            steps_per_period += copies * plan_step(dyn, scheme, tol).steps_per_period;
+    };
+    for (Scheme scheme : o.schemes)
+        count(scheme, o.repeats);
+    for (Scheme scheme : unsplit_schemes(o))
+        count(scheme, o.repeats);
+    const double work = steps_per_period * dyn.bodies() * static_cast<double>(o.periods);
+    if (work <= o.max_work) return;
+    char hours[32];
+    std::snprintf(hours, sizeof hours, "%.3g", work / 1e7 / 3600.0);
+    throw std::invalid_argument(
+        "run.max_work: this study takes up to " + detail::format_number(work) +
+        " body-steps (every scheme, tolerance and repeat, Nm " + std::to_string(dyn.bodies()) +
+        ", " + std::to_string(o.periods) + " periods each), about " + hours +
+        " h at 1e7 body-steps/s; above run.max_work = " + detail::format_number(o.max_work) +
+        ": fewer --periods, --tolerances, --repeats or --schemes, a higher excitation.f_r, or "
+        "raise run.max_work");
 }
 
 /// A run's errors against the reference: F_m's (relative), the final state's and the RMS over
@@ -100,9 +138,10 @@ WorkPrecision work_precision(const Dynamics& dyn, const WorkPrecisionOptions& o,
     StepPlan reference_plan = plan_step(dyn, Scheme::exact, 1e-12);
     reference_plan.steps_per_period *= 2;
     reference_plan.step /= 2;
+    require_affordable_study(dyn, o, reference_plan);
+    const std::vector<Scheme> unsplit = unsplit_schemes(o);
     // Each run reports its own fraction; the study's counts the runs before it.
-    const std::size_t plans =
-        o.schemes.size() * o.tolerances.size() + (o.unsplit_too ? 2 * o.tolerances.size() : 0);
+    const std::size_t plans = (o.schemes.size() + unsplit.size()) * o.tolerances.size();
     const double runs = 1.0 + static_cast<double>(plans) * o.repeats;
     double runs_done = 0.0;
     const auto next_run = [&](const StepPlan& plan) {
@@ -142,10 +181,9 @@ WorkPrecision work_precision(const Dynamics& dyn, const WorkPrecisionOptions& o,
     for (Scheme scheme : o.schemes)
         for (double tol : o.tolerances)
             measure(scheme, true, tol);
-    if (o.unsplit_too)
-        for (Scheme scheme : {Scheme::central_difference, Scheme::rk4})
-            for (double tol : o.tolerances)
-                measure(scheme, false, tol);
+    for (Scheme scheme : unsplit)
+        for (double tol : o.tolerances)
+            measure(scheme, false, tol);
     study.wall_time_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return study;

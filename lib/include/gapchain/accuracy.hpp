@@ -20,7 +20,11 @@ struct WorkPrecisionOptions {
     std::vector<double> tolerances{1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8}; ///< [1e-12, 0.1]
     long periods = 50;       ///< forcing periods per run (full length, no steady-state stop)
     int repeats = 3;         ///< timed repeats per point (the median is kept), 1 .. 100
-    bool unsplit_too = true; ///< also run central_difference and rk4 without switch splitting
+    bool unsplit_too = true; ///< also run central_difference and rk4 (those of schemes) without
+                             ///< switch splitting
+    /// Body-steps the whole study may take (run.max_work), [1, 1e15]: its runs, repeats and
+    /// reference together, each Nm x steps per period x periods.
+    double max_work = 3e10;
 };
 
 /// One run of the study.

@@ -235,6 +235,16 @@ TEST_CASE("bad options are refused naming the option") {
                          std::invalid_argument);
     o.run.transient_periods = 10;
     CHECK_NOTHROW(validate(mirror_pair, o));
+    // Without the steady-state stop every orbit read as unsettled; without damping nothing
+    // attracts, and each start was reported as an attractor with a basin and an F_m_max.
+    o.run.stop_at_steady_state = false;
+    CHECK_THROWS_WITH_AS(validate(mirror_pair, o), doctest::Contains("run.steady_state"),
+                         std::invalid_argument);
+    o.run.stop_at_steady_state = true;
+    ReducedParameters undamped = mirror_pair;
+    undamped.eps = 0.0;
+    CHECK_THROWS_WITH_AS(find_attractors(undamped, o), doctest::Contains("model.eps"),
+                         std::invalid_argument);
 }
 
 TEST_CASE("a chaotic transient that outlasts the runs is not an attractor (issue 19's Nm = 2 "

@@ -68,6 +68,17 @@ std::string_view regime_label(const Attractor& a) {
 void validate(const ReducedParameters& p, const AttractorOptions& options) {
     validate(p);
     validate(options, p.Nm);
+    // Without damping the flow keeps phase-space volume: nothing attracts, and every start
+    // would be reported as an attractor of its own.
+    if (!(p.eps > 0.0))
+        throw std::invalid_argument("model.eps: an attractor search needs damping, eps > 0 (a "
+                                    "row without it has no attractors), got " +
+                                    detail::format_number(p.eps));
+    // Periodic attractors are found where a run stops on its steady state; without the stop
+    // every orbit reads as unsettled and one orbit can split into several groups.
+    if (!options.run.stop_at_steady_state)
+        throw std::invalid_argument("run.steady_state: an attractor search needs it true (its "
+                                    "periodic attractors are the runs that settle), got false");
     const RunOptions run = with_transient_resolved(Dynamics::paper_row(p), options.run);
     const long window = run.periods - run.transient_periods;
     if (window < 20)

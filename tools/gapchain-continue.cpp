@@ -7,6 +7,8 @@
 #include "gapchain/continuation.hpp"
 #include "gapchain/report.hpp"
 
+#include <nlohmann/json.hpp>
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -54,6 +56,39 @@ void check_overlay(const std::string& path) {
                                         " needs a finite value and F_m, got \"" + line + "\"");
     }
     if (rows == 0) throw std::invalid_argument("--overlay: " + path + " has a header but no rows");
+}
+
+// The bifurcation.json gapchain-bifurcation writes beside summary.csv names the parameter and
+// the base row: an overlay of another line (another parameter or row) would be drawn on this
+// one's axis under its title.
+void check_overlay_line(const std::string& path, const std::string& param,
+                        const ReducedParameters& base) {
+    const std::filesystem::path sidecar =
+        std::filesystem::absolute(path).parent_path() / "bifurcation.json";
+    std::ifstream in(sidecar);
+    nlohmann::json line;
+    try {
+        line = nlohmann::json::parse(in);
+    } catch (const std::exception&) {
+        throw std::invalid_argument("--overlay: needs the bifurcation.json gapchain-bifurcation "
+                                    "wrote beside it, to check it is this line; cannot read " +
+                                    sidecar.string());
+    }
+    const auto parameter = line.value("parameter", std::string());
+    if (parameter != param)
+        throw std::invalid_argument("--overlay: " + path + " sweeps " + parameter +
+                                    ", this continuation " + param);
+    const nlohmann::json& b = line.value("base", nlohmann::json::object());
+    const std::pair<const char*, double> row[] = {
+        {"Nm", base.Nm}, {"fc", base.fc}, {"eps", base.eps}, {"e_r", base.e_r}, {"f_r", base.f_r}};
+    for (const auto& [key, value] : row) {
+        if (key == param) continue;
+        const double theirs = b.value(key, std::nan(""));
+        if (!(std::abs(theirs - value) <= 1e-9 * std::abs(value)))
+            throw std::invalid_argument("--overlay: " + path + " is another row: its " + key +
+                                        " is " + cli::number_text(theirs) + ", this scene's " +
+                                        cli::number_text(value));
+    }
 }
 
 void add_options(CLI::App& app, ContinueArguments& a) {
@@ -107,7 +142,8 @@ void print_summary(const ContinuationResult& r, const ContinueArguments& a) {
         if (s.contact >= 0) std::printf(", contact %d", s.contact);
         std::printf(")\n");
     }
-    std::printf("wrote %s/branch.csv, special.csv\n", a.out_dir.c_str());
+    std::printf("wrote %s/branch.csv, special.csv%s\n", a.out_dir.c_str(),
+                a.no_plot ? "" : ", branch.png");
 }
 
 bool write_outputs(const ContinuationResult& r, const ContinueArguments& a,
@@ -139,7 +175,10 @@ int main(int argc, char** argv) {
                         cli::require_paper_row(scene, "gapchain-continue");
                         a.options.parameter = parse_swept_parameter(a.param);
                         validate(a.options);
-                        if (!a.overlay.empty()) check_overlay(a.overlay);
+                        if (!a.overlay.empty()) {
+                            check_overlay(a.overlay);
+                            check_overlay_line(a.overlay, a.param, scene.reduced);
+                        }
                         cli::Outputs outputs({a.scene.path, a.overlay});
                         outputs.folder(a.out_dir, "--out",
                                        {"branch.csv", "special.csv", "branch.gp", "branch.png"});

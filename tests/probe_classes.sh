@@ -112,7 +112,7 @@ expect 6 2 "run.max_work|excitation.f_r" timeout 60 "$bin/gapchain-sim" fig5.jso
 expect 6 2 "run.max_work|run.step" timeout 60 "$bin/gapchain-sim" fig5.json --set run.step=1e-9 --out h.json
 expect 6 2 "run.max_work" timeout 60 "$bin/gapchain-sim" "$seismic" --set excitation.duration=1e5 --out h.json
 expect 6 2 "--max-dense" timeout 60 "$bin/gapchain-modes" --Nm 20000 --out h.json
-expect 6 0 "" timeout 60 "$bin/gapchain-sim" fig5.json --set run.periods=20 --set run.max_work=1e6 --set run.max_work=1e9 --out h.json
+expect 6 0 "" timeout 60 "$bin/gapchain-sim" fig5.json --set run.periods=20 --set run.max_work=1e9 --out h.json
 verdict 6
 
 # 7. An output path equal to an input or to another output is refused; the input is kept.
@@ -364,9 +364,9 @@ absent 26 l26.json l26_history.csv l26_convergence.gp
 # work-precision study (it ran to its end): exit 143 long before the outer KILL, nothing written.
 # (--foreground: timeout otherwise also signals its process group, and a second SIGTERM ends a
 # tool at once, silently, by design.)
-expect 26 143 "interrupted by SIGTERM" timeout -s KILL 20 timeout --foreground --preserve-status -s TERM 1 "$bin/gapchain-orbit" s26.json --set model.Nm=300 --from-transient 0 --out o26.json
-expect 26 143 "interrupted by SIGTERM" timeout -s KILL 20 timeout --foreground --preserve-status -s TERM 1 "$bin/gapchain-continue" s26.json --set model.Nm=300 --from 1 --to 1.1 --transient 0 --no-plot --out c26
-expect 26 143 "interrupted by SIGTERM" timeout -s KILL 20 timeout --foreground --preserve-status -s TERM 1 "$bin/gapchain-accuracy" s26.json --periods 100000 --repeats 1 --no-unsplit --no-plot --out a26
+expect 26 143 "interrupted by SIGTERM" timeout -s KILL 20 timeout --foreground --preserve-status -s TERM 1 "$bin/gapchain-orbit" s26.json --set model.Nm=300 --scheme rk4 --from-transient 0 --out o26.json
+expect 26 143 "interrupted by SIGTERM" timeout -s KILL 20 timeout --foreground --preserve-status -s TERM 1 "$bin/gapchain-continue" s26.json --set model.Nm=300 --scheme rk4 --from 1 --to 1.1 --transient 0 --no-plot --out c26
+expect 26 143 "interrupted by SIGTERM" timeout -s KILL 20 timeout --foreground --preserve-status -s TERM 1 "$bin/gapchain-accuracy" s26.json --periods 100000 --repeats 1 --no-unsplit --set run.max_work=1e15 --no-plot --out a26
 expect 26 143 "interrupted by SIGTERM" timeout -s KILL 20 timeout --foreground --preserve-status -s TERM 1 "$bin/gapchain-modes" --grid --grid-fc-points 100000 --grid-Nm-max 2000 --out g26
 absent 26 o26.json c26 a26 g26
 # A row whose contacts never close is a valid answer, not a failed figure: an event section with

@@ -74,6 +74,9 @@ TEST_CASE("bad input: every class gives one line naming the key") {
     CHECK(error_of("{not json").find("malformed JSON") != std::string::npos);
     CHECK(error_of(R"({"model": {"fcc": 1}})").find("model.fcc: unknown key") != std::string::npos);
     CHECK(error_of(R"({"modle": {}})").find("modle: unknown key") != std::string::npos);
+    // One key set twice: the last one used to win, silently.
+    CHECK(error_of("{}", {"model.Nm=3", "model.Nm=4"}).find("--set model.Nm: given twice") !=
+          std::string::npos);
     // A tool's result given as the scene is named as such, not as an unknown key F_m.
     CHECK(error_of(R"({"F_m": 1.2, "scene": {"model": {"Nm": 2}}})").find("is a gapchain result") !=
           std::string::npos);

@@ -25,6 +25,7 @@ struct ContinueArguments {
     ContinuationOptions options;
     std::string param = "f_r";
     std::string overlay; // a gapchain-bifurcation summary.csv drawn underneath
+    std::string scheme = "exact";
     std::string out_dir = "continuation";
     bool no_plot = false;
 };
@@ -121,6 +122,10 @@ void add_options(CLI::App& app, ContinueArguments& a) {
                    "Periods run from the scene's initial state before the first Newton search")
         ->check(cli::range(0L, 10'000'000L))
         ->capture_default_str();
+    app.add_option("--scheme", a.scheme,
+                   "Integration of the k-period map (exact: rows of up to 64 bodies)")
+        ->check(CLI::IsMember({"exact", "rk4", "rkf45", "rk8pd"}))
+        ->capture_default_str();
     app.add_option("--overlay", a.overlay,
                    "A gapchain-bifurcation summary.csv of the same line, drawn underneath")
         ->check(CLI::ExistingFile);
@@ -174,6 +179,7 @@ int main(int argc, char** argv) {
                         const Scene scene = cli::load(a.scene);
                         cli::require_paper_row(scene, "gapchain-continue");
                         a.options.parameter = parse_swept_parameter(a.param);
+                        a.options.orbit.scheme = parse_scheme(a.scheme);
                         validate(a.options);
                         if (!a.overlay.empty()) {
                             check_overlay(a.overlay);

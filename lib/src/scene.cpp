@@ -394,6 +394,14 @@ Scene scene_from_json(json root, const std::vector<std::string>& overrides,
     if (root.contains("scene") && root.contains("F_m"))
         throw SceneError("scene: this file is a gapchain result (F_m, scene, ...), not a scene; "
                          "its \"scene\" key holds the scene it was computed from");
+    // The same key set twice would leave its value to the order of the arguments.
+    for (std::size_t i = 0; i < overrides.size(); ++i)
+        for (std::size_t k = 0; k < i; ++k) {
+            const std::string key = overrides[i].substr(0, overrides[i].find('='));
+            if (key == overrides[k].substr(0, overrides[k].find('=')))
+                throw SceneError("--set " + key + ": given twice (\"" + overrides[k] + "\" and \"" +
+                                 overrides[i] + "\")");
+        }
     for (const auto& o : overrides)
         apply_override(root, o);
     SectionReader top(root, "", {"units", "model", "excitation", "run", "initial", "output"});

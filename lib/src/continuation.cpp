@@ -576,15 +576,26 @@ PeriodicOrbit first_orbit(const ReducedParameters& start, const ContinuationOpti
 
 } // namespace
 
+namespace {
+
+/// The row at options.from, once the options, both ends of the line and the row's size are
+/// checked (std::invalid_argument naming the first bad one).
+ReducedParameters checked_start(const ReducedParameters& base, const ContinuationOptions& options) {
+    validate(options);
+    const ReducedParameters start = model_with(base, options, options.from, "from");
+    model_with(base, options, options.to, "to");
+    require_orbit_size(Dynamics::paper_row(start));
+    return start;
+}
+
+} // namespace
+
 ContinuationResult continue_orbits(const ReducedParameters& base,
                                    const ContinuationOptions& options,
                                    const std::vector<double>& initial,
                                    const ProgressCallback& progress) {
     const auto clock = std::chrono::steady_clock::now();
-    validate(options);
-    const ReducedParameters start = model_with(base, options, options.from, "from");
-    require_orbit_size(Dynamics::paper_row(start));
-    model_with(base, options, options.to, "to");
+    const ReducedParameters start = checked_start(base, options);
     // The first branch reports its fraction; transient runs and later branches repeat the last
     // one, so that every part of the call can be cancelled.
     double last_fraction = 0.0;

@@ -284,7 +284,10 @@ def test_an_argument_of_the_wrong_type_is_named_in_one_line():
              (gapchain.regime_map, {"e_r": np.zeros((20, 20)), "f_r": [1.0]},
               r"e_r: must be a list of numbers, got array\(\[\[0\."),
              (gapchain.simulate, {"progress": 1}, "progress: must be a callable"),
-             (gapchain.simulate, {"scene": MIRROR_PAIR}, "simulate\\(\\): got two values for scene")]
+             (gapchain.simulate, {"scene": MIRROR_PAIR}, "simulate\\(\\): got two values for scene"),
+             # A misspelt keyword of a function without scene keys is named (it was "arguments
+             # of the wrong type").
+             (gapchain.sweep, {"thread": 2}, r"thread: unknown keyword of sweep\(\)")]
     for function, kwargs, message in cases:
         with pytest.raises(TypeError, match=message) as raised:
             function(MIRROR_PAIR, **kwargs)

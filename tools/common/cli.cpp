@@ -486,8 +486,11 @@ bool Progress::update(double fraction) {
     m_last = now;
     const double elapsed = std::chrono::duration<double>(now - m_start).count();
     const double rate = elapsed > 0.0 ? 100.0 * fraction / elapsed : 0.0;
-    const double eta = fraction > 0.0 ? elapsed * (1.0 - fraction) / fraction : 0.0;
-    std::fprintf(stderr, "%s%s: %5.1f %%  %.2f %%/s  elapsed %.1f s  ETA %.1f s%s",
+    // Nothing done yet gives no rate to extrapolate: the ETA is unknown, not 0.
+    char eta[32] = "unknown";
+    if (fraction > 0.0)
+        std::snprintf(eta, sizeof eta, "%.1f s", elapsed * (1.0 - fraction) / fraction);
+    std::fprintf(stderr, "%s%s: %5.1f %%  %.2f %%/s  elapsed %.1f s  ETA %s%s",
                  m_terminal ? "\r" : "", m_label.c_str(), 100.0 * fraction, rate, elapsed, eta,
                  m_terminal ? "   " : "\n");
     m_drawn = m_terminal;

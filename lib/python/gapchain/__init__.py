@@ -176,9 +176,13 @@ def _typed(function):
     silent conversion (True as 1, 3.7 as 3)."""
     try:
         function(*([None] * 64))  # too many: pybind11 lists the signature, runs nothing
-        parameters, positional = [], 0
+        parameters, positional, closed = [], 0, False
     except TypeError as error:
         parameters, positional = _signature(str(error))
+        # Without **kwargs every keyword is a parameter: name a misspelt one (pybind11 said
+        # only "incompatible function arguments").
+        closed = bool(parameters) and "**kwargs" not in str(error)
+    names = [p for p, _ in parameters]
 
     # The library names the options behind these arguments (the command-line tools map them to
     # their flags the same way).
@@ -188,6 +192,10 @@ def _typed(function):
 
     @_functools.wraps(function)
     def call(*args, **kwargs):
+        unknown = [key for key in kwargs if closed and key not in names]
+        if unknown:
+            raise TypeError("%s: unknown keyword of %s(); accepted: %s" % (
+                unknown[0], function.__name__, ", ".join(names)))
         wrong = _wrong_argument(function.__name__, parameters, positional, args, kwargs)
         if wrong:
             raise TypeError(wrong)

@@ -219,6 +219,8 @@ int main(int argc, char** argv) {
     add_options(app, a);
     return cli::run(app, argc, argv,
                     [&] {
+                        if (!a.param.empty())
+                            cli::require_not_set(a.scene, a.param, "gapchain-attractors --param");
                         const Scene scene = cli::load(a.scene);
                         cli::require_paper_row(scene, "gapchain-attractors");
                         check_line(app, a);

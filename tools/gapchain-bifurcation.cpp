@@ -129,6 +129,7 @@ int main(int argc, char** argv) {
     add_options(app, a);
     return cli::run(app, argc, argv,
                     [&] {
+                        cli::require_not_set(a.scene, a.param, "gapchain-bifurcation");
                         const Scene scene = cli::load(a.scene, fig13_scene);
                         cli::require_paper_row(scene, "gapchain-bifurcation");
                         resolve_options(a, scene);

@@ -176,6 +176,7 @@ int main(int argc, char** argv) {
     add_options(app, a);
     return cli::run(app, argc, argv,
                     [&] {
+                        cli::require_not_set(a.scene, a.param, "gapchain-continue");
                         const Scene scene = cli::load(a.scene);
                         cli::require_paper_row(scene, "gapchain-continue");
                         a.options.parameter = parse_swept_parameter(a.param);

@@ -128,6 +128,10 @@ CLI::Validator range(T lo, T hi) {
 // classify, bounds) refuse other scenes with the rule: a record or Kanai-Tajimi excitation,
 // model arrays or scatter, a nonlinear contact law.
 void require_paper_row(const Scene& scene, const std::string& tool);
+// Tools that vary one reduced number themselves (bifurcation, continue, attractors --param)
+// refuse a --set of it, which their --from ... --to would silently replace. param: f_r, e_r, fc
+// or eps.
+void require_not_set(const SceneArguments& args, const std::string& param, const std::string& tool);
 // Tools built on the exact propagator or the tangent flow (orbit, accuracy) refuse the rest with
 // the reason: harmonic forcing and the linear contact law (any row of them).
 void require_linear_harmonic(const Scene& scene, const std::string& tool, const std::string& why);

@@ -295,16 +295,20 @@ int main(int argc, char** argv) {
     relaxed->add_option("--points", relaxed_points, "Periodic rows to use")
         ->check(cli::range(1, 1'000'000))
         ->capture_default_str();
-    return gapchain::cli::run(app, argc, argv, [&] {
-        if (app.get_subcommands().empty())
-            throw std::invalid_argument("a benchmark is required: sim, bifurcation, modes or peer");
-        if (peer->parsed()) bench_peer(peer_periods);
-        if (relaxed->parsed()) bench_relaxed(sample, relaxed_points);
-        if (mod->parsed()) bench_modes(Nm, modes);
-        if (sim->parsed()) bench_sim(periods, tolerance);
-        if (bif->parsed()) {
-            bench_bifurcation(1);
-            bench_bifurcation(threads);
-        }
-    });
+    return gapchain::cli::run(
+        app, argc, argv,
+        [&] {
+            if (app.get_subcommands().empty())
+                throw std::invalid_argument(
+                    "a benchmark is required: sim, bifurcation, modes, peer or relaxed");
+            if (peer->parsed()) bench_peer(peer_periods);
+            if (relaxed->parsed()) bench_relaxed(sample, relaxed_points);
+            if (mod->parsed()) bench_modes(Nm, modes);
+            if (sim->parsed()) bench_sim(periods, tolerance);
+            if (bif->parsed()) {
+                bench_bifurcation(1);
+                bench_bifurcation(threads);
+            }
+        },
+        {{"count", "--modes"}});
 }

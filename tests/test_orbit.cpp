@@ -33,7 +33,12 @@ TEST_CASE("an orbit search longer than max_orbit_bodies is refused before any al
     CHECK_THROWS_WITH_AS(find_periodic_orbit_after(dyn, o, {}, 0),
                          doctest::Contains("model.Nm: a periodic-orbit search takes rows of up to"),
                          std::invalid_argument);
-    CHECK_NOTHROW(require_orbit_size(Dynamics::paper_row({max_orbit_bodies, 60, 0.5, 0.06, 3.0})));
+    CHECK_NOTHROW(require_orbit_size(Dynamics::paper_row({max_orbit_bodies, 60, 0.5, 0.06, 3.0}),
+                                     Scheme::rk4));
+    // The exact scheme stops at 64 bodies, named as the search's own scheme option.
+    CHECK_THROWS_WITH_AS(
+        require_orbit_size(Dynamics::paper_row({65, 60, 0.5, 0.06, 3.0}), Scheme::exact),
+        doctest::Contains("scheme: exact takes rows of up to 64"), std::invalid_argument);
 }
 
 TEST_CASE("find_periodic_orbit_after: a progress answering false stops the transient run") {

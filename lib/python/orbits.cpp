@@ -31,7 +31,7 @@ liouville_error, F_m (over one orbit), per_contact (dict: force, time, impacts),
 wall_time_s.)";
 
 constexpr const char* continuation_doc =
-    R"(continuation(scene=None, *, param="f_r", from_=2.15, to=4.5, period=1, step=0.01, max_step=0.05, max_points=2000, follow_doublings=False, max_branches=6, transient=200, progress=None, **keys) -> dict
+    R"(continuation(scene=None, *, param="f_r", from_=2.15, to=4.5, period=1, step=0.01, max_step=0.05, max_points=2000, follow_doublings=False, max_branches=6, transient=200, scheme="exact", progress=None, **keys) -> dict
 
 Pseudo-arclength continuation of the paper's uniform row's periodic orbits in one reduced
 parameter, through folds, with folds, period doublings, Neimark-Sacker and grazing points
@@ -44,6 +44,7 @@ max_step    largest arclength step, [step, 1];  max_points  points per branch, 1
 follow_doublings  switch to the doubled branch at each period doubling and each non-smooth loss of
                   stability next to -1 (max_branches, 1 .. 64)
 transient   periods run before the first Newton search, 0 .. 1e7
+scheme      integration of P^k: "exact" (rows of up to 64 bodies), "rk4", "rkf45" or "rk8pd"
 progress    callable(fraction)
 
 Returns a dict: points (dict of columns value, period, F_m, u1, stable, max_multiplier, branch,
@@ -127,7 +128,8 @@ py::dict continuation_dict(const ContinuationResult& r) {
 py::dict continuation_py(const py::object& scene_arg, const std::string& param, double from,
                          double to, int period, double step, double max_step, int max_points,
                          bool follow_doublings, int max_branches, long transient,
-                         const py::object& progress, const py::kwargs& keys) {
+                         const std::string& scheme, const py::object& progress,
+                         const py::kwargs& keys) {
     const Scene scene = to_scene(scene_arg, keys);
     ContinuationOptions o;
     o.parameter = parse_swept_parameter(param);
@@ -135,6 +137,7 @@ py::dict continuation_py(const py::object& scene_arg, const std::string& param, 
     o.step = step, o.max_step = max_step, o.max_points = max_points;
     o.follow_doublings = follow_doublings, o.max_branches = max_branches;
     o.transient_periods = transient;
+    o.orbit.scheme = parse_scheme(scheme);
     validate(o);
     Call call(progress);
     const ContinuationResult r =
@@ -156,7 +159,7 @@ void register_orbits(py::module_& m) {
           py::arg("period") = c.period, py::arg("step") = c.step, py::arg("max_step") = c.max_step,
           py::arg("max_points") = c.max_points, py::arg("follow_doublings") = c.follow_doublings,
           py::arg("max_branches") = c.max_branches, py::arg("transient") = c.transient_periods,
-          py::arg("progress") = py::none());
+          py::arg("scheme") = "exact", py::arg("progress") = py::none());
 }
 
 } // namespace gapchain::python

@@ -102,7 +102,7 @@ void require_affordable_study(const Dynamics& dyn, const WorkPrecisionOptions& o
     char hours[32];
     std::snprintf(hours, sizeof hours, "%.3g", work / 1e7 / 3600.0);
     throw std::invalid_argument(
-        "run.max_work: this study takes up to " + detail::format_number(work) +
+        "run.max_work: this study takes at least " + detail::format_number(work) +
         " body-steps (every scheme, tolerance and repeat, Nm " + std::to_string(dyn.bodies()) +
         ", " + std::to_string(o.periods) + " periods each), about " + hours +
         " h at 1e7 body-steps/s; above run.max_work = " + detail::format_number(o.max_work) +
@@ -134,6 +134,11 @@ WorkPrecision work_precision(const Dynamics& dyn, const WorkPrecisionOptions& o,
                              const ProgressCallback& progress) {
     const auto start = std::chrono::steady_clock::now();
     validate(o);
+    if (dyn.bodies() > max_exact_bodies)
+        throw std::invalid_argument(
+            "model.Nm: a work-precision study's reference is the exact propagator, which takes "
+            "rows of up to " +
+            std::to_string(max_exact_bodies) + " bodies, got " + std::to_string(dyn.bodies()));
     WorkPrecision study;
     StepPlan reference_plan = plan_step(dyn, Scheme::exact, 1e-12);
     reference_plan.steps_per_period *= 2;

@@ -584,7 +584,7 @@ ReducedParameters checked_start(const ReducedParameters& base, const Continuatio
     validate(options);
     const ReducedParameters start = model_with(base, options, options.from, "from");
     model_with(base, options, options.to, "to");
-    require_orbit_size(Dynamics::paper_row(start));
+    require_orbit_size(Dynamics::paper_row(start), options.orbit.scheme);
     return start;
 }
 

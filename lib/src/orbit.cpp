@@ -35,7 +35,13 @@ void validate(const OrbitOptions& o) {
         throw std::invalid_argument("scheme: name a concrete scheme for the shooting, not auto");
 }
 
-void require_orbit_size(const Dynamics& dyn) {
+void require_orbit_size(const Dynamics& dyn, Scheme scheme) {
+    if (scheme == Scheme::exact && dyn.bodies() > max_exact_bodies)
+        throw std::invalid_argument("scheme: exact takes rows of up to " +
+                                    std::to_string(max_exact_bodies) +
+                                    " bodies (an O(Nm^3) set-up per contact state), got model.Nm "
+                                    "= " +
+                                    std::to_string(dyn.bodies()) + "; use rk4");
     if (dyn.bodies() > max_orbit_bodies)
         throw std::invalid_argument("model.Nm: a periodic-orbit search takes rows of up to " +
                                     std::to_string(max_orbit_bodies) +
@@ -192,7 +198,7 @@ PeriodicOrbit find_periodic_orbit(const Dynamics& dyn, const OrbitOptions& optio
                                   const ProgressCallback& progress) {
     const auto clock = std::chrono::steady_clock::now();
     validate(options);
-    require_orbit_size(dyn);
+    require_orbit_size(dyn, options.scheme);
     detail::require_length("start state", start.size(), static_cast<std::size_t>(dyn.dimension()));
     PeriodicOrbit orbit;
     orbit.period = options.period;
@@ -260,7 +266,7 @@ PeriodicOrbit find_periodic_orbit_after(const Dynamics& dyn, const OrbitOptions&
                                         const ProgressCallback& progress) {
     const auto clock = std::chrono::steady_clock::now();
     validate(options);
-    require_orbit_size(dyn);
+    require_orbit_size(dyn, options.scheme);
     detail::require_range("transient_periods", static_cast<double>(transient_periods), 0.0, 1e7);
     std::vector<double> start =
         initial.empty() ? std::vector<double>(dyn.dimension(), 0.0) : initial;

@@ -243,8 +243,7 @@ Scheme resolved_scheme(const Dynamics& dyn, Scheme scheme, double tolerance) {
         throw std::invalid_argument(
             "run.scheme: exact takes rows of up to " + std::to_string(max_exact_bodies) +
             " bodies (an O(Nm^3) set-up per contact state), got model.Nm = " +
-            std::to_string(dyn.bodies()) +
-            "; use rk4 (gapchain-orbit and gapchain-continue: --scheme rk4)");
+            std::to_string(dyn.bodies()) + "; use rk4");
     if (scheme == Scheme::exact && !harmonic)
         throw std::invalid_argument("run.scheme: exact needs harmonic forcing (its particular "
                                     "solution is closed-form); use rk4, rkf45 or rk8pd with "

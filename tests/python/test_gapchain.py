@@ -190,6 +190,17 @@ def test_accuracy_mode_is_reported_and_strict_keeps_a_periodic_answer():
     assert abs(auto["F_m"] - strict["F_m"]) <= 1e-9 * strict["F_m"]
 
 
+def test_continuation_takes_a_scheme_and_the_exact_one_stops_at_64_bodies():
+    # The tool's --scheme, in Python too: rows above 64 bodies had no way past exact.
+    with pytest.raises(ValueError, match="scheme: exact takes rows of up to 64 bodies"):
+        gapchain.continuation(Nm=65, fc=60, e_r=0.06, from_=2.9, to=2.91)
+    r = gapchain.continuation(MIRROR_PAIR, from_=1.2, to=1.21, scheme="rk4", max_points=2,
+                              transient=50)
+    assert len(r["points"]["value"]) >= 1
+    with pytest.raises(ValueError, match="run.scheme"):
+        gapchain.continuation(MIRROR_PAIR, from_=1.2, to=1.21, scheme="euler")
+
+
 def test_continuation_points_carry_their_orbit_state():
     # Fig 13's row: the state of each continued orbit is a start that gapchain.orbit, with no
     # transient, confirms as the same orbit.

@@ -70,8 +70,9 @@ void validate(const OrbitOptions& options);
 /// (the monodromy matrix, its Jacobian and their factorisations), 0.5 GB each at this size.
 inline constexpr int max_orbit_bodies = 4096;
 
-/// Throws std::invalid_argument naming model.Nm when dyn is longer than max_orbit_bodies.
-void require_orbit_size(const Dynamics& dyn);
+/// Throws std::invalid_argument naming model.Nm when dyn is longer than max_orbit_bodies, and
+/// naming scheme when it is exact and dyn longer than max_exact_bodies.
+void require_orbit_size(const Dynamics& dyn, Scheme scheme);
 
 /// One shooting evaluation: P^k(x), the monodromy dP^k/dx (2 Nm x 2 Nm, column-major) and the
 /// contact maxima over the k periods. A harmonic, linear-law row only.

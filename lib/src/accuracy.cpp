@@ -85,6 +85,19 @@ std::vector<Scheme> unsplit_schemes(const WorkPrecisionOptions& o) {
     return unsplit;
 }
 
+/// The reference run's plan: the exact propagator at half its default interval.
+StepPlan reference_plan_for(const Dynamics& dyn) {
+    if (dyn.bodies() > max_exact_bodies)
+        throw std::invalid_argument(
+            "model.Nm: a work-precision study's reference is the exact propagator, which takes "
+            "rows of up to " +
+            std::to_string(max_exact_bodies) + " bodies, got " + std::to_string(dyn.bodies()));
+    StepPlan plan = plan_step(dyn, Scheme::exact, 1e-12);
+    plan.steps_per_period *= 2;
+    plan.step /= 2;
+    return plan;
+}
+
 /// Refuses a study whose runs together exceed o.max_work body-steps, with the estimate.
 void require_affordable_study(const Dynamics& dyn, const WorkPrecisionOptions& o,
                               const StepPlan& reference_plan) {
@@ -134,15 +147,8 @@ WorkPrecision work_precision(const Dynamics& dyn, const WorkPrecisionOptions& o,
                              const ProgressCallback& progress) {
     const auto start = std::chrono::steady_clock::now();
     validate(o);
-    if (dyn.bodies() > max_exact_bodies)
-        throw std::invalid_argument(
-            "model.Nm: a work-precision study's reference is the exact propagator, which takes "
-            "rows of up to " +
-            std::to_string(max_exact_bodies) + " bodies, got " + std::to_string(dyn.bodies()));
     WorkPrecision study;
-    StepPlan reference_plan = plan_step(dyn, Scheme::exact, 1e-12);
-    reference_plan.steps_per_period *= 2;
-    reference_plan.step /= 2;
+    const StepPlan reference_plan = reference_plan_for(dyn);
     require_affordable_study(dyn, o, reference_plan);
     const std::vector<Scheme> unsplit = unsplit_schemes(o);
     // Each run reports its own fraction; the study's counts the runs before it.

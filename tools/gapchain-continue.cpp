@@ -202,6 +202,7 @@ int main(int argc, char** argv) {
                         print_summary(r, a);
                     },
                     {{"transient_periods", "--transient"},
+                     {"scheme", "--scheme"},
                      {"max_points", "--max-points"},
                      {"max_branches", "--max-branches"},
                      {"step", "--step"},

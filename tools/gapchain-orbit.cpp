@@ -97,5 +97,6 @@ int main(int argc, char** argv) {
                     {{"transient_periods", "--from-transient"},
                      {"period", "--period"},
                      {"max_iterations", "--max-iterations"},
-                     {"tolerance", "--tolerance"}});
+                     {"tolerance", "--tolerance"},
+                     {"scheme", "--scheme"}});
 }

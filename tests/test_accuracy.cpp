@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 using namespace gapchain;
@@ -35,13 +36,22 @@ TEST_CASE("work-precision study: errors fall with the tolerance, exact is its ow
                     std::invalid_argument);
 }
 
+namespace {
+// A short study of one scheme on a small row's options.
+WorkPrecisionOptions short_study(Scheme scheme, std::vector<double> tolerances, long periods,
+                                 int repeats) {
+    WorkPrecisionOptions o;
+    o.schemes = {scheme};
+    o.tolerances = std::move(tolerances);
+    o.periods = periods;
+    o.repeats = repeats;
+    return o;
+}
+} // namespace
+
 TEST_CASE("a work-precision study runs only the schemes asked for, within run.max_work") {
     const Dynamics dyn = Dynamics::paper_row({3, 50, 0.5, 0.3, 1.1});
-    WorkPrecisionOptions o;
-    o.schemes = {Scheme::exact};
-    o.tolerances = {1e-3, 1e-6};
-    o.periods = 5;
-    o.repeats = 1;
+    WorkPrecisionOptions o = short_study(Scheme::exact, {1e-3, 1e-6}, 5, 1);
     // unsplit_too stays on: it adds the unsplit runs of central_difference and rk4 only when
     // they are among the schemes (they ran whatever was asked before).
     const WorkPrecision study = work_precision(dyn, o);
@@ -63,11 +73,7 @@ TEST_CASE("a work-precision study runs only the schemes asked for, within run.ma
 
 TEST_CASE("a work-precision study reports its fraction done and stops when progress says so") {
     const Dynamics dyn = Dynamics::paper_row({3, 50, 0.5, 0.3, 1.1});
-    WorkPrecisionOptions o;
-    o.schemes = {Scheme::rk4};
-    o.tolerances = {1e-3, 1e-5};
-    o.periods = 10;
-    o.repeats = 2;
+    WorkPrecisionOptions o = short_study(Scheme::rk4, {1e-3, 1e-5}, 10, 2);
     o.unsplit_too = false;
     std::vector<double> seen;
     const WorkPrecision whole = work_precision(dyn, o, [&](double f) {

@@ -171,22 +171,26 @@ int MaxForceTracker::list_contacts_to_scan(double h) {
     const double* g1 = m_gap_next.data();
     const double* r1 = m_rate_next.data();
     const double* threshold = m_threshold.data();
-    unsigned char* flag = m_flag.data();
-    // Comparisons combined with & and |, not && and ||: no branch per contact (g++ does not
-    // vectorise it for the default x86-64 target; docs/performance.md).
+    double* flag = m_flag.data();
+    const double half_h = 0.5 * h;
+    // Every condition is a 0/1 double combined by arithmetic: no branch and no short circuit, so
+    // that g++ vectorises the pass (with -fno-trapping-math, lib/CMakeLists.txt).
     for (int j = 0; j < gaps; ++j) {
-        const bool turning = (r0[j] > 0.0) & (r1[j] < 0.0);
-        const double reach = std::max(g0[j], g1[j]) + (turning ? 0.5 * h * (r0[j] - r1[j]) : 0.0);
-        const bool open_at_both_ends = (g0[j] <= 0.0) & (g1[j] <= 0.0);
-        const bool scan = (reach > threshold[j]) | (turning & open_at_both_ends & (reach > 0.0));
-        flag[j] = static_cast<unsigned char>(scan | (((g0[j] <= 0.0) & (g1[j] > 0.0)) << 1));
+        const double turning = (r0[j] > 0.0 ? 1.0 : 0.0) * (r1[j] < 0.0 ? 1.0 : 0.0);
+        const double reach = std::max(g0[j], g1[j]) + turning * (half_h * (r0[j] - r1[j]));
+        const double open_at_start = g0[j] <= 0.0 ? 1.0 : 0.0;
+        const double open_at_both_ends = open_at_start * (g1[j] <= 0.0 ? 1.0 : 0.0);
+        const double open_turning = turning * open_at_both_ends * (reach > 0.0 ? 1.0 : 0.0);
+        const double scan = std::max(reach > threshold[j] ? 1.0 : 0.0, open_turning);
+        const double closing = open_at_start * (g1[j] > 0.0 ? 1.0 : 0.0);
+        flag[j] = scan + 2.0 * closing;
     }
     int active = 0;
     for (int j = 0; j < gaps; ++j) {
-        if (flag[j] == 0) continue;
-        m_max[j].impacts += flag[j] >> 1;
+        const int code = static_cast<int>(flag[j]);
+        m_max[j].impacts += code >> 1;
         m_active[active] = j;
-        active += flag[j] & 1;
+        active += code & 1;
     }
     return active;
 }

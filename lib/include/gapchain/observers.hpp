@@ -51,7 +51,7 @@ private:
     std::vector<double> m_rate;                  ///< dg_j/dt there
     std::vector<double> m_gap_next, m_rate_next; ///< the same at the end of this step
     std::vector<int> m_active;                   ///< contacts this step has to scan
-    std::vector<unsigned char> m_flag;           ///< per contact: 1 to scan, 2 closed in this step
+    std::vector<double> m_flag; ///< per contact: 1 to scan, + 2 when it closed in this step
     /// Per contact, the penetration below which no peak can beat its record (its own maximum
     /// or the current half's, whichever is lower); 0 for Hunt-Crossley, whose force also
     /// grows with the closing rate.

@@ -9,7 +9,33 @@
 
 namespace gapchain {
 
-namespace {}
+namespace {
+
+/// The linear law's accelerations r_i of a row of n >= 2 bodies: ground - s_i u_i + the contact
+/// terms, minus d_i v_i when Damped. The hot path of every long run: the walls are peeled off so
+/// that the inner loop has no branch and no loop-carried value, and vectorises (each inner gap
+/// is computed twice, which is cheaper than carrying it). The damping term is subtracted last,
+/// as a separate pass would: the values are the same to the bit.
+template <bool Damped>
+void linear_row_acceleration(int n, double ground, const double* u, const double* v,
+                             const double* s, const double* d, const double* e, const double* left,
+                             const double* right, double* r) {
+    auto damping = [&](int i) { return Damped ? d[i] * v[i] : 0.0; };
+    r[0] = ground - s[0] * u[0] + left[0] * std::max(-u[0] - e[0], 0.0) -
+           right[0] * std::max(u[0] - u[1] - e[1], 0.0);
+    if constexpr (Damped) r[0] -= damping(0);
+    for (int i = 1; i < n - 1; ++i) {
+        r[i] = ground - s[i] * u[i] + left[i] * std::max(u[i - 1] - u[i] - e[i], 0.0) -
+               right[i] * std::max(u[i] - u[i + 1] - e[i + 1], 0.0);
+        if constexpr (Damped) r[i] -= damping(i);
+    }
+    r[n - 1] = ground - s[n - 1] * u[n - 1] +
+               left[n - 1] * std::max(u[n - 2] - u[n - 1] - e[n - 1], 0.0) -
+               right[n - 1] * std::max(u[n - 1] - e[n], 0.0);
+    if constexpr (Damped) r[n - 1] -= damping(n - 1);
+}
+
+} // namespace
 
 Dynamics::Dynamics(Chain chain, HarmonicForcing forcing)
     : Dynamics(std::move(chain), GroundMotion::harmonic(forcing.f_r, forcing.amplitude)) {}
@@ -56,22 +82,12 @@ void Dynamics::restoring_acceleration(double ground, const double* u, double* r)
         }
         return;
     }
-    // The linear law is the hot path of every long run: the walls are peeled off so that the
-    // inner loop has no branch and no loop-carried value, and vectorises (each inner gap is
-    // computed twice, which is cheaper than carrying it).
     if (n == 1) {
         r[0] = ground - s[0] * u[0] + left[0] * std::max(-u[0] - e[0], 0.0) -
                right[0] * std::max(u[0] - e[1], 0.0);
         return;
     }
-    r[0] = ground - s[0] * u[0] + left[0] * std::max(-u[0] - e[0], 0.0) -
-           right[0] * std::max(u[0] - u[1] - e[1], 0.0);
-    for (int i = 1; i < n - 1; ++i)
-        r[i] = ground - s[i] * u[i] + left[i] * std::max(u[i - 1] - u[i] - e[i], 0.0) -
-               right[i] * std::max(u[i] - u[i + 1] - e[i + 1], 0.0);
-    r[n - 1] = ground - s[n - 1] * u[n - 1] +
-               left[n - 1] * std::max(u[n - 2] - u[n - 1] - e[n - 1], 0.0) -
-               right[n - 1] * std::max(u[n - 1] - e[n], 0.0);
+    linear_row_acceleration<false>(n, ground, u, nullptr, s, nullptr, e, left, right, r);
 }
 
 double Dynamics::penetration_at_force(int j, double force) const {
@@ -99,9 +115,15 @@ void Dynamics::gap_rates(const double* v, double* r) const {
 void Dynamics::acceleration(double ground, const double* u, const double* v, double* a) const {
     const double* d = m_chain.damping.data();
     if (m_alpha == 0.0) {
-        restoring_acceleration(ground, u, a);
-        for (int i = 0; i < m_n; ++i)
-            a[i] -= d[i] * v[i];
+        if (m_hertz || m_n == 1) {
+            restoring_acceleration(ground, u, a);
+            for (int i = 0; i < m_n; ++i)
+                a[i] -= d[i] * v[i];
+        } else {
+            linear_row_acceleration<true>(m_n, ground, u, v, m_chain.spring.data(), d,
+                                          m_chain.clearance.data(), m_contact_over_mass_left.data(),
+                                          m_contact_over_mass_right.data(), a);
+        }
         return;
     }
     // Hunt-Crossley: every contact force also depends on its gap rate.

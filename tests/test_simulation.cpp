@@ -529,3 +529,32 @@ TEST_CASE("accuracy mode: a chaotic run finishes relaxed, inside the spread of s
     // Fewer right-hand sides: no switch splitting after the decision.
     CHECK(a.evaluations < s.evaluations);
 }
+
+TEST_CASE("accuracy mode: a chaotic run whose window halves agree stays relaxed; a torus is "
+          "redone strict") {
+    // The stiff chaotic row's halves agree within the relaxed plan's 3e-3 at some lengths (at
+    // 1000 periods with the build of 2026-11-24), which used to send the whole run to the strict
+    // plan; its twin, 1e-8 away, separates (the row is chaotic), so every length stays relaxed,
+    // credited with at least the plan's error.
+    const Dynamics chaotic = Dynamics::paper_row(ReducedParameters{20, 2000, 0.2, 0.02, 1.0});
+    for (const long periods : {300L, 600L, 1000L}) {
+        RunOptions o;
+        o.periods = periods;
+        const SimulationResult a = simulate(chaotic, o);
+        MESSAGE(periods << " periods: " << a.F_m << " +- " << a.F_m_error << ", "
+                        << to_string(a.accuracy_mode_used));
+        CHECK(a.accuracy_mode_used == AccuracyUsed::relaxed);
+        CHECK(a.error_method == ErrorMethod::window_halves);
+        CHECK(a.F_m_error >= 3e-3 * a.F_m);
+    }
+    // Fig 13's torus at f_r = 3.2 (docs/attractors.md): it never settles and relaxes, its halves
+    // agree, and its twin stays near it, so the answer is the strict plan's.
+    const Dynamics torus = Dynamics::paper_row(ReducedParameters{5, 60, 0.5, 0.06, 3.2});
+    RunOptions o;
+    o.periods = 2000;
+    const std::vector<double> start{0.5, -0.5, 0.5, -0.5, 0.5, 0.0, 0.0, 0.0, 0.0, 0.0};
+    const SimulationResult t = simulate(torus, o, start);
+    CHECK_FALSE(t.steady_state_period);
+    CHECK(t.accuracy_mode_used == AccuracyUsed::strict);
+    CHECK(t.F_m == doctest::Approx(0.3858).epsilon(2e-3));
+}

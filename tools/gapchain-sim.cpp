@@ -87,7 +87,8 @@ void print_result(const Scene& scene, const SimulationResult& r) {
                         : "");
     if (r.accuracy_mode_used == AccuracyUsed::relaxed)
         std::printf("accuracy: relaxed from period %ld on (the run does not settle; its F_m error "
-                    "is the sampling spread; run.accuracy_mode = \"strict\" holds every step to "
+                    "is the sampling spread, at least 3e-3 F_m; run.accuracy_mode = \"strict\" "
+                    "holds every step to "
                     "the tolerance)\n",
                     r.relaxed_from_period);
     const bool transient_peak =

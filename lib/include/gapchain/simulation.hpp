@@ -151,10 +151,13 @@ struct SimulationHooks {
 /// redone strict as soon as it comes within 1e-6 of a cycle):
 /// rk4 at h omega_max = 0.4, steps not split at contact switches, whatever the tolerance (its
 /// F_m error, 1.4e-3 F_m rms on periodic points of the paper's grid, is credited as 3e-3 F_m).
-/// Its answer stands only if the run then never settles and its window-halves spread (then
-/// F_m_error) is at least that, 3e-3 F_m; otherwise the run is done again in strict mode, so
-/// a periodic answer is always a strict one. A relaxed run's twin starts from the state it relaxed
-/// at, moved by 1e-8, and runs the relaxed part only. `strict` keeps every run to the tolerance.
+/// Its answer stands only if the run then never settles and either its window-halves spread is
+/// at least that, 3e-3 F_m, or its twin - from the state it relaxed at, moved by 1e-8, over the
+/// relaxed part only - runs to the same end without settling and ends more than 1e-2 x max(1,
+/// |y|_inf) away (chaos; a torus keeps it about 1e-8 away). Otherwise the run is done again in
+/// strict mode, so a periodic or quasi-periodic answer is always a strict one. A relaxed answer's
+/// F_m_error (window_halves) is the largest of its halves' spread, that twin's and 3e-3 F_m. The
+/// multistability check's twin of a relaxed run is that twin (run if it was not). `strict` keeps every run to the tolerance.
 /// result.accuracy_mode_used says which answer came back.
 SimulationResult simulate(const Dynamics& dyn, const RunOptions& options,
                           const std::vector<double>& initial = {},

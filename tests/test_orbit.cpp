@@ -41,6 +41,17 @@ TEST_CASE("an orbit search longer than max_orbit_bodies is refused before any al
         doctest::Contains("scheme: exact takes rows of up to 64"), std::invalid_argument);
 }
 
+TEST_CASE("the shooting refuses the automatic and central-difference schemes, as the tools do") {
+    const Dynamics dyn = row({2, 10, 0.5, 0.5, 1.0});
+    OrbitOptions o;
+    o.scheme = Scheme::central_difference;
+    CHECK_THROWS_WITH_AS(find_periodic_orbit_after(dyn, o, {}, 0),
+                         doctest::Contains("scheme: the shooting takes exact, rk4, rkf45 or rk8pd"),
+                         std::invalid_argument);
+    o.scheme = Scheme::automatic;
+    CHECK_THROWS_AS(find_periodic_orbit_after(dyn, o, {}, 0), std::invalid_argument);
+}
+
 TEST_CASE("find_periodic_orbit_after: a progress answering false stops the transient run") {
     const Dynamics dyn = row({5, 60, 0.5, 0.06, 3.0});
     OrbitOptions o;

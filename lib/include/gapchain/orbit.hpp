@@ -27,10 +27,12 @@ std::string_view to_string(OrbitStatus status);
 
 /// Options of the Newton search.
 struct OrbitOptions {
-    int period = 1;                ///< k, forcing periods of the orbit, 1 .. 1000
-    double tolerance = 1e-10;      ///< residual |P^k(x) - x| / (1 + |x|) to reach, 1e-14 .. 1e-3
-    int max_iterations = 40;       ///< Newton iterations, 1 .. 1000
-    Scheme scheme = Scheme::exact; ///< integration of P^k (exact: the row is piecewise linear)
+    int period = 1;           ///< k, forcing periods of the orbit, 1 .. 1000
+    double tolerance = 1e-10; ///< residual |P^k(x) - x| / (1 + |x|) to reach, 1e-14 .. 1e-3
+    int max_iterations = 40;  ///< Newton iterations, 1 .. 1000
+    /// Integration of P^k: exact (the row is piecewise linear; rows up to max_exact_bodies), rk4,
+    /// rkf45 or rk8pd; not automatic or central_difference.
+    Scheme scheme = Scheme::exact;
     double integration_tolerance = 1e-12; ///< tolerance of the scheme, 1e-14 .. 1e-3
 };
 

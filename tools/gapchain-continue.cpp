@@ -123,7 +123,8 @@ void add_options(CLI::App& app, ContinueArguments& a) {
         ->check(cli::range(0L, 10'000'000L))
         ->capture_default_str();
     app.add_option("--scheme", a.scheme,
-                   "Integration of the k-period map (exact: rows of up to 64 bodies)")
+                   "Integration of the k-period map, to 1e-12 (exact: rows of up to 64 bodies; the "
+                   "scene's run.scheme, run.step and run.tolerance are not used)")
         ->check(CLI::IsMember({"exact", "rk4", "rkf45", "rk8pd"}))
         ->capture_default_str();
     app.add_option("--overlay", a.overlay,

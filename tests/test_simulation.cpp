@@ -558,3 +558,54 @@ TEST_CASE("accuracy mode: a chaotic run whose window halves agree stays relaxed;
     CHECK(t.accuracy_mode_used == AccuracyUsed::strict);
     CHECK(t.F_m == doctest::Approx(0.3858).epsilon(2e-3));
 }
+
+TEST_CASE("accuracy mode: a cancel in the relaxed part, or in the run after it, ends the call") {
+    // A callback may answer false once: the strict rerun that followed a relaxed part (or its
+    // twin) used to swallow that answer and return a completed result.
+    const Dynamics chaotic = Dynamics::paper_row(ReducedParameters{20, 2000, 0.2, 0.02, 1.0});
+    RunOptions o;
+    o.periods = 1000;
+    bool answered = false;
+    SimulationHooks hooks;
+    hooks.progress = [&](double done) {
+        if (answered || done < 0.5) return true;
+        answered = true;
+        return false;
+    };
+    CHECK(simulate(chaotic, o, {}, hooks).status == RunStatus::cancelled);
+    CHECK(answered);
+    // The first call of the run after the main one (its fraction starts again from 0).
+    answered = false;
+    double last = 0.0;
+    hooks.progress = [&](double done) {
+        const bool restarted = done < last;
+        last = done;
+        if (answered || !restarted) return true;
+        answered = true;
+        return false;
+    };
+    const SimulationResult r = simulate(chaotic, o, {}, hooks);
+    CHECK(answered);
+    CHECK(r.status == RunStatus::cancelled);
+    CHECK(r.F_m > 1.0); // the main run's answer, kept
+}
+
+TEST_CASE("accuracy mode: the main run's progress rises from 0 to 1 through the relaxed switch") {
+    // The strict head before the switch reported its own 0 .. 1 before the relaxed part began
+    // again near 0: a progress bar showed 100 % after 24 of 1000 periods.
+    const Dynamics chaotic = Dynamics::paper_row(ReducedParameters{20, 2000, 0.2, 0.02, 1.0});
+    RunOptions o;
+    o.periods = 400;
+    std::vector<double> fractions;
+    SimulationHooks hooks;
+    hooks.progress = [&](double done) {
+        fractions.push_back(done);
+        return true;
+    };
+    const SimulationResult r = simulate(chaotic, o, {}, hooks);
+    REQUIRE(r.accuracy_mode_used == AccuracyUsed::relaxed);
+    const auto end = std::find(fractions.begin(), fractions.end(), 1.0);
+    REQUIRE(end != fractions.end());
+    CHECK(std::is_sorted(fractions.begin(), end));
+    CHECK(fractions.front() < 0.01);
+}

@@ -86,11 +86,12 @@ void print_result(const Scene& scene, const SimulationResult& r) {
                         ? " (error: spread between the maxima of the two window halves)"
                         : "");
     if (r.accuracy_mode_used == AccuracyUsed::relaxed)
-        std::printf("accuracy: relaxed from period %ld on (the run does not settle; its F_m error "
-                    "is the sampling spread, at least 3e-3 F_m; run.accuracy_mode = \"strict\" "
-                    "holds every step to "
-                    "the tolerance)\n",
-                    r.relaxed_from_period);
+        std::printf("accuracy: relaxed from period %ld on (the run does not settle%s; "
+                    "run.accuracy_mode = \"strict\" holds every step to the tolerance)\n",
+                    r.relaxed_from_period,
+                    r.error_method == ErrorMethod::window_halves
+                        ? "; its F_m error is the sampling spread, at least 3e-3 F_m"
+                        : "");
     const bool transient_peak =
         r.multistable && r.F_m_orbit && *r.F_m_orbit < r.F_m - r.F_m_error / 2;
     if (transient_peak)

@@ -180,11 +180,16 @@ long relaxation_period(const Dynamics& dyn, const RunOptions& options,
     return 2 * (options.periods - at) >= options.periods - options.transient_periods ? at : -1;
 }
 
+/// A run's own sampling spread: the maxima of its window halves, if it ran its full length.
+double window_spread(const SingleRun& r) {
+    return r.outcome.status == RunStatus::completed ? std::abs(r.first_half_max - r.second_half_max)
+                                                    : 0.0;
+}
+
 /// Whether a relaxed run's answer stands on its own: it ran to its end without settling, and the
 /// sampling spread of its F_m (window halves) is well above the relaxed plan's error.
 bool relaxed_answer_holds(const SingleRun& r) {
-    return r.outcome.status == RunStatus::completed &&
-           std::abs(r.first_half_max - r.second_half_max) >= relaxed_error * r.F_m;
+    return r.outcome.status == RunStatus::completed && window_spread(r) >= relaxed_error * r.F_m;
 }
 
 /// Distance (relative to max(1, |y|_inf)) beyond which a relaxed run and its twin, started
@@ -238,7 +243,14 @@ SingleRun run_once(const Dynamics& dyn, const RunOptions& options, PlannedRun& p
         return r;
     }
     const RunSpan head{relax_at, options.transient_periods, 0.0, 0};
-    const RunOutcome first = planned.run(head, watch.observers(), hooks.progress);
+    // The head is the first relax_at periods of the run: its fractions are of the whole run.
+    ProgressCallback head_progress;
+    if (hooks.progress)
+        head_progress = [&](double done) {
+            return hooks.progress(done * static_cast<double>(relax_at) /
+                                  static_cast<double>(options.periods));
+        };
+    const RunOutcome first = planned.run(head, watch.observers(), head_progress);
     const RunSpan rest{options.periods, options.transient_periods, first.t_end, relax_at};
     if (first.status != RunStatus::completed || !watch.wandering()) {
         RunOutcome outcome = first;
@@ -298,11 +310,23 @@ SingleRun run_settled(const Dynamics& dyn, RunOptions options, const std::vector
     planned.emplace(dyn, options, initial);
     SingleRun r = run_once(dyn, options, *planned, hooks);
     if (r.relaxed_from < 0 || relaxed_answer_holds(r)) return r;
+    // A cancel ends the call: a strict rerun would swallow a callback that answers false once.
+    if (r.outcome.status == RunStatus::cancelled) return r;
     if (r.outcome.status == RunStatus::completed) {
         auto twin =
             std::make_shared<const SingleRun>(relaxed_twin(dyn, options, r, hooks.progress));
         r.evaluations += twin->evaluations;
-        if (separated(r, *twin)) {
+        if (twin->outcome.status == RunStatus::cancelled) {
+            r.outcome.status = RunStatus::cancelled;
+            return r;
+        }
+        // Separated, and the two answers agree as two samples of one chaos (the multistability
+        // check's allowance, with the relaxed plan's error as the least spread). A twin that
+        // disagrees (another attractor, or a main F_m taken before the relaxed part, which the
+        // twin does not run) sends the run to the strict plan and its full-length twin.
+        const double allowance =
+            3.0 * std::max({window_spread(r), window_spread(*twin), relaxed_error * r.F_m});
+        if (separated(r, *twin) && std::abs(twin->F_m - r.F_m) <= allowance) {
             r.twin = std::move(twin);
             return r;
         }
@@ -402,8 +426,7 @@ void estimate_error(const Dynamics& dyn, const RunOptions& options, const StepPl
     // plan's error. One whose halves barely spread stood by its twin, an equally valid sample
     // of the same chaos: the twin's halves' spread counts as much as its own.
     if (main.relaxed_from >= 0 && result.status == RunStatus::completed) {
-        const double twin_spread =
-            main.twin ? std::abs(main.twin->first_half_max - main.twin->second_half_max) : 0.0;
+        const double twin_spread = main.twin ? window_spread(*main.twin) : 0.0;
         result.F_m_error = std::max({half_spread, twin_spread, relaxed_error * result.F_m});
         result.error_method = ErrorMethod::window_halves;
         return;
@@ -524,18 +547,14 @@ void check_transient_and_twin(const Dynamics& dyn, const RunOptions& options,
         return;
     result.twin_checked = true;
     result.F_m_twin = twin.F_m;
-    // Each run's own sampling spread (its window halves), whether or not F_m_error was asked.
-    const auto spread = [](const SingleRun& r) {
-        return r.outcome.status == RunStatus::completed
-                   ? std::abs(r.first_half_max - r.second_half_max)
-                   : 0.0;
-    };
     // The twin's answer is as valid as the main run's (its start is 1e-8 away): the error bar
     // covers it whether or not the difference is beyond both runs' sampling spreads.
     const double difference = std::abs(twin.F_m - result.F_m);
-    const double allowed = std::max(
-        {3.0 * result.F_m_error, 3.0 * spread(main), 3.0 * spread(twin), 1e-6 * result.F_m});
-    if (difference > allowed) result.multistable = true;
+    // Each run's own sampling spread counts, whether or not F_m_error was asked. A twin that
+    // let a relaxed answer stand agreed with it already (run_settled()).
+    const double allowed = std::max({3.0 * result.F_m_error, 3.0 * window_spread(main),
+                                     3.0 * window_spread(twin), 1e-6 * result.F_m});
+    if (difference > allowed && !main.twin) result.multistable = true;
     if (difference > 0.0) widen_error(result, difference);
 }
 

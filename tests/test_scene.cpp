@@ -3,6 +3,7 @@
 #include "gapchain/study.hpp"
 
 #include <doctest/doctest.h>
+#include <nlohmann/json.hpp>
 
 #include <cstdio>
 #include <filesystem>
@@ -153,6 +154,25 @@ TEST_CASE("non-uniform rows: arrays equal to the nominal values give the homogen
     const SimulationResult b = simulate(arrays.dynamics(), arrays.run);
     CHECK(a.F_m == b.F_m); // bit for bit
     CHECK(a.final_state == b.final_state);
+}
+
+TEST_CASE("a simulation result names the row and the start it ran, not only the five numbers") {
+    // After --set on arrays, a scatter or a start, the scene file no longer says what ran.
+    const std::string base = R"({"model": {"Nm": 2, "fc": 50, "e_r": 0.1}})";
+    const Scene s = parse_scene(base, {"model.clearance=[0.1,0.3,0.0]", "initial.u=[0.01,-0.02]",
+                                       R"(model.scatter={"mass": 0.1, "seed": 3})"});
+    const SimulationResult nothing_run;
+    const auto j = nlohmann::json::parse(to_json(nothing_run, s));
+    REQUIRE(j.contains("chain"));
+    CHECK(j["chain"]["clearance"].get<std::vector<double>>() == s.chain().clearance);
+    CHECK(j["chain"]["mass"].get<std::vector<double>>() == s.chain().mass);
+    CHECK(j["chain"]["contact_law"] == "linear");
+    CHECK(j["initial"].get<std::vector<double>>() == s.initial);
+    CHECK(j["initial"][1] == -0.02);
+    // The paper's row from rest: the five numbers say it all.
+    const auto uniform = nlohmann::json::parse(to_json(nothing_run, parse_scene(base)));
+    CHECK_FALSE(uniform.contains("chain"));
+    CHECK_FALSE(uniform.contains("initial"));
 }
 
 TEST_CASE("non-uniform rows: per-gap values reach the chain, and a scatter is seeded") {

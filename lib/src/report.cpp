@@ -101,6 +101,18 @@ std::string to_json(const SimulationResult& r, const Scene& scene) {
                        {"accuracy_mode", to_string(scene.run.accuracy_mode)},
                        {"estimate_error", scene.run.estimate_error},
                        {"multistability_check", scene.run.multistability_check}};
+    // What the five numbers do not say, so that a result read alone (after --set on arrays, a
+    // scatter, a start) names the row and the start it ran. The chain is written in its own
+    // units (Chain, model.hpp), not the scene's: it is what ran, after the scatter.
+    if (scene.row)
+        j["chain"] = {{"mass", scene.row->mass},
+                      {"spring", scene.row->spring},
+                      {"damping", scene.row->damping},
+                      {"clearance", scene.row->clearance},
+                      {"contact", scene.row->contact},
+                      {"contact_law", to_string(scene.row->law)},
+                      {"contact_damping", scene.row->contact_damping}};
+    if (!scene.initial.empty()) j["initial"] = scene.initial;
     j["scene"] = scene.source;
     return j.dump(2) + "\n";
 }

@@ -22,7 +22,10 @@
 namespace gapchain {
 
 /// A simulation result as JSON: F_m, F_m_error, contact, per_body, per_contact,
-/// steady_state_period (null if none), wall_time_s, and the run's provenance.
+/// steady_state_period (null if none), wall_time_s, and the run's provenance: the reduced
+/// parameters and run options, for a non-uniform row the arrays that ran ("chain": mass,
+/// spring, damping, clearance, contact, contact_law, contact_damping, in Chain's units of
+/// model.hpp, after any scatter) and the start ("initial", u then v, when not rest).
 std::string to_json(const SimulationResult& result, const Scene& scene);
 
 /// Writes a file so that readers never see it half-written and a failure leaves nothing:

@@ -17,6 +17,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstdio>
 #include <fstream>
 #include <map>
@@ -299,6 +300,10 @@ int main(int argc, char** argv) {
     return gapchain::cli::run(
         app, argc, argv,
         [&] {
+            // A benchmark writes no file and the calls it times take no progress callback:
+            // an interrupt ends it at once instead of waiting for a second one.
+            std::signal(SIGINT, SIG_DFL);
+            std::signal(SIGTERM, SIG_DFL);
             if (app.get_subcommands().empty())
                 throw std::invalid_argument(
                     "a benchmark is required: sim, bifurcation, modes, peer or relaxed");

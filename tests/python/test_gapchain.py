@@ -310,6 +310,12 @@ def test_an_argument_of_the_wrong_type_is_named_in_one_line():
         gapchain.classify(MIRROR_PAIR, record=0)
     with pytest.raises(ValueError, match=r"^transient: must be"):
         gapchain.orbit(MIRROR_PAIR, transient=-5)
+    with pytest.raises(ValueError, match=r"^resolution: must be an integer in \[2, 2000\]"):
+        gapchain.attractors(MIRROR_PAIR, grid=("u1", "v1"), resolution=0)
+    with pytest.raises(ValueError, match=r"^param: must be one of f_r, e_r, fc, eps"):
+        gapchain.continuation(MIRROR_PAIR, param="xx")
+    with pytest.raises(ValueError, match=r"^phase: must be in \[0, 1\)"):
+        gapchain.bifurcation(MIRROR_PAIR, phase=7.0)
     # A scene keyword of a kind JSON cannot hold names its key.
     with pytest.raises(ValueError, match="model.fc: must be a number, string, list or object"):
         gapchain.simulate(fc=decimal.Decimal("3"))

@@ -187,7 +187,9 @@ def _typed(function):
     # The library names the options behind these arguments (the command-line tools map them to
     # their flags the same way).
     renamed = [(field + ":", argument + ":") for field, argument in
-               (("transient_periods", "transient"), ("record_periods", "record"))
+               (("transient_periods", "transient"), ("record_periods", "record"),
+                ("from", "from_"), ("parameter", "param"), ("slice.resolution", "resolution"),
+                ("section.phase", "phase"))
                if argument in (p for p, _ in parameters)]
 
     @_functools.wraps(function)

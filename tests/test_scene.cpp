@@ -173,6 +173,9 @@ TEST_CASE("a simulation result names the row and the start it ran, not only the 
     const auto uniform = nlohmann::json::parse(to_json(nothing_run, parse_scene(base)));
     CHECK_FALSE(uniform.contains("chain"));
     CHECK_FALSE(uniform.contains("initial"));
+    const auto at_rest = nlohmann::json::parse(
+        to_json(nothing_run, parse_scene(base, {"initial.u=[0,0]", "initial.v=[0,0]"})));
+    CHECK_FALSE(at_rest.contains("initial"));
 }
 
 TEST_CASE("non-uniform rows: per-gap values reach the chain, and a scatter is seeded") {

@@ -574,13 +574,12 @@ TEST_CASE("accuracy mode: a cancel in the relaxed part, or in the run after it, 
     };
     CHECK(simulate(chaotic, o, {}, hooks).status == RunStatus::cancelled);
     CHECK(answered);
-    // The first call of the run after the main one (its fraction starts again from 0).
+    // The first call of the run after the main one (the main run's end, 1, reported again).
     answered = false;
-    double last = 0.0;
+    int ends = 0;
     hooks.progress = [&](double done) {
-        const bool restarted = done < last;
-        last = done;
-        if (answered || !restarted) return true;
+        if (done >= 1.0) ++ends;
+        if (answered || ends < 2) return true;
         answered = true;
         return false;
     };
@@ -590,9 +589,10 @@ TEST_CASE("accuracy mode: a cancel in the relaxed part, or in the run after it, 
     CHECK(r.F_m > 1.0); // the main run's answer, kept
 }
 
-TEST_CASE("accuracy mode: the main run's progress rises from 0 to 1 through the relaxed switch") {
+TEST_CASE("accuracy mode: progress rises from 0 to 1 and stays there, through every phase") {
     // The strict head before the switch reported its own 0 .. 1 before the relaxed part began
-    // again near 0: a progress bar showed 100 % after 24 of 1000 periods.
+    // again near 0 (a progress bar showed 100 % after 24 of 1000 periods), and a twin or a
+    // strict rerun after the main run began again too.
     const Dynamics chaotic = Dynamics::paper_row(ReducedParameters{20, 2000, 0.2, 0.02, 1.0});
     RunOptions o;
     o.periods = 400;
@@ -602,10 +602,20 @@ TEST_CASE("accuracy mode: the main run's progress rises from 0 to 1 through the 
         fractions.push_back(done);
         return true;
     };
-    const SimulationResult r = simulate(chaotic, o, {}, hooks);
-    REQUIRE(r.accuracy_mode_used == AccuracyUsed::relaxed);
-    const auto end = std::find(fractions.begin(), fractions.end(), 1.0);
-    REQUIRE(end != fractions.end());
-    CHECK(std::is_sorted(fractions.begin(), end));
-    CHECK(fractions.front() < 0.01);
+    for (const long periods : {400L, 1000L}) {
+        o.periods = periods;
+        fractions.clear();
+        const SimulationResult r = simulate(chaotic, o, {}, hooks);
+        REQUIRE(r.accuracy_mode_used == AccuracyUsed::relaxed);
+        CHECK(std::is_sorted(fractions.begin(), fractions.end()));
+        CHECK(fractions.front() < 0.01);
+        CHECK(fractions.back() == 1.0);
+    }
+    // A torus: relaxed, then redone strict.
+    const Dynamics torus = Dynamics::paper_row(ReducedParameters{5, 60, 0.5, 0.06, 3.2});
+    o.periods = 2000;
+    fractions.clear();
+    const std::vector<double> start{0.5, -0.5, 0.5, -0.5, 0.5, 0.0, 0.0, 0.0, 0.0, 0.0};
+    CHECK(simulate(torus, o, start, hooks).accuracy_mode_used == AccuracyUsed::strict);
+    CHECK(std::is_sorted(fractions.begin(), fractions.end()));
 }

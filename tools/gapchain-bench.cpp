@@ -304,6 +304,8 @@ int main(int argc, char** argv) {
             // an interrupt ends it at once instead of waiting for a second one.
             std::signal(SIGINT, SIG_DFL);
             std::signal(SIGTERM, SIG_DFL);
+            // Each finished figure reaches a file or pipe before an interrupt can end the run.
+            std::setvbuf(stdout, nullptr, _IOLBF, 0);
             if (app.get_subcommands().empty())
                 throw std::invalid_argument(
                     "a benchmark is required: sim, bifurcation, modes, peer or relaxed");

@@ -83,7 +83,8 @@ void print_result(const Scene& scene, const SimulationResult& r) {
     else
         std::printf("no periodic steady state within %ld periods%s\n", r.periods_simulated,
                     r.error_method == ErrorMethod::window_halves
-                        ? " (error: spread between the maxima of the two window halves)"
+                        ? " (error: sampling spread: the maxima of the two window halves, and of a "
+                          "twin run when one ran)"
                         : "");
     if (r.accuracy_mode_used == AccuracyUsed::relaxed)
         std::printf("accuracy: relaxed from period %ld on (the run does not settle%s; "

@@ -185,6 +185,9 @@ py::dict basin_fractions_py(const py::object& scene_arg, const std::string& para
         throw std::invalid_argument("steps: must be an integer in [1, 100000], got " +
                                     std::to_string(steps));
     if (steps == 1 && from != to) throw std::invalid_argument("steps: one value needs from_ = to");
+    for (const auto& [keyword, value] : {std::pair{"from_", from}, std::pair{"to", to}})
+        if (const auto error = swept_value_error(p, parse_swept_parameter(param), value))
+            throw std::invalid_argument(std::string(keyword) + ": " + *error);
     std::vector<double> values; // as gapchain-attractors --param, bit for bit
     for (int k = 0; k < steps; ++k)
         values.push_back(steps == 1 ? from : from + (to - from) * k / (steps - 1));

@@ -112,7 +112,8 @@ std::string to_json(const SimulationResult& r, const Scene& scene) {
                       {"contact", scene.row->contact},
                       {"contact_law", to_string(scene.row->law)},
                       {"contact_damping", scene.row->contact_damping}};
-    if (!scene.initial.empty()) j["initial"] = scene.initial;
+    if (std::any_of(scene.initial.begin(), scene.initial.end(), [](double x) { return x != 0.0; }))
+        j["initial"] = scene.initial;
     j["scene"] = scene.source;
     return j.dump(2) + "\n";
 }

@@ -312,9 +312,13 @@ SingleRun run_settled(const Dynamics& dyn, RunOptions options, const std::vector
     if (r.relaxed_from < 0 || relaxed_answer_holds(r)) return r;
     // A cancel ends the call: a strict rerun would swallow a callback that answers false once.
     if (r.outcome.status == RunStatus::cancelled) return r;
+    // The runs after the first report its end, as simulate()'s later runs do: a progress
+    // display never goes back (they may be cancelled all the same).
+    SimulationHooks finishing = hooks;
+    if (hooks.progress) finishing.progress = [&](double) { return hooks.progress(1.0); };
     if (r.outcome.status == RunStatus::completed) {
         auto twin =
-            std::make_shared<const SingleRun>(relaxed_twin(dyn, options, r, hooks.progress));
+            std::make_shared<const SingleRun>(relaxed_twin(dyn, options, r, finishing.progress));
         r.evaluations += twin->evaluations;
         if (twin->outcome.status == RunStatus::cancelled) {
             r.outcome.status = RunStatus::cancelled;
@@ -334,7 +338,7 @@ SingleRun run_settled(const Dynamics& dyn, RunOptions options, const std::vector
     const long spent = r.evaluations;
     options.accuracy_mode = AccuracyMode::strict;
     planned.emplace(dyn, options, initial);
-    r = run_once(dyn, options, *planned, hooks);
+    r = run_once(dyn, options, *planned, finishing);
     r.evaluations += spent;
     return r;
 }
@@ -426,7 +430,11 @@ void estimate_error(const Dynamics& dyn, const RunOptions& options, const StepPl
     // plan's error. One whose halves barely spread stood by its twin, an equally valid sample
     // of the same chaos: the twin's halves' spread counts as much as its own.
     if (main.relaxed_from >= 0 && result.status == RunStatus::completed) {
-        const double twin_spread = main.twin ? window_spread(*main.twin) : 0.0;
+        // A kept twin's answer is as valid as this one: its difference is in the error bar
+        // whether or not the multistability check runs.
+        const double twin_spread =
+            main.twin ? std::max(window_spread(*main.twin), std::abs(main.twin->F_m - main.F_m))
+                      : 0.0;
         result.F_m_error = std::max({half_spread, twin_spread, relaxed_error * result.F_m});
         result.error_method = ErrorMethod::window_halves;
         return;

@@ -197,7 +197,7 @@ def test_continuation_takes_a_scheme_and_the_exact_one_stops_at_64_bodies():
     r = gapchain.continuation(MIRROR_PAIR, from_=1.2, to=1.21, scheme="rk4", max_points=2,
                               transient=50)
     assert len(r["points"]["value"]) >= 1
-    with pytest.raises(ValueError, match="run.scheme"):
+    with pytest.raises(ValueError, match="^scheme: must be one of"):
         gapchain.continuation(MIRROR_PAIR, from_=1.2, to=1.21, scheme="euler")
 
 
@@ -316,6 +316,10 @@ def test_an_argument_of_the_wrong_type_is_named_in_one_line():
         gapchain.continuation(MIRROR_PAIR, param="xx")
     with pytest.raises(ValueError, match=r"^phase: must be in \[0, 1\)"):
         gapchain.bifurcation(MIRROR_PAIR, phase=7.0)
+    with pytest.raises(ValueError, match=r"^scheme: "):
+        gapchain.orbit(MIRROR_PAIR, scheme="bogus")
+    with pytest.raises(ValueError, match=r"^to: "):
+        gapchain.basin_fractions(MIRROR_PAIR, from_=1.0, to=-2.0, steps=3)
     # A scene keyword of a kind JSON cannot hold names its key.
     with pytest.raises(ValueError, match="model.fc: must be a number, string, list or object"):
         gapchain.simulate(fc=decimal.Decimal("3"))

@@ -491,17 +491,22 @@ bool Progress::update(double fraction) {
     const auto now = std::chrono::steady_clock::now();
     const auto every =
         m_terminal ? std::chrono::milliseconds(250) : std::chrono::milliseconds(5000);
-    if (fraction < 1.0 && now - m_last < every) return true;
+    // The first report of the end is drawn at once; the checks that may follow it report the
+    // end again, drawn at the usual pace.
+    if ((fraction < 1.0 || m_end_drawn) && now - m_last < every) return true;
     m_last = now;
     const double elapsed = std::chrono::duration<double>(now - m_start).count();
     const double rate = elapsed > 0.0 ? 100.0 * fraction / elapsed : 0.0;
-    // Nothing done yet gives no rate to extrapolate: the ETA is unknown, not 0.
-    char eta[32] = "unknown";
-    if (fraction > 0.0)
-        std::snprintf(eta, sizeof eta, "%.1f s", elapsed * (1.0 - fraction) / fraction);
-    std::fprintf(stderr, "%s%s: %5.1f %%  %.2f %%/s  elapsed %.1f s  ETA %s%s",
-                 m_terminal ? "\r" : "", m_label.c_str(), 100.0 * fraction, rate, elapsed, eta,
-                 m_terminal ? "   " : "\n");
+    // Nothing done yet gives no rate to extrapolate: the ETA is unknown, not 0. At the end the
+    // checks (error estimate, twin, a strict rerun) take a time nothing predicts.
+    char eta[32] = "ETA unknown";
+    if (fraction >= 1.0)
+        std::snprintf(eta, sizeof eta, "%s", m_end_drawn ? "finishing checks" : "ETA 0.0 s");
+    else if (fraction > 0.0)
+        std::snprintf(eta, sizeof eta, "ETA %.1f s", elapsed * (1.0 - fraction) / fraction);
+    m_end_drawn = fraction >= 1.0;
+    std::fprintf(stderr, "%s%s: %5.1f %%  %.2f %%/s  elapsed %.1f s  %s%s", m_terminal ? "\r" : "",
+                 m_label.c_str(), 100.0 * fraction, rate, elapsed, eta, m_terminal ? "   " : "\n");
     m_drawn = m_terminal;
     return true;
 }

@@ -173,6 +173,7 @@ private:
     std::chrono::steady_clock::time_point m_start;
     std::chrono::steady_clock::time_point m_last;
     bool m_drawn = false;
+    bool m_end_drawn = false; ///< the last line drawn was at fraction 1
 };
 
 } // namespace gapchain::cli

@@ -44,6 +44,37 @@ json per_body_json(const SimulationResult& r, const Scene& scene) {
     }
     return bodies;
 }
+
+/// What ran: the reduced parameters and run options, and what the five numbers do not say, so
+/// that a result read alone (after --set on arrays, a scatter, a start) names the row and the
+/// start it ran. The chain is written in its own units (Chain, model.hpp), not the scene's: it
+/// is what ran, after the scatter.
+void add_provenance(json& j, const Scene& scene) {
+    const ReducedParameters& p = scene.reduced;
+    j["parameters"] = {{"Nm", p.Nm},
+                       {"fc", p.fc},
+                       {"eps", p.eps},
+                       {"e_r", p.e_r},
+                       {"f_r", p.f_r},
+                       {"periods", scene.run.periods},
+                       {"transient_periods", scene.run.transient_periods == auto_transient
+                                                 ? json("auto")
+                                                 : json(scene.run.transient_periods)},
+                       {"tolerance", scene.run.tolerance},
+                       {"accuracy_mode", to_string(scene.run.accuracy_mode)},
+                       {"estimate_error", scene.run.estimate_error},
+                       {"multistability_check", scene.run.multistability_check}};
+    if (scene.row)
+        j["chain"] = {{"mass", scene.row->mass},
+                      {"spring", scene.row->spring},
+                      {"damping", scene.row->damping},
+                      {"clearance", scene.row->clearance},
+                      {"contact", scene.row->contact},
+                      {"contact_law", to_string(scene.row->law)},
+                      {"contact_damping", scene.row->contact_damping}};
+    if (std::any_of(scene.initial.begin(), scene.initial.end(), [](double x) { return x != 0.0; }))
+        j["initial"] = scene.initial;
+}
 } // namespace
 
 std::string to_json(const SimulationResult& r, const Scene& scene) {
@@ -87,33 +118,7 @@ std::string to_json(const SimulationResult& r, const Scene& scene) {
     j["steps"] = r.steps;
     j["evaluations"] = r.evaluations;
     j["wall_time_s"] = r.wall_time_s;
-    const ReducedParameters& p = scene.reduced;
-    j["parameters"] = {{"Nm", p.Nm},
-                       {"fc", p.fc},
-                       {"eps", p.eps},
-                       {"e_r", p.e_r},
-                       {"f_r", p.f_r},
-                       {"periods", scene.run.periods},
-                       {"transient_periods", scene.run.transient_periods == auto_transient
-                                                 ? json("auto")
-                                                 : json(scene.run.transient_periods)},
-                       {"tolerance", scene.run.tolerance},
-                       {"accuracy_mode", to_string(scene.run.accuracy_mode)},
-                       {"estimate_error", scene.run.estimate_error},
-                       {"multistability_check", scene.run.multistability_check}};
-    // What the five numbers do not say, so that a result read alone (after --set on arrays, a
-    // scatter, a start) names the row and the start it ran. The chain is written in its own
-    // units (Chain, model.hpp), not the scene's: it is what ran, after the scatter.
-    if (scene.row)
-        j["chain"] = {{"mass", scene.row->mass},
-                      {"spring", scene.row->spring},
-                      {"damping", scene.row->damping},
-                      {"clearance", scene.row->clearance},
-                      {"contact", scene.row->contact},
-                      {"contact_law", to_string(scene.row->law)},
-                      {"contact_damping", scene.row->contact_damping}};
-    if (std::any_of(scene.initial.begin(), scene.initial.end(), [](double x) { return x != 0.0; }))
-        j["initial"] = scene.initial;
+    add_provenance(j, scene);
     j["scene"] = scene.source;
     return j.dump(2) + "\n";
 }

@@ -20,19 +20,18 @@ template <bool Damped>
 void linear_row_acceleration(int n, double ground, const double* u, const double* v,
                              const double* s, const double* d, const double* e, const double* left,
                              const double* right, double* r) {
-    auto damping = [&](int i) { return Damped ? d[i] * v[i] : 0.0; };
     r[0] = ground - s[0] * u[0] + left[0] * std::max(-u[0] - e[0], 0.0) -
            right[0] * std::max(u[0] - u[1] - e[1], 0.0);
-    if constexpr (Damped) r[0] -= damping(0);
+    if constexpr (Damped) r[0] -= d[0] * v[0];
     for (int i = 1; i < n - 1; ++i) {
         r[i] = ground - s[i] * u[i] + left[i] * std::max(u[i - 1] - u[i] - e[i], 0.0) -
                right[i] * std::max(u[i] - u[i + 1] - e[i + 1], 0.0);
-        if constexpr (Damped) r[i] -= damping(i);
+        if constexpr (Damped) r[i] -= d[i] * v[i];
     }
     r[n - 1] = ground - s[n - 1] * u[n - 1] +
                left[n - 1] * std::max(u[n - 2] - u[n - 1] - e[n - 1], 0.0) -
                right[n - 1] * std::max(u[n - 1] - e[n], 0.0);
-    if constexpr (Damped) r[n - 1] -= damping(n - 1);
+    if constexpr (Damped) r[n - 1] -= d[n - 1] * v[n - 1];
 }
 
 } // namespace

@@ -201,8 +201,7 @@ constexpr double chaotic_separation = 1e-2;
 /// torus (or an orbit) a perturbation decays to a fixed phase offset of its own size and the
 /// two stay about 1e-8 apart, so halves that agree there are not mistaken for chaos. A chaotic
 /// run's halves can agree by chance (their maxima both approach the attractor's largest force
-/// as the window grows): 1000 periods of gapchain-bench peer's row did, 15 % of 150 random
-/// non-periodic points did.
+/// as the window grows): 1000 periods of gapchain-bench peer's row did.
 bool separated(const SingleRun& main, const SingleRun& twin) {
     if (main.outcome.status != RunStatus::completed ||
         twin.outcome.status != RunStatus::completed ||
@@ -304,7 +303,8 @@ SingleRun relaxed_twin(const Dynamics& dyn, const RunOptions& options, const Sin
 
 /// run_once() from initial on a fresh plan (into planned), run again in strict mode where a
 /// relaxed answer does not stand: its halves spread less than the relaxed plan's error and its
-/// twin (run here, kept in the result) does not show it chaotic.
+/// twin (run here; kept in the result when it lets the answer stand) does not show it chaotic,
+/// or disagrees with it.
 SingleRun run_settled(const Dynamics& dyn, RunOptions options, const std::vector<double>& initial,
                       const SimulationHooks& hooks, std::optional<PlannedRun>& planned) {
     planned.emplace(dyn, options, initial);
@@ -428,14 +428,13 @@ void estimate_error(const Dynamics& dyn, const RunOptions& options, const StepPl
     const double half_spread = std::abs(main.first_half_max - main.second_half_max);
     // A relaxed answer (it stands: see run_settled()) is never credited with less than its
     // plan's error. One whose halves barely spread stood by its twin, an equally valid sample
-    // of the same chaos: the twin's halves' spread counts as much as its own.
+    // of the same chaos: the twin's spread and its difference count as much as its own spread,
+    // whether or not the multistability check runs.
     if (main.relaxed_from >= 0 && result.status == RunStatus::completed) {
-        // A kept twin's answer is as valid as this one: its difference is in the error bar
-        // whether or not the multistability check runs.
-        const double twin_spread =
+        const double twin_bound =
             main.twin ? std::max(window_spread(*main.twin), std::abs(main.twin->F_m - main.F_m))
                       : 0.0;
-        result.F_m_error = std::max({half_spread, twin_spread, relaxed_error * result.F_m});
+        result.F_m_error = std::max({half_spread, twin_bound, relaxed_error * result.F_m});
         result.error_method = ErrorMethod::window_halves;
         return;
     }

@@ -92,20 +92,6 @@ void check_line(const CLI::App& app, const AttractorArguments& a) {
         throw std::invalid_argument("--resolution: applies only with --grid");
 }
 
-std::vector<double> line_values(const AttractorArguments& a, const ReducedParameters& base) {
-    for (const auto& [flag, value] : {std::pair{"--from", a.from}, std::pair{"--to", a.to}})
-        if (const auto error = swept_value_error(base, parse_swept_parameter(a.param), value))
-            throw std::invalid_argument(std::string(flag) + ": " + *error);
-    if (a.steps == 1 && a.from != a.to)
-        throw std::invalid_argument("--steps: one value needs --from = --to, got --from " +
-                                    std::to_string(a.from) + " and --to " + std::to_string(a.to));
-    // Not linspace(): the documented figures were made with these values, bit for bit.
-    std::vector<double> v;
-    for (int k = 0; k < a.steps; ++k)
-        v.push_back(a.steps == 1 ? a.from : a.from + (a.to - a.from) * k / (a.steps - 1));
-    return v;
-}
-
 /// How long the starts of a periodic attractor took to reach it, and what their runs reported
 /// on the way when that exceeds the attractor's F_m by more than ten times the accuracy asked.
 void print_settling(const Attractor& a, const AttractorOptions& o) {
@@ -183,9 +169,10 @@ void run_point(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs)
 
 void run_line(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs) {
     cli::Progress progress("gapchain-attractors");
-    const FractionContinuation c =
-        continue_basin_fractions(scene.reduced, parse_swept_parameter(a.param),
-                                 line_values(a, scene.reduced), a.options, progress.callback());
+    const FractionContinuation c = continue_basin_fractions(
+        scene.reduced, parse_swept_parameter(a.param),
+        fraction_line_values(scene.reduced, parse_swept_parameter(a.param), a.from, a.to, a.steps),
+        a.options, progress.callback());
     cli::throw_if_interrupted();
     outputs.create_folders();
     const std::string dir = outputs.staged(a.out_dir);

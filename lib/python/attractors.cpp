@@ -181,16 +181,8 @@ py::dict basin_fractions_py(const py::object& scene_arg, const std::string& para
                             const py::kwargs& keys) {
     const Scene scene = to_scene(scene_arg, keys);
     const ReducedParameters& p = paper_row(scene);
-    if (steps < 1 || steps > 100000)
-        throw std::invalid_argument("steps: must be an integer in [1, 100000], got " +
-                                    std::to_string(steps));
-    if (steps == 1 && from != to) throw std::invalid_argument("steps: one value needs from_ = to");
-    for (const auto& [keyword, value] : {std::pair{"from_", from}, std::pair{"to", to}})
-        if (const auto error = swept_value_error(p, parse_swept_parameter(param), value))
-            throw std::invalid_argument(std::string(keyword) + ": " + *error);
-    std::vector<double> values; // as gapchain-attractors --param, bit for bit
-    for (int k = 0; k < steps; ++k)
-        values.push_back(steps == 1 ? from : from + (to - from) * k / (steps - 1));
+    const std::vector<double> values =
+        fraction_line_values(p, parse_swept_parameter(param), from, to, steps);
     const AttractorOptions o = search_options(scene, samples, seed, box, section_points, threads);
     Call call(progress);
     const FractionContinuation c = call.run([&] {

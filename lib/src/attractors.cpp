@@ -687,6 +687,23 @@ std::vector<int> match_labels(const AttractorSet& previous, const std::vector<in
 
 } // namespace
 
+std::vector<double> fraction_line_values(const ReducedParameters& base, SweptParameter parameter,
+                                         double from, double to, int steps) {
+    for (const auto& [name, value] : {std::pair{"from", from}, std::pair{"to", to}})
+        if (const auto error = swept_value_error(base, parameter, value))
+            throw std::invalid_argument(std::string(name) + ": " + *error);
+    detail::require_range("steps", steps, 1, 100000);
+    if (steps == 1 && from != to)
+        throw std::invalid_argument("steps: one value needs from = to, got from " +
+                                    detail::format_number(from) + " and to " +
+                                    detail::format_number(to));
+    // Not linspace(): the documented figures were made with these values, bit for bit.
+    std::vector<double> values;
+    for (int k = 0; k < steps; ++k)
+        values.push_back(steps == 1 ? from : from + (to - from) * k / (steps - 1));
+    return values;
+}
+
 FractionContinuation continue_basin_fractions(const ReducedParameters& base,
                                               SweptParameter parameter,
                                               const std::vector<double>& values,

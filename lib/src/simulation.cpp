@@ -425,7 +425,7 @@ void estimate_error(const Dynamics& dyn, const RunOptions& options, const StepPl
     // of the recorded window differ by a sampling spread that, when it is well above the
     // scheme's truncation error (~ tolerance * F_m), is the error to report; the comparison
     // run would only measure the same spread again, at the cost of a second full-length run.
-    const double half_spread = std::abs(main.first_half_max - main.second_half_max);
+    const double half_spread = window_spread(main);
     // A relaxed answer (it stands: see run_settled()) is never credited with less than its
     // plan's error. One whose halves barely spread stood by its twin, an equally valid sample
     // of the same chaos: the twin's spread and its difference count as much as its own spread,

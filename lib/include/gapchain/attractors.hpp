@@ -178,6 +178,13 @@ struct FractionContinuation {
     bool cancelled = false;
 };
 
+/// The values of a basin-fraction line: steps values from `from` to `to`, both included, as
+/// from + (to - from) k / (steps - 1) (one value needs from = to). Throws std::invalid_argument
+/// naming from or to when an end is outside `parameter`'s range for base, or steps outside
+/// 1 .. 100000.
+std::vector<double> fraction_line_values(const ReducedParameters& base, SweptParameter parameter,
+                                         double from, double to, int steps);
+
 /// find_attractors() at every value of `parameter` (each set in parallel over its starts).
 FractionContinuation continue_basin_fractions(const ReducedParameters& base,
                                               SweptParameter parameter,

@@ -170,6 +170,75 @@ TEST_CASE("Fig 13's line at f_r = 3.2: the torus of F_m 0.385 coexists with a we
     CHECK(weakest < 0.75 * set.F_m_max);
 }
 
+TEST_CASE("design value: a run from rest that reaches the weaker of Fig 13's attractors at "
+          "f_r = 3.2 is flagged, with the torus's F_m as the design value") {
+    const ReducedParameters p{5, 60, 0.5, 0.06, 3.2};
+    AttractorOptions o = short_runs(100, 1);
+    o.box = 1.0;
+    o.run.periods = 600;
+    o.run.transient_periods = 300;
+    const SimulationResult from_rest = simulate(Dynamics::paper_row(p), o.run);
+    // The torus, reached from the issue's start by a plain run: an independent witness.
+    const SimulationResult torus =
+        simulate(Dynamics::paper_row(p), o.run, {0.5, -0.5, 0.5, -0.5, 0.5, 0, 0, 0, 0, 0});
+    REQUIRE(torus.F_m > from_rest.F_m + 3.0 * (from_rest.F_m_error + torus.F_m_error));
+    const DesignValue d = design_value(p, o, from_rest);
+    CHECK(d.start_below);
+    CHECK_FALSE(d.run_above);
+    CHECK_FALSE(d.from_run);
+    CHECK(d.F_m_max == d.search.F_m_max);
+    CHECK(d.F_m_max == doctest::Approx(torus.F_m).epsilon(1e-3));
+    CHECK(d.F_m_max_error == d.search.F_m_max_error);
+    // The torus's own run, set against the same search, is the design value within errors.
+    const DesignValue on_torus = design_value(p, o, torus);
+    CHECK_FALSE(on_torus.start_below);
+    CHECK_FALSE(on_torus.run_above);
+    // The JSON of gapchain-sim says multistable, though the run alone (no twin flag) did not.
+    Scene scene = parse_scene("{}", {}, "<test>");
+    scene.reduced = p;
+    scene.run = o.run;
+    REQUIRE_FALSE(from_rest.multistable);
+    const std::string json = to_json(from_rest, scene, d, o);
+    CHECK(json.find("\"multistable\": true") != std::string::npos);
+    CHECK(json.find("\"start_below\": true") != std::string::npos);
+}
+
+TEST_CASE("design value: a run whose F_m is above every attractor (issue 19's Nm = 2 row, its "
+          "chaotic transient) is flagged run_above; a contact-free row is plain") {
+    const ReducedParameters nm2{2, 200, 0.1, 0.351, 0.626};
+    AttractorOptions o = short_runs(40, 3);
+    o.box = 1.0;
+    o.run.periods = 1000;
+    o.run.accuracy_mode = AccuracyMode::strict;
+    // The run's own checks off: nothing but the search says that its F_m is a transient's.
+    RunOptions unchecked = o.run;
+    unchecked.estimate_error = false;
+    unchecked.multistability_check = false;
+    const SimulationResult from_rest = simulate(Dynamics::paper_row(nm2), unchecked);
+    const DesignValue d = design_value(nm2, o, from_rest);
+    REQUIRE(d.search.attractors.size() == 1);
+    // The period-3 orbit (Newton; an independent closed-form implementation gives 1.070351).
+    CHECK(d.search.F_m_max == doctest::Approx(1.070351).epsilon(1e-5));
+    CHECK(d.run_above);
+    CHECK(d.from_run);
+    CHECK(d.F_m_max == from_rest.F_m);
+    CHECK_FALSE(d.start_below);
+    // With its checks the run's error bar covers the orbit's F_m already: not above beyond it.
+    const SimulationResult checked = simulate(Dynamics::paper_row(nm2), o.run);
+    CHECK(checked.multistable);
+    CHECK_FALSE(design_value(nm2, o, checked).run_above);
+
+    // No contact: one attractor, eq (20)'s response, the run's own F_m (0) is the design value.
+    const ReducedParameters free_row{3, 100, 0.3, 50.0, 1.5};
+    AttractorOptions f = short_runs(20, 4);
+    const SimulationResult plain = simulate(Dynamics::paper_row(free_row), f.run);
+    const DesignValue none = design_value(free_row, f, plain);
+    CHECK(none.search.attractors.size() == 1);
+    CHECK(none.F_m_max == 0.0);
+    CHECK_FALSE(none.start_below);
+    CHECK_FALSE(none.run_above);
+}
+
 TEST_CASE("a label follows an attractor along the line, even one that moved more than 0.2 A") {
     // Fig 13's line: the period-1 orbit (F_m 0.386) holds 77 % of the starts at f_r = 3.1 and
     // 65 % at 3.15, but its state at phase 0 moves by more than the centroid test's 0.2 A.

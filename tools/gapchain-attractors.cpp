@@ -36,14 +36,7 @@ void add_options(CLI::App& app, AttractorArguments& a) {
     app.add_option("--samples", o.samples, "Random starts (basin fractions)")
         ->check(cli::range(1L, 10'000'000L))
         ->capture_default_str();
-    app.add_option("--seed", a.seed, "Seed of the random starts")
-        ->check(cli::range(0LL, 1LL << 62))
-        ->capture_default_str();
-    app.add_option("--box", o.box,
-                   "Half-width of the box of starts, in units of the contact-free amplitude A of "
-                   "eq (20) (u in [-box A, box A], v in [-box 2 pi f_r A, box 2 pi f_r A])")
-        ->check(cli::range(1e-9, 100.0))
-        ->capture_default_str();
+    cli::add_start_box(app, a.seed, o.box);
     app.add_option("--grid", a.grid,
                    "Basin slice over two state variables, e.g. u1,v1 (the others at rest)");
     app.add_option("--resolution", a.resolution, "Slice grid points per axis")

@@ -1,6 +1,7 @@
 // gapchain-sim: one simulation of a row; prints F_m and writes a JSON result.
 #include "common/cli.hpp"
 
+#include "gapchain/attractors.hpp"
 #include "gapchain/report.hpp"
 #include "gapchain/simulation.hpp"
 
@@ -61,7 +62,7 @@ void print_force(const Scene& scene, const SimulationResult& r) {
         std::printf(" (the start checks' difference only: run.estimate_error is false)");
 }
 
-void print_result(const Scene& scene, const SimulationResult& r) {
+void print_result(const Scene& scene, const SimulationResult& r, bool searched) {
     const ReducedParameters& p = scene.reduced;
     if (scene.harmonic())
         std::printf("gapchain-sim: Nm=%d fc=%g eps=%g e_r=%g f_r=%g  (%s, h=%.3g, %ld periods)\n",
@@ -111,8 +112,98 @@ void print_result(const Scene& scene, const SimulationResult& r) {
                     "on the start (F_m_error covers the difference); run gapchain-attractors for "
                     "the F_m of each attractor\n",
                     r.F_m_twin);
+    if (!searched && r.twin_checked && !r.multistable && scene.harmonic() && scene.uniform())
+        std::printf("not settled early: other attractors were not looked for (--attractors N "
+                    "adds N starts and the design value over their attractors)\n");
     std::printf("wall time %.4f s\n", r.wall_time_s);
 }
+
+// The design value's line: what the search found and how this run's F_m compares.
+void print_design(const SimulationResult& r, const DesignValue& d, const AttractorOptions& o) {
+    const AttractorSet& set = d.search;
+    std::printf("design value over %zu attractor(s) from %ld starts (%.2f s): ",
+                set.attractors.size(), o.samples, set.wall_time_s);
+    if (set.F_m_max_id < 0) {
+        std::printf("no attractor found (every start failed)\n");
+        return;
+    }
+    const Attractor& a = set.attractors[static_cast<std::size_t>(set.F_m_max_id)];
+    const auto describe = [&a] {
+        std::printf("%s", std::string(regime_label(a)).c_str());
+        if (a.period > 0) std::printf(", period %d", a.period);
+        std::printf(", basin %.3f +- %.3f", a.basin_fraction, a.basin_fraction_error);
+    };
+    if (d.run_above) {
+        std::printf("this run's F_m; it is above every attractor found (the largest: F_m = %.6g "
+                    "+- %.2g, ",
+                    set.F_m_max, set.F_m_max_error);
+        describe();
+        std::printf(")\nmultistable: this run's F_m was taken in a transient%s, not on an "
+                    "attractor\n",
+                    r.accuracy_mode_used == AccuracyUsed::relaxed
+                        ? ", or on the relaxed plan's motion, which the strict dynamics leave "
+                          "(run.accuracy_mode = \"strict\")"
+                        : "");
+    } else if (d.from_run) {
+        std::printf("this run's F_m (no attractor found hits harder)\n");
+    } else {
+        std::printf("F_m_max = %.6g +- %.2g (", d.F_m_max, d.F_m_max_error);
+        describe();
+        if (d.start_below)
+            std::printf(")\nmultistable: this run's start reached a weaker attractor, its F_m is "
+                        "%.0f %% below the design value; gapchain-attractors shows the basins\n",
+                        100.0 * (d.F_m_max - r.F_m) / d.F_m_max);
+        else
+            std::printf("), this run's F_m within the errors\n");
+    }
+    if (set.unsettled > 0)
+        std::printf("  %d group(s) were still converging when their runs ended: their F_m is a "
+                    "transient's; raise run.periods\n",
+                    set.unsettled);
+}
+
+// --attractors N with its --seed, --box and --threads: the design value's search.
+struct DesignSearch {
+    static AttractorOptions no_search() {
+        AttractorOptions o;
+        o.samples = 0;
+        return o;
+    }
+    AttractorOptions options = no_search();
+    long long seed = 1;
+    std::vector<CLI::Option*> start_options; // --seed, --box, --threads
+
+    void add_options(CLI::App& app) {
+        app.add_option("--attractors", options.samples,
+                       "Also search the row's attractors from N random starts "
+                       "(gapchain-attractors' search) and report the design value F_m_max over "
+                       "them and this run (0: no search)")
+            ->check(cli::range(0L, 10'000'000L))
+            ->capture_default_str();
+        const auto [seed_option, box_option] = cli::add_start_box(app, seed, options.box);
+        start_options = {seed_option, box_option,
+                         app.add_option("--threads", options.threads,
+                                        "OpenMP threads of the attractor search (0: all)")
+                             ->check(cli::range(0, 4096))
+                             ->capture_default_str()};
+    }
+    [[nodiscard]] bool wanted() const { return options.samples > 0; }
+    // Before anything runs: the search's options apply, and the scene is one it takes.
+    void check(const Scene& scene) {
+        if (!wanted()) {
+            for (const CLI::Option* option : start_options)
+                if (option->count() > 0)
+                    throw SceneError(option->get_name() +
+                                     ": applies to the attractor search only; add --attractors "
+                                     "N (1 .. 1e7 starts)");
+            return;
+        }
+        cli::require_paper_row(scene, "gapchain-sim --attractors");
+        options.seed = static_cast<std::uint64_t>(seed);
+        options.run = scene.run;
+        validate(scene.reduced, options);
+    }
+};
 
 } // namespace
 
@@ -128,31 +219,48 @@ int main(int argc, char** argv) {
     app.add_option("--trajectory", trajectory_path,
                    "Write the (decimated: output.trajectory_every) trajectory as CSV");
     app.add_flag("--quiet,-q", quiet, "Print nothing on success");
+    DesignSearch search;
+    search.add_options(app);
 
-    return cli::run(app, argc, argv, [&] {
-        const Scene scene = cli::load(scene_args);
-        cli::Outputs outputs({scene_args.path});
-        outputs.file(out_path, "--out");
-        outputs.file(trajectory_path, "--trajectory");
-        const Dynamics dyn = scene.dynamics();
-        std::optional<OutputFile> trajectory;
-        SimulationHooks hooks;
-        if (!trajectory_path.empty()) {
-            trajectory.emplace(trajectory_path);
-            hooks.trajectory = trajectory_sink(*trajectory, dyn.bodies());
-            hooks.trajectory_every = scene.trajectory_every;
-        }
-        cli::Progress progress("gapchain-sim", !quiet);
-        hooks.progress = progress.callback();
-        const SimulationResult r = simulate(dyn, scene.run, scene.initial, hooks);
-        cli::throw_if_interrupted();
-        if (r.status == RunStatus::non_finite) throw cli::NumericalFailure(r.message);
-        if (trajectory) {
-            outputs.replacing(trajectory_path); // put back if the JSON cannot be written
-            trajectory->commit();
-        }
-        if (!out_path.empty()) write_file_atomically(out_path, to_json(r, scene));
-        outputs.keep();
-        if (!quiet) print_result(scene, r);
-    });
+    return cli::run(
+        app, argc, argv,
+        [&] {
+            const Scene scene = cli::load(scene_args);
+            search.check(scene);
+            cli::Outputs outputs({scene_args.path});
+            outputs.file(out_path, "--out");
+            outputs.file(trajectory_path, "--trajectory");
+            const Dynamics dyn = scene.dynamics();
+            std::optional<OutputFile> trajectory;
+            SimulationHooks hooks;
+            if (!trajectory_path.empty()) {
+                trajectory.emplace(trajectory_path);
+                hooks.trajectory = trajectory_sink(*trajectory, dyn.bodies());
+                hooks.trajectory_every = scene.trajectory_every;
+            }
+            cli::Progress progress("gapchain-sim", !quiet);
+            hooks.progress = progress.callback();
+            const SimulationResult r = simulate(dyn, scene.run, scene.initial, hooks);
+            cli::throw_if_interrupted();
+            if (r.status == RunStatus::non_finite) throw cli::NumericalFailure(r.message);
+            std::optional<DesignValue> design;
+            if (search.wanted()) {
+                cli::Progress search_progress("gapchain-sim: attractors", !quiet);
+                design = design_value(scene.reduced, search.options, r, search_progress.callback());
+                cli::throw_if_interrupted();
+            }
+            if (trajectory) {
+                outputs.replacing(trajectory_path); // put back if the JSON cannot be written
+                trajectory->commit();
+            }
+            if (!out_path.empty())
+                write_file_atomically(out_path, design ? to_json(r, scene, *design, search.options)
+                                                       : to_json(r, scene));
+            outputs.keep();
+            if (!quiet) {
+                print_result(scene, r, design.has_value());
+                if (design) print_design(r, *design, search.options);
+            }
+        },
+        {{"samples", "--attractors"}, {"box", "--box"}, {"threads", "--threads"}});
 }

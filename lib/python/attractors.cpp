@@ -50,14 +50,6 @@ fraction_error, F_m, period (NaN where the label is absent; period 0 for a
 non-periodic attractor); unsettled (per value: groups still converging, whose F_m is a
 transient's); label_count, wall_time_s, cancelled.)";
 
-// The paper's row at one point, as attractors.hpp needs it.
-const ReducedParameters& paper_row(const Scene& scene) {
-    if (!scene.harmonic() || !scene.uniform())
-        throw std::invalid_argument("scene: attractors need the paper's uniform row with the "
-                                    "linear contact law and harmonic forcing");
-    return scene.reduced;
-}
-
 AttractorOptions search_options(const Scene& scene, long samples, std::uint64_t seed, double box,
                                 int section_points, int threads) {
     AttractorOptions o;

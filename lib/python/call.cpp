@@ -55,6 +55,13 @@ Scene to_scene(const py::object& scene, const py::kwargs& keys) {
                      type_name(scene));
 }
 
+const ReducedParameters& paper_row(const Scene& scene) {
+    if (!scene.harmonic() || !scene.uniform())
+        throw std::invalid_argument("scene: attractors need the paper's uniform row with the "
+                                    "linear contact law and harmonic forcing");
+    return scene.reduced;
+}
+
 Study to_study(const py::object& study) {
     if (py::isinstance<py::dict>(study)) return parse_study(json_text(study), "<dict>");
     if (const auto path = as_path(study)) return load_study(*path);

@@ -25,6 +25,9 @@ namespace py = pybind11;
 // or dotted (run.tolerance), applied as overrides. Bad input throws SceneError.
 Scene to_scene(const py::object& scene, const py::kwargs& keys);
 
+// The paper's row at one point, as attractors.hpp needs it; std::invalid_argument otherwise.
+const ReducedParameters& paper_row(const Scene& scene);
+
 // A study: a dict (the study as JSON) or a path to a study file. Bad input throws SceneError.
 Study to_study(const py::object& study);
 

@@ -1,6 +1,7 @@
 // gapchain.simulate: one simulation of a row (gapchain-sim in-process).
 #include "call.hpp"
 
+#include "gapchain/attractors.hpp"
 #include "gapchain/simulation.hpp"
 
 namespace gapchain::python {
@@ -8,7 +9,7 @@ namespace gapchain::python {
 namespace {
 
 constexpr const char* simulate_doc =
-    R"(simulate(scene=None, *, trajectory=False, progress=None, **keys) -> dict
+    R"(simulate(scene=None, *, trajectory=False, attractors=0, seed=1, box=1.0, threads=0, progress=None, **keys) -> dict
 
 Simulate a forced, damped row of bodies with clearances and return the maximal reduced impact
 force F_m (eq 19) with its error estimate: gapchain-sim in-process, the same numbers.
@@ -28,6 +29,9 @@ scene     None (the paper's defaults), a scene dict, or the path of a scene file
                     multistability_check, accuracy_mode ("auto" or "strict");
                     trajectory_every (output.) decimation in steps, >= 1.
 trajectory  also return the (decimated) trajectory of the main run.
+attractors  also search the row's attractors from this many random starts, 0 .. 1e7 (as
+            attractors(samples=...); seed, box and threads as there; the paper's uniform row
+            only) and return the design value over them and this run as "design_value".
 progress    callable(fraction in [0, 1]), called as the run advances.
 
 Returns a dict: F_m and F_m_error (reduced force; physically F = F_m M a0 sqrt(fc); F_m_error
@@ -44,7 +48,12 @@ ended), status ("completed",
 "steady_state", "non_finite", "cancelled"), message, scheme, step, periods_simulated,
 transient_periods_used, steps, evaluations, final_state (2 Nm: u then v), wall_time_s,
 run (the run options), F_m_newton (physical scenes), and with trajectory=True trajectory =
-{"t": (n,) float64, "state": (n, 2 Nm) float64 with columns u1..uNm, v1..vNm}.
+{"t": (n,) float64, "state": (n, 2 Nm) float64 with columns u1..uNm, v1..vNm}. With attractors
+> 0, design_value = {F_m_max (the largest of the attractors' F_m and this run's), F_m_max_error,
+from_run, start_below (another attractor hits harder beyond both errors), run_above (this run's
+F_m is above every attractor's: a transient's), attractors_F_m_max and its error, attractors,
+unsettled, failed, samples, seed, box, wall_time_s}, and multistable is also True when
+start_below or run_above (gapchain-sim --attractors).
 
 Bad input raises ValueError naming the key; numerical outcomes are in "status". The GIL is
 released while it runs; Ctrl-C (KeyboardInterrupt) stops it.)";
@@ -91,9 +100,44 @@ py::dict result_dict(const SimulationResult& r, const Scene& scene) {
     return d;
 }
 
-py::dict simulate_py(const py::object& scene_arg, bool trajectory, const py::object& progress,
+py::dict design_dict(const DesignValue& d, const AttractorOptions& o) {
+    py::dict v;
+    v["F_m_max"] = d.F_m_max;
+    v["F_m_max_error"] = d.F_m_max_error;
+    v["from_run"] = d.from_run;
+    v["start_below"] = d.start_below;
+    v["run_above"] = d.run_above;
+    v["attractors_F_m_max"] = d.search.F_m_max;
+    v["attractors_F_m_max_error"] = d.search.F_m_max_error;
+    v["attractors"] = d.search.attractors.size();
+    v["unsettled"] = d.search.unsettled;
+    v["failed"] = d.search.failed;
+    v["samples"] = o.samples;
+    v["seed"] = o.seed;
+    v["box"] = o.box;
+    v["wall_time_s"] = d.search.wall_time_s;
+    return v;
+}
+
+py::dict simulate_py(const py::object& scene_arg, bool trajectory, long attractors,
+                     std::uint64_t seed, double box, int threads, const py::object& progress,
                      const py::kwargs& keys) {
     const Scene scene = to_scene(scene_arg, keys);
+    AttractorOptions search;
+    if (attractors != 0) {
+        search.samples = attractors;
+        search.seed = seed;
+        search.box = box;
+        search.threads = threads;
+        search.run = scene.run;
+        validate(paper_row(scene), search);
+    } else if (seed != 1 || box != 1.0 || threads != 0) {
+        throw std::invalid_argument(
+            std::string(seed != 1    ? "seed"
+                        : box != 1.0 ? "box"
+                                     : "threads") +
+            ": applies to the attractor search only; give attractors, 1 .. 1e7");
+    }
     const Dynamics dyn = scene.dynamics();
     Call call(progress);
     std::vector<double> t, states;
@@ -110,6 +154,12 @@ py::dict simulate_py(const py::object& scene_arg, bool trajectory, const py::obj
     const SimulationResult r =
         call.run([&] { return simulate(dyn, scene.run, scene.initial, hooks); });
     py::dict d = result_dict(r, scene);
+    if (attractors != 0 && r.status != RunStatus::cancelled) {
+        const DesignValue design =
+            call.run([&] { return design_value(scene.reduced, search, r, call.callback()); });
+        d["design_value"] = design_dict(design, search);
+        d["multistable"] = r.multistable || design.start_below || design.run_above;
+    }
     if (trajectory) {
         py::dict tr;
         tr["t"] = array(t);
@@ -123,7 +173,8 @@ py::dict simulate_py(const py::object& scene_arg, bool trajectory, const py::obj
 
 void register_simulate(py::module_& m) {
     m.def("simulate", &simulate_py, simulate_doc, py::arg("scene") = py::none(), py::kw_only(),
-          py::arg("trajectory") = false, py::arg("progress") = py::none());
+          py::arg("trajectory") = false, py::arg("attractors") = 0L, py::arg("seed") = 1ULL,
+          py::arg("box") = 1.0, py::arg("threads") = 0, py::arg("progress") = py::none());
 }
 
 } // namespace gapchain::python

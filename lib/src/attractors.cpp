@@ -604,6 +604,23 @@ AttractorSet find_attractors(const ReducedParameters& p, const AttractorOptions&
     return set;
 }
 
+DesignValue design_value(const ReducedParameters& p, const AttractorOptions& options,
+                         const SimulationResult& run, const ProgressCallback& progress) {
+    DesignValue d;
+    d.search = find_attractors(p, options, progress);
+    if (d.search.cancelled) return d;
+    const double run_error = has_error_estimate(run) ? run.F_m_error : 0.0;
+    const double gap = d.search.F_m_max - run.F_m;
+    const double allowance = std::max(3.0 * (run_error + d.search.F_m_max_error),
+                                      options.run.tolerance * std::max(run.F_m, d.search.F_m_max));
+    d.start_below = gap > allowance;
+    d.run_above = -gap > allowance;
+    d.from_run = run.F_m >= d.search.F_m_max;
+    d.F_m_max = d.from_run ? run.F_m : d.search.F_m_max;
+    d.F_m_max_error = d.from_run ? run_error : d.search.F_m_max_error;
+    return d;
+}
+
 namespace {
 
 /// Mean of an attractor's section points, in scaled coordinates.

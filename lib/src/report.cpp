@@ -77,7 +77,9 @@ void add_provenance(json& j, const Scene& scene) {
 }
 } // namespace
 
-std::string to_json(const SimulationResult& r, const Scene& scene) {
+namespace {
+
+json simulation_json(const SimulationResult& r, const Scene& scene) {
     json j;
     j["F_m"] = r.F_m;
     const bool estimated = has_error_estimate(r);
@@ -120,6 +122,46 @@ std::string to_json(const SimulationResult& r, const Scene& scene) {
     j["wall_time_s"] = r.wall_time_s;
     add_provenance(j, scene);
     j["scene"] = scene.source;
+    return j;
+}
+
+} // namespace
+
+std::string to_json(const SimulationResult& r, const Scene& scene) {
+    return simulation_json(r, scene).dump(2) + "\n";
+}
+
+std::string to_json(const SimulationResult& r, const Scene& scene, const DesignValue& design,
+                    const AttractorOptions& options) {
+    json j = simulation_json(r, scene);
+    // Another attractor hitting harder makes the answer depend on the start, as the twin does.
+    j["multistable"] = r.multistable || design.start_below || design.run_above;
+    const AttractorSet& set = design.search;
+    json d = {{"samples", options.samples},
+              {"seed", options.seed},
+              {"box", options.box},
+              {"attractors", set.attractors.size()},
+              {"unsettled", set.unsettled},
+              {"failed", set.failed},
+              {"F_m_max", design.F_m_max},
+              {"F_m_max_error", design.F_m_max_error},
+              {"from_run", design.from_run},
+              {"start_below", design.start_below},
+              {"run_above", design.run_above},
+              {"attractors_F_m_max", set.F_m_max},
+              {"attractors_F_m_max_error", set.F_m_max_error},
+              {"wall_time_s", set.wall_time_s}};
+    if (set.F_m_max_id >= 0) {
+        const Attractor& a = set.attractors[static_cast<std::size_t>(set.F_m_max_id)];
+        d["attractor"] = {{"regime", regime_label(a)},
+                          {"period", a.period},
+                          {"basin_fraction", a.basin_fraction},
+                          {"basin_fraction_error", a.basin_fraction_error},
+                          {"initial_state", a.initial_state}};
+    } else {
+        d["attractor"] = nullptr;
+    }
+    j["design_value"] = d;
     return j.dump(2) + "\n";
 }
 

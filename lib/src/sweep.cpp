@@ -148,10 +148,10 @@ SweepPointResult run_point(const Study& s, const SweepPointFactory& make_point, 
         ao.seed = static_cast<std::uint64_t>(index);
         ao.run = in.run;
         ao.threads = 1; // the sweep is already parallel over points
-        const AttractorSet set = find_attractors(in.reduced, ao, keep_going);
-        r.F_m_max = std::max(set.F_m_max, r.simulation.F_m);
-        r.attractors_found = static_cast<int>(set.attractors.size());
-        r.attractors_unsettled = set.unsettled;
+        const DesignValue design = design_value(in.reduced, ao, r.simulation, keep_going);
+        r.F_m_max = design.F_m_max;
+        r.attractors_found = static_cast<int>(design.search.attractors.size());
+        r.attractors_unsettled = design.search.unsettled;
     }
     return r;
 }

@@ -221,6 +221,27 @@ MIRROR_PAIR = {"model": {"Nm": 1, "fc": 100, "eps": 0.1, "e_r": 0.6}, "excitatio
                "run": {"periods": 600}}
 
 
+def test_simulate_design_value_matches_gapchain_sim(tmp_path):
+    # Fig 13's line at f_r = 3.2: from rest the weaker attractor, the torus is the design value.
+    keys = dict(f_r=3.2, periods=600, transient_periods=300)
+    scene = os.path.join(os.environ.get("GAPCHAIN_SCENES", ""), "fig13.json")
+    r = gapchain.simulate(scene, attractors=30, seed=2, **keys)
+    v = r["design_value"]
+    assert r["multistable"] and v["start_below"] and v["F_m_max"] > r["F_m"]
+    out = tmp_path / "d.json"
+    subprocess.run([SIM, scene, "--set", "excitation.f_r=3.2", "--set", "run.periods=600",
+                    "--set", "run.transient_periods=300", "--attractors", "30", "--seed", "2",
+                    "--out", str(out), "--quiet"], check=True)
+    tool = json.loads(out.read_text())["design_value"]
+    for key in ("F_m_max", "F_m_max_error", "start_below", "run_above", "attractors"):
+        assert v[key] == tool[key], key
+    assert "design_value" not in gapchain.simulate(scene, **keys)
+    with pytest.raises(ValueError, match="^seed: applies to the attractor search only"):
+        gapchain.simulate(scene, seed=3, **keys)
+    with pytest.raises(ValueError, match="^attractors: must be"):
+        gapchain.simulate(scene, attractors=-1, **keys)
+
+
 def test_attractors_match_gapchain_attractors(tmp_path):
     # Nm = 1 between the walls: two mirror-image period-1 orbits of equal F_m (MODEL.md §5).
     a = gapchain.attractors(MIRROR_PAIR, samples=40, box=2, grid=("u1", "v1"), resolution=4)

@@ -124,6 +124,10 @@ CLI::Validator range(T lo, T hi) {
     return number_range(static_cast<double>(lo), static_cast<double>(hi), std::is_integral_v<T>);
 }
 
+// --seed and --box of an attractor search's random starts (gapchain-attractors, and
+// gapchain-sim --attractors); returns the two options.
+std::pair<CLI::Option*, CLI::Option*> add_start_box(CLI::App& app, long long& seed, double& box);
+
 // Tools that take the paper's five reduced numbers and a forcing period (bifurcation,
 // classify, bounds) refuse other scenes with the rule: a record or Kanai-Tajimi excitation,
 // model arrays or scatter, a nonlinear contact law.

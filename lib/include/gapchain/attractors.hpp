@@ -32,6 +32,7 @@
 #include "gapchain/classify.hpp"
 #include "gapchain/model.hpp"
 #include "gapchain/run.hpp"
+#include "gapchain/simulation.hpp"
 
 #include <cstdint>
 #include <limits>
@@ -161,6 +162,31 @@ std::vector<std::vector<double>> attractor_starts(const ReducedParameters& p,
 /// of attractor_starts(), in parallel; progress gets the fraction of starts run.
 AttractorSet find_attractors(const ReducedParameters& p, const AttractorOptions& options,
                              const ProgressCallback& progress = {});
+
+/// One run's F_m set against the attractors of its row: the design value over both, and
+/// whether another attractor hits harder than the run's start does.
+struct DesignValue {
+    AttractorSet search; ///< find_attractors() from the options' random starts
+    /// The design value: the largest of the search's F_m_max and the run's F_m (a run whose
+    /// transient outlasts its discarded periods counts: the row shaken from that start reaches
+    /// it). 0 if the search was cancelled.
+    double F_m_max = 0.0;
+    double F_m_max_error = 0.0; ///< the error of whichever gave F_m_max
+    bool from_run = false;      ///< F_m_max is the run's own F_m
+    /// The search's F_m_max exceeds the run's F_m by more than 3 (F_m_error + F_m_max_error)
+    /// and the accuracy asked (run.tolerance F_m_max): the run's start reached a weaker
+    /// attractor, so its F_m is not the row's worst case.
+    bool start_below = false;
+    /// The run's F_m exceeds the search's F_m_max by as much: no attractor found reaches it, so
+    /// the run's window held a transient (or, for a run that finished relaxed, motion of the
+    /// relaxed plan that the strict dynamics leave).
+    bool run_above = false;
+};
+
+/// find_attractors(p, options) and the comparison with run, a simulate() result of row p under
+/// options.run (from any start). Throws std::invalid_argument as find_attractors() does.
+DesignValue design_value(const ReducedParameters& p, const AttractorOptions& options,
+                         const SimulationResult& run, const ProgressCallback& progress = {});
 
 /// Basin fractions along one parameter: find_attractors() at each value, attractors matched
 /// from one value to the next, so that a label follows an attractor across the line: first by

@@ -28,6 +28,15 @@ namespace gapchain {
 /// model.hpp, after any scatter) and the start ("initial", u then v, when not rest).
 std::string to_json(const SimulationResult& result, const Scene& scene);
 
+/// The same, with the run set against its row's attractors (design_value()): a "design_value"
+/// object with the search's samples, seed and box, attractors found, unsettled, failed,
+/// F_m_max (the design value) with F_m_max_error, from_run, start_below, run_above, the
+/// search's own attractors_F_m_max with its error and that attractor (regime, period,
+/// basin_fraction with its error, initial_state; null if none), and its wall_time_s.
+/// "multistable" is also true when start_below or run_above.
+std::string to_json(const SimulationResult& result, const Scene& scene, const DesignValue& design,
+                    const AttractorOptions& options);
+
 /// Writes a file so that readers never see it half-written and a failure leaves nothing:
 /// the text goes to a temporary file next to path, which is renamed over path on commit().
 /// Destroying an uncommitted OutputFile removes the temporary.

@@ -189,7 +189,7 @@ def _typed(function):
     renamed = [(field + ":", argument + ":") for field, argument in
                (("transient_periods", "transient"), ("record_periods", "record"),
                 ("from", "from_"), ("parameter", "param"), ("slice.resolution", "resolution"),
-                ("section.phase", "phase"), ("run.scheme", "scheme"))
+                ("section.phase", "phase"), ("run.scheme", "scheme"), ("samples", "attractors"))
                if argument in (p for p, _ in parameters)]
 
     @_functools.wraps(function)

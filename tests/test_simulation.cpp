@@ -580,6 +580,35 @@ TEST_CASE("accuracy mode: a chaotic run whose window halves agree stays relaxed;
     CHECK(t.F_m == doctest::Approx(0.3858).epsilon(2e-3));
 }
 
+TEST_CASE("accuracy mode: a relaxed answer the strict dynamics leave is redone strict (issue "
+          "19's Nm = 2 row)") {
+    // The relaxed plan (switches not split) keeps this row on the chaotic saddle for thousands
+    // of periods, and its twin shares that plan: it answered 1.1756 +- 0.0035 (1000 periods)
+    // and 1.1782 +- 0.0035 (3000), not multistable. The strict dynamics leave the saddle for the
+    // period-3 orbit (F_m 1.070351: Newton, and an independent closed-form implementation).
+    const Dynamics dyn = Dynamics::paper_row({2, 200, 0.1, 0.351, 0.626});
+    for (const long periods : {1000L, 3000L}) {
+        RunOptions o;
+        o.periods = periods;
+        const SimulationResult r = simulate(dyn, o);
+        MESSAGE(periods << " periods: " << r.F_m << " +- " << r.F_m_error << ", "
+                        << to_string(r.accuracy_mode_used));
+        CHECK(r.accuracy_mode_used == AccuracyUsed::strict);
+        CHECK(r.steady_state_period == 3);
+        CHECK(r.multistable);
+        REQUIRE(r.F_m_orbit.has_value());
+        CHECK(*r.F_m_orbit == doctest::Approx(1.070351).epsilon(1e-4));
+        CHECK(r.F_m - r.F_m_error <= *r.F_m_orbit);
+    }
+    // Index 325287 of the paper-scale sample (Nm 1, fc 1000, eps 0.2, e_r 0.16, f_r 1.8): the
+    // strict dynamics from the relaxed end settle after 153 periods on a period-4 orbit.
+    const Dynamics one = Dynamics::paper_row({1, 1000, 0.2, 0.16, 1.8});
+    const SimulationResult r = simulate(one, RunOptions{});
+    CHECK(r.accuracy_mode_used == AccuracyUsed::strict);
+    CHECK(r.steady_state_period == 4);
+    CHECK(r.multistable);
+}
+
 TEST_CASE("accuracy mode: a cancel in the relaxed part, or in the run after it, ends the call") {
     // A callback may answer false once: the strict rerun that followed a relaxed part (or its
     // twin) used to swallow that answer and return a completed result.

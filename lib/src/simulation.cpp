@@ -301,28 +301,54 @@ SingleRun relaxed_twin(const Dynamics& dyn, const RunOptions& options, const Sin
     return r;
 }
 
-/// run_once() from initial on a fresh plan (into planned), run again in strict mode where a
-/// relaxed answer does not stand: its halves spread less than the relaxed plan's error and its
-/// twin (run here; kept in the result when it lets the answer stand) does not show it chaotic,
-/// or disagrees with it.
-SingleRun run_settled(const Dynamics& dyn, RunOptions options, const std::vector<double>& initial,
-                      const SimulationHooks& hooks, std::optional<PlannedRun>& planned) {
-    planned.emplace(dyn, options, initial);
-    SingleRun r = run_once(dyn, options, *planned, hooks);
-    if (r.relaxed_from < 0 || relaxed_answer_holds(r)) return r;
-    // A cancel ends the call: a strict rerun would swallow a callback that answers false once.
-    if (r.outcome.status == RunStatus::cancelled) return r;
-    // The runs after the first report its end, as simulate()'s later runs do: a progress
-    // display never goes back (they may be cancelled all the same).
-    SimulationHooks finishing = hooks;
-    if (hooks.progress) finishing.progress = [&](double) { return hooks.progress(1.0); };
-    if (r.outcome.status == RunStatus::completed) {
-        auto twin =
-            std::make_shared<const SingleRun>(relaxed_twin(dyn, options, r, finishing.progress));
+/// Periods of the strict check of a relaxed answer (strict_check()): a fifth of the relaxed
+/// part, at least 48 (at most all of it). The check costs about that share of a strict run
+/// (2-4 relaxed periods each where contacts switch often): measured below, it catches where
+/// the strict dynamics come near a cycle within it.
+long strict_check_periods(const RunOptions& options, long relaxed_from) {
+    const long relaxed = options.periods - relaxed_from;
+    return std::min(relaxed, std::max(48L, relaxed / 5));
+}
+
+enum class StrictCheck { wanders, settles, cancelled };
+
+/// Whether the strict dynamics, continued from the end of a relaxed run that did not settle,
+/// still wander after strict_check_periods(), or come near a cycle. The relaxed plan (switches
+/// not split) can wander on where the strict dynamics settle: it keeps the row on a chaotic
+/// saddle that the strict dynamics leave, a motion the twin, on the same plan, shares. Measured
+/// on the paper-scale sample (seed 1, 247 relaxed answers): continued strict, the 16 relaxed
+/// answers whose strict runs settle came within 1e-3 of a cycle after 17-42 periods (11),
+/// 109-153 (3) and 348 (1) (one more, whose strict run settled only from rest, did not within
+/// 1000); none of the other 231 did in 1000 periods.
+StrictCheck strict_check(const Dynamics& dyn, RunOptions options, const SingleRun& relaxed,
+                         const ProgressCallback& progress, long& evaluations) {
+    options.periods = strict_check_periods(options, relaxed.relaxed_from);
+    options.transient_periods = 0;
+    options.accuracy_mode = AccuracyMode::strict;
+    // A relaxed answer ran all its periods: its end state is at forcing phase 0, the start's.
+    PlannedRun planned(dyn, options, relaxed.final_state);
+    RunWatch watch(dyn, options, {}, 1, {});
+    const RunOutcome outcome = planned.run(watch.observers_stopping_near_a_cycle(), progress);
+    evaluations += planned.evaluations();
+    if (outcome.status == RunStatus::cancelled) return StrictCheck::cancelled;
+    return outcome.status == RunStatus::completed && watch.wandering() ? StrictCheck::wanders
+                                                                       : StrictCheck::settles;
+}
+
+/// Whether a relaxed run's answer stands: its halves spread at least the relaxed plan's error,
+/// or its twin (run here; kept in r when it lets the answer stand) shows it chaotic and agrees
+/// with it; and either way the strict dynamics from its end do not settle (strict_check()).
+/// Sets r's status to cancelled if a cancel came.
+bool relaxed_answer_stands(const Dynamics& dyn, const RunOptions& options, SingleRun& r,
+                           const ProgressCallback& progress) {
+    if (r.outcome.status != RunStatus::completed) return false;
+    std::shared_ptr<const SingleRun> twin;
+    if (!relaxed_answer_holds(r)) {
+        twin = std::make_shared<const SingleRun>(relaxed_twin(dyn, options, r, progress));
         r.evaluations += twin->evaluations;
         if (twin->outcome.status == RunStatus::cancelled) {
             r.outcome.status = RunStatus::cancelled;
-            return r;
+            return false;
         }
         // Separated, and the two answers agree as two samples of one chaos (the multistability
         // check's allowance, with the relaxed plan's error as the least spread). A twin that
@@ -330,11 +356,30 @@ SingleRun run_settled(const Dynamics& dyn, RunOptions options, const std::vector
         // twin does not run) sends the run to the strict plan and its full-length twin.
         const double allowance =
             3.0 * std::max({window_spread(r), window_spread(*twin), relaxed_error * r.F_m});
-        if (separated(r, *twin) && std::abs(twin->F_m - r.F_m) <= allowance) {
-            r.twin = std::move(twin);
-            return r;
-        }
+        if (!separated(r, *twin) || std::abs(twin->F_m - r.F_m) > allowance) return false;
     }
+    const StrictCheck check = strict_check(dyn, options, r, progress, r.evaluations);
+    if (check == StrictCheck::cancelled) r.outcome.status = RunStatus::cancelled;
+    if (check != StrictCheck::wanders) return false;
+    r.twin = std::move(twin);
+    return true;
+}
+
+/// run_once() from initial on a fresh plan (into planned), run again in strict mode where a
+/// relaxed answer does not stand (relaxed_answer_stands()).
+SingleRun run_settled(const Dynamics& dyn, RunOptions options, const std::vector<double>& initial,
+                      const SimulationHooks& hooks, std::optional<PlannedRun>& planned) {
+    planned.emplace(dyn, options, initial);
+    SingleRun r = run_once(dyn, options, *planned, hooks);
+    // A cancel ends the call: a strict rerun would swallow a callback that answers false once.
+    if (r.relaxed_from < 0 || r.outcome.status == RunStatus::cancelled) return r;
+    // The runs after the first report its end, as simulate()'s later runs do: a progress
+    // display never goes back (they may be cancelled all the same).
+    SimulationHooks finishing = hooks;
+    if (hooks.progress) finishing.progress = [&](double) { return hooks.progress(1.0); };
+    if (relaxed_answer_stands(dyn, options, r, finishing.progress) ||
+        r.outcome.status == RunStatus::cancelled)
+        return r;
     const long spent = r.evaluations;
     options.accuracy_mode = AccuracyMode::strict;
     planned.emplace(dyn, options, initial);

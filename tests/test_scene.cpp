@@ -71,6 +71,32 @@ TEST_CASE("physical scenes convert to reduced parameters") {
     CHECK(s.reduced.e_r == doctest::Approx(4 * std::numbers::pi * std::numbers::pi * 0.01));
 }
 
+TEST_CASE("a physical scene's initial state is in metres and metres per second") {
+    // f0 = 1 Hz, a0 = 2 m/s^2: a reduced length is a0 / (4 pi^2 f0^2) metres and a reduced
+    // velocity a0 / (4 pi^2 f0) m/s (MODEL.md §3), so 0.1 m and 0.3 m/s are 0.2 pi^2 and 0.6 pi^2.
+    const Scene s = parse_scene(R"({"units": "physical",
+        "model": {"Nm": 2, "M": 1.0, "K": 39.47841760435743, "C": 1.2566370614359172, "Kc": 3947.841760435743, "e": 0.01},
+        "excitation": {"a0": 2.0, "f": 1.5}, "initial": {"u": [0.1, 0.0], "v": [0.0, 0.3]}})");
+    const double pi2 = std::numbers::pi * std::numbers::pi;
+    REQUIRE(s.initial.size() == 4);
+    CHECK(s.initial[0] == doctest::Approx(0.2 * pi2));
+    CHECK(s.initial[1] == 0.0);
+    CHECK(s.initial[3] == doctest::Approx(0.6 * pi2));
+    // The same start written in reduced units runs the same row to the same F_m.
+    const Scene r = parse_scene(R"({"model": {"Nm": 2, "fc": 100, "eps": 0.1, "e_r": 0.19739208802178717},
+        "excitation": {"f_r": 1.5}, "run": {"periods": 40},
+        "initial": {"u": [1.9739208802178717, 0.0], "v": [0.0, 5.921762640653615]}})");
+    RunOptions o = r.run;
+    const double physical_F_m = simulate(s.dynamics(), o, s.initial).F_m;
+    CHECK(physical_F_m == doctest::Approx(simulate(r.dynamics(), o, r.initial).F_m).epsilon(1e-9));
+    // Out of range, in the scene's own units.
+    CHECK(error_of(R"({"initial": {"u": [1e300, 0, 0, 0, 0]}})")
+              .find("initial.u[0]: must be in [-1000000000, 1000000000], got 1e+300") !=
+          std::string::npos);
+    CHECK(error_of(R"({"initial": {"v": [0, 0]}})").find("initial.v: must have model.Nm = 5 "
+                                                         "entries, got 2") != std::string::npos);
+}
+
 TEST_CASE("bad input: every class gives one line naming the key") {
     CHECK(error_of("{not json").find("malformed JSON") != std::string::npos);
     CHECK(error_of(R"({"model": {"fcc": 1}})").find("model.fcc: unknown key") != std::string::npos);

@@ -369,21 +369,53 @@ void read_run(SectionReader run, const std::string& type, Scene& scene) {
     run.finish();
 }
 
-/// initial.u and initial.v (Nm entries each; rest when absent).
+/// One of initial.u, initial.v: Nm entries (zeros when absent), each within `limit` in the
+/// scene's units, returned multiplied by `scale` (to reduced units).
+std::vector<double> initial_entries(const json& initial, const std::string& key, std::size_t n,
+                                    double limit, double scale, const std::string& unit) {
+    const std::string name = "initial." + key;
+    if (!initial.contains(key)) return std::vector<double>(n, 0.0);
+    std::vector<double> x = number_array(initial[key], name);
+    if (x.size() != n)
+        throw SceneError(name + ": must have model.Nm = " + std::to_string(n) + " entries, got " +
+                         std::to_string(x.size()));
+    for (std::size_t i = 0; i < n; ++i) {
+        if (std::abs(x[i]) > limit)
+            throw SceneError(name + "[" + std::to_string(i) + "]: must be in [-" +
+                             detail::format_number(limit) + ", " + detail::format_number(limit) +
+                             "]" + unit + ", got " + detail::format_number(x[i]));
+        x[i] *= scale;
+    }
+    return x;
+}
+
+/// initial.u and initial.v (Nm entries each; rest when absent): reduced, or in metres and
+/// metres per second in a physical scene (MODEL.md §3, a0 the amplitude or a record's PGA:
+/// u_r = 4 pi^2 f0^2 u / a0, and
+/// v_r = du_r / dt_r = 4 pi^2 f0 v / a0). A reduced state beyond 1e9 has no physical meaning
+/// (eq (20)'s amplitude is at most 1 / (2 eps) and the clearance at most 1e6) and its squares
+/// near the double range would overflow silently.
 void read_initial(const SectionReader& top, const json& root, Scene& scene) {
     if (!root.contains("initial")) return;
     SectionReader initial = top.section("initial");
     initial.allow({"u", "v"});
     initial.finish();
     const auto n = static_cast<std::size_t>(scene.reduced.Nm);
+    constexpr double reduced_limit = 1e9;
+    double u_scale = 1.0, v_scale = 1.0;
+    std::string u_unit, v_unit;
+    if (scene.physical) {
+        // a0 is the harmonic amplitude or a record's peak (PGA): the reduction's unit either way.
+        const double f0 = natural_frequency(*scene.physical);
+        v_scale = four_pi_squared * f0 / scene.physical->a0;
+        u_scale = v_scale * f0;
+        u_unit = " m";
+        v_unit = " m/s";
+    }
     const json& ij = root["initial"];
-    std::vector<double> u(n, 0.0), v(n, 0.0);
-    if (ij.contains("u")) u = number_array(ij["u"], "initial.u");
-    if (ij.contains("v")) v = number_array(ij["v"], "initial.v");
-    if (u.size() != n || v.size() != n)
-        throw SceneError("initial.u, initial.v: must each have model.Nm = " + std::to_string(n) +
-                         " entries");
-    scene.initial = u;
+    scene.initial = initial_entries(ij, "u", n, reduced_limit / u_scale, u_scale, u_unit);
+    const std::vector<double> v =
+        initial_entries(ij, "v", n, reduced_limit / v_scale, v_scale, v_unit);
     scene.initial.insert(scene.initial.end(), v.begin(), v.end());
 }
 

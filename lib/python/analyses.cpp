@@ -161,7 +161,7 @@ py::dict bifurcation_py(const py::object& scene_arg, const std::string& param, d
                         double to, int steps, const std::string& mode, long transient, long record,
                         const std::string& variable, double phase, int threads,
                         const py::object& progress, const py::kwargs& keys) {
-    const Scene scene = to_scene(scene_arg, keys);
+    const Scene scene = to_swept_scene(scene_arg, param, keys, "bifurcation");
     BifurcationOptions o;
     o.parameter = parse_swept_parameter(param);
     o.from = from, o.to = to, o.steps = steps;

@@ -171,7 +171,7 @@ py::dict basin_fractions_py(const py::object& scene_arg, const std::string& para
                             double to, int steps, long samples, std::uint64_t seed, double box,
                             int section_points, int threads, const py::object& progress,
                             const py::kwargs& keys) {
-    const Scene scene = to_scene(scene_arg, keys);
+    const Scene scene = to_swept_scene(scene_arg, param, keys, "basin_fractions");
     const ReducedParameters& p = paper_row(scene);
     const std::vector<double> values =
         fraction_line_values(p, parse_swept_parameter(param), from, to, steps);

@@ -55,6 +55,18 @@ Scene to_scene(const py::object& scene, const py::kwargs& keys) {
                      type_name(scene));
 }
 
+Scene to_swept_scene(const py::object& scene, const std::string& param, const py::kwargs& keys,
+                     const std::string& function) {
+    const std::string swept = (param == "f_r" ? "excitation." : "model.") + param;
+    for (const auto& [key, value] : keys) {
+        const std::string name = key.cast<std::string>();
+        if (scene_key(name) == swept)
+            throw std::invalid_argument(name + ": " + function + "() varies " + param +
+                                        " itself, from from_ to to; drop the " + name + " keyword");
+    }
+    return to_scene(scene, keys);
+}
+
 const ReducedParameters& paper_row(const Scene& scene) {
     if (!scene.harmonic() || !scene.uniform())
         throw std::invalid_argument("scene: attractors need the paper's uniform row with the "

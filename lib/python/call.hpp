@@ -25,6 +25,12 @@ namespace py = pybind11;
 // or dotted (run.tolerance), applied as overrides. Bad input throws SceneError.
 Scene to_scene(const py::object& scene, const py::kwargs& keys);
 
+// to_scene() for a function that varies param (f_r, e_r, fc or eps) itself, from from_ to to:
+// a keyword for that scene key is refused (it would be silently replaced), as the tools refuse
+// its --set. function names the caller in the message.
+Scene to_swept_scene(const py::object& scene, const std::string& param, const py::kwargs& keys,
+                     const std::string& function);
+
 // The paper's row at one point, as attractors.hpp needs it; std::invalid_argument otherwise.
 const ReducedParameters& paper_row(const Scene& scene);
 

@@ -130,7 +130,7 @@ py::dict continuation_py(const py::object& scene_arg, const std::string& param, 
                          bool follow_doublings, int max_branches, long transient,
                          const std::string& scheme, const py::object& progress,
                          const py::kwargs& keys) {
-    const Scene scene = to_scene(scene_arg, keys);
+    const Scene scene = to_swept_scene(scene_arg, param, keys, "continuation");
     ContinuationOptions o;
     o.parameter = parse_swept_parameter(param);
     o.from = from, o.to = to, o.period = period;

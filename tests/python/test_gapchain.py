@@ -370,3 +370,13 @@ def test_an_error_nothing_estimated_is_none_or_nan_not_zero():
              "parameters": {"f_r": [1.0]}}
     assert np.isnan(gapchain.sweep(study)["F_m_error"][0])
     assert gapchain.simulate(Nm=5, fc=100, eps=0.5, e_r=0.5, f_r=1.0, periods=200)["F_m_error"] > 0
+
+
+def test_a_keyword_of_the_swept_parameter_is_refused():
+    # The CLI refuses --set of the parameter a tool varies; the keyword was silently replaced.
+    with pytest.raises(ValueError, match="^f_r: continuation\\(\\) varies f_r itself"):
+        gapchain.continuation(from_=3, to=3.1, f_r=3.0, Nm=5, fc=60, eps=0.5, e_r=0.06)
+    with pytest.raises(ValueError, match="^eps: basin_fractions\\(\\) varies eps itself"):
+        gapchain.basin_fractions(param="eps", from_=0.1, to=0.2, steps=2, eps=5.0)
+    with pytest.raises(ValueError, match="^excitation.f_r: bifurcation\\(\\) varies f_r"):
+        gapchain.bifurcation(param="f_r", from_=2, to=3, steps=2, **{"excitation.f_r": 3.0})

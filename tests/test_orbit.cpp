@@ -153,6 +153,15 @@ TEST_CASE("Liouville's check is withheld where double precision cannot resolve i
     CHECK(thirty.max_multiplier ==
           doctest::Approx(std::pow(three.max_multiplier, 10)).epsilon(1e-4));
     CHECK(std::isnan(thirty.liouville_error));
+    // Fig 13's period-1 orbit at f_r = 3 counted over 1000 periods: every multiplier underflows
+    // to 0. Still no check, not an infinite error (gapchain-orbit printed "Liouville check inf").
+    const Dynamics fig13 = row({5, 60, 0.5, 0.06, 3.0});
+    OrbitOptions thousand;
+    thousand.period = 1000;
+    const PeriodicOrbit underflow = find_periodic_orbit(fig13, thousand, settled(fig13, 300));
+    REQUIRE(underflow.status == OrbitStatus::converged);
+    CHECK(underflow.max_multiplier == 0.0);
+    CHECK(std::isnan(underflow.liouville_error));
 }
 
 TEST_CASE("Fig 5's orbit: Liouville's product, and the F_m of the long run") {

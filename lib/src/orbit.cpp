@@ -106,10 +106,11 @@ void read_stability(const Dynamics& dyn, int period, const std::vector<double>& 
         log_product += std::log(std::abs(mu));
     // The eigensolver resolves multipliers to ~1e-16 of the largest; when their geometric mean
     // is far below that (many periods of a strongly damped orbit: e^-240 over 30 periods of
-    // issue 19's row), the smallest are noise and so is the check.
+    // issue 19's row), the smallest are noise and so is the check; when they underflow to 0
+    // (1000 periods of Fig 13's orbit) there is nothing to check at all.
     const double geometric_mean = std::exp(log_det / static_cast<double>(dim));
     orbit.liouville_error =
-        geometric_mean < 1e-6 * orbit.max_multiplier
+        geometric_mean < 1e-6 * orbit.max_multiplier || !std::isfinite(log_product)
             ? std::numeric_limits<double>::quiet_NaN()
             : std::abs(log_product - log_det) / std::max(std::abs(log_det), 1e-300);
 }

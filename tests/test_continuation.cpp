@@ -145,6 +145,28 @@ TEST_CASE("a corrector thrown out of the parameter range is a failed step, not a
     CHECK(r.points.front().period == 2);
 }
 
+TEST_CASE("a branch continued to the end of the parameter's range ends there, written") {
+    // eps from 0.5 to 0 on Fig 13's row at f_r = 3: the Jacobian's central difference at eps
+    // near 0 asked the model for eps < 0, and the whole continuation died with "model.eps: must
+    // be ... in [0, 100], got -9.1e-07".
+    ContinuationOptions o;
+    o.parameter = SweptParameter::eps;
+    o.from = 0.5;
+    o.to = 0.0;
+    ContinuationResult r;
+    REQUIRE_NOTHROW(r = continue_orbits({5, 60, 0.5, 0.06, 3.0}, o));
+    double lowest = 1.0;
+    for (const auto& q : r.points) {
+        CHECK(q.value >= 0.0);
+        lowest = std::min(lowest, q.value);
+    }
+    CHECK(lowest < 1e-3);
+    bool range_end = false;
+    for (const auto& why : r.branch_end)
+        range_end = range_end || why.find("end of the model's range") != std::string::npos;
+    CHECK(range_end);
+}
+
 TEST_CASE("special points say how well they are located") {
     // From 2.15 to 2.3 the period-1 orbit of Fig 13 passes the wall grazing at 2.1987 (a smooth
     // crossing, located to the tolerance) and then the corner near 2.2445, where the stable

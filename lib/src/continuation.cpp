@@ -104,11 +104,16 @@ public:
         const double p = z[n];
         const double h = 1e-6 * std::max(1.0, std::abs(p));
         const Vector x = z.head(n);
-        const ShootingResult up = shoot_at(x, p + h), down = shoot_at(x, p - h);
+        // One-sided at an end of the parameter's range (eps = 0, e_r = 0): the model takes no
+        // value beyond it.
+        const double p_up = admissible(p + h) ? p + h : p;
+        const double p_down = admissible(p - h) ? p - h : p;
+        const ShootingResult up = p_up == p ? s : shoot_at(x, p_up);
+        const ShootingResult down = p_down == p ? s : shoot_at(x, p_down);
         Matrix j(n, n + 1);
         j.leftCols(n) = Eigen::Map<const Matrix>(s.monodromy.data(), n, n) - Matrix::Identity(n, n);
         for (Eigen::Index i = 0; i < n; ++i)
-            j(i, n) = (up.end_state[i] - down.end_state[i]) / (2 * h);
+            j(i, n) = (up.end_state[i] - down.end_state[i]) / (p_up - p_down);
         return j;
     }
 
@@ -221,8 +226,10 @@ public:
         double ds = m_o.step;
         for (int count = 1; count < m_o.max_points; ++count) {
             std::optional<OrbitPoint> b;
+            bool beyond_range = false;
             while (!b && ds >= 1e-7 && !m_tracer.cancelled()) {
                 const Vector guess = a.z + ds * a.tangent;
+                beyond_range = !m_tracer.admissible(guess[n]);
                 b = m_tracer.correct(guess, a.tangent);
                 // A corrected point far from its prediction sits on another sheet: joining
                 // the two would draw a branch that does not exist.
@@ -234,8 +241,11 @@ public:
                 return end("cancelled");
             }
             if (!b) {
-                return end("the corrector failed at the smallest step (1e-7) at " +
-                           std::string(to_string(m_o.parameter)) + " = " + std::to_string(a.z[n]));
+                const std::string where =
+                    std::string(to_string(m_o.parameter)) + " = " + std::to_string(a.z[n]);
+                return end(beyond_range
+                               ? "reached the end of the model's range of " + where
+                               : "the corrector failed at the smallest step (1e-7) at " + where);
             }
             detect(a, *b, ds);
             a = std::move(*b);

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <optional>
 
 using namespace gapchain;
 using std::numbers::pi;
@@ -143,6 +144,49 @@ TEST_CASE("a corrector thrown out of the parameter range is a failed step, not a
     // The period-2 orbit is stable at the start (the brute-force diagram shows period 2 there).
     CHECK(r.points.front().stable);
     CHECK(r.points.front().period == 2);
+}
+
+TEST_CASE("a real multiplier through +1 where the branch goes on is a branch point") {
+    // Fig 13's period-1 orbit loses stability at f_r = 2.50158 by a real multiplier through +1
+    // with no fold: the mirror symmetry's pitchfork, where a mirror pair of stable orbits is
+    // born. The continuation reported only the Neimark-Sacker point at 2.50329.
+    const ContinuationResult r = continue_orbits(fig13_row, one_branch(2.48, 2.515, 1));
+    std::optional<double> located;
+    for (const auto& s : r.special)
+        if (s.type == SpecialPointType::branch_point) located = s.value;
+    REQUIRE(located.has_value());
+    CHECK(*located == doctest::Approx(2.50158).epsilon(2e-5));
+    // The branch's points on either side of it, as Newton starts at fixed f_r (orbit.hpp).
+    const BranchPoint* before = nullptr;
+    const BranchPoint* after = nullptr;
+    for (const auto& q : r.points) {
+        if (q.value < *located && (!before || q.value > before->value)) before = &q;
+        if (q.value > *located && (!after || q.value < after->value)) after = &q;
+    }
+    REQUIRE(before != nullptr);
+    REQUIRE(after != nullptr);
+    auto orbit_at = [](double f_r, const std::vector<double>& start) {
+        ReducedParameters p = fig13_row;
+        p.f_r = f_r;
+        const PeriodicOrbit orbit =
+            find_periodic_orbit(Dynamics::paper_row(p), OrbitOptions{}, start);
+        REQUIRE(orbit.status == OrbitStatus::converged);
+        return orbit;
+    };
+    auto largest_real = [](const PeriodicOrbit& orbit) {
+        double largest = -1e300;
+        for (const auto& mu : orbit.multipliers)
+            if (std::abs(mu.imag()) < 1e-12) largest = std::max(largest, mu.real());
+        return largest;
+    };
+    CHECK(largest_real(orbit_at(*located - 1e-4, before->state)) < 1.0);
+    // Past it the branch's orbit has a real multiplier above 1, and a second, stable orbit
+    // lies next to it (Newton from the point before the branch point finds it).
+    const PeriodicOrbit branch = orbit_at(*located + 4e-4, after->state);
+    const PeriodicOrbit born = orbit_at(*located + 4e-4, before->state);
+    CHECK(largest_real(branch) > 1.0);
+    CHECK(born.stable);
+    CHECK(std::abs(born.state[0] - branch.state[0]) > 1e-3);
 }
 
 TEST_CASE("a branch continued to the end of the parameter's range ends there, written") {

@@ -18,7 +18,8 @@ plot (has_overlay ? overlay : 'branch.csv') every ::1 using 1:(has_overlay ? $3 
      'special.csv' every ::1 using 2:(strcol(1) eq 'fold' ? $4 : 1/0) with points pt 9 ps 1.6 lc rgb 'black' title 'fold', \
      'special.csv' every ::1 using 2:(strcol(1) eq 'period_doubling' ? $4 : 1/0) with points pt 5 ps 1.4 lc rgb '#2ca02c' title 'period doubling', \
      'special.csv' every ::1 using 2:(strcol(1) eq 'neimark_sacker' ? $4 : 1/0) with points pt 13 ps 1.6 lc rgb '#9467bd' title 'Neimark-Sacker', \
-     'special.csv' every ::1 using 2:(strcol(1) eq 'grazing' ? $4 : 1/0) with points pt 3 ps 1.4 lc rgb '#ff7f0e' title 'grazing'
+     'special.csv' every ::1 using 2:(strcol(1) eq 'grazing' ? $4 : 1/0) with points pt 3 ps 1.4 lc rgb '#ff7f0e' title 'grazing', \
+     'special.csv' every ::1 using 2:(strcol(1) eq 'branch_point' ? $4 : 1/0) with points pt 11 ps 1.6 lc rgb '#8c564b' title 'branch point'
 set ylabel 'largest |Floquet multiplier|'
 set logscale y
 plot 'branch.csv' every ::1 using 1:6 with points pt 7 ps 0.35 lc rgb '#1f4e9c' title '|mu|max', \

@@ -20,6 +20,7 @@ std::string_view to_string(SpecialPointType type) {
     case SpecialPointType::period_doubling: return "period_doubling";
     case SpecialPointType::neimark_sacker: return "neimark_sacker";
     case SpecialPointType::grazing: return "grazing";
+    case SpecialPointType::branch_point: return "branch_point";
     }
     return "?";
 }
@@ -183,6 +184,12 @@ double doubling_test(const OrbitPoint& a) {
     double product = 1.0; // det(M + I) = prod (mu + 1): a complex pair gives |mu + 1|^2 > 0
     for (const auto& mu : a.multipliers)
         product *= std::abs(mu.imag()) > 1e-12 ? std::abs(mu + 1.0) : mu.real() + 1.0;
+    return product;
+}
+double branch_test(const OrbitPoint& a) {
+    double product = 1.0; // det(M - I) = prod (mu - 1): zero where a multiplier is +1
+    for (const auto& mu : a.multipliers)
+        product *= std::abs(mu.imag()) > 1e-12 ? std::abs(mu - 1.0) : mu.real() - 1.0;
     return product;
 }
 /// Largest |mu| - 1 over complex pairs; nothing if there is no pair.
@@ -444,8 +451,12 @@ private:
     }
 
     void detect(const OrbitPoint& a, const OrbitPoint& b, double ds) {
+        // A multiplier through +1 turns the branch back (a fold) or, where it goes on, meets
+        // another branch (a pitchfork: the mirror symmetry of MODEL.md §5 makes them generic).
         if ((fold_test(a) > 0) != (fold_test(b) > 0))
             add(SpecialPointType::fold, locate(a, b, ds, fold_test));
+        else if ((branch_test(a) > 0) != (branch_test(b) > 0))
+            add(SpecialPointType::branch_point, locate(a, b, ds, branch_test));
         if ((doubling_test(a) > 0) != (doubling_test(b) > 0)) {
             const auto located = locate(a, b, ds, doubling_test);
             const OrbitPoint& at = located.first;

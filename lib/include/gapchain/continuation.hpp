@@ -16,7 +16,13 @@
 namespace gapchain {
 
 /// Kinds of special points.
-enum class SpecialPointType { fold, period_doubling, neimark_sacker, grazing };
+enum class SpecialPointType {
+    fold,            ///< a multiplier +1 where the branch turns back in the parameter
+    period_doubling, ///< a multiplier -1
+    neimark_sacker,  ///< a complex pair crosses the unit circle
+    grazing,         ///< a contact's closings per orbit change
+    branch_point,    ///< a multiplier +1 where the branch goes on: another branch meets it
+};
 
 /// Name of a kind, as written in results ("fold", "period_doubling", ...).
 std::string_view to_string(SpecialPointType type);

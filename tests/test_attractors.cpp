@@ -290,6 +290,13 @@ TEST_CASE("bad options are refused naming the option") {
     CHECK_THROWS_WITH_AS(find_attractors(mirror_pair, o), doctest::Contains("box"),
                          std::invalid_argument);
     o = AttractorOptions{};
+    o.seed = (std::uint64_t{1} << 62) + 1; // the tools' range, which Python exceeded
+    CHECK_THROWS_WITH_AS(find_attractors(mirror_pair, o), doctest::Contains("seed"),
+                         std::invalid_argument);
+    // u01 is not a second name for u1.
+    CHECK_THROWS_WITH_AS(basin_slice("u1", "u01", 1, 10), doctest::Contains("grid"),
+                         std::invalid_argument);
+    o = AttractorOptions{};
     o.slice = BasinSlice{0, 0, 10};
     CHECK_THROWS_WITH_AS(find_attractors(mirror_pair, o), doctest::Contains("slice"),
                          std::invalid_argument);

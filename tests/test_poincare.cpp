@@ -90,6 +90,11 @@ TEST_CASE("section variables parse, and bad names are refused with the key") {
     CHECK_THROWS_AS(SectionVariable::parse("u6", 5, "k"), std::invalid_argument);
     CHECK_THROWS_AS(SectionVariable::parse("x1", 5, "k"), std::invalid_argument);
     CHECK_THROWS_AS(SectionVariable::parse("u", 5, "k"), std::invalid_argument);
+    // One spelling per variable: u01 was read as u1 (a basin slice over u1 and u01 ran).
+    CHECK_THROWS_AS(SectionVariable::parse("u01", 5, "k"), std::invalid_argument);
+    CHECK_THROWS_AS(SectionVariable::parse("F00", 5, "k"), std::invalid_argument);
+    CHECK(SectionVariable::parse("g0", 5, "k").index == 0);
+    CHECK(SectionVariable::parse("F0", 5, "k").kind == SectionVariable::Kind::force);
     SectionSpec bad;
     bad.phase = 1.0;
     CHECK_THROWS_AS(validate(bad, 3), std::invalid_argument);

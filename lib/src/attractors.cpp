@@ -24,6 +24,11 @@ namespace gapchain {
 
 void validate(const AttractorOptions& o, int Nm) {
     detail::require_range("samples", static_cast<double>(o.samples), 1.0, 1e7);
+    // The tools read seeds as signed 64-bit integers: one range for them and Python.
+    if (o.seed > (std::uint64_t{1} << 62))
+        throw std::invalid_argument("seed: must be an integer in [0, 2^62 = 4611686018427387904], "
+                                    "got " +
+                                    std::to_string(o.seed));
     detail::require_range("box", o.box, 0.0, 100.0, detail::Bound::open_low);
     detail::require_range("section_points", o.section_points, 20, 100000);
     detail::require_range("overlap_factor", o.overlap_factor, 1.0, 100.0);
@@ -55,10 +60,11 @@ BasinSlice basin_slice(std::string_view first, std::string_view second, int Nm, 
         if (v.kind != K::displacement && v.kind != K::velocity) throw bad;
         return (v.kind == K::velocity ? Nm : 0) + v.index;
     };
-    if (first == second)
+    const int x = index(first), y = index(second);
+    if (x == y)
         throw std::invalid_argument("grid: two different state variables, got \"" +
                                     std::string(first) + "\" twice");
-    return BasinSlice{index(first), index(second), resolution};
+    return BasinSlice{x, y, resolution};
 }
 
 std::string_view regime_label(const Attractor& a) {

@@ -17,7 +17,8 @@ SectionVariable SectionVariable::parse(std::string_view name, int bodies, const 
                                     ", got \"" + std::string(name) + "\"");
     };
     if (name == "t") return {Kind::time, 0};
-    if (name.size() < 2) return fail();
+    // One spelling per variable: "u01" is not "u1" (a leading zero, except g0 and F0 themselves).
+    if (name.size() < 2 || (name[1] == '0' && name.size() > 2)) return fail();
     int index = 0;
     for (char c : name.substr(1)) {
         if (c < '0' || c > '9' || index > 10'000'000) return fail();

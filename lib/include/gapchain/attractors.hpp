@@ -53,7 +53,7 @@ struct BasinSlice {
 /// How attractors are searched.
 struct AttractorOptions {
     long samples = 200;              ///< random starts for the basin fractions, 1 .. 1e7
-    std::uint64_t seed = 1;          ///< seed of the starts
+    std::uint64_t seed = 1;          ///< seed of the starts, 0 .. 2^62
     double box = 1.0;                ///< half-width of the box of starts, in units of A, (0, 100]
     RunOptions run;                  ///< each start's run (steady-state stop on to finish early)
     int section_points = 200;        ///< stroboscopic points kept of a run that does not settle,

@@ -293,6 +293,11 @@ TEST_CASE("bad options are refused naming the option") {
     o.seed = (std::uint64_t{1} << 62) + 1; // the tools' range, which Python exceeded
     CHECK_THROWS_WITH_AS(find_attractors(mirror_pair, o), doctest::Contains("seed"),
                          std::invalid_argument);
+    // A line's end where the search refuses the row names that end (the tools map it to --to).
+    CHECK_THROWS_WITH_AS(fraction_line_values(mirror_pair, SweptParameter::eps, 0.1, 0.0, 2),
+                         doctest::Contains("to: model.eps: an attractor search needs damping"),
+                         std::invalid_argument);
+    CHECK(fraction_line_values(mirror_pair, SweptParameter::eps, 0.1, 0.3, 3).size() == 3);
     // u01 is not a second name for u1.
     CHECK_THROWS_WITH_AS(basin_slice("u1", "u01", 1, 10), doctest::Contains("grid"),
                          std::invalid_argument);

@@ -71,15 +71,25 @@ std::string_view regime_label(const Attractor& a) {
     return a.settled ? to_string(a.regime) : std::string_view("unsettled");
 }
 
-void validate(const ReducedParameters& p, const AttractorOptions& options) {
-    validate(p);
-    validate(options, p.Nm);
+namespace {
+
+/// The row p is one an attractor search takes (beyond the model's own ranges), or why not.
+std::optional<std::string> search_row_error(const ReducedParameters& p) {
     // Without damping the flow keeps phase-space volume: nothing attracts, and every start
     // would be reported as an attractor of its own.
     if (!(p.eps > 0.0))
-        throw std::invalid_argument("model.eps: an attractor search needs damping, eps > 0 (a "
-                                    "row without it has no attractors), got " +
-                                    detail::format_number(p.eps));
+        return "model.eps: an attractor search needs damping, eps > 0 (a row without it has no "
+               "attractors), got " +
+               detail::format_number(p.eps);
+    return std::nullopt;
+}
+
+} // namespace
+
+void validate(const ReducedParameters& p, const AttractorOptions& options) {
+    validate(p);
+    validate(options, p.Nm);
+    if (const auto error = search_row_error(p)) throw std::invalid_argument(*error);
     // Periodic attractors are found where a run stops on its steady state; without the stop
     // every orbit reads as unsettled and one orbit can split into several groups.
     if (!options.run.stop_at_steady_state)
@@ -712,9 +722,11 @@ std::vector<int> match_labels(const AttractorSet& previous, const std::vector<in
 
 std::vector<double> fraction_line_values(const ReducedParameters& base, SweptParameter parameter,
                                          double from, double to, int steps) {
-    for (const auto& [name, value] : {std::pair{"from", from}, std::pair{"to", to}})
-        if (const auto error = swept_value_error(base, parameter, value))
-            throw std::invalid_argument(std::string(name) + ": " + *error);
+    for (const auto& [name, value] : {std::pair{"from", from}, std::pair{"to", to}}) {
+        auto error = swept_value_error(base, parameter, value);
+        if (!error) error = search_row_error(with_value(base, parameter, value));
+        if (error) throw std::invalid_argument(std::string(name) + ": " + *error);
+    }
     detail::require_range("steps", steps, 1, 100000);
     if (steps == 1 && from != to)
         throw std::invalid_argument("steps: one value needs from = to, got from " +

@@ -189,6 +189,20 @@ TEST_CASE("a real multiplier through +1 where the branch goes on is a branch poi
     CHECK(std::abs(born.state[0] - branch.state[0]) > 1e-3);
 }
 
+TEST_CASE("a branch says its orbits' minimal period") {
+    // Fig 13's stable period-1 orbit (2.786-3.1346) continued as a period-2 orbit: every point
+    // repeats after one period. The period-2 orbit from f_r = 2.3 is a genuine one.
+    const ContinuationResult twice = continue_orbits(fig13_row, one_branch(2.9, 2.95, 2));
+    REQUIRE(!twice.points.empty());
+    for (const auto& q : twice.points) {
+        CHECK(q.period == 2);
+        CHECK(q.minimal_period == 1);
+    }
+    const ContinuationResult doubled = continue_orbits(fig13_row, one_branch(2.3, 2.31, 2));
+    REQUIRE(!doubled.points.empty());
+    CHECK(doubled.points.front().minimal_period == 2);
+}
+
 TEST_CASE("a branch continued to the end of the parameter's range ends there, written") {
     // eps from 0.5 to 0 on Fig 13's row at f_r = 3: the Jacobian's central difference at eps
     // near 0 asked the model for eps < 0, and the whole continuation died with "model.eps: must

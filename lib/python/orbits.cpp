@@ -48,9 +48,10 @@ scheme      integration of P^k: "exact" (rows of up to 64 bodies), "rk4", "rkf45
 progress    callable(fraction)
 
 Returns a dict: points (dict of columns value, period, F_m, u1, stable, max_multiplier, branch,
-and state: one row of 2 Nm values per point, the orbit's state at phase 0),
-special (dict of columns type, value, period, F_m, branch, contact (-1 unless grazing),
-value_error (the special point lies within it of value)),
+minimal_period, and state: one row of 2 Nm values per point, the orbit's state at phase 0),
+special (dict of columns type ("fold", "period_doubling", "neimark_sacker", "grazing",
+"branch_point"), value, period, F_m, branch, contact (-1 unless grazing), value_error (the
+special point lies within it of value), minimal_period),
 branch_end (why each branch ended), shootings, cancelled, wall_time_s.)";
 
 py::dict orbit_py(const py::object& scene_arg, int period, long transient, double tolerance,
@@ -98,6 +99,7 @@ py::dict continuation_dict(const ContinuationResult& r) {
     points["max_multiplier"] =
         column<double>(r.points, [](const P& p) { return p.max_multiplier; });
     points["branch"] = column<int>(r.points, [](const P& p) { return p.branch; });
+    points["minimal_period"] = column<int>(r.points, [](const P& p) { return p.minimal_period; });
     // One row per point: the orbit's state at phase 0, a start for orbit() or simulate().
     const py::ssize_t width =
         r.points.empty() ? 0 : static_cast<py::ssize_t>(r.points[0].state.size());
@@ -115,6 +117,7 @@ py::dict continuation_dict(const ContinuationResult& r) {
     special["branch"] = column<int>(r.special, [](const S& s) { return s.branch; });
     special["contact"] = column<int>(r.special, [](const S& s) { return s.contact; });
     special["value_error"] = column<double>(r.special, [](const S& s) { return s.value_error; });
+    special["minimal_period"] = column<int>(r.special, [](const S& s) { return s.minimal_period; });
     py::dict d;
     d["points"] = points;
     d["special"] = special;

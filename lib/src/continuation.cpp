@@ -278,9 +278,11 @@ private:
 
     void record(const OrbitPoint& a) {
         const Eigen::Index n = m_tracer.dimension();
+        std::vector<double> x(a.z.data(), a.z.data() + n);
+        const int minimal = minimal_period(x, a.shot, m_o.orbit.tolerance);
         m_result.points.push_back({a.z[n], m_period, a.F_m, a.z[0], stable(a),
-                                   std::abs(a.multipliers.front()), m_branch,
-                                   std::vector<double>(a.z.data(), a.z.data() + n)});
+                                   std::abs(a.multipliers.front()), m_branch, minimal,
+                                   std::move(x)});
     }
 
     /// Whether a corrected point lies within ds of its prediction: a point farther off has
@@ -432,8 +434,11 @@ private:
     void add(SpecialPointType type, const std::pair<OrbitPoint, double>& located,
              int contact = -1) {
         const auto& [at, value_error] = located;
+        const Eigen::Index n = m_tracer.dimension();
+        const int minimal = minimal_period(std::vector<double>(at.z.data(), at.z.data() + n),
+                                           at.shot, m_o.orbit.tolerance);
         m_result.special.push_back(
-            {type, at.z[m_tracer.dimension()], value_error, m_period, at.F_m, m_branch, contact});
+            {type, at.z[n], value_error, m_period, minimal, at.F_m, m_branch, contact});
     }
 
     /// A loss of stability next to -1 that is not smooth (at a grazing corner the multiplier

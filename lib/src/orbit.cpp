@@ -115,15 +115,6 @@ void read_stability(const Dynamics& dyn, int period, const std::vector<double>& 
             : std::abs(log_product - log_det) / std::max(std::abs(log_det), 1e-300);
 }
 
-/// The smallest divisor d of k whose period-end state repeats the start.
-int minimal_period(const std::vector<double>& x, const ShootingResult& s, int k, double tolerance) {
-    for (int d = 1; d < k; ++d)
-        if (k % d == 0 &&
-            relative_residual(x, s.at_ends[static_cast<std::size_t>(d) - 1]) <= 1e3 * tolerance)
-            return d;
-    return k;
-}
-
 /// The orbit's record once Newton has stopped: maxima over one orbit, stability, period.
 void describe(const Dynamics& dyn, const OrbitOptions& o, const std::vector<double>& x,
               const ShootingResult& s, PeriodicOrbit& orbit) {
@@ -136,7 +127,7 @@ void describe(const Dynamics& dyn, const OrbitOptions& o, const std::vector<doub
     for (const auto& c : s.per_contact)
         orbit.F_m = std::max(orbit.F_m, c.force);
     read_stability(dyn, o.period, s.monodromy, orbit);
-    orbit.minimal_period = minimal_period(x, s, o.period, o.tolerance);
+    orbit.minimal_period = minimal_period(x, s, o.tolerance);
 }
 
 } // namespace
@@ -199,6 +190,15 @@ DampedStep damped_step(const Dynamics& dyn, const OrbitOptions& options, const V
 }
 
 } // namespace
+
+int minimal_period(const std::vector<double>& x, const ShootingResult& s, double tolerance) {
+    const int k = static_cast<int>(s.at_ends.size());
+    for (int d = 1; d < k; ++d)
+        if (k % d == 0 &&
+            relative_residual(x, s.at_ends[static_cast<std::size_t>(d) - 1]) <= 1e3 * tolerance)
+            return d;
+    return k;
+}
 
 PeriodicOrbit find_periodic_orbit(const Dynamics& dyn, const OrbitOptions& options,
                                   const std::vector<double>& start,

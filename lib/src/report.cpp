@@ -363,20 +363,21 @@ std::string to_json(const LyapunovResult& r, const ReducedParameters& p, int cou
 std::string branch_csv(const ContinuationResult& result) {
     std::ostringstream os;
     os.precision(12);
-    os << "value,period,F_m,u1,stable,max_multiplier,branch\n";
+    os << "value,period,F_m,u1,stable,max_multiplier,branch,minimal_period\n";
     for (const auto& p : result.points)
         os << p.value << ',' << p.period << ',' << p.F_m << ',' << p.u1 << ',' << (p.stable ? 1 : 0)
-           << ',' << p.max_multiplier << ',' << p.branch << '\n';
+           << ',' << p.max_multiplier << ',' << p.branch << ',' << p.minimal_period << '\n';
     return os.str();
 }
 
 std::string special_csv(const ContinuationResult& result) {
     std::ostringstream os;
     os.precision(12);
-    os << "type,value,period,F_m,branch,contact,value_error\n";
+    os << "type,value,period,F_m,branch,contact,value_error,minimal_period\n";
     for (const auto& s : result.special)
         os << to_string(s.type) << ',' << s.value << ',' << s.period << ',' << s.F_m << ','
-           << s.branch << ',' << s.contact << ',' << s.value_error << '\n';
+           << s.branch << ',' << s.contact << ',' << s.value_error << ',' << s.minimal_period
+           << '\n';
     return os.str();
 }
 

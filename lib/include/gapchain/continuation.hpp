@@ -54,6 +54,9 @@ struct BranchPoint {
     bool stable = false;         ///< every Floquet multiplier inside the unit circle
     double max_multiplier = 0.0; ///< largest modulus
     int branch = 0;              ///< branch index (0: the first)
+    /// The orbit's minimal period, a divisor of period (a period-1 orbit continued as period 2
+    /// has 1: there a multiplier -1 of its own map shows as +1, a branch point of the 2-map)
+    int minimal_period = 1;
     /// The orbit's state at phase 0 (u_1..u_Nm, v_1..v_Nm): a start for gapchain-orbit, a run
     /// or another continuation.
     std::vector<double> state;
@@ -66,10 +69,11 @@ struct SpecialPoint {
     /// The special point lies within value_error of `value` (the width of the final bracket,
     /// whose one end is the reported orbit): <= locate_tolerance when located.
     double value_error = 0.0;
-    int period = 1;   ///< k of the branch it lies on
-    double F_m = 0.0; ///< F_m of the orbit there
-    int branch = 0;   ///< branch index
-    int contact = -1; ///< the contact j = 0..Nm of a grazing, else -1
+    int period = 1;         ///< k of the branch it lies on
+    int minimal_period = 1; ///< the orbit's minimal period there (see BranchPoint)
+    double F_m = 0.0;       ///< F_m of the orbit there
+    int branch = 0;         ///< branch index
+    int contact = -1;       ///< the contact j = 0..Nm of a grazing, else -1
 };
 
 /// Branches and special points.

@@ -94,6 +94,11 @@ struct ShootingResult {
 ShootingResult shoot(const Dynamics& dyn, const OrbitOptions& options, const std::vector<double>& x,
                      const ProgressCallback& keep_going = {});
 
+/// The minimal period of an orbit through x shot over k = s.at_ends.size() periods: the
+/// smallest divisor d of k whose period-end state repeats x to 1e3 tolerance (relative, as the
+/// Newton residual), or k.
+int minimal_period(const std::vector<double>& x, const ShootingResult& s, double tolerance);
+
 /// Newton shooting from start (2 Nm entries, e.g. the end state of a transient run): damped
 /// Newton on P^k(x) - x with (M - I) dx = -(P^k(x) - x), the step halved (up to 10 times) until
 /// the residual decreases. Needs harmonic forcing and the linear contact law (else

@@ -102,10 +102,12 @@ std::string grid_csv(const ApproximationGrid& grid);
 /// rates, MODEL.md §5), averaging_time, status, wall_time_s and the parameters.
 std::string to_json(const LyapunovResult& result, const ReducedParameters& p, int count);
 
-/// Continued orbits, one row per point: value,period,F_m,u1,stable,max_multiplier,branch.
+/// Continued orbits, one row per point: value,period,F_m,u1,stable,max_multiplier,branch,
+/// minimal_period.
 std::string branch_csv(const ContinuationResult& result);
 
-/// Located special points: type,value,period,F_m,branch,contact (-1 unless grazing).
+/// Located special points: type,value,period,F_m,branch,contact (-1 unless grazing),
+/// value_error,minimal_period.
 std::string special_csv(const ContinuationResult& result);
 
 /// Attractors, one row each: id,regime,period,F_m,F_m_error,lambda_max,lambda_max_error,

@@ -222,7 +222,16 @@ TEST_CASE("design value: a run whose F_m is above every attractor (issue 19's Nm
     CHECK(d.run_above);
     CHECK(d.from_run);
     CHECK(d.F_m_max == from_rest.F_m);
+    CHECK(std::isnan(d.F_m_max_error)); // the run's error, not estimated: never written as 0
     CHECK_FALSE(d.start_below);
+    CHECK(multistable(from_rest, d));
+    // A run that did not answer (stopped) is not compared: the search's value stands alone.
+    SimulationResult stopped = from_rest;
+    stopped.status = RunStatus::cancelled;
+    const DesignValue alone = design_value(nm2, o, stopped);
+    CHECK_FALSE(alone.run_above);
+    CHECK_FALSE(alone.from_run);
+    CHECK(alone.F_m_max == alone.search.F_m_max);
     // With its checks the run's error bar covers the orbit's F_m already: not above beyond it.
     const SimulationResult checked = simulate(Dynamics::paper_row(nm2), o.run);
     CHECK(checked.multistable);

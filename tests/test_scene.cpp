@@ -83,7 +83,8 @@ TEST_CASE("a physical scene's initial state is in metres and metres per second")
     CHECK(s.initial[1] == 0.0);
     CHECK(s.initial[3] == doctest::Approx(0.6 * pi2));
     // The same start written in reduced units runs the same row to the same F_m.
-    const Scene r = parse_scene(R"({"model": {"Nm": 2, "fc": 100, "eps": 0.1, "e_r": 0.19739208802178717},
+    const Scene r =
+        parse_scene(R"({"model": {"Nm": 2, "fc": 100, "eps": 0.1, "e_r": 0.19739208802178717},
         "excitation": {"f_r": 1.5}, "run": {"periods": 40},
         "initial": {"u": [1.9739208802178717, 0.0], "v": [0.0, 5.921762640653615]}})");
     RunOptions o = r.run;
@@ -93,8 +94,9 @@ TEST_CASE("a physical scene's initial state is in metres and metres per second")
     CHECK(error_of(R"({"initial": {"u": [1e300, 0, 0, 0, 0]}})")
               .find("initial.u[0]: must be in [-1000000000, 1000000000], got 1e+300") !=
           std::string::npos);
-    CHECK(error_of(R"({"initial": {"v": [0, 0]}})").find("initial.v: must have model.Nm = 5 "
-                                                         "entries, got 2") != std::string::npos);
+    CHECK(error_of(R"({"initial": {"v": [0, 0]}})")
+              .find("initial.v: must have model.Nm = 5 "
+                    "entries, got 2") != std::string::npos);
 }
 
 TEST_CASE("bad input: every class gives one line naming the key") {

@@ -586,6 +586,9 @@ TEST_CASE("accuracy mode: a relaxed answer the strict dynamics leave is redone s
     // of periods, and its twin shares that plan: it answered 1.1756 +- 0.0035 (1000 periods)
     // and 1.1782 +- 0.0035 (3000), not multistable. The strict dynamics leave the saddle for the
     // period-3 orbit (F_m 1.070351: Newton, and an independent closed-form implementation).
+    // Escape is memoryless: these runs are caught because their strict continuations leave
+    // within the check's 180 and 594 periods (deterministic for this build; another relaxed
+    // end state could take longer, docs/performance.md).
     const Dynamics dyn = Dynamics::paper_row({2, 200, 0.1, 0.351, 0.626});
     for (const long periods : {1000L, 3000L}) {
         RunOptions o;
@@ -607,6 +610,26 @@ TEST_CASE("accuracy mode: a relaxed answer the strict dynamics leave is redone s
     CHECK(r.accuracy_mode_used == AccuracyUsed::strict);
     CHECK(r.steady_state_period == 4);
     CHECK(r.multistable);
+}
+
+TEST_CASE("accuracy mode: the strict check fits a large run.max_steady_period") {
+    // Its steady-state watch measures cycles of up to max_steady_period periods only after that
+    // many: a check of 48 periods could never pass at max_steady_period = 200, and every
+    // relaxed answer was redone strict (auto cost 1.5x strict).
+    const Dynamics chaotic = Dynamics::paper_row(ReducedParameters{20, 2000, 0.2, 0.02, 1.0});
+    RunOptions o;
+    o.periods = 600;
+    o.max_steady_period = 200;
+    o.multistability_check = false;
+    const SimulationResult a = simulate(chaotic, o);
+    RunOptions strict = o;
+    strict.accuracy_mode = AccuracyMode::strict;
+    const SimulationResult s = simulate(chaotic, strict);
+    CHECK(a.accuracy_mode_used == AccuracyUsed::relaxed);
+    CHECK(a.evaluations < s.evaluations);
+    // Too short a run for the check does not relax at all.
+    o.periods = 300;
+    CHECK(simulate(chaotic, o).accuracy_mode_used == AccuracyUsed::strict);
 }
 
 TEST_CASE("accuracy mode: a cancel in the relaxed part, or in the run after it, ends the call") {

@@ -197,7 +197,7 @@ py::dict sweep_dict(const Study& study, std::vector<SweepPointResult> rows) {
                                                 : std::numeric_limits<double>::quiet_NaN();
     });
     d["status"] = strings(rows, [](const R& r) { return to_string(r.simulation.status); });
-    d["multistable"] = column<bool>(rows, [](const R& r) { return r.simulation.multistable; });
+    d["multistable"] = column<bool>(rows, [](const R& r) { return r.multistable; });
     d["steady_state_period"] =
         column<int>(rows, [](const R& r) { return r.simulation.steady_state_period.value_or(0); });
     d["wall_time_s"] = column<double>(rows, [](const R& r) { return r.simulation.wall_time_s; });

@@ -103,7 +103,8 @@ py::dict result_dict(const SimulationResult& r, const Scene& scene) {
 py::dict design_dict(const DesignValue& d, const AttractorOptions& o) {
     py::dict v;
     v["F_m_max"] = d.F_m_max;
-    v["F_m_max_error"] = d.F_m_max_error;
+    v["F_m_max_error"] = std::isnan(d.F_m_max_error) ? py::object(py::none())
+                                                     : py::object(py::float_(d.F_m_max_error));
     v["from_run"] = d.from_run;
     v["start_below"] = d.start_below;
     v["run_above"] = d.run_above;
@@ -158,7 +159,7 @@ py::dict simulate_py(const py::object& scene_arg, bool trajectory, long attracto
         const DesignValue design =
             call.run([&] { return design_value(scene.reduced, search, r, call.callback()); });
         d["design_value"] = design_dict(design, search);
-        d["multistable"] = r.multistable || design.start_below || design.run_above;
+        d["multistable"] = multistable(r, design);
     }
     if (trajectory) {
         py::dict tr;

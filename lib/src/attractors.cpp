@@ -625,16 +625,35 @@ DesignValue design_value(const ReducedParameters& p, const AttractorOptions& opt
     DesignValue d;
     d.search = find_attractors(p, options, progress);
     if (d.search.cancelled) return d;
-    const double run_error = has_error_estimate(run) ? run.F_m_error : 0.0;
+    d.F_m_max = d.search.F_m_max;
+    d.F_m_max_error = d.search.F_m_max_error;
+    // A run that failed or was stopped has no F_m to set against the attractors; a search
+    // whose groups were all still converging has no attractor's F_m to set it against.
+    const bool run_answered =
+        run.status == RunStatus::completed || run.status == RunStatus::steady_state;
+    const bool attractor_found = d.search.F_m_max_id >= 0 &&
+                                 d.search.unsettled < static_cast<int>(d.search.attractors.size());
+    if (!run_answered) return d;
+    const double run_error =
+        has_error_estimate(run) ? run.F_m_error : std::numeric_limits<double>::quiet_NaN();
+    d.from_run = !attractor_found || run.F_m >= d.search.F_m_max;
+    if (d.from_run) {
+        d.F_m_max = std::max(run.F_m, d.search.F_m_max);
+        d.F_m_max_error = run.F_m >= d.search.F_m_max ? run_error : d.search.F_m_max_error;
+    }
+    if (!attractor_found) return d;
     const double gap = d.search.F_m_max - run.F_m;
-    const double allowance = std::max(3.0 * (run_error + d.search.F_m_max_error),
-                                      options.run.tolerance * std::max(run.F_m, d.search.F_m_max));
+    const double errors =
+        std::isnan(run_error) ? d.search.F_m_max_error : run_error + d.search.F_m_max_error;
+    const double allowance =
+        std::max(3.0 * errors, options.run.tolerance * std::max(run.F_m, d.search.F_m_max));
     d.start_below = gap > allowance;
     d.run_above = -gap > allowance;
-    d.from_run = run.F_m >= d.search.F_m_max;
-    d.F_m_max = d.from_run ? run.F_m : d.search.F_m_max;
-    d.F_m_max_error = d.from_run ? run_error : d.search.F_m_max_error;
     return d;
+}
+
+bool multistable(const SimulationResult& run, const DesignValue& design) {
+    return run.multistable || design.start_below || design.run_above;
 }
 
 namespace {

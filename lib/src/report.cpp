@@ -134,8 +134,7 @@ std::string to_json(const SimulationResult& r, const Scene& scene) {
 std::string to_json(const SimulationResult& r, const Scene& scene, const DesignValue& design,
                     const AttractorOptions& options) {
     json j = simulation_json(r, scene);
-    // Another attractor hitting harder makes the answer depend on the start, as the twin does.
-    j["multistable"] = r.multistable || design.start_below || design.run_above;
+    j["multistable"] = multistable(r, design);
     const AttractorSet& set = design.search;
     json d = {{"samples", options.samples},
               {"seed", options.seed},
@@ -144,7 +143,8 @@ std::string to_json(const SimulationResult& r, const Scene& scene, const DesignV
               {"unsettled", set.unsettled},
               {"failed", set.failed},
               {"F_m_max", design.F_m_max},
-              {"F_m_max_error", design.F_m_max_error},
+              {"F_m_max_error",
+               std::isnan(design.F_m_max_error) ? json(nullptr) : json(design.F_m_max_error)},
               {"from_run", design.from_run},
               {"start_below", design.start_below},
               {"run_above", design.run_above},
@@ -676,7 +676,7 @@ std::string sweep_csv_row(const Study& study, const SweepPointResult& r) {
     os << ',' << p.Nm << ',' << p.fc << ',' << p.eps << ',' << p.e_r << ',' << p.f_r << ',' << s.F_m
        << ',';
     if (has_error_estimate(s)) os << s.F_m_error;
-    os << ',' << to_string(s.status) << ',' << (s.multistable ? 1 : 0);
+    os << ',' << to_string(s.status) << ',' << (r.multistable ? 1 : 0);
     if (r.F_m_newton) os << ',' << *r.F_m_newton;
     if (study.attractor_starts > 0)
         os << ',' << (r.F_m_max ? *r.F_m_max : s.F_m) << ',' << r.attractors_found << ','

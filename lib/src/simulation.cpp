@@ -158,13 +158,23 @@ private:
 /// least that large.
 constexpr double relaxed_error = 3e-3;
 
+/// Periods of the strict check of a relaxed answer (strict_check()) that relaxed at period
+/// relaxed_from: a fifth of the relaxed part, and at least enough for the check's steady-state
+/// watch to measure the distance to every cycle for RunWatch::approach_periods periods, plus
+/// 24 (48 with the default max_steady_period 16). The check costs about that share of a strict
+/// run (2-4 relaxed periods each where contacts switch often).
+long strict_check_periods(const RunOptions& options, long relaxed_from) {
+    const long fewest = options.max_steady_period + RunWatch::approach_periods + 24L;
+    return std::max(fewest, (options.periods - relaxed_from) / 5);
+}
+
 /// The period at which a run in AccuracyMode::automatic decides whether it settles: four times
 /// the contact-free row's decay time to SteadyStateDetector::far_distance (a start-up that
 /// decays onto a stable orbit has come near it by then, see settled_late()), after the
 /// transient, and once the distance to every cycle length has been measured for
 /// RunWatch::approach_periods periods. -1
 /// when the run may not relax: strict mode, a user's scheme or step, no steady-state stop, a
-/// record, or too short a run.
+/// record, or too short a run (or one too short for the strict check of its relaxed answer).
 long relaxation_period(const Dynamics& dyn, const RunOptions& options,
                        const SimulationHooks& hooks) {
     if (options.accuracy_mode != AccuracyMode::automatic || options.scheme != Scheme::automatic ||
@@ -176,8 +186,11 @@ long relaxation_period(const Dynamics& dyn, const RunOptions& options,
     const long at =
         std::max({options.transient_periods + 1, 4 * default_transient_periods(dyn, free_decay),
                   static_cast<long>(options.max_steady_period) + RunWatch::approach_periods});
-    // The relaxed part must be the larger part of the window to pay for its set-up.
-    return 2 * (options.periods - at) >= options.periods - options.transient_periods ? at : -1;
+    // The relaxed part must be the larger part of the window to pay for its set-up, and leave
+    // room for the check.
+    const bool worth = 2 * (options.periods - at) >= options.periods - options.transient_periods &&
+                       strict_check_periods(options, at) <= options.periods - at;
+    return worth ? at : -1;
 }
 
 /// A run's own sampling spread: the maxima of its window halves, if it ran its full length.
@@ -301,25 +314,17 @@ SingleRun relaxed_twin(const Dynamics& dyn, const RunOptions& options, const Sin
     return r;
 }
 
-/// Periods of the strict check of a relaxed answer (strict_check()): a fifth of the relaxed
-/// part, at least 48 (at most all of it). The check costs about that share of a strict run
-/// (2-4 relaxed periods each where contacts switch often): measured below, it catches where
-/// the strict dynamics come near a cycle within it.
-long strict_check_periods(const RunOptions& options, long relaxed_from) {
-    const long relaxed = options.periods - relaxed_from;
-    return std::min(relaxed, std::max(48L, relaxed / 5));
-}
-
 enum class StrictCheck { wanders, settles, cancelled };
 
 /// Whether the strict dynamics, continued from the end of a relaxed run that did not settle,
 /// still wander after strict_check_periods(), or come near a cycle. The relaxed plan (switches
 /// not split) can wander on where the strict dynamics settle: it keeps the row on a chaotic
 /// saddle that the strict dynamics leave, a motion the twin, on the same plan, shares. Measured
-/// on the paper-scale sample (seed 1, 247 relaxed answers): continued strict, the 16 relaxed
-/// answers whose strict runs settle came within 1e-3 of a cycle after 17-42 periods (11),
-/// 109-153 (3) and 348 (1) (one more, whose strict run settled only from rest, did not within
-/// 1000); none of the other 231 did in 1000 periods.
+/// on the paper-scale sample (seed 1, 247 relaxed answers, each continued strict for 1000
+/// periods): 16 came within 1e-3 of a cycle, 13 after 17-42 periods, 2 after 109 and 153, 1
+/// after 348; none of the other 231 did (a 17th answer, whose strict run from rest settles,
+/// did not within 1000). Escape from a saddle is memoryless, so a check this long misses a slow
+/// one (docs/performance.md).
 StrictCheck strict_check(const Dynamics& dyn, RunOptions options, const SingleRun& relaxed,
                          const ProgressCallback& progress, long& evaluations) {
     options.periods = strict_check_periods(options, relaxed.relaxed_from);
@@ -335,13 +340,17 @@ StrictCheck strict_check(const Dynamics& dyn, RunOptions options, const SingleRu
                                                                        : StrictCheck::settles;
 }
 
-/// Whether a relaxed run's answer stands: its halves spread at least the relaxed plan's error,
-/// or its twin (run here; kept in r when it lets the answer stand) shows it chaotic and agrees
-/// with it; and either way the strict dynamics from its end do not settle (strict_check()).
+/// Whether a relaxed run's answer stands: the strict dynamics from its end do not settle
+/// (strict_check()), and its halves spread at least the relaxed plan's error, or its twin (run
+/// here; kept in r when it lets the answer stand) shows it chaotic and agrees with it.
 /// Sets r's status to cancelled if a cancel came.
 bool relaxed_answer_stands(const Dynamics& dyn, const RunOptions& options, SingleRun& r,
                            const ProgressCallback& progress) {
     if (r.outcome.status != RunStatus::completed) return false;
+    // The check first: it costs less than the twin, which is wasted where the check fails.
+    const StrictCheck check = strict_check(dyn, options, r, progress, r.evaluations);
+    if (check == StrictCheck::cancelled) r.outcome.status = RunStatus::cancelled;
+    if (check != StrictCheck::wanders) return false;
     std::shared_ptr<const SingleRun> twin;
     if (!relaxed_answer_holds(r)) {
         twin = std::make_shared<const SingleRun>(relaxed_twin(dyn, options, r, progress));
@@ -358,9 +367,6 @@ bool relaxed_answer_stands(const Dynamics& dyn, const RunOptions& options, Singl
             3.0 * std::max({window_spread(r), window_spread(*twin), relaxed_error * r.F_m});
         if (!separated(r, *twin) || std::abs(twin->F_m - r.F_m) > allowance) return false;
     }
-    const StrictCheck check = strict_check(dyn, options, r, progress, r.evaluations);
-    if (check == StrictCheck::cancelled) r.outcome.status = RunStatus::cancelled;
-    if (check != StrictCheck::wanders) return false;
     r.twin = std::move(twin);
     return true;
 }

@@ -133,6 +133,7 @@ SweepPointResult run_point(const Study& s, const SweepPointFactory& make_point, 
     SimulationHooks hooks;
     hooks.progress = keep_going;
     r.simulation = simulate(in.dynamics, in.run, in.initial, hooks);
+    r.multistable = r.simulation.multistable;
     if (in.physical) r.F_m_newton = force_in_newtons(r.simulation.F_m, *in.physical);
     if (s.keep.regime) {
         require_classifiable(in, "keep: \"regime\"");
@@ -150,6 +151,7 @@ SweepPointResult run_point(const Study& s, const SweepPointFactory& make_point, 
         ao.threads = 1; // the sweep is already parallel over points
         const DesignValue design = design_value(in.reduced, ao, r.simulation, keep_going);
         r.F_m_max = design.F_m_max;
+        r.multistable = multistable(r.simulation, design);
         r.attractors_found = static_cast<int>(design.search.attractors.size());
         r.attractors_unsettled = design.search.unsettled;
     }

@@ -169,17 +169,20 @@ struct DesignValue {
     AttractorSet search; ///< find_attractors() from the options' random starts
     /// The design value: the largest of the search's F_m_max and the run's F_m (a run whose
     /// transient outlasts its discarded periods counts: the row shaken from that start reaches
-    /// it). 0 if the search was cancelled.
+    /// it); the search's alone if the run failed or was stopped. 0 if the search was cancelled.
     double F_m_max = 0.0;
-    double F_m_max_error = 0.0; ///< the error of whichever gave F_m_max
-    bool from_run = false;      ///< F_m_max is the run's own F_m
+    /// The error of whichever gave F_m_max; NaN if that is the run and its error was not
+    /// estimated (run.estimate_error false).
+    double F_m_max_error = 0.0;
+    bool from_run = false; ///< F_m_max is the run's own F_m
     /// The search's F_m_max exceeds the run's F_m by more than 3 (F_m_error + F_m_max_error)
     /// and the accuracy asked (run.tolerance F_m_max): the run's start reached a weaker
-    /// attractor, so its F_m is not the row's worst case.
+    /// attractor, so its F_m is not the row's worst case. Only when the run answered (completed
+    /// or steady state) and the search found a settled attractor.
     bool start_below = false;
     /// The run's F_m exceeds the search's F_m_max by as much: no attractor found reaches it, so
     /// the run's window held a transient (or, for a run that finished relaxed, motion of the
-    /// relaxed plan that the strict dynamics leave).
+    /// relaxed plan that the strict dynamics leave). Same conditions.
     bool run_above = false;
 };
 
@@ -187,6 +190,10 @@ struct DesignValue {
 /// options.run (from any start). Throws std::invalid_argument as find_attractors() does.
 DesignValue design_value(const ReducedParameters& p, const AttractorOptions& options,
                          const SimulationResult& run, const ProgressCallback& progress = {});
+
+/// Whether run's answer depends on its start: its own checks said so (run.multistable), or
+/// another attractor hits harder (start_below), or none reaches its F_m (run_above).
+bool multistable(const SimulationResult& run, const DesignValue& design);
 
 /// Basin fractions along one parameter: find_attractors() at each value, attractors matched
 /// from one value to the next, so that a label follows an attractor across the line: first by

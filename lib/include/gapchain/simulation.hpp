@@ -155,11 +155,13 @@ struct SimulationHooks {
 /// at least that, 3e-3 F_m, or its twin - from the state it relaxed at, moved by 1e-8, over the
 /// relaxed part only - runs to the same end without settling, ends more than 1e-2 x max(1,
 /// |y|_inf) away (chaos; a torus keeps it about 1e-8 away) and has an F_m within 3 x the larger
-/// of the two spreads and 3e-3 F_m; and, either way, the strict dynamics continued from its end
-/// for a fifth of the relaxed part (at least 48 periods) neither come within 1e-3 of a cycle nor
-/// approach one: the relaxed plan's dynamics are not the strict plan's, and it can keep a row on
-/// a chaotic saddle that the strict dynamics leave (16 of 247 relaxed answers of a 2000-point
-/// sample of the paper's grid, each caught this way but one, docs/performance.md). Otherwise the
+/// of the two spreads and 3e-3 F_m; and first of all, the strict dynamics continued from its
+/// end for a fifth of the relaxed part (at least max_steady_period + 32 periods; a run too short
+/// for that does not relax) neither come within 1e-3 of a cycle nor approach one: the relaxed
+/// plan's dynamics are not the strict plan's, and it can keep a row on a chaotic saddle that the
+/// strict dynamics leave (17 of 270 relaxed answers of a 2000-point sample of the paper's grid,
+/// 15 of them caught this way; escape from a saddle is memoryless, so a slow one can pass,
+/// docs/performance.md). Otherwise the
 /// run is done again in strict mode, so a quasi-periodic answer, and a periodic one of the
 /// strict dynamics the relaxed plan reached, is a strict one. A relaxed answer's F_m_error
 /// (window_halves) is the largest of its halves' spread, that twin's and 3e-3 F_m (and the

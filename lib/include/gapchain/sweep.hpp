@@ -81,9 +81,12 @@ using SweepPointFactory = std::function<SweepPointInput(long index)>;
 /// One finished point.
 struct SweepPointResult {
     long index = 0;
-    std::vector<double> values;           ///< axis values
-    ReducedParameters parameters;         ///< the point's reduced parameters
-    SimulationResult simulation;          ///< F_m and the rest
+    std::vector<double> values;   ///< axis values
+    ReducedParameters parameters; ///< the point's reduced parameters
+    SimulationResult simulation;  ///< F_m and the rest
+    /// The answer depends on the start: simulation.multistable, or with attractors > 0
+    /// multistable(simulation, its design value) (attractors.hpp)
+    bool multistable = false;
     std::optional<Classification> regime; ///< if the study keeps the regime
     std::optional<double> F_m_max;        ///< design value over the attractors (attractors > 0)
     int attractors_found = 0;             ///< attractors found (attractors > 0)

@@ -603,13 +603,48 @@ TEST_CASE("accuracy mode: a relaxed answer the strict dynamics leave is redone s
         CHECK(*r.F_m_orbit == doctest::Approx(1.070351).epsilon(1e-4));
         CHECK(r.F_m - r.F_m_error <= *r.F_m_orbit);
     }
-    // Index 325287 of the paper-scale sample (Nm 1, fc 1000, eps 0.2, e_r 0.16, f_r 1.8): the
-    // strict dynamics from the relaxed end settle after 153 periods on a period-4 orbit.
-    const Dynamics one = Dynamics::paper_row({1, 1000, 0.2, 0.16, 1.8});
-    const SimulationResult r = simulate(one, RunOptions{});
+    // Index 251371 of the paper-scale sample (Nm 10, fc 100, eps 0.1, e_r 0.16, f_r 2.6): its
+    // strict plan costs 2.1 relaxed ones, so it relaxes; the strict dynamics from the relaxed
+    // end come near a period-2 orbit within 17 periods, and the run is redone strict. It costs
+    // more than a strict run (head, relaxed part, check, then the strict run), which shows the
+    // relaxed part ran and was refused.
+    const Dynamics ten = Dynamics::paper_row({10, 100, 0.1, 0.16, 2.6});
+    RunOptions unchecked;
+    unchecked.multistability_check = false;
+    const SimulationResult r = simulate(ten, unchecked);
+    RunOptions strict = unchecked;
+    strict.accuracy_mode = AccuracyMode::strict;
+    const SimulationResult s = simulate(ten, strict);
     CHECK(r.accuracy_mode_used == AccuracyUsed::strict);
-    CHECK(r.steady_state_period == 4);
-    CHECK(r.multistable);
+    CHECK(r.steady_state_period == 2);
+    CHECK(s.steady_state_period == 2);
+    CHECK(r.evaluations > s.evaluations);
+}
+
+TEST_CASE("accuracy mode: a row whose strict plan costs little more than the relaxed one stays "
+          "strict") {
+    // Issue 19's Nm = 2 row: few contacts, so splitting steps at switches costs 13 % more right-
+    // hand sides than the relaxed plan at the same step; relaxing would gain nothing its checks do
+    // not cost again. From the issue's starts u_1(0) = 1e-9 and 1e-8 the relaxed plan answered
+    // 1.176 +- 0.005 and 1.179 +- 0.007, no steady state, not multistable (the check let them
+    // pass: escape from the saddle is memoryless). Strict, each settles on the period-3 orbit.
+    const Dynamics dyn = Dynamics::paper_row({2, 200, 0.1, 0.351, 0.626});
+    RunOptions o;
+    o.periods = 1000;
+    o.transient_periods = 100;
+    for (const double u1 : {1e-9, 1e-8}) {
+        const SimulationResult r = simulate(dyn, o, {u1, 0.0, 0.0, 0.0});
+        MESSAGE("u1 = " << u1 << ": " << r.F_m << " +- " << r.F_m_error);
+        CHECK(r.accuracy_mode_used == AccuracyUsed::strict);
+        CHECK(r.relaxed_from_period < 0);
+        CHECK(r.steady_state_period == 3);
+        CHECK(r.multistable);
+    }
+    // The stiff row (4.0 times the relaxed plan's right-hand sides) still relaxes.
+    RunOptions stiff;
+    stiff.periods = 300;
+    CHECK(simulate(Dynamics::paper_row({20, 2000, 0.2, 0.02, 1.0}), stiff).accuracy_mode_used ==
+          AccuracyUsed::relaxed);
 }
 
 TEST_CASE("accuracy mode: the strict check fits a large run.max_steady_period") {

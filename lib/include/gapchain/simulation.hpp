@@ -147,7 +147,9 @@ struct SimulationHooks {
 /// that, at four times the contact-free row's decay time to 1e-3 (and after the transient and
 /// max_steady_period + 8 periods), has no steady state, is farther than 1e-3 (relative) from
 /// every cycle of up to max_steady_period periods, and whose distance to the nearest cycle did
-/// not fall a thousandfold over the last 8 periods, finishes on a relaxed plan (stopped and
+/// not fall a thousandfold over the last 8 periods, and whose strict head took at least 1.25
+/// times the relaxed plan's right-hand sides per period (else relaxing gains nothing its checks
+/// do not cost again), finishes on a relaxed plan (stopped and
 /// redone strict as soon as it comes within 1e-6 of a cycle):
 /// rk4 at h omega_max = 0.4, steps not split at contact switches, whatever the tolerance (its
 /// F_m error, 1.4e-3 F_m rms on periodic points of the paper's grid, is credited as 3e-3 F_m).

@@ -25,6 +25,18 @@ if not ok:
     print("FAIL fig13 JSON:", v, d["F_m"], d["multistable"])
 sys.exit(0 if ok else 1)
 PY
+# A physical scene's design value also in newtons, at the run's own conversion.
+"$sim" "$scenes/table4-experiment-harmonic.json" --set run.periods=100 --attractors 2 \
+    --out "$dir/phys.json" >/dev/null 2>&1 || { echo "FAIL physical: exit $?"; fail=1; }
+python3 - "$dir/phys.json" <<'PY' || fail=1
+import json, sys
+d = json.load(open(sys.argv[1]))
+v = d["design_value"]
+ok = abs(v["F_m_max_newton"] / v["F_m_max"] - d["F_m_newton"] / d["F_m"]) < 1e-9 * d["F_m_newton"] / d["F_m"]
+if not ok:
+    print("FAIL physical JSON:", v)
+sys.exit(0 if ok else 1)
+PY
 # Without --attractors, a run that does not settle says that nothing else was looked for.
 "$sim" "$scenes/fig13.json" --set excitation.f_r=3.2 --set run.periods=600 \
     --set run.transient_periods=300 >"$dir/stdout" 2>&1

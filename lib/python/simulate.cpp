@@ -158,7 +158,9 @@ py::dict simulate_py(const py::object& scene_arg, bool trajectory, long attracto
     if (attractors != 0 && r.status != RunStatus::cancelled) {
         const DesignValue design =
             call.run([&] { return design_value(scene.reduced, search, r, call.callback()); });
-        d["design_value"] = design_dict(design, search);
+        py::dict v = design_dict(design, search);
+        if (scene.physical) v["F_m_max_newton"] = force_in_newtons(design.F_m_max, *scene.physical);
+        d["design_value"] = v;
         d["multistable"] = multistable(r, design);
     }
     if (trajectory) {

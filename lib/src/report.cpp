@@ -161,6 +161,7 @@ std::string to_json(const SimulationResult& r, const Scene& scene, const DesignV
     } else {
         d["attractor"] = nullptr;
     }
+    if (scene.physical) d["F_m_max_newton"] = force_in_newtons(design.F_m_max, *scene.physical);
     j["design_value"] = d;
     return j.dump(2) + "\n";
 }

@@ -32,7 +32,8 @@ std::string to_json(const SimulationResult& result, const Scene& scene);
 /// object with the search's samples, seed and box, attractors found, unsettled, failed,
 /// F_m_max (the design value) with F_m_max_error, from_run, start_below, run_above, the
 /// search's own attractors_F_m_max with its error and that attractor (regime, period,
-/// basin_fraction with its error, initial_state; null if none), and its wall_time_s.
+/// basin_fraction with its error, initial_state; null if none), its wall_time_s, and for a
+/// physical scene F_m_max_newton.
 /// "multistable" is also true when start_below or run_above.
 std::string to_json(const SimulationResult& result, const Scene& scene, const DesignValue& design,
                     const AttractorOptions& options);

@@ -1,6 +1,8 @@
 #include "gapchain/observers.hpp"
 #include "gapchain/run.hpp"
 
+#include "detail/hermite.hpp"
+
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -243,4 +245,34 @@ TEST_CASE("SteadyStateDetector: a genuine period-2 orbit approached along a turn
         REQUIRE(stopped_at > 0);
         CHECK(steady.period() == 2);
     }
+}
+
+TEST_CASE("the quintic Hermite interpolant's crossings are the roots of the quintic it "
+          "reproduces, and an exact zero is returned as it is") {
+    // A quintic with roots at 0.3, 1.1 and 1.7 (and two outside [0, h]), h = 2: the interpolant
+    // from its values and first two derivatives at both ends is the quintic itself.
+    const double h = 2.0;
+    const std::array<double, 5> roots{0.3, 1.1, 1.7, -1.0, 3.0};
+    auto p = [&](double t, int derivative) {
+        // Value, first or second derivative by the product rule over the five factors (each
+        // unordered pair of differentiated factors appears twice in the second derivative).
+        double sum = 0.0;
+        for (int mask = 0; mask < 32; ++mask) {
+            if (__builtin_popcount(static_cast<unsigned>(mask)) != derivative) continue;
+            double term = derivative == 2 ? 2.0 : 1.0;
+            for (int k = 0; k < 5; ++k)
+                term *= (mask >> k & 1) ? 1.0 : t - roots[k];
+            sum += term;
+        }
+        return sum;
+    };
+    const detail::QuinticHermite q(p(0, 0), p(0, 1), p(0, 2), p(h, 0), p(h, 1), p(h, 2), h);
+    CHECK(q.crossing(0.0, 0.0, 0.7) == doctest::Approx(0.3).epsilon(1e-14));
+    CHECK(q.crossing(0.0, 0.7, 1.4) == doctest::Approx(1.1).epsilon(1e-14));
+    CHECK(q.crossing(0.0, 1.4, 2.0) == doctest::Approx(1.7).epsilon(1e-14));
+    // The bracket's midpoint is an exact root of a line: the search starts there and returns
+    // it, where bisecting on would move it by ~1e-15 h.
+    const detail::QuinticHermite line(-1.0, 1.0, 0.0, 1.0, 1.0, 0.0, h);
+    CHECK(line.crossing(0.0, 0.0, h) == 1.0);
+    CHECK(line.crossing(0.25, 0.0, h) == doctest::Approx(1.25).epsilon(1e-15));
 }

@@ -4,12 +4,16 @@
 #include "gapchain/attractors.hpp"
 #include "gapchain/simulation.hpp"
 
+#include <pybind11/stl.h>
+
+#include <optional>
+
 namespace gapchain::python {
 
 namespace {
 
 constexpr const char* simulate_doc =
-    R"(simulate(scene=None, *, trajectory=False, attractors=0, seed=1, box=1.0, threads=0, progress=None, **keys) -> dict
+    R"(simulate(scene=None, *, trajectory=False, attractors=0, seed=None, box=None, threads=None, progress=None, **keys) -> dict
 
 Simulate a forced, damped row of bodies with clearances and return the maximal reduced impact
 force F_m (eq 19) with its error estimate: gapchain-sim in-process, the same numbers.
@@ -30,8 +34,9 @@ scene     None (the paper's defaults), a scene dict, or the path of a scene file
                     trajectory_every (output.) decimation in steps, >= 1.
 trajectory  also return the (decimated) trajectory of the main run.
 attractors  also search the row's attractors from this many random starts, 0 .. 1e7 (as
-            attractors(samples=...); seed, box and threads as there; the paper's uniform row
-            only) and return the design value over them and this run as "design_value".
+            attractors(samples=...); seed, box and threads as there, by default 1, 1.0 and
+            0 (all cores), refused without attractors; the paper's uniform row only) and
+            return the design value over them and this run as "design_value".
 progress    callable(fraction in [0, 1]), called as the run advances.
 
 Returns a dict: F_m and F_m_error (reduced force; physically F = F_m M a0 sqrt(fc); F_m_error
@@ -121,23 +126,25 @@ py::dict design_dict(const DesignValue& d, const AttractorOptions& o) {
 }
 
 py::dict simulate_py(const py::object& scene_arg, bool trajectory, long attractors,
-                     std::uint64_t seed, double box, int threads, const py::object& progress,
+                     std::optional<std::uint64_t> seed, std::optional<double> box,
+                     std::optional<int> threads, const py::object& progress,
                      const py::kwargs& keys) {
     const Scene scene = to_scene(scene_arg, keys);
     AttractorOptions search;
     if (attractors != 0) {
         search.samples = attractors;
-        search.seed = seed;
-        search.box = box;
-        search.threads = threads;
+        search.seed = seed.value_or(search.seed);
+        search.box = box.value_or(search.box);
+        search.threads = threads.value_or(search.threads);
         search.run = scene.run;
         validate(paper_row(scene), search);
-    } else if (seed != 1 || box != 1.0 || threads != 0) {
-        throw std::invalid_argument(
-            std::string(seed != 1    ? "seed"
-                        : box != 1.0 ? "box"
-                                     : "threads") +
-            ": applies to the attractor search only; give attractors, 1 .. 1e7");
+    } else if (seed || box || threads) {
+        // Given at its default value too: a seed without a search is a mistake either way.
+        throw std::invalid_argument(std::string(seed  ? "seed"
+                                                : box ? "box"
+                                                      : "threads") +
+                                    ": applies to the attractor search only; give attractors, "
+                                    "1 .. 1e7");
     }
     const Dynamics dyn = scene.dynamics();
     Call call(progress);
@@ -176,8 +183,9 @@ py::dict simulate_py(const py::object& scene_arg, bool trajectory, long attracto
 
 void register_simulate(py::module_& m) {
     m.def("simulate", &simulate_py, simulate_doc, py::arg("scene") = py::none(), py::kw_only(),
-          py::arg("trajectory") = false, py::arg("attractors") = 0L, py::arg("seed") = 1ULL,
-          py::arg("box") = 1.0, py::arg("threads") = 0, py::arg("progress") = py::none());
+          py::arg("trajectory") = false, py::arg("attractors") = 0L, py::arg("seed") = py::none(),
+          py::arg("box") = py::none(), py::arg("threads") = py::none(),
+          py::arg("progress") = py::none());
 }
 
 } // namespace gapchain::python

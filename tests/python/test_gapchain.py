@@ -236,8 +236,13 @@ def test_simulate_design_value_matches_gapchain_sim(tmp_path):
     for key in ("F_m_max", "F_m_max_error", "start_below", "run_above", "attractors"):
         assert v[key] == tool[key], key
     assert "design_value" not in gapchain.simulate(scene, **keys)
-    with pytest.raises(ValueError, match="^seed: applies to the attractor search only"):
-        gapchain.simulate(scene, seed=3, **keys)
+    # Refused whatever the value, the default's too: without a search nothing reads it.
+    for extra in ({"seed": 3}, {"seed": 1}, {"box": 1.0}, {"threads": 0}):
+        name = next(iter(extra))
+        with pytest.raises(ValueError, match="^%s: applies to the attractor search only" % name):
+            gapchain.simulate(scene, **extra, **keys)
+    with pytest.raises(TypeError, match="^seed: must be an integer or None, got 1.5"):
+        gapchain.simulate(scene, seed=1.5, **keys)
     with pytest.raises(ValueError, match="^attractors: must be"):
         gapchain.simulate(scene, attractors=-1, **keys)
 

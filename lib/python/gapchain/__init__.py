@@ -100,6 +100,8 @@ def _fits(kind, value):
     accepted."""
     if getattr(value, "ndim", None) == 0 and hasattr(value, "item"):
         value = value.item()
+    if kind.startswith("Optional[") and kind.endswith("]"):
+        return value is None or _fits(kind[9:-1], value)
     if kind == "int":
         return isinstance(value, _numbers.Integral) and not _is_bool(value)
     if kind == "float":
@@ -145,8 +147,10 @@ def _wrong_argument(name, parameters, positional, args, kwargs):
     for parameter, kind in parameters:
         if parameter in given and not _fits(kind, given[parameter]):
             value = given[parameter]
-            return "%s: must be %s, got %s (%s)" % (
-                parameter, _KINDS.get(kind, kind), _shown(value), type(value).__name__)
+            optional = kind.startswith("Optional[") and kind.endswith("]")
+            return "%s: must be %s%s, got %s (%s)" % (
+                parameter, _KINDS.get(kind[9:-1] if optional else kind, kind),
+                " or None" if optional else "", _shown(value), type(value).__name__)
     progress = given.get("progress")
     if progress is not None and not callable(progress):
         return "progress: must be a callable(fraction) or None, got %s (%s)" % (
@@ -160,6 +164,8 @@ def _out_of_range(name, parameters, args, kwargs):
     given.update(kwargs)
     for parameter, kind in parameters:
         value = given.get(parameter)
+        if kind.startswith("Optional[") and kind.endswith("]"):
+            kind = kind[9:-1]
         if kind == "int" and _fits(kind, value):
             if parameter == "seed" and not 0 <= value < 2 ** 64:
                 return "seed: must be an integer in [0, 2**64), got %r" % value

@@ -57,10 +57,11 @@ Scene to_scene(const py::object& scene, const py::kwargs& keys) {
 
 Scene to_swept_scene(const py::object& scene, const std::string& param, const py::kwargs& keys,
                      const std::string& function) {
-    const std::string swept = (param == "f_r" ? "excitation." : "model.") + param;
+    const auto replaced = keys_replaced_by(parse_swept_parameter(param));
     for (const auto& [key, value] : keys) {
         const std::string name = key.cast<std::string>();
-        if (scene_key(name) == swept)
+        const std::string dotted = scene_key(name);
+        if (dotted == replaced[0] || dotted == replaced[1])
             throw std::invalid_argument(name + ": " + function + "() varies " + param +
                                         " itself, from from_ to to; drop the " + name + " keyword");
     }

@@ -526,6 +526,18 @@ std::string scene_key(const std::string& key, const std::string& context) {
                      list);
 }
 
+std::array<std::string, 2> keys_replaced_by(SweptParameter which) {
+    // f_r = f / f0, e_r = (2 pi f0)^2 e / a0, fc = Kc / K, eps = C / (2 sqrt(K M)): of the
+    // physical keys, f, e, Kc and C each enter one reduced number only.
+    switch (which) {
+    case SweptParameter::f_r: return {"excitation.f_r", "excitation.f"};
+    case SweptParameter::e_r: return {"model.e_r", "model.e"};
+    case SweptParameter::fc: return {"model.fc", "model.Kc"};
+    case SweptParameter::eps: return {"model.eps", "model.C"};
+    }
+    throw std::invalid_argument("keys_replaced_by: unknown parameter");
+}
+
 Scene parse_scene(std::string_view text, const std::vector<std::string>& overrides,
                   const std::string& source) {
     return detail::scene_from_parsed_json(detail::parse_json_strictly<json>(text, source),

@@ -385,3 +385,8 @@ def test_a_keyword_of_the_swept_parameter_is_refused():
         gapchain.basin_fractions(param="eps", from_=0.1, to=0.2, steps=2, eps=5.0)
     with pytest.raises(ValueError, match="^excitation.f_r: bifurcation\\(\\) varies f_r"):
         gapchain.bifurcation(param="f_r", from_=2, to=3, steps=2, **{"excitation.f_r": 3.0})
+    # So is a physical scene's key that enters the swept number alone (e_r's model.e).
+    physical = next(p for p in SCENES if p.endswith("table4-experiment-harmonic.json"))
+    with pytest.raises(ValueError, match="^model.e: bifurcation\\(\\) varies e_r itself"):
+        gapchain.bifurcation(physical, param="e_r", from_=0.1, to=0.2, steps=2,
+                             **{"model.e": 0.004})

@@ -399,11 +399,11 @@ void require_paper_row(const Scene& scene, const std::string& tool) {
 
 void require_not_set(const SceneArguments& args, const std::string& param,
                      const std::string& tool) {
-    const std::string key = (param == "f_r" ? "excitation." : "model.") + param;
-    for (const std::string& set : args.sets)
-        if (set.rfind(key + "=", 0) == 0)
-            throw SceneError("--set " + key + ": " + tool + " varies " + param +
-                             " itself, from --from to --to; drop the --set");
+    for (const std::string& key : keys_replaced_by(parse_swept_parameter(param)))
+        for (const std::string& set : args.sets)
+            if (set.rfind(key + "=", 0) == 0)
+                throw SceneError("--set " + key + ": " + tool + " varies " + param +
+                                 " itself, from --from to --to; drop the --set");
 }
 
 void require_linear_harmonic(const Scene& scene, const std::string& tool, const std::string& why) {

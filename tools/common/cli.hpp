@@ -133,8 +133,8 @@ std::pair<CLI::Option*, CLI::Option*> add_start_box(CLI::App& app, long long& se
 // model arrays or scatter, a nonlinear contact law.
 void require_paper_row(const Scene& scene, const std::string& tool);
 // Tools that vary one reduced number themselves (bifurcation, continue, attractors --param)
-// refuse a --set of it, which their --from ... --to would silently replace. param: f_r, e_r, fc
-// or eps.
+// refuse a --set of it, or of the physical key behind it alone (excitation.f, model.e, model.Kc,
+// model.C), which their --from ... --to would silently replace. param: f_r, e_r, fc or eps.
 void require_not_set(const SceneArguments& args, const std::string& param, const std::string& tool);
 // Tools built on the exact propagator or the tangent flow (orbit, accuracy) refuse the rest with
 // the reason: harmonic forcing and the linear contact law (any row of them).

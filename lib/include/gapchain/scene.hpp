@@ -31,6 +31,7 @@
 #include "gapchain/dynamics.hpp"
 #include "gapchain/run.hpp"
 
+#include <array>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -93,6 +94,12 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
 /// max_work (run.) and trajectory_every (output.). Any other key throws SceneError naming it
 /// (prefixed by context if not empty).
 std::string scene_key(const std::string& key, const std::string& context = "");
+
+/// The dotted scene keys whose value a sweep or continuation of `which` replaces: the reduced
+/// key (excitation.f_r, model.e_r, model.fc, model.eps) and the physical scene's key that enters
+/// that number alone (excitation.f, model.e, model.Kc, model.C; MODEL.md section 1). A tool or
+/// function that varies `which` refuses an override of either.
+std::array<std::string, 2> keys_replaced_by(SweptParameter which);
 
 /// Parses and validates scene text (see load_scene). Throws SceneError.
 Scene parse_scene(std::string_view text, const std::vector<std::string>& overrides = {},

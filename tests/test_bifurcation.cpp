@@ -202,3 +202,24 @@ TEST_CASE("bifurcation and regime maps: a cancel stops a long value inside its r
     CHECK(map.cells.front().status == RunStatus::cancelled);
     CHECK(classify(base, co, [](double) { return false; }).status == RunStatus::cancelled);
 }
+
+TEST_CASE("a diagram starts every value (independent) or its first (continuation) from "
+          "options.initial") {
+    // Issue 19: at f_r = 3.2 the row is chaotic from rest (F_m 0.239) and reaches a torus with
+    // F_m 0.385 from u = (0.5, -0.5, 0.5, -0.5, 0.5).
+    BifurcationOptions o;
+    o.from = o.to = 3.2;
+    o.steps = 1;
+    o.transient_periods = 300;
+    o.record_periods = 300;
+    const double rest = bifurcation(fig13, o).rows.front().F_m;
+    o.initial = {0.5, -0.5, 0.5, -0.5, 0.5, 0.0, 0.0, 0.0, 0.0, 0.0};
+    const double torus = bifurcation(fig13, o).rows.front().F_m;
+    o.mode = SweepMode::continuation;
+    const double continued = bifurcation(fig13, o).rows.front().F_m;
+    CHECK(rest < 0.3);
+    CHECK(torus == doctest::Approx(0.385).epsilon(2e-3));
+    CHECK(continued == torus);
+    o.initial.pop_back();
+    CHECK_THROWS_WITH_AS(validate(o, fig13), doctest::Contains("initial"), std::invalid_argument);
+}

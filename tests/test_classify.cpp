@@ -98,3 +98,22 @@ TEST_CASE("a record whose samples the machine cannot hold is refused before the 
     o.record_periods = 1'000'000; // ~0.2 GB
     CHECK_NOTHROW(validate(o));
 }
+
+TEST_CASE("classify starts from options.initial: at Fig 13's f_r = 3.2 the start picks the regime") {
+    // Issue 19: from rest the row is chaotic (F_m 0.239); from u = (0.5, -0.5, 0.5, -0.5, 0.5)
+    // it reaches a torus with F_m 0.385 (measured there with gapchain-sim, 600 periods).
+    const ReducedParameters p{5, 60, 0.5, 0.06, 3.2};
+    ClassifyOptions o;
+    const Classification rest = classify(p, o);
+    o.initial = {0.5, -0.5, 0.5, -0.5, 0.5, 0.0, 0.0, 0.0, 0.0, 0.0};
+    const Classification torus = classify(p, o);
+    CHECK(rest.regime == Regime::chaotic);
+    CHECK(rest.F_m < 0.3);
+    CHECK(torus.regime == Regime::quasi_periodic);
+    CHECK(torus.F_m == doctest::Approx(0.385).epsilon(2e-3));
+    // A start of the wrong length is refused, in a map before any cell runs.
+    o.initial = {0.5};
+    CHECK_THROWS_WITH_AS(classify(p, o), doctest::Contains("initial"), std::invalid_argument);
+    CHECK_THROWS_WITH_AS(regime_map(p, {0.06}, {3.2}, o, 1), doctest::Contains("initial"),
+                         std::invalid_argument);
+}

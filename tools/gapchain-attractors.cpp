@@ -203,6 +203,11 @@ int main(int argc, char** argv) {
                             cli::require_not_set(a.scene, a.param, "gapchain-attractors --param");
                         const Scene scene = cli::load(a.scene);
                         cli::require_paper_row(scene, "gapchain-attractors");
+                        // The search draws its own starts: a scene's start would be ignored.
+                        if (!scene.initial.empty())
+                            throw SceneError("initial: gapchain-attractors draws its own starts "
+                                             "(--samples, --seed, --box, --grid); drop the "
+                                             "scene's initial state (gapchain-sim runs it)");
                         check_line(app, a);
                         a.options.run = scene.run;
                         a.options.seed = static_cast<std::uint64_t>(a.seed);

@@ -69,7 +69,8 @@ void add_options(CLI::App& app, BifurcationArguments& a) {
         ->check(cli::range(1, 10'000'000))
         ->capture_default_str();
     app.add_option("--mode", a.mode,
-                   "independent (parallel, from rest) or continuation (up then down)")
+                   "independent (parallel, each from the scene's initial state, default rest) or "
+                   "continuation (up then down, from it)")
         ->check(CLI::IsMember({"independent", "continuation"}))
         ->capture_default_str();
     app.add_option("--transient", o.transient_periods, "Discarded periods per value")
@@ -99,6 +100,7 @@ void resolve_options(BifurcationArguments& a, const gapchain::Scene& scene) {
     o.scheme = scene.run.scheme;
     o.tolerance = scene.run.tolerance;
     o.max_work = scene.run.max_work;
+    o.initial = scene.initial;
     validate(o, scene.reduced);
 }
 

@@ -146,6 +146,7 @@ int main(int argc, char** argv) {
         o.scheme = scene.run.scheme;
         o.tolerance = scene.run.tolerance;
         o.max_work = scene.run.max_work;
+        o.initial = scene.initial;
         validate(o);
         cli::Outputs outputs({scene_args.path});
         if (!map_flag) {

@@ -172,6 +172,8 @@ py::dict bifurcation_py(const py::object& scene_arg, const std::string& param, d
     o.threads = threads;
     o.scheme = scene.run.scheme;
     o.tolerance = scene.run.tolerance;
+    o.max_work = scene.run.max_work;
+    o.initial = scene.initial;
     validate(o, scene.reduced);
     Call call(progress);
     const BifurcationResult r =

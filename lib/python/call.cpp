@@ -68,6 +68,14 @@ Scene to_swept_scene(const py::object& scene, const std::string& param, const py
     return to_scene(scene, keys);
 }
 
+const ReducedParameters& searched_row(const Scene& scene) {
+    if (!scene.initial.empty())
+        throw std::invalid_argument("initial: the attractor search draws its own starts "
+                                    "(samples, seed, box, grid); drop the scene's initial state "
+                                    "(simulate() runs it)");
+    return paper_row(scene);
+}
+
 const ReducedParameters& paper_row(const Scene& scene) {
     if (!scene.harmonic() || !scene.uniform())
         throw std::invalid_argument("scene: attractors need the paper's uniform row with the "

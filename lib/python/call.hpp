@@ -33,6 +33,9 @@ Scene to_swept_scene(const py::object& scene, const std::string& param, const py
 
 // The paper's row at one point, as attractors.hpp needs it; std::invalid_argument otherwise.
 const ReducedParameters& paper_row(const Scene& scene);
+// paper_row() of a scene whose attractors are searched from drawn starts: one that gives an
+// initial state (which the search would ignore) throws std::invalid_argument naming "initial".
+const ReducedParameters& searched_row(const Scene& scene);
 
 // A study: a dict (the study as JSON) or a path to a study file. Bad input throws SceneError.
 Study to_study(const py::object& study);

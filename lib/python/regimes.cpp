@@ -68,6 +68,8 @@ ClassifyOptions classify_options(const Scene& scene, long transient, long record
     o.confirm_by_newton = confirm;
     o.scheme = scene.run.scheme;
     o.tolerance = scene.run.tolerance;
+    o.max_work = scene.run.max_work;
+    o.initial = scene.initial;
     validate(o);
     return o;
 }

@@ -56,7 +56,13 @@ BifurcationRow diagram_row(const ReducedParameters& p, const BifurcationOptions&
     return row;
 }
 
-/// Independent mode: each value from rest, in parallel, into its own slot.
+/// The options' initial state, or rest.
+std::vector<double> start_state(const BifurcationOptions& o, int bodies) {
+    return o.initial.empty() ? std::vector<double>(2 * static_cast<std::size_t>(bodies), 0.0)
+                             : o.initial;
+}
+
+/// Independent mode: each value from the initial state, in parallel, into its own slot.
 void independent_rows(const ReducedParameters& base, const BifurcationOptions& o,
                       const ProgressCallback& progress, BifurcationResult& result) {
     const std::vector<double> values = linspace(o.from, o.to, o.steps);
@@ -70,7 +76,7 @@ void independent_rows(const ReducedParameters& base, const BifurcationOptions& o
     const auto end = detail::parallel_for(
         o.steps, result.threads_used,
         [&](long k) {
-            std::vector<double> y(2 * base.Nm, 0.0);
+            std::vector<double> y = start_state(o, base.Nm);
             result.rows[k] = diagram_row(with_value(base, o.parameter, values[k]), o, y,
                                          SweepDirection::up, values[k], shared.item_callback());
         },
@@ -82,7 +88,7 @@ void independent_rows(const ReducedParameters& base, const BifurcationOptions& o
 void continued_rows(const ReducedParameters& base, const BifurcationOptions& o,
                     const ProgressCallback& progress, BifurcationResult& result) {
     const std::vector<double> values = linspace(o.from, o.to, o.steps);
-    std::vector<double> y(2 * base.Nm, 0.0);
+    std::vector<double> y = start_state(o, base.Nm);
     const int total = 2 * o.steps;
     int done = 0;
     const ProgressCallback keep_going = [&](double) {
@@ -98,9 +104,8 @@ void continued_rows(const ReducedParameters& base, const BifurcationOptions& o,
                 result.cancelled = true;
                 return;
             }
-            // A run that blew up cannot seed the next value: restart that one from rest.
-            if (result.rows.back().status == RunStatus::non_finite)
-                std::fill(y.begin(), y.end(), 0.0);
+            // A run that blew up cannot seed the next value: restart that one from the start.
+            if (result.rows.back().status == RunStatus::non_finite) y = start_state(o, base.Nm);
             if (progress && !progress(static_cast<double>(++done) / total)) {
                 result.cancelled = true;
                 return;
@@ -137,6 +142,7 @@ void validate(const BifurcationOptions& o, const ReducedParameters& base) {
         throw std::invalid_argument("from: " + *error);
     if (const auto error = swept_value_error(base, o.parameter, o.to))
         throw std::invalid_argument("to: " + *error);
+    (void)initial_state(Dynamics::paper_row(with_value(base, o.parameter, o.from)), o.initial);
     validate(o.section, base.Nm);
 }
 

@@ -180,7 +180,7 @@ Classification classify(const ReducedParameters& p, const ClassifyOptions& o,
     validate(p);
     const Dynamics dyn = Dynamics::paper_row(p);
     const RunOptions run_options = classify_run_options(o);
-    PlannedRun planned(dyn, run_options, {}, o.samples_per_period);
+    PlannedRun planned(dyn, run_options, o.initial, o.samples_per_period);
 
     // Phase 1, settling: up to transient_periods, stopped as soon as a periodic steady state
     // is found. The tangent vector rides along; for a periodic point its average over this
@@ -242,6 +242,9 @@ RegimeMap regime_map(const ReducedParameters& base, const std::vector<double>& e
         validate(ReducedParameters{base.Nm, base.fc, base.eps, e, base.f_r});
     for (double f : f_r)
         validate(ReducedParameters{base.Nm, base.fc, base.eps, base.e_r, f});
+    // A bad start is refused here, once, rather than by every cell's run.
+    (void)initial_state(Dynamics::paper_row({base.Nm, base.fc, base.eps, e_r[0], f_r[0]}),
+                        o.initial);
     RegimeMap map;
     map.e_r = e_r;
     map.f_r = f_r;

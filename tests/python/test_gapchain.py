@@ -390,3 +390,22 @@ def test_a_keyword_of_the_swept_parameter_is_refused():
     with pytest.raises(ValueError, match="^model.e: bifurcation\\(\\) varies e_r itself"):
         gapchain.bifurcation(physical, param="e_r", from_=0.1, to=0.2, steps=2,
                              **{"model.e": 0.004})
+
+
+def test_a_start_is_honoured_where_a_run_starts_and_refused_where_starts_are_drawn():
+    # Issue 19's Fig 13 point: chaotic from rest, a torus (F_m 0.385) from this start. classify()
+    # and bifurcation() ignored a scene's initial state; the attractor search draws its own.
+    row = dict(Nm=5, fc=60, eps=0.5, e_r=0.06, f_r=3.2)
+    start = {"initial": {"u": [0.5, -0.5, 0.5, -0.5, 0.5]}}
+    scene = {"model": {k: row[k] for k in ("Nm", "fc", "eps", "e_r")},
+             "excitation": {"f_r": 3.2}, **start}
+    assert gapchain.classify(scene)["regime"] == "quasi-periodic"
+    assert gapchain.classify(None, **row)["regime"] == "chaotic"
+    diagram = gapchain.bifurcation(scene, param="e_r", from_=0.06, to=0.06, steps=1,
+                                   transient=300, record=300)
+    assert abs(diagram["F_m"][0] - 0.385) < 1e-3
+    for search in (lambda: gapchain.attractors(scene, samples=2),
+                   lambda: gapchain.basin_fractions(scene, param="f_r", from_=3.1, to=3.2,
+                                                    steps=2, samples=2)):
+        with pytest.raises(ValueError, match="^initial: the attractor search draws its own"):
+            search()

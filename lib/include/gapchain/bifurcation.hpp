@@ -16,7 +16,7 @@ namespace gapchain {
 
 /// How the values of a sweep are linked.
 enum class SweepMode {
-    independent,  ///< each value from rest; values run in parallel (OpenMP)
+    independent,  ///< each value from the initial state; values run in parallel (OpenMP)
     continuation, ///< each value from the previous end state, sweeping up then down
 };
 /// Parses "independent" or "continuation"; throws std::invalid_argument otherwise.
@@ -43,6 +43,9 @@ struct BifurcationOptions {
     double period_tolerance = 1e-6;          ///< relative tolerance telling section points apart
     int max_period = 16;                     ///< largest period detected, >= 1
     int threads = 0;                         ///< OpenMP threads for independent mode (0: all)
+    /// Start of every value (independent mode) or of the first (continuation mode): 2 Nm
+    /// reduced numbers (u then v, relative to the ground), finite; empty: rest.
+    std::vector<double> initial;
 };
 
 /// Throws std::invalid_argument naming the first invalid option.

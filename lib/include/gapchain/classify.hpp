@@ -39,6 +39,9 @@ struct ClassifyOptions {
     /// Confirm a periodic regime by Newton shooting (orbit.hpp) from the final state: the
     /// period becomes the orbit's minimal period, and its largest Floquet multiplier is given.
     bool confirm_by_newton = true;
+    /// Start of the run (of every cell of a map): 2 Nm reduced numbers (u then v, relative to
+    /// the ground), finite; empty: rest.
+    std::vector<double> initial;
 };
 
 /// Throws std::invalid_argument naming the first invalid option.

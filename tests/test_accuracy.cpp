@@ -66,9 +66,10 @@ TEST_CASE("a work-precision study runs only the schemes asked for, within run.ma
                          std::invalid_argument);
     // Its reference is the exact propagator: the row's size is named, whatever the schemes.
     o.max_work = 3e10;
-    CHECK_THROWS_WITH_AS(work_precision(Dynamics::paper_row({65, 50, 0.5, 0.3, 1.1}), o),
-                         doctest::Contains("model.Nm: a work-precision study's reference"),
-                         std::invalid_argument);
+    CHECK_THROWS_WITH_AS(
+        work_precision(Dynamics::paper_row({65, 50, 0.5, 0.3, 1.1}), o),
+        doctest::Contains("reference is the exact propagator; exact takes rows of up to 64 bodies"),
+        std::invalid_argument);
 }
 
 TEST_CASE("a work-precision study reports its fraction done and stops when progress says so") {

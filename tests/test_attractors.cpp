@@ -444,3 +444,21 @@ TEST_CASE("fractions.csv: a label absent at a value has fraction 0 +- 1/N, not 0
     CHECK(first == "1,0.6,0.1,1.5,1,0.4,0.1,1.5,1");
     CHECK(second == "2,1,0.1,1.5,1,0,0.04,,");
 }
+
+TEST_CASE("design value: where no group settled, it is the larger of the run's F_m and the "
+          "groups', and from_run says which") {
+    // Too short to settle (60 periods): every group of 4 starts is still converging.
+    const ReducedParameters p{3, 100, 0.5, 0.1, 1.0};
+    AttractorOptions o = short_runs(4, 1);
+    o.box = 1.0;
+    o.run.periods = 60;
+    const SimulationResult run = simulate(Dynamics::paper_row(p), o.run);
+    const DesignValue d = design_value(p, o, run);
+    REQUIRE(d.search.unsettled == static_cast<int>(d.search.attractors.size()));
+    CHECK(d.F_m_max == std::max(run.F_m, d.search.F_m_max));
+    CHECK(d.from_run == (run.F_m >= d.search.F_m_max));
+    CHECK(d.F_m_max_error == (d.from_run ? run.F_m_error : d.search.F_m_max_error));
+    // Nothing settled: no comparison with an attractor is made.
+    CHECK_FALSE(d.start_below);
+    CHECK_FALSE(d.run_above);
+}

@@ -99,7 +99,8 @@ TEST_CASE("a record whose samples the machine cannot hold is refused before the 
     CHECK_NOTHROW(validate(o));
 }
 
-TEST_CASE("classify starts from options.initial: at Fig 13's f_r = 3.2 the start picks the regime") {
+TEST_CASE(
+    "classify starts from options.initial: at Fig 13's f_r = 3.2 the start picks the regime") {
     // Issue 19: from rest the row is chaotic (F_m 0.239); from u = (0.5, -0.5, 0.5, -0.5, 0.5)
     // it reaches a torus with F_m 0.385 (measured there with gapchain-sim, 600 periods).
     const ReducedParameters p{5, 60, 0.5, 0.06, 3.2};

@@ -1,3 +1,4 @@
+#include "gapchain/orbit.hpp"
 #include "gapchain/simulation.hpp"
 #include "gapchain/stepper.hpp"
 
@@ -55,6 +56,22 @@ TEST_CASE("a user step beyond the stability bound is refused with the bound") {
         CHECK(m.find("unstable") != std::string::npos);
     }
     CHECK_NOTHROW((void)plan_step(dyn, Scheme::central_difference, 1e-4, 0.9 * limit));
+}
+
+TEST_CASE("the exact scheme is refused for contacts stiffer than it resolves, and auto does not "
+          "choose it there") {
+    // Against rk8pd at 1e-9 (Nm = 3, e_r = 0): exact's F_m was off by 6e-6 at fc = 1e8 and by
+    // 62 % at fc = 3e8 (with an error bar that said so only by its size).
+    const Dynamics stiff = Dynamics::paper_row({3, 3e8, 0.5, 0.0, 1.0});
+    const Dynamics fine = Dynamics::paper_row({3, 1e8, 0.5, 0.0, 1.0});
+    CHECK(plan_step(fine, Scheme::exact, 1e-6).scheme == Scheme::exact);
+    CHECK_THROWS_WITH_AS(plan_step(stiff, Scheme::exact, 1e-6),
+                         doctest::Contains("run.scheme: exact takes contacts of up to"),
+                         std::invalid_argument);
+    CHECK(plan_step(fine, Scheme::automatic, 1e-6).scheme == Scheme::exact);
+    CHECK(plan_step(stiff, Scheme::automatic, 1e-6).scheme == Scheme::rk4);
+    CHECK_THROWS_WITH_AS(require_orbit_size(stiff, Scheme::exact),
+                         doctest::Contains("scheme: exact takes contacts"), std::invalid_argument);
 }
 
 TEST_CASE("the exact scheme is refused above max_exact_bodies, naming run.scheme and Nm") {

@@ -87,11 +87,11 @@ std::vector<Scheme> unsplit_schemes(const WorkPrecisionOptions& o) {
 
 /// The reference run's plan: the exact propagator at half its default interval.
 StepPlan reference_plan_for(const Dynamics& dyn) {
-    if (dyn.bodies() > max_exact_bodies)
-        throw std::invalid_argument(
-            "model.Nm: a work-precision study's reference is the exact propagator, which takes "
-            "rows of up to " +
-            std::to_string(max_exact_bodies) + " bodies, got " + std::to_string(dyn.bodies()));
+    // The reference is the exact propagator: a row it cannot take has no reference.
+    if (const auto refusal = exact_refusal(dyn))
+        throw std::invalid_argument("model: a work-precision study's reference is the exact "
+                                    "propagator; " +
+                                    *refusal);
     StepPlan plan = plan_step(dyn, Scheme::exact, 1e-12);
     plan.steps_per_period *= 2;
     plan.step /= 2;

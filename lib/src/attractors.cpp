@@ -636,10 +636,13 @@ DesignValue design_value(const ReducedParameters& p, const AttractorOptions& opt
     if (!run_answered) return d;
     const double run_error =
         has_error_estimate(run) ? run.F_m_error : std::numeric_limits<double>::quiet_NaN();
-    d.from_run = !attractor_found || run.F_m >= d.search.F_m_max;
+    // Where every group was still converging, the search's F_m_max is a transient's; the larger
+    // of it and the run's stands all the same, and from_run says which (it once said "the run's"
+    // whenever nothing settled, next to the group's larger F_m).
+    d.from_run = run.F_m >= d.search.F_m_max;
     if (d.from_run) {
-        d.F_m_max = std::max(run.F_m, d.search.F_m_max);
-        d.F_m_max_error = run.F_m >= d.search.F_m_max ? run_error : d.search.F_m_max_error;
+        d.F_m_max = run.F_m;
+        d.F_m_max_error = run_error;
     }
     if (!attractor_found) return d;
     const double gap = d.search.F_m_max - run.F_m;

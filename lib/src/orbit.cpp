@@ -42,12 +42,9 @@ void validate(const OrbitOptions& o) {
 }
 
 void require_orbit_size(const Dynamics& dyn, Scheme scheme) {
-    if (scheme == Scheme::exact && dyn.bodies() > max_exact_bodies)
-        throw std::invalid_argument("scheme: exact takes rows of up to " +
-                                    std::to_string(max_exact_bodies) +
-                                    " bodies (an O(Nm^3) set-up per contact state), got model.Nm "
-                                    "= " +
-                                    std::to_string(dyn.bodies()) + "; use rk4");
+    if (scheme == Scheme::exact)
+        if (const auto refusal = exact_refusal(dyn))
+            throw std::invalid_argument("scheme: " + *refusal);
     if (dyn.bodies() > max_orbit_bodies)
         throw std::invalid_argument("model.Nm: a periodic-orbit search takes rows of up to " +
                                     std::to_string(max_orbit_bodies) +

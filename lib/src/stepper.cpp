@@ -48,6 +48,23 @@ SchemeTraits traits(Scheme scheme) {
     throw std::invalid_argument("traits: the scheme must be concrete, got auto");
 }
 
+std::optional<std::string> exact_refusal(const Dynamics& dyn) {
+    // Each contact state the row visits costs an eigendecomposition of (2 Nm)^2 numbers,
+    // O(Nm^3), which no cancel can interrupt: a long row, whose states hardly repeat, spends
+    // its time there (Nm = 150: 14 min for one orbit, Nm = 2000: hours).
+    if (dyn.bodies() > max_exact_bodies)
+        return "exact takes rows of up to " + std::to_string(max_exact_bodies) +
+               " bodies (an O(Nm^3) set-up per contact state), got model.Nm = " +
+               std::to_string(dyn.bodies()) + "; use rk4";
+    if (dyn.max_angular_frequency() > max_exact_angular_frequency)
+        return "exact takes contacts of up to " +
+               detail::format_number(max_exact_angular_frequency) +
+               " rad per unit time (model.fc up to about 1e8 in the paper's row; stiffer ones "
+               "cost its eigendecompositions their accuracy), got " +
+               detail::format_number(dyn.max_angular_frequency()) + "; use rk4 or rk8pd";
+    return std::nullopt;
+}
+
 Scheme choose_scheme(double tolerance, int bodies) {
     detail::require_range("run.tolerance", tolerance, 0.0, 1.0, detail::Bound::open_low);
     // From the work-precision studies of docs/accuracy.md: rk4 (with steps split at contact
@@ -226,8 +243,10 @@ double accuracy_limit(Scheme scheme, double tolerance) {
 Scheme resolved_scheme(const Dynamics& dyn, Scheme scheme, double tolerance) {
     const bool linear = dyn.chain().law == ContactLaw::linear;
     const bool harmonic = dyn.ground_motion().is_harmonic();
-    if (scheme == Scheme::automatic)
+    if (scheme == Scheme::automatic) {
         scheme = linear && harmonic ? choose_scheme(tolerance, dyn.bodies()) : Scheme::rk4;
+        if (scheme == Scheme::exact && exact_refusal(dyn)) scheme = Scheme::rk4;
+    }
     if (scheme == Scheme::exact && !linear)
         throw std::invalid_argument("run.scheme: exact propagates the linear contact law only; "
                                     "use rk4, rkf45 or rk8pd with a nonlinear "
@@ -236,14 +255,9 @@ Scheme resolved_scheme(const Dynamics& dyn, Scheme scheme, double tolerance) {
         throw std::invalid_argument("run.scheme: central_difference needs contact forces that do "
                                     "not depend on the velocities; use rk4, rkf45 or rk8pd with "
                                     "model.contact_law = hunt_crossley");
-    // Each contact state the row visits costs the exact scheme an eigendecomposition of
-    // (2 Nm)^2 numbers, O(Nm^3), which no cancel can interrupt: a long row, whose states hardly
-    // repeat, spends its time there (Nm = 150: 14 min for one orbit, Nm = 2000: hours).
-    if (scheme == Scheme::exact && dyn.bodies() > max_exact_bodies)
-        throw std::invalid_argument(
-            "run.scheme: exact takes rows of up to " + std::to_string(max_exact_bodies) +
-            " bodies (an O(Nm^3) set-up per contact state), got model.Nm = " +
-            std::to_string(dyn.bodies()) + "; use rk4");
+    if (scheme == Scheme::exact)
+        if (const auto refusal = exact_refusal(dyn))
+            throw std::invalid_argument("run.scheme: " + *refusal);
     if (scheme == Scheme::exact && !harmonic)
         throw std::invalid_argument("run.scheme: exact needs harmonic forcing (its particular "
                                     "solution is closed-form); use rk4, rkf45 or rk8pd with "

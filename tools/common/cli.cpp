@@ -37,7 +37,10 @@ namespace fs = std::filesystem;
 bool same_file(const std::string& a, const std::string& b) {
     std::error_code ec;
     if (fs::exists(a, ec) && fs::exists(b, ec)) return fs::equivalent(a, b, ec);
-    return fs::weakly_canonical(a, ec) == fs::weakly_canonical(b, ec);
+    // Made absolute first: weakly_canonical() leaves a path none of whose parts exists relative,
+    // so "r.json" and "./r.json" (or a relative and an absolute spelling) compared unequal.
+    return fs::weakly_canonical(fs::absolute(a, ec), ec) ==
+           fs::weakly_canonical(fs::absolute(b, ec), ec);
 }
 
 // The nearest existing ancestor of path must be a directory a file can be created in: tried

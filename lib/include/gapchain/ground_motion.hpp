@@ -15,12 +15,13 @@ namespace gapchain {
 
 /// A ground acceleration history in SI units.
 struct Accelerogram {
-    std::vector<double> time;         ///< [s], strictly increasing, finite, >= 2 samples
+    std::vector<double> time;         ///< [s], >= 0, strictly increasing, finite, >= 2 samples
     std::vector<double> acceleration; ///< [m/s^2], finite, one per time
 };
 
 /// Throws std::invalid_argument (naming `key`) unless the accelerogram has >= 2 samples,
-/// equal lengths, finite values and strictly increasing times, and is not identically zero.
+/// equal lengths, finite values and strictly increasing times from 0 s on, and is not
+/// identically zero.
 void validate(const Accelerogram& record, const char* key = "excitation.file");
 
 /// Peak ground acceleration max |a| [m/s^2].

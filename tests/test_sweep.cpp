@@ -69,6 +69,13 @@ TEST_CASE("bad studies name the key") {
     CHECK_THROWS_WITH_AS(parse_study(R"({"parameters": {"fc": [1]}, "keep": ["speed"]})"),
                          doctest::Contains("keep"), SceneError);
     CHECK_THROWS_AS(parse_study("{nope"), SceneError);
+    // A method that is no string was a raw JSON type error; samples without a method were
+    // silently dropped for the grid.
+    CHECK_THROWS_WITH_AS(parse_study(R"({"parameters": {"fc": [1]}, "sample": {"method": 5}})"),
+                         doctest::Contains("sample.method: must be grid, random or"), SceneError);
+    CHECK_THROWS_WITH_AS(
+        parse_study(R"({"parameters": {"fc": [1]}, "sample": {"samples": 100, "seed": 3}})"),
+        doctest::Contains("sample.samples: applies to random or latin_hypercube"), SceneError);
     // "multistable" is always written, so keeping it is no error; 2e0 starts are 2 starts.
     const Study kept = parse_study(
         R"({"parameters": {"fc": [1]}, "keep": ["F_m", "multistable"], "attractors": 2e0})");

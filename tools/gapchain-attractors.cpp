@@ -81,7 +81,7 @@ void check_line(const CLI::App& app, const AttractorArguments& a) {
             "--grid: expected two state variables separated by a comma (e.g. u1,v1), got \"\"");
     if (line && !a.grid.empty())
         throw std::invalid_argument("--grid: not with --param (a slice is drawn at one point)");
-    if (!line && app.count("--resolution") > 0 && a.grid.empty())
+    if (app.count("--resolution") > 0 && a.grid.empty())
         throw std::invalid_argument("--resolution: applies only with --grid");
 }
 

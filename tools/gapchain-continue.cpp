@@ -127,11 +127,13 @@ void add_options(CLI::App& app, ContinueArguments& a) {
                    "scene's run.scheme, run.step and run.tolerance are not used)")
         ->check(CLI::IsMember({"exact", "rk4", "rkf45", "rk8pd"}))
         ->capture_default_str();
-    app.add_option("--overlay", a.overlay,
-                   "A gapchain-bifurcation summary.csv of the same line, drawn underneath")
-        ->check(CLI::ExistingFile);
+    auto* overlay =
+        app.add_option("--overlay", a.overlay,
+                       "A gapchain-bifurcation summary.csv of the same line, drawn underneath")
+            ->check(CLI::ExistingFile);
     app.add_option("--out", a.out_dir, "Output folder")->capture_default_str();
-    app.add_flag("--no-plot", a.no_plot, "Write the CSV files only");
+    // The overlay is only drawn: without a plot it was checked, then ignored.
+    app.add_flag("--no-plot", a.no_plot, "Write the CSV files only")->excludes(overlay);
 }
 
 void print_summary(const ContinuationResult& r, const ContinueArguments& a) {

@@ -219,9 +219,11 @@ int main(int argc, char** argv) {
     cli::add_scene_arguments(app, scene_args, true);
     std::string out_path, trajectory_path;
     bool quiet = false;
-    app.add_option("--out", out_path, "Write the result as JSON to this file");
+    app.add_option("--out", out_path, "Write the result as JSON to this file")
+        ->check(cli::non_empty_path());
     app.add_option("--trajectory", trajectory_path,
-                   "Write the (decimated: output.trajectory_every) trajectory as CSV");
+                   "Write the (decimated: output.trajectory_every) trajectory as CSV")
+        ->check(cli::non_empty_path());
     app.add_flag("--quiet,-q", quiet, "Print nothing on success");
     DesignSearch search;
     search.add_options(app);

@@ -127,13 +127,15 @@ void add_arguments(CLI::App& app, SweepArguments& a) {
     app.add_option("--shard", a.shard_text,
                    "Run shard i of n (index % n == i, 0 <= i < n <= 1000000), e.g. for job arrays")
         ->capture_default_str();
-    app.add_option(
-           "--subset", a.subset,
-           "Run only K points, one drawn at random in each of K equal strata of the index range")
-        ->check(CLI::NonNegativeNumber)
-        ->capture_default_str();
+    auto* subset = app.add_option("--subset", a.subset,
+                                  "Run only K points, one drawn at random in each of K equal "
+                                  "strata of the index range")
+                       ->check(CLI::NonNegativeNumber)
+                       ->capture_default_str();
+    // Without --subset nothing is drawn: a --seed alone was silently ignored.
     app.add_option("--seed", a.seed, "Seed of --subset (a non-negative integer)")
         ->check(gapchain::cli::range(0ULL, 4'294'967'295ULL))
+        ->needs(subset)
         ->capture_default_str();
 }
 

@@ -131,6 +131,11 @@ py::dict simulate_py(const py::object& scene_arg, bool trajectory, long attracto
                      const py::kwargs& keys) {
     const Scene scene = to_scene(scene_arg, keys);
     AttractorOptions search;
+    // 0 is no search; the search's own range starts at 1.
+    if (attractors < 0 || attractors > 10'000'000)
+        throw std::invalid_argument("attractors: must be an integer in [0, 10000000] (0: no "
+                                    "search), got " +
+                                    std::to_string(attractors));
     if (attractors != 0) {
         search.samples = attractors;
         search.seed = seed.value_or(search.seed);

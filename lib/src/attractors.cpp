@@ -23,7 +23,7 @@
 namespace gapchain {
 
 void validate(const AttractorOptions& o, int Nm) {
-    detail::require_range("samples", static_cast<double>(o.samples), 1.0, 1e7);
+    detail::require_count("samples", o.samples, 1, 10'000'000);
     // The tools read seeds as signed 64-bit integers: one range for them and Python.
     if (o.seed > (std::uint64_t{1} << 62))
         throw std::invalid_argument("seed: must be an integer in [0, 2^62 = 4611686018427387904], "

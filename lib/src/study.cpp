@@ -75,6 +75,9 @@ void read_sampling(const ojson& sample, Study& s) {
         throw SceneError(
             "sample: must be \"grid\" or {\"method\": ..., \"samples\": N, \"seed\": S}");
     require_keys(sample, "sample.", {"method", "samples", "seed"}, "method, samples, seed");
+    if (sample.contains("method") && !sample["method"].is_string())
+        throw SceneError("sample.method: must be grid, random or latin_hypercube, got " +
+                         sample["method"].dump());
     const std::string method = sample.value("method", std::string("grid"));
     if (method == "random")
         s.sampling = Sampling::random;
@@ -83,7 +86,16 @@ void read_sampling(const ojson& sample, Study& s) {
     else if (method != "grid")
         throw SceneError("sample.method: must be grid, random or latin_hypercube, got \"" + method +
                          "\"");
-    if (s.sampling == Sampling::grid) return;
+    // A grid takes every point: samples and seed would be ignored (a study that gave them but
+    // no method silently ran the grid).
+    if (s.sampling == Sampling::grid) {
+        if (sample.contains("samples") || sample.contains("seed"))
+            throw SceneError(std::string("sample.") +
+                             (sample.contains("samples") ? "samples" : "seed") +
+                             ": applies to random or latin_hypercube sampling; give "
+                             "sample.method (the grid takes every point)");
+        return;
+    }
     if (!sample.contains("samples") || !sample["samples"].is_number_integer())
         throw SceneError("sample.samples: an integer in [1, 10000000] is required");
     s.samples = sample["samples"].get<long>();

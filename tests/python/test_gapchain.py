@@ -243,8 +243,11 @@ def test_simulate_design_value_matches_gapchain_sim(tmp_path):
             gapchain.simulate(scene, **extra, **keys)
     with pytest.raises(TypeError, match="^seed: must be an integer or None, got 1.5"):
         gapchain.simulate(scene, seed=1.5, **keys)
-    with pytest.raises(ValueError, match="^attractors: must be"):
+    # 0 is valid (no search): the range says so, and an integer is asked, not "a finite number".
+    with pytest.raises(ValueError, match=r"^attractors: must be an integer in \[0, 10000000\]"):
         gapchain.simulate(scene, attractors=-1, **keys)
+    with pytest.raises(ValueError, match=r"^samples: must be an integer in \[1, 10000000\]"):
+        gapchain.attractors(scene, samples=0)
 
 
 def test_attractors_match_gapchain_attractors(tmp_path):
@@ -307,7 +310,6 @@ def test_a_sweep_with_attractors_has_the_design_value_columns():
 
 def test_an_argument_of_the_wrong_type_is_named_in_one_line():
     cases = [(gapchain.attractors, {"samples": 1.5}, "samples: must be an integer, got 1.5"),
-             (gapchain.attractors, {"seed": -1}, r"seed: must be an integer in \[0, 2\*\*64\)"),
              (gapchain.orbit, {"period": 3.0}, "period: must be an integer, got 3.0"),
              (gapchain.classify, {"transient": None}, "transient: must be an integer, got None"),
              (gapchain.simulate, {"trajectory": "yes"}, "trajectory: must be True or False"),
@@ -409,3 +411,15 @@ def test_a_start_is_honoured_where_a_run_starts_and_refused_where_starts_are_dra
                                                     steps=2, samples=2)):
         with pytest.raises(ValueError, match="^initial: the attractor search draws its own"):
             search()
+
+
+def test_a_seed_out_of_range_is_a_value_error_with_the_library_limit_and_long_doubles_pass():
+    # -1 was a TypeError naming [0, 2**64), 2**63 a ValueError naming the library's [0, 2^62].
+    for seed in (-1, 2 ** 62 + 1, 2 ** 63, 2 ** 64):
+        with pytest.raises(ValueError, match=r"^seed: must be an integer in \[0, 2\^62 = 4611686018427387904\]"):
+            gapchain.attractors(samples=2, seed=seed)
+    # A NumPy long double in a scene dict recursed without end; it is a number like any other.
+    plain = gapchain.simulate({"model": {"fc": 100.0}}, periods=50)["F_m"]
+    assert gapchain.simulate({"model": {"fc": np.longdouble(100)}}, periods=50)["F_m"] == plain
+    with pytest.raises(ValueError, match="^model.fc: must be a number"):
+        gapchain.simulate({"model": {"fc": np.clongdouble(100)}}, periods=50)

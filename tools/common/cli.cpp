@@ -317,6 +317,14 @@ Scene load(const SceneArguments& args, const std::string& default_scene_json) {
     return load_scene(args.path, args.sets);
 }
 
+CLI::Validator non_empty_path() {
+    return CLI::Validator(
+        [](std::string& text) -> std::string {
+            return text.empty() ? "must be a file path, got an empty one" : std::string{};
+        },
+        "PATH");
+}
+
 CLI::Validator positive_number() {
     return CLI::Validator(
         [](std::string& text) -> std::string {
@@ -340,16 +348,20 @@ CLI::Validator number_range(double lo, double hi, bool integer) {
             char* end = nullptr;
             errno = 0;
             const bool negative = text.find('-') != std::string::npos;
-            const double x =
-                integer ? (negative ? static_cast<double>(std::strtoll(text.c_str(), &end, 0))
-                                    : static_cast<double>(std::strtoull(text.c_str(), &end, 0)))
-                        : std::strtod(text.c_str(), &end);
+            // long double holds every 64-bit integer exactly (x86-64): as a double, 2^62 + 1
+            // rounded to 2^62 and passed a bound of 2^62.
+            const long double x =
+                integer
+                    ? (negative ? static_cast<long double>(std::strtoll(text.c_str(), &end, 0))
+                                : static_cast<long double>(std::strtoull(text.c_str(), &end, 0)))
+                    : static_cast<long double>(std::strtod(text.c_str(), &end));
             const bool number =
                 end != text.c_str() && *end == '\0' && errno != ERANGE && std::isfinite(x);
             if (!number)
                 return std::string(integer ? "must be an integer" : "must be a finite number") +
                        " in " + range + ", got \"" + text + "\"";
-            if (!(x >= lo && x <= hi)) return "must be in " + range + ", got " + text;
+            if (!(x >= static_cast<long double>(lo) && x <= static_cast<long double>(hi)))
+                return "must be in " + range + ", got " + text;
             return {};
         },
         "[" + range + "]");

@@ -113,6 +113,8 @@ Scene load(const SceneArguments& args, const std::string& default_scene_json = "
 
 // CLI11 check: a finite number > 0 (CLI::PositiveNumber prints the whole double range).
 CLI::Validator positive_number();
+// An output path that is not empty: "" would write nothing, and say so nowhere.
+CLI::Validator non_empty_path();
 
 // CLI11 check: a number (an integer when `integer`) in [lo, hi], the bounds written as %g
 // (CLI::Range writes 1e-9 as 0.000000) and a non-number called one.

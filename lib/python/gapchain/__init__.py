@@ -159,7 +159,8 @@ def _wrong_argument(name, parameters, positional, args, kwargs):
 
 
 def _out_of_range(name, parameters, args, kwargs):
-    """An integer of the right kind that the C++ type cannot hold."""
+    """(exception class, message): ValueError for an integer of the right kind that the C++ type
+    cannot hold (a value out of range, as the library's own range errors), else TypeError."""
     given = dict(zip((p for p, _ in parameters), args))
     given.update(kwargs)
     for parameter, kind in parameters:
@@ -167,13 +168,17 @@ def _out_of_range(name, parameters, args, kwargs):
         if kind.startswith("Optional[") and kind.endswith("]"):
             kind = kind[9:-1]
         if kind == "int" and _fits(kind, value):
-            if parameter == "seed" and not 0 <= value < 2 ** 64:
-                return "seed: must be an integer in [0, 2**64), got %r" % value
+            # The library's own limit (attractors.cpp), so that -1 and 2**63 read alike.
+            if parameter == "seed" and not 0 <= value <= 2 ** 62:
+                return ValueError, ("seed: must be an integer in [0, 2^62 = %d], got %r"
+                                    % (2 ** 62, value))
             if not -2 ** 63 <= value < 2 ** 63:
-                return "%s: must be an integer in [-2**63, 2**63), got %r" % (parameter, value)
+                return ValueError, "%s: must be an integer in [-2**63, 2**63), got %r" % (
+                    parameter, value)
             if not -2 ** 31 <= value < 2 ** 31:
-                return "%s: must be an integer in [-2**31, 2**31), got %r" % (parameter, value)
-    return "%s(): arguments of the wrong type; see help(gapchain.%s)" % (name, name)
+                return ValueError, "%s: must be an integer in [-2**31, 2**31), got %r" % (
+                    parameter, value)
+    return TypeError, "%s(): arguments of the wrong type; see help(gapchain.%s)" % (name, name)
 
 
 def _typed(function):
@@ -212,7 +217,8 @@ def _typed(function):
         except TypeError as error:
             if "incompatible function arguments" not in str(error):
                 raise
-            raise TypeError(_out_of_range(function.__name__, parameters, args, kwargs)) from None
+            kind, message = _out_of_range(function.__name__, parameters, args, kwargs)
+            raise kind(message) from None
         except ValueError as error:
             for field, argument in renamed:
                 if str(error).startswith(field):
@@ -247,7 +253,13 @@ def _scene_json(value, key=""):
         if v is None or isinstance(v, (bool, str)):
             return v
         if hasattr(v, "tolist"):  # NumPy scalars and arrays
-            return plain(v.tolist(), key)
+            listed = v.tolist()
+            if type(listed) is type(v):  # a long double stays itself: recursion without end
+                if not isinstance(v, _numbers.Real):
+                    raise ValueError("%s: must be a number, string, list or object, got %s"
+                                     % (key or "scene", type(v).__name__))
+                listed = float(v)
+            return plain(listed, key)
         if isinstance(v, _numbers.Integral):
             return int(v)
         if isinstance(v, _numbers.Real):

@@ -36,6 +36,13 @@ inline void require_range(const std::string& key, int value, int lo, int hi) {
                                     std::to_string(hi) + "], got " + std::to_string(value));
 }
 
+/// The same for a count held in a long (samples, starts).
+inline void require_count(const std::string& key, long value, long lo, long hi) {
+    if (value < lo || value > hi)
+        throw std::invalid_argument(key + ": must be an integer in [" + std::to_string(lo) + ", " +
+                                    std::to_string(hi) + "], got " + std::to_string(value));
+}
+
 /// A run of transient + recorded periods (bifurcation values, classification) is a run of
 /// run.periods, at most 1e9: refused under the name of the option the user gave.
 inline void require_run_length(long transient_periods, long record_periods) {

@@ -180,6 +180,7 @@ int main(int argc, char** argv) {
     return cli::run(app, argc, argv,
                     [&] {
                         cli::require_not_set(a.scene, a.param, "gapchain-continue");
+                        cli::require_no_run_set(a.scene, "gapchain-continue");
                         const Scene scene = cli::load(a.scene);
                         cli::require_paper_row(scene, "gapchain-continue");
                         a.options.parameter = parse_swept_parameter(a.param);

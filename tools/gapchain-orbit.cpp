@@ -77,6 +77,7 @@ int main(int argc, char** argv) {
     add_options(app, a);
     return cli::run(app, argc, argv,
                     [&] {
+                        cli::require_no_run_set(a.scene, "gapchain-orbit");
                         const Scene scene = cli::load(a.scene);
                         cli::require_linear_harmonic(
                             scene, "gapchain-orbit",

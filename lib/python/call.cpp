@@ -68,6 +68,17 @@ Scene to_swept_scene(const py::object& scene, const std::string& param, const py
     return to_scene(scene, keys);
 }
 
+void refuse_run_keys(const py::kwargs& keys, const std::string& function) {
+    for (const auto& [key, value] : keys) {
+        const std::string name = key.cast<std::string>();
+        if (scene_key(name).rfind("run.", 0) == 0)
+            throw std::invalid_argument(name + ": " + function +
+                                        "() does not read the scene's run section (its "
+                                        "shootings integrate with scheme to 1e-12); drop the " +
+                                        name + " keyword");
+    }
+}
+
 const ReducedParameters& searched_row(const Scene& scene) {
     if (!scene.initial.empty())
         throw std::invalid_argument("initial: the attractor search draws its own starts "

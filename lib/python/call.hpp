@@ -31,6 +31,10 @@ Scene to_scene(const py::object& scene, const py::kwargs& keys);
 Scene to_swept_scene(const py::object& scene, const std::string& param, const py::kwargs& keys,
                      const std::string& function);
 
+// Functions that integrate with their own scheme (orbit, continuation) refuse a run.* keyword,
+// which they would silently ignore: std::invalid_argument naming it.
+void refuse_run_keys(const py::kwargs& keys, const std::string& function);
+
 // The paper's row at one point, as attractors.hpp needs it; std::invalid_argument otherwise.
 const ReducedParameters& paper_row(const Scene& scene);
 // paper_row() of a scene whose attractors are searched from drawn starts: one that gives an

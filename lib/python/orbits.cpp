@@ -56,6 +56,7 @@ branch_end (why each branch ended), shootings, cancelled, wall_time_s.)";
 
 py::dict orbit_py(const py::object& scene_arg, int period, long transient, double tolerance,
                   int max_iterations, const std::string& scheme, const py::kwargs& keys) {
+    refuse_run_keys(keys, "orbit");
     const Scene scene = to_scene(scene_arg, keys);
     const Dynamics dyn = scene.dynamics();
     OrbitOptions o;
@@ -133,6 +134,7 @@ py::dict continuation_py(const py::object& scene_arg, const std::string& param, 
                          bool follow_doublings, int max_branches, long transient,
                          const std::string& scheme, const py::object& progress,
                          const py::kwargs& keys) {
+    refuse_run_keys(keys, "continuation");
     const Scene scene = to_swept_scene(scene_arg, param, keys, "continuation");
     ContinuationOptions o;
     o.parameter = parse_swept_parameter(param);

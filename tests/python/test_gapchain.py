@@ -423,3 +423,11 @@ def test_a_seed_out_of_range_is_a_value_error_with_the_library_limit_and_long_do
     assert gapchain.simulate({"model": {"fc": np.longdouble(100)}}, periods=50)["F_m"] == plain
     with pytest.raises(ValueError, match="^model.fc: must be a number"):
         gapchain.simulate({"model": {"fc": np.clongdouble(100)}}, periods=50)
+
+
+def test_orbit_and_continuation_refuse_run_keywords_they_would_ignore():
+    # continuation(tolerance=0.1) ran, the scene's run.tolerance unread by the shootings.
+    with pytest.raises(ValueError, match="^tolerance: continuation\\(\\) does not read"):
+        gapchain.continuation(MIRROR_PAIR, from_=1.2, to=1.21, tolerance=0.1)
+    with pytest.raises(ValueError, match="^run.periods: orbit\\(\\) does not read"):
+        gapchain.orbit(MIRROR_PAIR, **{"run.periods": 100})

@@ -421,6 +421,14 @@ void require_not_set(const SceneArguments& args, const std::string& param,
                                  " itself, from --from to --to; drop the --set");
 }
 
+void require_no_run_set(const SceneArguments& args, const std::string& tool) {
+    for (const std::string& set : args.sets)
+        if (set.rfind("run.", 0) == 0)
+            throw SceneError("--set " + set.substr(0, set.find('=')) + ": " + tool +
+                             " does not read the scene's run section (its shootings integrate "
+                             "with --scheme to 1e-12); drop the --set");
+}
+
 void require_linear_harmonic(const Scene& scene, const std::string& tool, const std::string& why) {
     if (!scene.harmonic())
         throw SceneError("excitation.type: " + tool + " needs harmonic forcing (" + why +

@@ -138,6 +138,9 @@ void require_paper_row(const Scene& scene, const std::string& tool);
 // refuse a --set of it, or of the physical key behind it alone (excitation.f, model.e, model.Kc,
 // model.C), which their --from ... --to would silently replace. param: f_r, e_r, fc or eps.
 void require_not_set(const SceneArguments& args, const std::string& param, const std::string& tool);
+// Tools that integrate with their own --scheme (orbit, continue) refuse a --set of a run.* key,
+// which they would silently ignore.
+void require_no_run_set(const SceneArguments& args, const std::string& tool);
 // Tools built on the exact propagator or the tangent flow (orbit, accuracy) refuse the rest with
 // the reason: harmonic forcing and the linear contact law (any row of them).
 void require_linear_harmonic(const Scene& scene, const std::string& tool, const std::string& why);

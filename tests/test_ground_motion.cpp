@@ -174,6 +174,13 @@ TEST_CASE("analyses that need a forcing period refuse a record, and so does exac
     const SimulationResult r = simulate(dyn, o);
     CHECK(r.scheme == Scheme::rk4);
     CHECK(!r.steady_state_period);
+    // A record sampled far too finely for 1e9 steps per period names the record (it named
+    // excitation.f_r, which a record scene has not).
+    const Dynamics fine(Chain::homogeneous({2, 100.0, 0.2, 0.3, 1.0}),
+                        GroundMotion::record({0.0, 1e-300, 2e-300}, {0.0, 1.0, 0.0}));
+    CHECK_THROWS_WITH_AS(plan_step(fine, Scheme::rk4, 1e-4),
+                         doctest::Contains("excitation.file: one natural period"),
+                         std::invalid_argument);
 }
 
 TEST_CASE("bad ground-motion input names the key") {

@@ -119,7 +119,8 @@ void print_result(const Scene& scene, const SimulationResult& r, bool searched) 
 }
 
 // The design value's line: what the search found and how this run's F_m compares.
-void print_design(const SimulationResult& r, const DesignValue& d, const AttractorOptions& o) {
+void print_design(const Scene& scene, const SimulationResult& r, const DesignValue& d,
+                  const AttractorOptions& o) {
     const AttractorSet& set = d.search;
     std::printf("design value over %zu attractor(s) from %ld starts (%.2f s): ",
                 set.attractors.size(), o.samples, set.wall_time_s);
@@ -147,7 +148,13 @@ void print_design(const SimulationResult& r, const DesignValue& d, const Attract
     } else if (d.from_run) {
         std::printf("this run's F_m (no attractor found hits harder)\n");
     } else {
-        std::printf("F_m_max = %.6g +- %.2g (", d.F_m_max, d.F_m_max_error);
+        std::printf("F_m_max = %.6g +- %.2g", d.F_m_max, d.F_m_max_error);
+        // Beside the run's F_m in newtons, the design value in newtons too (it was only in the
+        // JSON's F_m_max_newton).
+        if (scene.physical)
+            std::printf("  (%.6g N +- %.2g N)", force_in_newtons(d.F_m_max, *scene.physical),
+                        force_in_newtons(d.F_m_max_error, *scene.physical));
+        std::printf(" (");
         describe();
         if (d.start_below)
             std::printf(")\nmultistable: this run's start reached a weaker attractor, its F_m is "
@@ -265,7 +272,7 @@ int main(int argc, char** argv) {
             outputs.keep();
             if (!quiet) {
                 print_result(scene, r, design.has_value());
-                if (design) print_design(r, *design, search.options);
+                if (design) print_design(scene, r, *design, search.options);
             }
         },
         {{"samples", "--attractors"}, {"box", "--box"}, {"threads", "--threads"}});

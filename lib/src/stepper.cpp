@@ -311,15 +311,23 @@ StepPlan plan_step(const Dynamics& dyn, Scheme scheme, double tolerance,
                 : std::min({accuracy_limit(scheme, tolerance), 0.4, 0.9 * tr.stability_limit});
         h = std::min(hw / omega, period / 16.0);
     }
-    // A forcing period of more than 1e9 steps (a tiny f_r, a tiny run.step) is refused here,
-    // before the count overflows.
-    if (!(period / h <= 1e9))
-        throw std::invalid_argument(
-            std::string(user_step ? "run.step" : "excitation.f_r") + ": one forcing period (" +
-            detail::format_number(period) + " reduced time units) would take " +
-            detail::format_number(period / h) + " steps of " + detail::format_number(h) +
-            ", above 1e9; " +
-            (user_step ? "take a longer run.step" : "raise f_r (f_r >= 1e-5 keeps to the limit)"));
+    // A forcing period of more than 1e9 steps (a tiny f_r, a tiny run.step, a record sampled
+    // far too finely) is refused here, before the count overflows.
+    if (!(period / h <= 1e9)) {
+        const bool record = !dyn.ground_motion().is_harmonic();
+        const std::string key = user_step ? "run.step"
+                                : record  ? "excitation.file"
+                                          : "excitation.f_r";
+        const std::string cure = user_step ? "take a longer run.step"
+                                 : record  ? "resample the record (the steps resolve a quarter "
+                                             "of its sampling rate)"
+                                           : "raise f_r (f_r >= 1e-5 keeps to the limit)";
+        throw std::invalid_argument(key + ": one " + (record ? "natural" : "forcing") +
+                                    " period (" + detail::format_number(period) +
+                                    " reduced time units) would take " +
+                                    detail::format_number(period / h) + " steps of " +
+                                    detail::format_number(h) + ", above 1e9; " + cure);
+    }
     StepPlan plan;
     plan.scheme = scheme;
     plan.steps_per_period = static_cast<int>(std::ceil(period / h - 1e-9));

@@ -431,3 +431,13 @@ def test_orbit_and_continuation_refuse_run_keywords_they_would_ignore():
         gapchain.continuation(MIRROR_PAIR, from_=1.2, to=1.21, tolerance=0.1)
     with pytest.raises(ValueError, match="^run.periods: orbit\\(\\) does not read"):
         gapchain.orbit(MIRROR_PAIR, **{"run.periods": 100})
+
+
+def test_a_missing_required_argument_is_named():
+    # pybind11 said "incompatible function arguments", naming nothing.
+    with pytest.raises(TypeError, match="^basin_fractions\\(\\): missing required arguments: "
+                                        "from_, to, steps$"):
+        gapchain.basin_fractions(Nm=3, samples=3)
+    with pytest.raises(TypeError, match="^basin_fractions\\(\\): missing required argument: "
+                                        "steps$"):
+        gapchain.basin_fractions(Nm=3, samples=3, from_=1.0, to=1.1)

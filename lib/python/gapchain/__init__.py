@@ -65,15 +65,15 @@ from ._gapchain import (  # noqa: E402  (after NumPy is importable)
 
 
 def _signature(message):
-    """(name, type) of each parameter in the signature pybind11 lists in its TypeError, and how
-    many may be given by position (those before "*")."""
+    """(name, type) of each parameter in the signature pybind11 lists in its TypeError, how
+    many may be given by position (those before "*"), and the names listed without a default."""
     for line in message.splitlines():
         line = line.strip()
         if line.startswith("1. ("):
             text = line[len("1. ("):line.rfind(")")]
             break
     else:
-        return [], 0
+        return [], 0, []
     parts, depth, start = [], 0, 0
     for i, c in enumerate(text):
         depth += c == "["
@@ -84,7 +84,8 @@ def _signature(message):
     parts.append(text[start:].strip())
     positional = parts.index("*") if "*" in parts else len(parts)
     return ([(p.split(":")[0].strip(), p.split(":")[1].split("=")[0].strip())
-             for p in parts if ":" in p], positional)
+             for p in parts if ":" in p], positional,
+            [p.split(":")[0].strip() for p in parts if ":" in p and "=" not in p])
 
 
 def _is_bool(value):
@@ -187,9 +188,11 @@ def _typed(function):
     silent conversion (True as 1, 3.7 as 3)."""
     try:
         function(*([None] * 64))  # too many: pybind11 lists the signature, runs nothing
-        parameters, positional, closed = [], 0, False
+        parameters, positional, required, closed = [], 0, [], False
     except TypeError as error:
-        parameters, positional = _signature(str(error))
+        # Those listed without a default, too: pybind11 said only "incompatible function
+        # arguments" when one was left out (basin_fractions(samples=3) without from_, to, steps).
+        parameters, positional, required = _signature(str(error))
         # Without **kwargs every keyword is a parameter: name a misspelt one (pybind11 said
         # only "incompatible function arguments").
         closed = bool(parameters) and "**kwargs" not in str(error)
@@ -212,6 +215,11 @@ def _typed(function):
         wrong = _wrong_argument(function.__name__, parameters, positional, args, kwargs)
         if wrong:
             raise TypeError(wrong)
+        given = set(names[:len(args)]) | set(kwargs)
+        missing = [p for p in required if p not in given]
+        if missing:
+            raise TypeError("%s(): missing required argument%s: %s" % (
+                function.__name__, "" if len(missing) == 1 else "s", ", ".join(missing)))
         try:
             return function(*args, **kwargs)
         except TypeError as error:

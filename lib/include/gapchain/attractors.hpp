@@ -52,10 +52,13 @@ struct BasinSlice {
 
 /// How attractors are searched.
 struct AttractorOptions {
-    long samples = 200;              ///< random starts for the basin fractions, 1 .. 1e7
-    std::uint64_t seed = 1;          ///< seed of the starts, 0 .. 2^62
-    double box = 1.0;                ///< half-width of the box of starts, in units of A, (0, 100]
-    RunOptions run;                  ///< each start's run (steady-state stop on to finish early)
+    long samples = 200;     ///< random starts for the basin fractions, 1 .. 1e7
+    std::uint64_t seed = 1; ///< seed of the starts, 0 .. 2^62
+    double box = 1.0;       ///< half-width of the box of starts, in units of A, (0, 100]
+    /// Each start's run (steady-state stop on to finish early). Its estimate_error is taken as
+    /// true and its multistability_check as false whatever they say: each start needs its
+    /// F_m_error to be grouped, and the search itself replaces the twin.
+    RunOptions run;
     int section_points = 200;        ///< stroboscopic points kept of a run that does not settle,
                                      ///< 20 .. 100000 (at most the recorded periods)
     double overlap_factor = 3.0;     ///< nearest-neighbour test factor, 1 .. 100

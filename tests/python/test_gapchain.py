@@ -441,3 +441,8 @@ def test_a_missing_required_argument_is_named():
     with pytest.raises(TypeError, match="^basin_fractions\\(\\): missing required argument: "
                                         "steps$"):
         gapchain.basin_fractions(Nm=3, samples=3, from_=1.0, to=1.1)
+
+
+def test_a_non_string_key_in_a_scene_dict_is_named():
+    with pytest.raises(ValueError, match=r"^model: keys must be strings, got \('a',\) \(tuple\)"):
+        gapchain.simulate({"model": {("a",): 1}}, periods=50)

@@ -255,6 +255,10 @@ def _scene_json(value, key=""):
 
     def plain(v, key):
         if isinstance(v, dict):
+            for k in v:  # JSON's keys are strings: json.dumps' TypeError named none
+                if not isinstance(k, str):
+                    raise ValueError("%s: keys must be strings, got %r (%s)"
+                                     % (key or "scene", k, type(k).__name__))
             return {k: plain(x, "%s.%s" % (key, k) if key else str(k)) for k, x in v.items()}
         if isinstance(v, (list, tuple)):
             return [plain(x, "%s[%d]" % (key, i)) for i, x in enumerate(v)]

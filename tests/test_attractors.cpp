@@ -291,6 +291,21 @@ TEST_CASE("a label follows an attractor along the line, even one that moved more
 
 TEST_CASE("bad options are refused naming the option") {
     AttractorOptions o;
+    // A line of basin fractions whose last value the scheme cannot take is refused before its
+    // first value runs (every value is validated first; the scheme is part of it now).
+    o.samples = 2;
+    o.run.scheme = Scheme::exact;
+    const ReducedParameters soft{2, 1e8, 0.5, 0.3, 5.0};
+    bool asked = false;
+    CHECK_THROWS_WITH_AS(continue_basin_fractions(soft, SweptParameter::fc, {1e8, 3e8}, o,
+                                                  [&](double) {
+                                                      asked = true;
+                                                      return true;
+                                                  }),
+                         doctest::Contains("run.scheme: exact takes contacts"),
+                         std::invalid_argument);
+    CHECK_FALSE(asked);
+    o = AttractorOptions{};
     o.samples = 0;
     CHECK_THROWS_WITH_AS(find_attractors(mirror_pair, o), doctest::Contains("samples"),
                          std::invalid_argument);

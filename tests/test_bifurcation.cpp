@@ -223,3 +223,17 @@ TEST_CASE("a diagram starts every value (independent) or its first (continuation
     o.initial.pop_back();
     CHECK_THROWS_WITH_AS(validate(o, fig13), doctest::Contains("initial"), std::invalid_argument);
 }
+
+TEST_CASE("a diagram over fc whose end is beyond the exact scheme's stiffest contacts is refused "
+          "up front") {
+    BifurcationOptions o;
+    o.parameter = SweptParameter::fc;
+    o.from = 1.0e8;
+    o.to = 3.0e8;
+    o.scheme = Scheme::exact;
+    CHECK_THROWS_WITH_AS(validate(o, ReducedParameters{2, 1e8, 0.5, 0.3, 5.0}),
+                         doctest::Contains("run.scheme: exact takes contacts"),
+                         std::invalid_argument);
+    o.to = 1.1e8;
+    CHECK_NOTHROW(validate(o, ReducedParameters{2, 1e8, 0.5, 0.3, 5.0}));
+}

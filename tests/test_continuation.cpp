@@ -277,3 +277,21 @@ TEST_CASE("--follow-doublings switches at the grazing corner where period 1 lose
     CHECK(found.minimal_period == 2);
     CHECK(std::abs(found.F_m - doubled->F_m) < 1e-6);
 }
+
+TEST_CASE("a line in fc that ends beyond the exact scheme's stiffest contacts is refused before "
+          "it runs") {
+    // It ran every value below the limit, then threw at the first above, losing all of it.
+    ContinuationOptions o;
+    o.parameter = SweptParameter::fc;
+    o.from = 1.0e8;
+    o.to = 3.0e8;
+    const ReducedParameters row{2, 1e8, 0.5, 0.3, 5.0};
+    bool asked = false;
+    CHECK_THROWS_WITH_AS(continue_orbits(row, o, {},
+                                         [&](double) {
+                                             asked = true;
+                                             return true;
+                                         }),
+                         doctest::Contains("scheme: exact takes contacts"), std::invalid_argument);
+    CHECK_FALSE(asked);
+}

@@ -190,7 +190,8 @@ TEST_CASE("bad ground-motion input names the key") {
                          std::invalid_argument);
     // Times before the run's start were dropped unseen: a record from -3 s to 0 s ran as silence.
     CHECK_THROWS_WITH_AS(GroundMotion::record({-3.0, -1.0, 0.0}, {1.0, 2.0, 1.0}),
-                         doctest::Contains("times must be >= 0 s"), std::invalid_argument);
+                         doctest::Contains("times must be >= 0 (the run starts at t = 0)"),
+                         std::invalid_argument);
     CHECK(error_of(R"({"excitation": {"type": "record", "file": "x.csv"}})").find("units") !=
           std::string::npos);
     const std::string physical = R"({"units": "physical", "excitation": {"type": "kanai_tajimi", )";

@@ -275,4 +275,7 @@ TEST_CASE("the quintic Hermite interpolant's crossings are the roots of the quin
     const detail::QuinticHermite line(-1.0, 1.0, 0.0, 1.0, 1.0, 0.0, h);
     CHECK(line.crossing(0.0, 0.0, h) == 1.0);
     CHECK(line.crossing(0.25, 0.0, h) == doctest::Approx(1.25).epsilon(1e-15));
+    // (t - 1)^2 (t - 1.5) touches 0 at the midpoint without crossing: the crossing is 1.5.
+    const detail::QuinticHermite touch(-1.5, 4.0, -7.0, 0.5, 2.0, 5.0, h);
+    CHECK(touch.crossing(0.0, 0.0, h) == doctest::Approx(1.5).epsilon(1e-14));
 }

@@ -39,11 +39,13 @@ is discarded, then the stroboscopic section points (phase in [0, 1) of the forci
 `variable` and F_m are recorded and the period detected. gapchain-bifurcation in-process.
 
 param     "f_r", "e_r", "fc" or "eps";  from_, to  first and last value;  steps >= 1 values
-mode      "independent" (each value from rest, in parallel) or "continuation" (up then down)
+mode      "independent" (each value from the scene's initial state, default rest, in
+          parallel) or "continuation" (up then down, from it)
 transient discarded periods per value, >= 0;  record  recorded periods per value, >= 1
 variable  u1..uNm, v1..vNm, g0..gNm, F0..FNm;  threads OpenMP threads (0: all cores)
 progress  callable(fraction of values done)
-scene, **keys  the row (Nm, fc, eps, e_r, f_r; scheme and tolerance are used).
+scene, **keys  the row (Nm, fc, eps, e_r, f_r; of the run section scheme, tolerance and
+          max_work are used) and its initial state.
 
 Returns a dict of columns, one row per value and direction: value, direction ("up"/"down"),
 F_m, F_m_error (the recorded halves' spread of F_m, at least tolerance * F_m), period (0: not

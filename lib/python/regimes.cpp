@@ -22,7 +22,8 @@ Classify the paper's uniform row at one point as "no-contact", "periodic" (with 
 transient  settling periods (ended early by a periodic steady state), >= 0
 record     periods of evidence for non-periodic motion, >= 10
 confirm    confirm a periodic regime by Newton shooting (period = the orbit's minimal period)
-scene, **keys  the row (Nm, fc, eps, e_r, f_r; scheme and tolerance are used).
+scene, **keys  the row (Nm, fc, eps, e_r, f_r; of the run section scheme, tolerance and
+          max_work are used) and its initial state.
 
 Returns a dict: regime, period (forcing periods; 0 if not periodic or longer than 16),
 lambda_max (largest Lyapunov exponent per unit reduced time) and lambda_max_error,

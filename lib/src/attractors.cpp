@@ -95,6 +95,9 @@ void validate(const ReducedParameters& p, const AttractorOptions& options) {
     if (!options.run.stop_at_steady_state)
         throw std::invalid_argument("run.steady_state: an attractor search needs it true (its "
                                     "periodic attractors are the runs that settle), got false");
+    // The scheme must take the row (exact refuses the stiffest contacts): refused here, before
+    // a line of values (every one validated first) runs any.
+    (void)plan_run(Dynamics::paper_row(p), options.run);
     const RunOptions run = with_transient_resolved(Dynamics::paper_row(p), options.run);
     const long window = run.periods - run.transient_periods;
     if (window < 20)

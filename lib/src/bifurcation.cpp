@@ -143,6 +143,11 @@ void validate(const BifurcationOptions& o, const ReducedParameters& base) {
     if (const auto error = swept_value_error(base, o.parameter, o.to))
         throw std::invalid_argument("to: " + *error);
     (void)initial_state(Dynamics::paper_row(with_value(base, o.parameter, o.from)), o.initial);
+    // The scheme must take both ends (exact's limit on the contacts' speed rises with fc): a
+    // line that crossed it was refused only where it got there, its output lost.
+    for (const double end : {o.from, o.to})
+        (void)plan_step(Dynamics::paper_row(with_value(base, o.parameter, end)), o.scheme,
+                        o.tolerance);
     validate(o.section, base.Nm);
 }
 

@@ -609,8 +609,11 @@ namespace {
 ReducedParameters checked_start(const ReducedParameters& base, const ContinuationOptions& options) {
     validate(options);
     const ReducedParameters start = model_with(base, options, options.from, "from");
-    model_with(base, options, options.to, "to");
+    const ReducedParameters end = model_with(base, options, options.to, "to");
+    // Both ends: the exact scheme's limit on the contacts' speed rises with fc, and a line
+    // that crossed it was refused only where it got there, its output lost.
     require_orbit_size(Dynamics::paper_row(start), options.orbit.scheme);
+    require_orbit_size(Dynamics::paper_row(end), options.orbit.scheme);
     return start;
 }
 

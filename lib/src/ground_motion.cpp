@@ -40,10 +40,9 @@ void validate(const Accelerogram& record, const char* key) {
     // The run starts at t = 0: samples before it were dropped unseen (a record from -3 s to 0 s
     // ran as silence, F_m = 0).
     if (record.time.front() < 0.0)
-        throw std::invalid_argument(k +
-                                    ": times must be >= 0 s (the run starts at t = 0), got t = " +
+        throw std::invalid_argument(k + ": times must be >= 0 (the run starts at t = 0), got t = " +
                                     detail::format_number(record.time.front()) +
-                                    " s at sample 1; shift the record's times");
+                                    " at sample 1; shift the record's times");
     if (peak_ground_acceleration(record) == 0.0)
         throw std::invalid_argument(k + ": the record is zero everywhere (PGA must be > 0)");
 }

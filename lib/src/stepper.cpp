@@ -59,7 +59,7 @@ std::optional<std::string> exact_refusal(const Dynamics& dyn) {
     if (dyn.max_angular_frequency() > max_exact_angular_frequency)
         return "exact takes contacts of up to " +
                detail::format_number(max_exact_angular_frequency) +
-               " rad per unit time (model.fc up to about 1e8 in the paper's row; stiffer ones "
+               " rad per unit time (model.fc up to about 1.27e8 in the paper's row; stiffer ones "
                "cost its eigendecompositions their accuracy), got " +
                detail::format_number(dyn.max_angular_frequency()) + "; use rk4 or rk8pd";
     return std::nullopt;

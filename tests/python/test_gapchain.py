@@ -423,6 +423,9 @@ def test_a_seed_out_of_range_is_a_value_error_with_the_library_limit_and_long_do
     assert gapchain.simulate({"model": {"fc": np.longdouble(100)}}, periods=50)["F_m"] == plain
     with pytest.raises(ValueError, match="^model.fc: must be a number"):
         gapchain.simulate({"model": {"fc": np.clongdouble(100)}}, periods=50)
+    # Finite, but beyond the double range: not "got inf".
+    with pytest.raises(ValueError, match="^model.fc: must be a finite number within the double"):
+        gapchain.simulate({"model": {"fc": np.longdouble("1e400")}}, periods=50)
 
 
 def test_orbit_and_continuation_refuse_run_keywords_they_would_ignore():

@@ -271,6 +271,9 @@ def _scene_json(value, key=""):
                     raise ValueError("%s: must be a number, string, list or object, got %s"
                                      % (key or "scene", type(v).__name__))
                 listed = float(v)
+                if _math.isinf(listed) and not abs(v) == float("inf"):
+                    raise ValueError("%s: must be a finite number within the double range, got %s"
+                                     % (key or "scene", v))
             return plain(listed, key)
         if isinstance(v, _numbers.Integral):
             return int(v)

@@ -160,7 +160,7 @@ void print_design(const Scene& scene, const SimulationResult& r, const DesignVal
             std::printf(")\nmultistable: this run's start reached a weaker attractor, its F_m is "
                         "%.0f %% below the design value; gapchain-attractors shows the basins\n",
                         100.0 * (d.F_m_max - r.F_m) / d.F_m_max);
-        else if (set.unsettled >= static_cast<int>(set.attractors.size()))
+        else if (!set.any_settled())
             std::printf("): no group settled, so this is a transient's F_m, above this run's "
                         "%.6g\n",
                         r.F_m);

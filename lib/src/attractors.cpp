@@ -634,8 +634,7 @@ DesignValue design_value(const ReducedParameters& p, const AttractorOptions& opt
     // whose groups were all still converging has no attractor's F_m to set it against.
     const bool run_answered =
         run.status == RunStatus::completed || run.status == RunStatus::steady_state;
-    const bool attractor_found = d.search.F_m_max_id >= 0 &&
-                                 d.search.unsettled < static_cast<int>(d.search.attractors.size());
+    const bool attractor_found = d.search.F_m_max_id >= 0 && d.search.any_settled();
     if (!run_answered) return d;
     const double run_error =
         has_error_estimate(run) ? run.F_m_error : std::numeric_limits<double>::quiet_NaN();

@@ -25,8 +25,8 @@ std::string_view to_string(SweepDirection d) {
 
 namespace {
 
-/// One value: run transient + record periods from y (updated to the end state); keep_going
-/// may stop it (status cancelled).
+/// One value: run transient + record periods from y (empty: rest; updated to the end state);
+/// keep_going may stop it (status cancelled).
 BifurcationRow diagram_row(const ReducedParameters& p, const BifurcationOptions& o,
                            std::vector<double>& y, SweepDirection direction, double value,
                            const ProgressCallback& keep_going) {
@@ -56,12 +56,6 @@ BifurcationRow diagram_row(const ReducedParameters& p, const BifurcationOptions&
     return row;
 }
 
-/// The options' initial state, or rest.
-std::vector<double> start_state(const BifurcationOptions& o, int bodies) {
-    return o.initial.empty() ? std::vector<double>(2 * static_cast<std::size_t>(bodies), 0.0)
-                             : o.initial;
-}
-
 /// Independent mode: each value from the initial state, in parallel, into its own slot.
 void independent_rows(const ReducedParameters& base, const BifurcationOptions& o,
                       const ProgressCallback& progress, BifurcationResult& result) {
@@ -76,7 +70,7 @@ void independent_rows(const ReducedParameters& base, const BifurcationOptions& o
     const auto end = detail::parallel_for(
         o.steps, result.threads_used,
         [&](long k) {
-            std::vector<double> y = start_state(o, base.Nm);
+            std::vector<double> y = o.initial; // empty: rest (PlannedRun)
             result.rows[k] = diagram_row(with_value(base, o.parameter, values[k]), o, y,
                                          SweepDirection::up, values[k], shared.item_callback());
         },
@@ -88,7 +82,7 @@ void independent_rows(const ReducedParameters& base, const BifurcationOptions& o
 void continued_rows(const ReducedParameters& base, const BifurcationOptions& o,
                     const ProgressCallback& progress, BifurcationResult& result) {
     const std::vector<double> values = linspace(o.from, o.to, o.steps);
-    std::vector<double> y = start_state(o, base.Nm);
+    std::vector<double> y = o.initial; // empty: rest (PlannedRun)
     const int total = 2 * o.steps;
     int done = 0;
     const ProgressCallback keep_going = [&](double) {
@@ -105,7 +99,7 @@ void continued_rows(const ReducedParameters& base, const BifurcationOptions& o,
                 return;
             }
             // A run that blew up cannot seed the next value: restart that one from the start.
-            if (result.rows.back().status == RunStatus::non_finite) y = start_state(o, base.Nm);
+            if (result.rows.back().status == RunStatus::non_finite) y = o.initial;
             if (progress && !progress(static_cast<double>(++done) / total)) {
                 result.cancelled = true;
                 return;

@@ -155,6 +155,11 @@ struct AttractorSet {
     double wall_time_s = 0.0;         ///< [s]
     int threads_used = 1;
     bool cancelled = false; ///< progress asked to stop; nothing was grouped
+    /// Whether some group settled on an attractor (F_m_max is then an attractor's, not a
+    /// transient's).
+    [[nodiscard]] bool any_settled() const {
+        return unsettled < static_cast<int>(attractors.size());
+    }
 };
 
 /// The starts of options (random ones, then the slice's) in the order they are grouped.

@@ -460,6 +460,80 @@ TEST_CASE("the error bar covers the twin's F_m and the orbit's gap; the flags do
     }
 }
 
+TEST_CASE("comparison run: a maximum taken in a chaotic transient gets the raw difference, not "
+          "Richardson's; a comparison that ends elsewhere calls for the twin") {
+    // Two rows of a random draw over the paper's ranges (300 points, docs/accuracy.md), rk4 at
+    // the default tolerance, 400 periods. Which rows these are depends on rounding in a chaotic
+    // transient, so each case is checked first.
+    RunOptions o;
+    o.periods = 400;
+    o.scheme = Scheme::rk4;
+    // Row 1: from rest it settles by period 20 on an orbit of 0.8643, after a transient whose
+    // peak the window catches; the comparison run at twice the step takes a longer transient.
+    // Richardson's 2 |F_m - F_m'| / 15 reported 0.865 +- 0.043. rk8pd at 1e-9, an independent
+    // scheme on the same window, finds 1.119: the error bar must reach it.
+    const Dynamics transient_row = Dynamics::paper_row({4, 870.908, 0.238, 0.113, 2.577});
+    const SimulationResult r = simulate(transient_row, o);
+    REQUIRE(r.steady_state_period.has_value());
+    REQUIRE(r.F_m_comparison.has_value());
+    REQUIRE(r.maximum_in_transient);
+    CHECK(r.error_method == ErrorMethod::comparison_run);
+    CHECK(r.F_m_error >= std::abs(r.F_m - *r.F_m_comparison));
+    CHECK(std::abs(r.F_m - *r.F_m_comparison) > 0.1);
+    RunOptions reference = o;
+    reference.scheme = Scheme::rk8pd;
+    reference.tolerance = 1e-9;
+    reference.transient_periods = r.transient_periods_used;
+    reference.estimate_error = false;
+    reference.multistability_check = false;
+    const SimulationResult rk8pd = simulate(transient_row, reference);
+    MESSAGE("rk4 " << r.F_m << " +- " << r.F_m_error << ", rk8pd " << rk8pd.F_m);
+    CHECK(std::abs(rk8pd.F_m - r.F_m) <= r.F_m_error);
+
+    // Row 2: from rest rk4 settles by period 30 on an orbit with contacts (0.535); the
+    // comparison run wanders all 400 periods, and rk8pd at 1e-9 from the same rest settles on
+    // the contact-free orbit: two attractors, and the start sits where trajectories part. The
+    // comparison calls for the twin (this run settled early: settled_late() alone would not);
+    // the error bar covers both runs.
+    const Dynamics elsewhere_row = Dynamics::paper_row({5, 885.174, 0.271, 0.223, 2.369});
+    const SimulationResult e = simulate(elsewhere_row, o);
+    REQUIRE(e.steady_state_period.has_value());
+    REQUIRE(e.comparison_ended_elsewhere);
+    CHECK(e.twin_checked);
+    CHECK(e.F_m_error >= std::abs(e.F_m - *e.F_m_comparison));
+    CHECK(e.F_m_error >= std::abs(e.F_m - e.F_m_twin));
+    reference.transient_periods = e.transient_periods_used;
+    reference.estimate_error = true; // for F_m_orbit
+    const SimulationResult other = simulate(elsewhere_row, reference);
+    REQUIRE(other.F_m_orbit.has_value());
+    REQUIRE(e.F_m_orbit.has_value());
+    CHECK(*e.F_m_orbit > 0.5);
+    CHECK(*other.F_m_orbit == 0.0);
+    RunOptions unchecked = o;
+    unchecked.multistability_check = false;
+    const SimulationResult u = simulate(elsewhere_row, unchecked);
+    CHECK(u.comparison_ended_elsewhere);
+    CHECK_FALSE(u.twin_checked);
+
+    // Fig 16's row at fc 1000, e_r 0, f_r 1.911: the comparison at twice the step (h omega 0.8,
+    // contacts touching at rest) wanders 1000 periods where rk4 at h, rk8pd and exact settle on
+    // one orbit. The twin agrees with the main run: no flag.
+    RunOptions thousand = o;
+    thousand.periods = 1000;
+    const SimulationResult f16 =
+        simulate(Dynamics::paper_row({5, 1000, 0.5, 0.0, 1.91130147069}), thousand);
+    REQUIRE(f16.comparison_ended_elsewhere);
+    CHECK(f16.twin_checked);
+    CHECK_FALSE(f16.multistable);
+
+    // Fig 5's plain orbit: the comparison ends on the same orbit, and Richardson stands.
+    const SimulationResult plain = simulate(Dynamics::paper_row({5, 100, 0.5, 0.5, 1.0}), o);
+    REQUIRE(plain.F_m_comparison.has_value());
+    CHECK_FALSE(plain.comparison_ended_elsewhere);
+    CHECK_FALSE(plain.multistable);
+    CHECK(plain.F_m_error < std::abs(plain.F_m - *plain.F_m_comparison));
+}
+
 TEST_CASE("a cancel after the main run stops the comparison run, and the result says so") {
     const ReducedParameters fig5{5, 100, 0.5, 0.5, 1.0};
     const Dynamics dyn = Dynamics::paper_row(fig5);

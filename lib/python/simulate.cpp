@@ -43,7 +43,11 @@ Returns a dict: F_m and F_m_error (reduced force; physically F = F_m M a0 sqrt(f
 None when not estimated),
 F_m_error_method, F_m_contact (j = 0 left wall .. Nm right wall, -1 no contact), F_m_time
 (reduced time), contact (bool), multistable (bool: a twin run from a start moved by 1e-8 gave
-an F_m beyond the error; F_m_error then covers it), F_m_twin (or None), F_m_orbit (the largest
+an F_m beyond the error, or a run that settled late took its F_m in the transient; F_m_error then
+covers the difference), F_m_twin (or None), F_m_comparison (the error estimate's comparison
+run's F_m, or None), comparison_ended_elsewhere (bool: that run, from the same start on another
+step, did not settle where this one did, or settled on an orbit whose largest force differs by
+more than max(0.1, 1000 tolerance); the twin run then decides), F_m_orbit (the largest
 force over one cycle of the orbit a periodic run settled on, or None), maximum_in_transient
 (bool: F_m fell before that orbit was reached; F_m_error covers F_m - F_m_orbit), per_body (Nm x 2 float64: max force on the left and right of
 each body), per_body_time (Nm x 2), per_contact (dict of arrays force, time, impacts, Nm + 1
@@ -74,6 +78,9 @@ py::dict result_dict(const SimulationResult& r, const Scene& scene) {
     d["multistable"] = r.multistable;
     d["accuracy_mode_used"] = std::string(to_string(r.accuracy_mode_used));
     d["F_m_twin"] = r.twin_checked ? py::object(py::float_(r.F_m_twin)) : py::object(py::none());
+    d["F_m_comparison"] =
+        r.F_m_comparison ? py::object(py::float_(*r.F_m_comparison)) : py::object(py::none());
+    d["comparison_ended_elsewhere"] = r.comparison_ended_elsewhere;
     d["F_m_orbit"] = r.F_m_orbit ? py::object(py::float_(*r.F_m_orbit)) : py::object(py::none());
     d["maximum_in_transient"] = r.maximum_in_transient;
     std::vector<double> forces, times;

@@ -90,6 +90,10 @@ json simulation_json(const SimulationResult& r, const Scene& scene) {
     j["contact"] = r.contact;
     j["multistable"] = r.multistable;
     if (r.twin_checked) j["F_m_twin"] = r.F_m_twin;
+    if (r.F_m_comparison) {
+        j["F_m_comparison"] = *r.F_m_comparison;
+        j["comparison_ended_elsewhere"] = r.comparison_ended_elsewhere;
+    }
     if (r.F_m_orbit) j["F_m_orbit"] = *r.F_m_orbit;
     j["maximum_in_transient"] = r.maximum_in_transient;
     j["accuracy_mode_used"] = to_string(r.accuracy_mode_used);

@@ -81,6 +81,16 @@ struct SimulationResult {
     /// does whenever the twin ran). gapchain-attractors gives the F_m of each attractor.
     bool multistable = false;
     double F_m_twin = 0.0; ///< the twin run's F_m (when twin_checked)
+    /// The F_m of the error estimate's comparison run (error_method comparison_run: the same
+    /// start on another plan, see simulate()); empty when none ran.
+    std::optional<double> F_m_comparison;
+    /// That comparison run ended elsewhere than a main run that settled on an orbit: it ran its
+    /// full length without settling where the main run settled within half of it, or it settled
+    /// on an orbit whose largest force differs by more than max(0.1, 1000 tolerance) of it. A
+    /// chaotic transient that the other step followed differently can do that, and so can the
+    /// coarser step's own dynamics; under options.multistability_check the twin run then
+    /// decides (as for a run that settled late).
+    bool comparison_ended_elsewhere = false;
     /// A run that settled on a periodic orbit (harmonic forcing; see simulate()): the largest
     /// force over one cycle of that orbit, >= 0.
     std::optional<double> F_m_orbit;
@@ -117,11 +127,16 @@ struct SimulationHooks {
 ///   the two halves of the recorded window differ by more than 10 * tolerance * F_m, reports
 ///   that difference: the sampling spread of a maximum over a finite window.
 /// - comparison_run otherwise: a second run on another plan gives F_m'. Fixed-step schemes
-///   run at twice the step (half, if twice breaks the stability limit); a periodic run then
-///   reports 2 |F_m - F_m'| / (2^p - 1) (Richardson with a safety factor of 2, p the scheme's
-///   order), others |F_m - F_m'| (2 |F_m - F_m'| for the halved step). rkf45/rk8pd compare at
-///   ten times the tolerance, exact at half the output interval. The estimate is never below a
-///   round-off floor (1e-14 F_m; 1e-12 F_m for exact).
+///   run at twice the step (half, if twice breaks the stability limit); a periodic run whose
+///   F_m is its orbit's (no more than max(tolerance, 1e-9) F_m above F_m_orbit) then reports
+///   2 |F_m - F_m'| / (2^p - 1) (Richardson with a safety factor of 2, p the scheme's order;
+///   F_m' is the comparison run's orbit maximum over one cycle where that run took its own
+///   maximum in the transient); others - a run that did not settle, one that took its maximum
+///   in the transient, one whose comparison ended elsewhere (comparison_ended_elsewhere) -
+///   |F_m - F_m'| (2 |F_m - F_m'| for the halved step): a maximum taken in a transient is not
+///   a truncation error (a chaotic transient followed differently at the other step). rkf45/rk8pd
+///   compare at ten times the tolerance, exact at half the output interval. The estimate is never
+///   below a round-off floor (1e-14 F_m; 1e-12 F_m for exact).
 ///
 /// Transient check (harmonic forcing; with options.estimate_error, and for a run that settled
 /// late also under the multistability check): a run
@@ -137,11 +152,14 @@ struct SimulationHooks {
 /// start: a chaotic transient before the orbit). Then a run that did
 /// not settle quickly - no steady state, or one reached only after the state stayed far (1e-3,
 /// relative) from every cycle for longer than it then took to converge, the mark of a chaotic
-/// transient - is repeated from the start with u_1 moved by 1e-8 max(1, |x0|). If the twin's
+/// transient - or whose comparison run (same start, another step) ended elsewhere
+/// (comparison_ended_elsewhere: a transient that settled early in this run but not in that
+/// one) is repeated from the start with u_1 moved by 1e-8 max(1, |x0|). If the twin's
 /// F_m differs from F_m by more than max(3 F_m_error, 3 x either run's window-halves spread,
 /// 1e-6 F_m), the result is multistable; F_m_error always covers the difference (the twin's
 /// answer is as valid as the main run's). A quickly settled run (the usual
-/// periodic point) runs no twin: its cost is the transient check's one orbit cycle.
+/// periodic point) runs no twin: its cost is the transient check's one orbit cycle (and the
+/// comparison run's).
 ///
 /// Accuracy (options.accuracy_mode): in `automatic`, a run on the automatic scheme and step
 /// that, at four times the contact-free row's decay time to 1e-3 (and after the transient and

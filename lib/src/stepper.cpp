@@ -230,8 +230,9 @@ double accuracy_limit(Scheme scheme, double tolerance) {
     case Scheme::rkf45:
     case Scheme::rk8pd: return std::min(0.4, 3.0 * std::pow(tolerance, 1.0 / 6.0));
     // Exact between switches, with exact dense output for peaks and switches: the interval
-    // only has to stay below the shortest contact half-period (pi / omega), so that no
-    // contact can open and close unseen within one interval.
+    // only has to stay below the shortest contact half-period (pi / omega), so that a contact
+    // struck at speed cannot open and close within one interval. A graze, shorter than any
+    // contact period, can: the time loop's switch search looks inside the step for it.
     case Scheme::exact: return 0.5 * std::numbers::pi;
     case Scheme::automatic: break;
     }

@@ -40,10 +40,16 @@ void TangentFlow::apply_jacobian(const double* x, double* out) const {
 }
 
 void TangentFlow::on_step(const StepView& step) {
-    // The step lies between switches: the contact set is that of its midpoint.
-    for (int j = 0; j < m_dyn.gaps(); ++j)
-        m_closed[j] = m_dyn.gap(j, step.y0) + m_dyn.gap(j, step.y1) > 0.0 ? 1 : 0;
+    // The step lies between switches: the contact set is that of its midpoint, on the cubic
+    // Hermite interpolant of the gap. The mean of the ends alone is round-off where both ends
+    // are switches (a contact that closes and opens again within one step of the plan).
     const double h = step.t1 - step.t0;
+    const int n = m_dyn.bodies();
+    for (int j = 0; j < m_dyn.gaps(); ++j) {
+        const double ends = m_dyn.gap(j, step.y0) + m_dyn.gap(j, step.y1);
+        const double rates = m_dyn.gap_rate(j, step.y0 + n) - m_dyn.gap_rate(j, step.y1 + n);
+        m_closed[j] = 0.5 * ends + 0.125 * h * rates > 0.0 ? 1 : 0;
+    }
     for (int c = 0; c < m_count; ++c) {
         double* col = column(c);
         std::copy(col, col + m_dim, m_term.begin());

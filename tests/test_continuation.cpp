@@ -3,6 +3,7 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -251,10 +252,33 @@ TEST_CASE("a start or end value outside the model's range names the option that 
                          std::invalid_argument);
 }
 
+TEST_CASE("a branch that comes back onto itself ends there, traced once") {
+    // Fig 13's period-1 family from 2.15 passes the fold at 3.3044, comes down to a corner at
+    // 2.99783 and turns back on itself there. Before the branch looked for points it had
+    // passed, it retraced the whole family back to 2.15 (and the period-2 loop between the
+    // doublings at 2.2573 and 2.4651 was traced round until max_points).
+    const ContinuationResult r = continue_orbits(fig13_row, one_branch(2.15, 4.5, 1));
+    REQUIRE(r.branch_end.size() == 1);
+    CHECK(r.branch_end.front().rfind("came back onto itself", 0) == 0);
+    double top = 0.0, lowest_after_top = 10.0;
+    for (const auto& q : r.points) {
+        if (q.value > top) {
+            top = q.value;
+            lowest_after_top = 10.0;
+        }
+        lowest_after_top = std::min(lowest_after_top, q.value);
+    }
+    MESSAGE("top " << top << ", lowest after it " << lowest_after_top << ", " << r.points.size()
+                   << " orbits");
+    CHECK(top > 3.3);
+    CHECK(lowest_after_top > 2.9);
+}
+
 TEST_CASE("--follow-doublings switches at the grazing corner where period 1 loses stability") {
-    // Fig 13's period-1 orbit loses stability at the grazing corner near f_r = 2.2453 with a
-    // multiplier jumping across the unit circle next to -1 (no smooth period doubling): a
-    // period-2 branch is reached from there, and its orbits are checked independently.
+    // Fig 13's period-1 orbit loses stability near f_r = 2.254 (a grazing corner at 2.2453
+    // until the switch search looked inside steps, 2026-11-25; now a Neimark-Sacker at 2.25398
+    // among grazings at 2.258-2.272): a period-2 branch is reached from there, and its orbits
+    // are checked independently.
     ContinuationOptions o = one_branch(2.2, 2.3, 1);
     o.follow_doublings = true;
     o.max_branches = 2;

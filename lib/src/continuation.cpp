@@ -231,6 +231,12 @@ public:
         farthest = a.z[n];
         record(a);
         double ds = m_o.step;
+        // A branch that comes back onto a point it passed long before has closed (the
+        // period-2 loop between Fig 13's doublings at 2.2573 and 2.4651) or turned back on
+        // itself at a corner (its period-1 family at 2.99783): on from there it would trace
+        // the same orbits again until max_points.
+        std::vector<std::pair<Vector, double>> passed{{a.z, 0.0}};
+        double arclength = 0.0;
         for (int count = 1; count < m_o.max_points; ++count) {
             std::optional<OrbitPoint> b;
             bool beyond_range = false;
@@ -255,6 +261,7 @@ public:
                                : "the corrector failed at the smallest step (1e-7) at " + where);
             }
             detect(a, *b, ds);
+            arclength += (b->z - a.z).norm();
             a = std::move(*b);
             record(a);
             ds = std::min(1.5 * ds, m_o.max_step);
@@ -269,12 +276,30 @@ public:
                 return end(reached_end ? "left the parameter range at its end"
                                        : "turned back out of the parameter range at its start");
             }
+            if (retraces(passed, a.z, arclength, ds))
+                return end("came back onto itself at " + std::string(to_string(m_o.parameter)) +
+                           " = " + std::to_string(p) +
+                           " (a closed loop, or a turn back at a corner): traced once");
+            passed.emplace_back(a.z, arclength);
         }
         end("max_points reached");
     }
 
 private:
     void end(const std::string& why) { m_result.branch_end.push_back(why); }
+
+    /// Whether z lies within twice the step of a point passed more than 20 largest steps of
+    /// arclength before (nearer ones are its neighbours on the curve, a fold's other side
+    /// among them).
+    bool retraces(const std::vector<std::pair<Vector, double>>& passed, const Vector& z,
+                  double arclength, double ds) const {
+        const double near_enough = 2.0 * std::max(ds, m_o.step);
+        for (const auto& [point, at] : passed) {
+            if (arclength - at <= 20.0 * m_o.max_step) break;
+            if ((point - z).norm() < near_enough) return true;
+        }
+        return false;
+    }
 
     void record(const OrbitPoint& a) {
         const Eigen::Index n = m_tracer.dimension();

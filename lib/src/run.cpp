@@ -75,9 +75,13 @@ public:
         if (std::isnan(m_ground1)) m_ground1 = m_dyn.ground(m_t1);
         return m_ground1;
     }
-    /// Round-off of a gap is about 1e-16 of the largest displacement; a turn within 1e-12 of
-    /// it is noise: bodies that move in lockstep at e_r = 0 keep gaps of round-off size that
-    /// turn at random.
+    /// A turn within this of the surface is round-off: bodies that move in lockstep at e_r = 0
+    /// keep gaps of round-off size that turn at random. 1e-12 of the largest of the
+    /// displacements and the ground term (a reduced acceleration, up to 4 pi^2 times the
+    /// ground amplitude): a floor near 4e-11 in gap units over most of a harmonic period (0
+    /// only where the ground term and every displacement vanish together); grazes shallower
+    /// than that are left alone (clearances are 1e-2 and more, and a graze of 4e-11 moves
+    /// nothing measurable).
     double floor() {
         if (std::isnan(m_floor)) {
             double scale = std::abs(ground0());
@@ -124,7 +128,10 @@ double may_cross(double g0, double g1, double r0, double r1, double h) {
 /// - a step that starts on the surface (a switch ended the step before, so g0 is 0 to
 ///   round-off and its sign says nothing) leaves it on the side its rate points to, as the
 ///   exact propagator's configuration does, and may come back across before the step ends.
-/// Gaps are penetrations here: positive is closed.
+/// Gaps are penetrations here: positive is closed. Not found: two turns of the interpolant
+/// inside one step (a start on a switch that leaves, comes back and leaves again; a graze and
+/// a sign change in the same step, where the root found may be the later one), rare at these
+/// step lengths.
 std::optional<double> crossing_in_step(const Dynamics& dyn, int j, double g0, double g1, double r0,
                                        double r1, double h, StepEnds& ends) {
     // On the surface: a crossing from g0 would fall within first_switch()'s margin.

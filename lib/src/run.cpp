@@ -101,6 +101,17 @@ private:
     double m_ground0 = unset, m_ground1 = unset, m_floor = unset;
 };
 
+/// Whether a gap starts on the surface: a crossing from g0 at rate r0 would fall within
+/// first_switch()'s margin (1e-9 of the step h).
+bool on_surface(double g0, double r0, double h) {
+    return std::abs(g0) <= 1e-9 * std::abs(r0) * h;
+}
+
+/// Whether a gap's rate changes sign between the ends of a step.
+bool rate_turns(double r0, double r1) {
+    return r0 * r1 < 0.0;
+}
+
 /// 1 if gap j may cross 0 inside a step, from its values and rates at the ends alone (a cheap
 /// filter before crossing_in_step()), else 0: a sign change, a start on the surface that
 /// leaves and may come back, or a turn whose reach - twice the bound from the end tangents, as
@@ -109,8 +120,8 @@ private:
 double may_cross(double g0, double g1, double r0, double r1, double h) {
     const bool closed0 = g0 > 0.0;
     const bool sign_change = closed0 != (g1 > 0.0);
-    const bool turns = r0 * r1 < 0.0;
-    const bool surface = std::abs(g0) <= 1e-9 * std::abs(r0) * h;
+    const bool turns = rate_turns(r0, r1);
+    const bool surface = on_surface(g0, r0, h);
     const bool dip = closed0 & (r0 < 0.0) & (std::min(g0, g1) - 0.5 * h * (r1 - r0) <= 0.0);
     const bool rise = !closed0 & (r0 > 0.0) & (std::max(g0, g1) + 0.5 * h * (r0 - r1) > 0.0);
     return sign_change | (turns & (surface | dip | rise)) ? 1.0 : 0.0;
@@ -134,10 +145,9 @@ double may_cross(double g0, double g1, double r0, double r1, double h) {
 /// step lengths.
 std::optional<double> crossing_in_step(const Dynamics& dyn, int j, double g0, double g1, double r0,
                                        double r1, double h, StepEnds& ends) {
-    // On the surface: a crossing from g0 would fall within first_switch()'s margin.
-    const bool surface = std::abs(g0) <= 1e-9 * std::abs(r0) * h;
+    const bool surface = on_surface(g0, r0, h);
     const bool closed1 = g1 > 0.0;
-    const bool turns = (r0 < 0.0 && r1 > 0.0) || (r0 > 0.0 && r1 < 0.0);
+    const bool turns = rate_turns(r0, r1);
     const double a0 = dyn.gap_acceleration(j, ends.ground0(), ends.y0);
     const double d = 1e-3 * h;
     const bool closed0 = surface ? g0 + r0 * d + 0.5 * a0 * d * d > 0.0 : g0 > 0.0;

@@ -274,6 +274,48 @@ TEST_CASE("a branch that comes back onto itself ends there, traced once") {
     CHECK(lowest_after_top > 2.9);
 }
 
+TEST_CASE("the period-2 loop of Fig 13's line is traced round once, both of its sheets") {
+    // The period-2 orbits born where period 1 loses stability near 2.254 lie on a closed loop
+    // of two sheets joined at folds near 2.2573 and 2.4651. Near a fold the sheets come within
+    // a step of each other (0.04 apart at 2.4557); a branch that took that for coming back
+    // onto itself stopped there and lost the lower sheet. The third branch, switched onto
+    // the same loop where period 1 loses stability again near 2.467, follows its orbits at
+    // the other phase (each state one period on) and ends once it is seen to be on them.
+    ContinuationOptions o = one_branch(2.2, 2.5, 1);
+    o.follow_doublings = true;
+    o.max_branches = 3;
+    const ContinuationResult r = continue_orbits(fig13_row, o);
+    REQUIRE(r.branch_end.size() == 3);
+    CHECK(r.branch_end[1].rfind("came back onto itself", 0) == 0);
+    CHECK(r.branch_end[2].rfind("came onto branch 1", 0) == 0);
+    std::vector<const BranchPoint*> loop;
+    std::size_t again = 0;
+    for (const auto& q : r.points) {
+        if (q.branch == 1) loop.push_back(&q);
+        if (q.branch == 2) ++again;
+    }
+    CHECK(again < loop.size() / 4);
+    REQUIRE(loop.size() > 10);
+    // Round once: it crosses f_r = 2.4 twice (once per sheet) and ends next to its start.
+    std::vector<const BranchPoint*> at_2_4;
+    for (std::size_t i = 1; i < loop.size(); ++i)
+        if ((loop[i - 1]->value - 2.4) * (loop[i]->value - 2.4) <= 0.0) at_2_4.push_back(loop[i]);
+    REQUIRE(at_2_4.size() == 2);
+    CHECK(std::abs(loop.back()->value - loop.front()->value) < 0.01);
+    // The two crossings are two period-2 orbits, each confirmed by Newton from scratch.
+    std::vector<PeriodicOrbit> sheets;
+    for (const BranchPoint* q : at_2_4) {
+        ReducedParameters p = fig13_row;
+        p.f_r = q->value;
+        OrbitOptions orbit;
+        orbit.period = 2;
+        sheets.push_back(find_periodic_orbit(Dynamics::paper_row(p), orbit, q->state));
+        CHECK(sheets.back().status == OrbitStatus::converged);
+        CHECK(sheets.back().minimal_period == 2);
+    }
+    CHECK(std::abs(sheets[0].state[0] - sheets[1].state[0]) > 1e-3);
+}
+
 TEST_CASE("--follow-doublings switches at the grazing corner where period 1 loses stability") {
     // Fig 13's period-1 orbit loses stability near f_r = 2.254 (a grazing corner at 2.2453
     // until the switch search looked inside steps, 2026-11-25; now a Neimark-Sacker at 2.25398

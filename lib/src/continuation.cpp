@@ -208,12 +208,97 @@ bool stable(const OrbitPoint& a) {
 
 namespace {
 
+/// The orbits a continuation has traced, as curves in (state at phase 0, parameter): each
+/// branch once per phase, since a period-k orbit has k states at phase 0 and a branch can
+/// come onto the same orbits at another of them (Fig 13's period-2 loop, reached from two
+/// losses of stability of period 1, once at each phase).
+class TracedOrbits {
+public:
+    /// Starts the curves of a new branch of period k.
+    void begin_branch(int branch, int period) {
+        m_current = m_curves.size();
+        for (int s = 0; s < period; ++s)
+            m_curves.push_back({branch, {}});
+        m_arclength.clear();
+    }
+
+    /// Adds a point of the current branch, at its arclength from the branch's start.
+    void add(const OrbitPoint& a, double arclength) {
+        const Eigen::Index n = a.z.size() - 1;
+        const std::size_t k = m_curves.size() - m_current;
+        for (std::size_t s = 0; s < k; ++s) {
+            Vector z = a.z;
+            // The state after s + 1 periods; after k, the orbit's own state, z.
+            if (s + 1 < k && s < a.shot.at_ends.size())
+                std::copy(a.shot.at_ends[s].begin(), a.shot.at_ends[s].end(), z.data());
+            z[n] = a.z[n];
+            m_curves[m_current + s].points.push_back(std::move(z));
+        }
+        m_arclength.push_back(arclength);
+    }
+
+    /// The branch whose orbits z lies on (the current one only on points passed more than
+    /// `recent` of arclength before: nearer ones are its neighbours on the curve, a fold's
+    /// other side among them), or -1.
+    [[nodiscard]] int branch_under(const Vector& z, double arclength, double recent,
+                                   double step) const {
+        std::size_t old_end = 0;
+        while (old_end < m_arclength.size() && arclength - m_arclength[old_end] > recent)
+            ++old_end;
+        for (std::size_t c = 0; c < m_curves.size(); ++c) {
+            const bool current = c >= m_current;
+            if (!current && arclength <= recent) continue; // still leaving its branch point
+            if (on_curve(z, m_curves[c].points, current ? old_end : m_curves[c].points.size(),
+                         step))
+                return m_curves[c].branch;
+        }
+        return -1;
+    }
+
+private:
+    /// Whether z lies on the curve through points[0, end): within twice the step of one of
+    /// them and, closer still, on one of the chords to its neighbours.
+    static bool on_curve(const Vector& z, const std::vector<Vector>& points, std::size_t end,
+                         double step) {
+        // Two sheets that meet at a fold come within a step of each other near it (Fig 13's
+        // period-2 loop at 2.4557: 0.04 apart at steps of 0.027) without being one curve; a
+        // retraced curve lies on its old chords to the corrector's tolerance and their
+        // sagitta (1.3e-5 at the corner of 2.99783, steps of 0.05).
+        const double chord = 0.1 * step;
+        for (std::size_t i = 0; i < end; ++i) {
+            if ((points[i] - z).norm() >= 2.0 * step) continue;
+            if (i > 0 && distance_to_chord(z, points[i - 1], points[i]) <= chord) return true;
+            if (i + 1 < points.size() && distance_to_chord(z, points[i], points[i + 1]) <= chord)
+                return true;
+        }
+        return false;
+    }
+
+    static double distance_to_chord(const Vector& z, const Vector& a, const Vector& b) {
+        const Vector ab = b - a;
+        const double length2 = ab.squaredNorm();
+        const double t = length2 > 0.0 ? std::clamp((z - a).dot(ab) / length2, 0.0, 1.0) : 0.0;
+        return (z - a - t * ab).norm();
+    }
+
+    struct Curve {
+        int branch;
+        std::vector<Vector> points;
+    };
+    std::vector<Curve> m_curves;
+    std::size_t m_current = 0;       // the current branch's first curve
+    std::vector<double> m_arclength; // of the current branch's points
+};
+
 /// One branch traced from a first point along its tangent, special points located on the way.
 class BranchWalk {
 public:
     BranchWalk(BranchTracer& tracer, const ContinuationOptions& o, int period, int branch,
-               ContinuationResult& result)
-        : m_tracer(tracer), m_o(o), m_period(period), m_branch(branch), m_result(result) {}
+               ContinuationResult& result, TracedOrbits& traced)
+        : m_tracer(tracer), m_o(o), m_period(period), m_branch(branch), m_result(result),
+          m_traced(traced) {
+        m_traced.begin_branch(branch, period);
+    }
 
     /// Doublings found (point, on which side the doubled branch lies) for branch switching.
     std::vector<std::pair<OrbitPoint, double>> doublings;
@@ -231,12 +316,10 @@ public:
         farthest = a.z[n];
         record(a);
         double ds = m_o.step;
-        // A branch that comes back onto a point it passed long before has closed (the
-        // period-2 loop between Fig 13's doublings at 2.2573 and 2.4651) or turned back on
-        // itself at a corner (its period-1 family at 2.99783): on from there it would trace
-        // the same orbits again until max_points.
-        std::vector<std::pair<Vector, double>> passed{{a.z, 0.0}};
+        // On from orbits already traced the branch would trace them again (came_onto()).
+        m_traced.add(a, 0.0);
         double arclength = 0.0;
+        bool was_on_old = false;
         for (int count = 1; count < m_o.max_points; ++count) {
             std::optional<OrbitPoint> b;
             bool beyond_range = false;
@@ -276,11 +359,11 @@ public:
                 return end(reached_end ? "left the parameter range at its end"
                                        : "turned back out of the parameter range at its start");
             }
-            if (retraces(passed, a.z, arclength, ds))
-                return end("came back onto itself at " + std::string(to_string(m_o.parameter)) +
-                           " = " + std::to_string(p) +
-                           " (a closed loop, or a turn back at a corner): traced once");
-            passed.emplace_back(a.z, arclength);
+            const int under =
+                m_traced.branch_under(a.z, arclength, 20.0 * m_o.max_step, std::max(ds, m_o.step));
+            if (was_on_old && under >= 0) return end(came_onto(under, p));
+            was_on_old = under >= 0;
+            m_traced.add(a, arclength);
         }
         end("max_points reached");
     }
@@ -288,17 +371,19 @@ public:
 private:
     void end(const std::string& why) { m_result.branch_end.push_back(why); }
 
-    /// Whether z lies within twice the step of a point passed more than 20 largest steps of
-    /// arclength before (nearer ones are its neighbours on the curve, a fold's other side
-    /// among them).
-    bool retraces(const std::vector<std::pair<Vector, double>>& passed, const Vector& z,
-                  double arclength, double ds) const {
-        const double near_enough = 2.0 * std::max(ds, m_o.step);
-        for (const auto& [point, at] : passed) {
-            if (arclength - at <= 20.0 * m_o.max_step) break;
-            if ((point - z).norm() < near_enough) return true;
-        }
-        return false;
+    /// Why a branch ends where it comes onto traced orbits, two points in a row (a branch that
+    /// crosses another at a branch point touches it once). Back onto itself, long after: it has
+    /// closed (the period-2 loop between Fig 13's folds at 2.2573 and 2.4651) or turned back
+    /// at a corner (its period-1 family at 2.99783). Onto an earlier branch: the loop again,
+    /// reached from another loss of stability, or a period-4 branch's orbits of minimal period
+    /// 2.
+    [[nodiscard]] std::string came_onto(int branch, double p) const {
+        const std::string where = std::string(to_string(m_o.parameter)) + " = " + std::to_string(p);
+        if (branch == m_branch)
+            return "came back onto itself at " + where +
+                   " (a closed loop, or a turn back at a corner): traced once";
+        return "came onto branch " + std::to_string(branch) + " at " + where +
+               ": its orbits are traced there";
     }
 
     void record(const OrbitPoint& a) {
@@ -521,6 +606,7 @@ private:
     int m_period;
     int m_branch;
     ContinuationResult& m_result;
+    TracedOrbits& m_traced;
 };
 
 /// The first point of a branch at fixed p from x (pseudo-arclength along the parameter axis).
@@ -670,6 +756,7 @@ ContinuationResult continue_orbits(const ReducedParameters& base,
         double direction;
     };
     std::deque<Pending> pending;
+    TracedOrbits traced;
     if (found.status == OrbitStatus::converged)
         pending.push_back({found.state, options.from, options.period, direction});
     for (int branch = 0; !pending.empty() && branch < options.max_branches && !result.cancelled;
@@ -684,7 +771,7 @@ ContinuationResult continue_orbits(const ReducedParameters& base,
                                                          : "the first point did not converge");
             continue;
         }
-        BranchWalk walk(tracer, options, next.period, branch, result);
+        BranchWalk walk(tracer, options, next.period, branch, result, traced);
         walk.walk(std::move(*first), branch == 0 ? first_branch : keep_going);
         result.shootings += tracer.shootings();
         if (!walk.reached_end && !result.cancelled && next.period == options.period)

@@ -125,6 +125,30 @@ TEST_CASE("Fig 5 scene: F_m to 0.1 % of a high-resolution run, and an honest F_m
     CHECK(r.F_m_error < 1e-3 * ref);
 }
 
+TEST_CASE("adaptive schemes: the error bar covers the error where the output interval, not "
+          "the tolerance, sets the steps") {
+    // At a loose tolerance GSL's steps are the output interval's, whatever the tolerance: a
+    // comparison run at ten times the tolerance alone took the same steps and agreed to 4e-9
+    // where rkf45 was 1.4e-5 off (found by a probe of the accepted range, 2026-11-26).
+    const ReducedParameters p{4, 500, 0.1, 0.2, 0.8};
+    const Dynamics dyn = Dynamics::paper_row(p);
+    const double ref = reference::run({4, 500, 0.1, 0.2, 0.8}, 1, 0, {}, 20000).F_m;
+    for (Scheme scheme : {Scheme::rkf45, Scheme::rk8pd})
+        for (double tolerance : {1e-1, 1e-2}) {
+            RunOptions o;
+            o.periods = 1;
+            o.transient_periods = 0;
+            o.scheme = scheme;
+            o.tolerance = tolerance;
+            const SimulationResult r = simulate(dyn, o);
+            CAPTURE(to_string(scheme));
+            CAPTURE(tolerance);
+            MESSAGE("F_m " << r.F_m << " +- " << r.F_m_error << ", reference " << ref);
+            CHECK(std::abs(r.F_m - ref) <= r.F_m_error);
+            if (scheme == Scheme::rkf45) CHECK(std::abs(r.F_m - ref) > 1e-6); // not a trivial case
+        }
+}
+
 TEST_CASE("steady-state stop: the maxima equal those of the full run") {
     const ReducedParameters p{3, 50, 0.3, 0.3, 1.1};
     const Dynamics dyn = Dynamics::paper_row(p);

@@ -135,7 +135,8 @@ struct SimulationHooks {
 ///   in the transient, one whose comparison ended elsewhere (comparison_ended_elsewhere) -
 ///   |F_m - F_m'| (2 |F_m - F_m'| for the halved step): a maximum taken in a transient is not
 ///   a truncation error (a chaotic transient followed differently at the other step). rkf45/rk8pd
-///   compare at ten times the tolerance, exact at half the output interval. The estimate is never
+///   compare at ten times the tolerance and twice the output interval (their largest step),
+///   exact at half the output interval. The estimate is never
 ///   below a round-off floor (1e-14 F_m; 1e-12 F_m for exact).
 ///
 /// Transient check (harmonic forcing; with options.estimate_error, and for a run that settled

@@ -7,6 +7,7 @@
 #include <doctest/doctest.h>
 
 #include <cmath>
+#include <numbers>
 #include <vector>
 
 using namespace gapchain;
@@ -173,4 +174,25 @@ TEST_CASE("PlannedRun: bad options and states are refused before running") {
     CHECK_THROWS_AS(PlannedRun(dyn, o), std::invalid_argument);
     o = rk4_options(10, 0);
     CHECK_THROWS_AS(PlannedRun(dyn, o, std::vector<double>(3, 0.0)), std::invalid_argument);
+}
+
+TEST_CASE("default transient: the slowest free decay of the start, also beyond critical damping") {
+    // The contact-free body's characteristic roots: lambda^2 + 4 pi eps lambda + 4 pi^2 = 0.
+    // Below critical damping both decay at 2 pi eps; beyond it the slow root, 2 pi (eps -
+    // sqrt(eps^2 - 1)), sets how long the start takes to fade (MODEL.md §2's 2 pi eps is the
+    // underdamped case).
+    const double pi = std::numbers::pi;
+    for (double eps : {0.3, 0.9, 1.5, 5.0, 100.0})
+        for (double f_r : {0.5, 2.0}) {
+            const Dynamics dyn = Dynamics::paper_row({3, 100, eps, 2.0, f_r});
+            RunOptions o;
+            o.periods = 100000;
+            const double rate = eps < 1 ? 2 * pi * eps : 2 * pi * (eps - std::sqrt(eps * eps - 1));
+            const double decay_periods = f_r * std::log(1.0 / o.tolerance) / rate;
+            CAPTURE(eps);
+            CAPTURE(f_r);
+            const long n_t = default_transient_periods(dyn, o);
+            // The smallest whole number of periods after which exp(-rate t) <= tolerance.
+            CHECK(n_t == std::max(1L, static_cast<long>(std::ceil(decay_periods - 1e-9))));
+        }
 }

@@ -75,6 +75,20 @@ TEST_CASE("between switches the flow is the exact exponential of the open or clo
     check_equal(one_step(dyn, {0.51, 0.2}, {0.512, 0.1}, h), oscillator_flow(k_closed, c, h));
 }
 
+TEST_CASE("an overdamped body's long step is its exact exponential too") {
+    // eps = 100: the real rates are 2 pi (eps -+ sqrt(eps^2 - 1)), 0.0314 and 1257; a step of
+    // 0.05 has h rate = 63, where a single Taylor series of exp(h J) is lost to cancellation.
+    const Dynamics dyn = Dynamics::paper_row({1, 60, 100.0, 0.5, 1.0});
+    const double h = 0.05, root = std::sqrt(100.0 * 100.0 - 1.0);
+    const double l1 = -2 * pi * (100.0 - root), l2 = -2 * pi * (100.0 + root);
+    const double e1 = std::exp(l1 * h), e2 = std::exp(l2 * h), d = l1 - l2;
+    const std::array<double, 4> expected{(l1 * e2 - l2 * e1) / d, (e1 - e2) / d,
+                                         l1 * l2 * (e2 - e1) / d, (l1 * e1 - l2 * e2) / d};
+    const auto got = one_step(dyn, {0.1, 0.0}, {0.1, 0.0}, h);
+    for (int i = 0; i < 4; ++i)
+        CHECK(got[i] == doctest::Approx(expected[i]).epsilon(1e-12).scale(1.0));
+}
+
 TEST_CASE("a contact that closes and opens within one step counts as closed over it") {
     // Both ends lie on the switch (gap 0). The mean of the end gaps is 0 and says nothing; the
     // cubic Hermite interpolant's midpoint, g(h/2) = h (g'(0) - g'(h)) / 8, says where the gap

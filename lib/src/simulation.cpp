@@ -444,7 +444,7 @@ StepPlan comparison_plan(const Dynamics& dyn, const StepPlan& plan) {
     } else if (plan.scheme == Scheme::exact) {
         other.steps_per_period = plan.steps_per_period * 2;
     } else if (plan.steps_per_period >= 2 &&
-               2.0 * plan.step * dyn.max_angular_frequency() < 0.9 * tr.stability_limit) {
+               2.0 * plan.step * dyn.max_rate() < 0.9 * tr.stability_limit) {
         other.steps_per_period = plan.steps_per_period / 2;
     } else {
         other.steps_per_period = plan.steps_per_period * 2;

@@ -286,11 +286,11 @@ StepPlan plan_step(const Dynamics& dyn, Scheme scheme, double tolerance,
     detail::require_range("run.tolerance", tolerance, 1e-12, 0.1);
     scheme = resolved_scheme(dyn, scheme, tolerance);
     const SchemeTraits tr = traits(scheme);
-    // The fastest of the contact oscillations and the forcing sets the step's accuracy.
+    // The fastest of the contact oscillations, an overdamped body's decay and the forcing
+    // sets the step's accuracy and stability.
     const double period = dyn.period();
-    const double omega =
-        std::max(dyn.max_angular_frequency(),
-                 2.0 * std::numbers::pi * dyn.ground_motion().resolved_frequency());
+    const double omega = std::max(
+        dyn.max_rate(), 2.0 * std::numbers::pi * dyn.ground_motion().resolved_frequency());
     const double stable = tr.stability_limit / omega;
     double h = 0.0;
     if (user_step) {

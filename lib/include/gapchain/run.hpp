@@ -127,9 +127,12 @@ void validate(const RunOptions& options);
 
 /// MODEL.md §2's default transient [forcing periods]: the time in which the slowest free
 /// vibration of the contact-free row decays below options.tolerance,
-/// n_t = max(1, ceil(f_r ln(1 / tol) / r_min)) with r_min = min_i damping_i / 2 (2 pi eps_min
-/// for the paper's row), capped at options.periods / 2 (the cap when r_min = 0); 0 for a
-/// record (no forcing period: the start is part of the motion).
+/// n_t = max(1, ceil(f_r ln(1 / tol) / r_min)) with r_min the slowest body's decay rate:
+/// c_i / 2 for an underdamped body (c_i = damping_i; 2 pi eps for the paper's row, eps < 1),
+/// c_i / 2 - sqrt(c_i^2 / 4 - k_i) for an overdamped one (k_i = spring_i: its slow root, 4 pi^2
+/// / (2 pi (eps + sqrt(eps^2 - 1))) for the paper's row, 0.0314 at eps = 100 where 2 pi eps
+/// is 628), capped at options.periods / 2 (the cap when r_min = 0); 0 for a record (no
+/// forcing period: the start is part of the motion).
 long default_transient_periods(const Dynamics& dyn, const RunOptions& options);
 
 /// options with transient_periods resolved: auto_transient replaced by

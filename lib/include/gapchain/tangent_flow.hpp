@@ -36,6 +36,8 @@ public:
 
 private:
     void apply_jacobian(const double* x, double* out) const;
+    /// col <- exp(h J) col by its Taylor series, for h max_rate() <= 2.
+    void advance(double* col, double h);
     const Dynamics& m_dyn;
     int m_dim;
     int m_count;

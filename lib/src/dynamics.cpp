@@ -50,8 +50,8 @@ Dynamics::Dynamics(Chain chain, GroundMotion ground_motion)
     m_omega_max = gapchain::max_angular_frequency(m_chain);
     // Per mode, |lambda| = omega when underdamped and below the damping rate c when not (the
     // fast root c/2 + sqrt(c^2/4 - omega^2)).
-    m_rate_max = std::max(m_omega_max,
-                          *std::max_element(m_chain.damping.begin(), m_chain.damping.end()));
+    m_rate_max =
+        std::max(m_omega_max, *std::max_element(m_chain.damping.begin(), m_chain.damping.end()));
     m_contact_over_mass_left.resize(m_n);
     m_contact_over_mass_right.resize(m_n);
     for (int i = 0; i < m_n; ++i) {

@@ -432,8 +432,8 @@ long default_transient_periods(const Dynamics& dyn, const RunOptions& options) {
     for (std::size_t i = 0; i < damping.size(); ++i) {
         const double half = damping[i] / 2.0;
         const double over = half * half - spring[i];
-        slowest_decay = std::min(slowest_decay,
-                                 over > 0.0 ? spring[i] / (half + std::sqrt(over)) : half);
+        slowest_decay =
+            std::min(slowest_decay, over > 0.0 ? spring[i] / (half + std::sqrt(over)) : half);
     }
     if (!(slowest_decay > 0.0)) return cap;
     const double periods =

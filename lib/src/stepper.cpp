@@ -289,8 +289,8 @@ StepPlan plan_step(const Dynamics& dyn, Scheme scheme, double tolerance,
     // The fastest of the contact oscillations, an overdamped body's decay and the forcing
     // sets the step's accuracy and stability.
     const double period = dyn.period();
-    const double omega = std::max(
-        dyn.max_rate(), 2.0 * std::numbers::pi * dyn.ground_motion().resolved_frequency());
+    const double omega =
+        std::max(dyn.max_rate(), 2.0 * std::numbers::pi * dyn.ground_motion().resolved_frequency());
     const double stable = tr.stability_limit / omega;
     double h = 0.0;
     if (user_step) {

@@ -210,11 +210,23 @@ TEST_CASE("design value: a run whose F_m is above every attractor (issue 19's Nm
     o.box = 1.0;
     o.run.periods = 1000;
     o.run.accuracy_mode = AccuracyMode::strict;
-    // The run's own checks off: nothing but the search says that its F_m is a transient's.
+    // The run's own checks off: it still continues its orbit for a cycle (F_m_orbit is a
+    // result) and says that its maximum came before it, its bar covering the gap. Without that
+    // (a result as a run from before its orbit check gives it), nothing but the search says
+    // that its F_m is a transient's.
     RunOptions unchecked = o.run;
     unchecked.estimate_error = false;
     unchecked.multistability_check = false;
-    const SimulationResult from_rest = simulate(Dynamics::paper_row(nm2), unchecked);
+    const SimulationResult own_check = simulate(Dynamics::paper_row(nm2), unchecked);
+    REQUIRE(own_check.F_m_orbit.has_value());
+    CHECK(own_check.maximum_in_transient);
+    CHECK(own_check.F_m_error >= own_check.F_m - *own_check.F_m_orbit);
+    CHECK_FALSE(design_value(nm2, o, own_check).run_above);
+    SimulationResult from_rest = own_check;
+    from_rest.F_m_orbit.reset();
+    from_rest.maximum_in_transient = false;
+    from_rest.F_m_error = 0.0;
+    from_rest.error_method = ErrorMethod::none;
     const DesignValue d = design_value(nm2, o, from_rest);
     REQUIRE(d.search.attractors.size() == 1);
     // The period-3 orbit (Newton; an independent closed-form implementation gives 1.070351).

@@ -436,6 +436,13 @@ TEST_CASE("transient check: a periodic run whose F_m fell before its orbit says 
     CHECK_FALSE(r.multistable); // it settled quickly: the start-up, not a chaotic transient
     CHECK(r.F_m - orbit.F_m > 1e-3);
     CHECK(r.F_m_error >= r.F_m - orbit.F_m - 1e-4 * orbit.F_m);
+    // The orbit and the flag are results, not error estimates: the same without the estimate.
+    RunOptions unestimated;
+    unestimated.estimate_error = false;
+    const SimulationResult bare = simulate(dyn, unestimated);
+    REQUIRE(bare.F_m_orbit.has_value());
+    CHECK(*bare.F_m_orbit == *r.F_m_orbit);
+    CHECK(bare.maximum_in_transient);
     // Recording the orbit alone (a longer transient) gives the orbit's F_m, no flag.
     RunOptions longer;
     longer.transient_periods = 60;

@@ -93,7 +93,7 @@ int main(int argc, char** argv) {
     app.add_flag("--no-plot", no_plot, "Write the CSV only");
     return cli::run(app, argc, argv, [&] {
         const Scene scene = cli::load(scene_args);
-        cli::require_linear_harmonic(
+        require_linear_harmonic(
             scene, "gapchain-accuracy",
             "every scheme is measured against the exact propagator, which needs both");
         o.schemes = distinct_schemes(schemes);

@@ -202,7 +202,7 @@ int main(int argc, char** argv) {
                         if (!a.param.empty())
                             cli::require_not_set(a.scene, a.param, "gapchain-attractors --param");
                         const Scene scene = cli::load(a.scene);
-                        cli::require_paper_row(scene, "gapchain-attractors");
+                        require_paper_row(scene, "gapchain-attractors");
                         // The search draws its own starts: a scene's start would be ignored.
                         if (!scene.initial.empty())
                             throw SceneError("initial: gapchain-attractors draws its own starts "

@@ -133,7 +133,7 @@ int main(int argc, char** argv) {
                     [&] {
                         cli::require_not_set(a.scene, a.param, "gapchain-bifurcation");
                         const Scene scene = cli::load(a.scene, fig13_scene);
-                        cli::require_paper_row(scene, "gapchain-bifurcation");
+                        require_paper_row(scene, "gapchain-bifurcation");
                         resolve_options(a, scene);
                         cli::Outputs outputs({a.scene.path});
                         outputs.folder(a.out_dir, "--out",

@@ -142,7 +142,7 @@ int main(int argc, char** argv) {
     app.add_flag("--no-plot", no_plot, "Write the CSV only")->needs(map);
     return cli::run(app, argc, argv, [&] {
         const Scene scene = cli::load(scene_args);
-        cli::require_paper_row(scene, "gapchain-classify");
+        require_paper_row(scene, "gapchain-classify");
         o.scheme = scene.run.scheme;
         o.tolerance = scene.run.tolerance;
         o.max_work = scene.run.max_work;

@@ -182,7 +182,7 @@ int main(int argc, char** argv) {
                         cli::require_not_set(a.scene, a.param, "gapchain-continue");
                         cli::require_no_run_set(a.scene, "gapchain-continue");
                         const Scene scene = cli::load(a.scene);
-                        cli::require_paper_row(scene, "gapchain-continue");
+                        require_paper_row(scene, "gapchain-continue");
                         a.options.parameter = parse_swept_parameter(a.param);
                         a.options.orbit.scheme = parse_scheme(a.scheme);
                         validate(a.options);

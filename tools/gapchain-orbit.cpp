@@ -79,7 +79,7 @@ int main(int argc, char** argv) {
                     [&] {
                         cli::require_no_run_set(a.scene, "gapchain-orbit");
                         const Scene scene = cli::load(a.scene);
-                        cli::require_linear_harmonic(
+                        require_linear_harmonic(
                             scene, "gapchain-orbit",
                             "the tangent flow assumes a constant Jacobian between switches");
                         const Dynamics dyn = scene.dynamics();

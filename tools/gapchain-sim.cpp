@@ -211,7 +211,7 @@ struct DesignSearch {
                                      "N (1 .. 1e7 starts)");
             return;
         }
-        cli::require_paper_row(scene, "gapchain-sim --attractors");
+        require_paper_row(scene, "gapchain-sim --attractors");
         options.seed = static_cast<std::uint64_t>(seed);
         options.run = scene.run;
         validate(scene.reduced, options);

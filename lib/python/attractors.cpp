@@ -139,7 +139,7 @@ py::dict attractors_py(const py::object& scene_arg, long samples, std::uint64_t 
                        int section_points, const py::object& grid, int resolution, int threads,
                        const py::object& progress, const py::kwargs& keys) {
     const Scene scene = to_scene(scene_arg, keys);
-    const ReducedParameters& p = searched_row(scene);
+    const ReducedParameters& p = searched_row(scene, "attractors");
     AttractorOptions o = search_options(scene, samples, seed, box, section_points, threads);
     if (!grid.is_none()) {
         const auto names = grid_names(grid);
@@ -172,7 +172,7 @@ py::dict basin_fractions_py(const py::object& scene_arg, const std::string& para
                             int section_points, int threads, const py::object& progress,
                             const py::kwargs& keys) {
     const Scene scene = to_swept_scene(scene_arg, param, keys, "basin_fractions");
-    const ReducedParameters& p = searched_row(scene);
+    const ReducedParameters& p = searched_row(scene, "basin_fractions");
     const std::vector<double> values =
         fraction_line_values(p, parse_swept_parameter(param), from, to, steps);
     const AttractorOptions o = search_options(scene, samples, seed, box, section_points, threads);

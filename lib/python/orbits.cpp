@@ -58,6 +58,8 @@ py::dict orbit_py(const py::object& scene_arg, int period, long transient, doubl
                   int max_iterations, const std::string& scheme, const py::kwargs& keys) {
     refuse_run_keys(keys, "orbit");
     const Scene scene = to_scene(scene_arg, keys);
+    require_linear_harmonic(scene, "orbit()",
+                            "the tangent flow assumes a constant Jacobian between switches");
     const Dynamics dyn = scene.dynamics();
     OrbitOptions o;
     o.period = period;
@@ -136,6 +138,7 @@ py::dict continuation_py(const py::object& scene_arg, const std::string& param, 
                          const py::kwargs& keys) {
     refuse_run_keys(keys, "continuation");
     const Scene scene = to_swept_scene(scene_arg, param, keys, "continuation");
+    paper_row(scene, "continuation");
     ContinuationOptions o;
     o.parameter = parse_swept_parameter(param);
     o.from = from, o.to = to, o.period = period;

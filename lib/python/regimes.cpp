@@ -80,7 +80,8 @@ py::dict classify_py(const py::object& scene_arg, long transient, long record, b
     const Scene scene = to_scene(scene_arg, keys);
     const ClassifyOptions o = classify_options(scene, transient, record, confirm);
     Call call;
-    const Classification c = call.run([&] { return classify(scene.reduced, o, call.callback()); });
+    const ReducedParameters& row = paper_row(scene, "classify");
+    const Classification c = call.run([&] { return classify(row, o, call.callback()); });
     py::dict d;
     d["regime"] = std::string(to_string(c.regime));
     d["period"] = c.period;
@@ -137,8 +138,9 @@ py::dict regime_map_py(const py::object& scene_arg, const std::vector<double>& e
     const Scene scene = to_scene(scene_arg, keys);
     const ClassifyOptions o = classify_options(scene, transient, record, confirm);
     Call call(progress);
+    const ReducedParameters& row = paper_row(scene, "regime_map");
     const RegimeMap m =
-        call.run([&] { return regime_map(scene.reduced, e_r, f_r, o, threads, call.callback()); });
+        call.run([&] { return regime_map(row, e_r, f_r, o, threads, call.callback()); });
     return regime_map_dict(m);
 }
 

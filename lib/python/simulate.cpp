@@ -149,7 +149,7 @@ py::dict simulate_py(const py::object& scene_arg, bool trajectory, long attracto
         search.box = box.value_or(search.box);
         search.threads = threads.value_or(search.threads);
         search.run = scene.run;
-        validate(paper_row(scene), search);
+        validate(paper_row(scene, "simulate(attractors=...)"), search);
     } else if (seed || box || threads) {
         // Given at its default value too: a seed without a search is a mistake either way.
         throw std::invalid_argument(std::string(seed  ? "seed"

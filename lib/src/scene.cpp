@@ -605,4 +605,33 @@ Scene scene_from_parsed_json(json root, const std::vector<std::string>& override
 
 } // namespace detail
 
+void require_paper_row(const Scene& scene, const std::string& user) {
+    if (!scene.harmonic())
+        throw SceneError("excitation.type: " + user +
+                         " needs harmonic forcing (a forcing period); records and Kanai-Tajimi "
+                         "motion work in gapchain-sim and gapchain-sweep");
+    if (!scene.uniform()) {
+        const bool law = scene.row && scene.row->law != ContactLaw::linear;
+        throw SceneError(std::string(law ? "model.contact_law" : "model arrays and scatter") +
+                         ": " + user +
+                         " takes the paper's uniform row with the linear law (Nm, "
+                         "fc, eps, e_r, f_r); " +
+                         (law ? "nonlinear laws work in gapchain-sim, -poincare, -spectrum and "
+                                "-modes"
+                              : "non-uniform rows work in gapchain-sim, -poincare, -spectrum, "
+                                "-modes, -orbit and -accuracy"));
+    }
+}
+
+void require_linear_harmonic(const Scene& scene, const std::string& user, const std::string& why) {
+    if (!scene.harmonic())
+        throw SceneError("excitation.type: " + user + " needs harmonic forcing (" + why +
+                         "); records and Kanai-Tajimi motion work in gapchain-sim and "
+                         "gapchain-sweep");
+    if (scene.row && scene.row->law != ContactLaw::linear)
+        throw SceneError("model.contact_law: " + user + " needs the linear contact law (" + why +
+                         "), got " + to_string(scene.row->law) +
+                         "; nonlinear laws work in gapchain-sim, -poincare, -spectrum and -modes");
+}
+
 } // namespace gapchain

@@ -451,3 +451,23 @@ def test_a_missing_required_argument_is_named():
 def test_a_non_string_key_in_a_scene_dict_is_named():
     with pytest.raises(ValueError, match=r"^model: keys must be strings, got \('a',\) \(tuple\)"):
         gapchain.simulate({"model": {("a",): 1}}, periods=50)
+
+
+def test_analyses_of_the_five_reduced_numbers_refuse_other_rows():
+    # bifurcation(), classify(), regime_map() and continuation() read the scene's five reduced
+    # numbers only: a Hertz law, model arrays or a seismic record were run as the paper's row.
+    fig13 = next(p for p in SCENES if p.endswith("fig13.json"))
+    calls = {"bifurcation": lambda s, k: gapchain.bifurcation(s, from_=3, to=3.01, steps=2, **k),
+             "classify": lambda s, k: gapchain.classify(s, **k),
+             "regime_map": lambda s, k: gapchain.regime_map(s, e_r=[0.1], f_r=[1.0], **k),
+             "continuation": lambda s, k: gapchain.continuation(s, from_=3, to=3.05, **k)}
+    for name, call in calls.items():
+        with pytest.raises(ValueError, match=f"^model.contact_law: {name}\\(\\) takes the paper"):
+            call(fig13, {"model.contact_law": "hertz"})
+        with pytest.raises(ValueError, match=f"^model arrays and scatter: {name}\\(\\)"):
+            call(fig13, {"model.mass": [1, 2, 1, 1, 1]})
+    seismic = next(p for p in SCENES if p.endswith("table4-experiment-seismic.json"))
+    with pytest.raises(ValueError, match="^excitation.type: continuation\\(\\) needs harmonic"):
+        gapchain.continuation(seismic, param="eps", from_=0.1, to=0.11)
+    with pytest.raises(ValueError, match="^excitation.type: orbit\\(\\) needs harmonic forcing"):
+        gapchain.orbit(seismic)

@@ -394,24 +394,6 @@ std::pair<CLI::Option*, CLI::Option*> add_start_box(CLI::App& app, long long& se
     return {s, b};
 }
 
-void require_paper_row(const Scene& scene, const std::string& tool) {
-    if (!scene.harmonic())
-        throw SceneError("excitation.type: " + tool +
-                         " needs harmonic forcing (a forcing period); records and Kanai-Tajimi "
-                         "motion work in gapchain-sim and gapchain-sweep");
-    if (!scene.uniform()) {
-        const bool law = scene.row && scene.row->law != ContactLaw::linear;
-        throw SceneError(std::string(law ? "model.contact_law" : "model arrays and scatter") +
-                         ": " + tool +
-                         " takes the paper's uniform row with the linear law (Nm, "
-                         "fc, eps, e_r, f_r); " +
-                         (law ? "nonlinear laws work in gapchain-sim, -poincare, -spectrum and "
-                                "-modes"
-                              : "non-uniform rows work in gapchain-sim, -poincare, -spectrum, "
-                                "-modes, -orbit and -accuracy"));
-    }
-}
-
 void require_not_set(const SceneArguments& args, const std::string& param,
                      const std::string& tool) {
     for (const std::string& key : keys_replaced_by(parse_swept_parameter(param)))
@@ -427,17 +409,6 @@ void require_no_run_set(const SceneArguments& args, const std::string& tool) {
             throw SceneError("--set " + set.substr(0, set.find('=')) + ": " + tool +
                              " does not read the scene's run section (its shootings integrate "
                              "with --scheme to 1e-12); drop the --set");
-}
-
-void require_linear_harmonic(const Scene& scene, const std::string& tool, const std::string& why) {
-    if (!scene.harmonic())
-        throw SceneError("excitation.type: " + tool + " needs harmonic forcing (" + why +
-                         "); records and Kanai-Tajimi motion work in gapchain-sim and "
-                         "gapchain-sweep");
-    if (scene.row && scene.row->law != ContactLaw::linear)
-        throw SceneError("model.contact_law: " + tool + " needs the linear contact law (" + why +
-                         "), got " + to_string(scene.row->law) +
-                         "; nonlinear laws work in gapchain-sim, -poincare, -spectrum and -modes");
 }
 
 namespace {

@@ -130,10 +130,6 @@ CLI::Validator range(T lo, T hi) {
 // gapchain-sim --attractors); returns the two options.
 std::pair<CLI::Option*, CLI::Option*> add_start_box(CLI::App& app, long long& seed, double& box);
 
-// Tools that take the paper's five reduced numbers and a forcing period (bifurcation,
-// classify, bounds) refuse other scenes with the rule: a record or Kanai-Tajimi excitation,
-// model arrays or scatter, a nonlinear contact law.
-void require_paper_row(const Scene& scene, const std::string& tool);
 // Tools that vary one reduced number themselves (bifurcation, continue, attractors --param)
 // refuse a --set of it, or of the physical key behind it alone (excitation.f, model.e, model.Kc,
 // model.C), which their --from ... --to would silently replace. param: f_r, e_r, fc or eps.
@@ -141,9 +137,6 @@ void require_not_set(const SceneArguments& args, const std::string& param, const
 // Tools that integrate with their own --scheme (orbit, continue) refuse a --set of a run.* key,
 // which they would silently ignore.
 void require_no_run_set(const SceneArguments& args, const std::string& tool);
-// Tools built on the exact propagator or the tangent flow (orbit, accuracy) refuse the rest with
-// the reason: harmonic forcing and the linear contact law (any row of them).
-void require_linear_harmonic(const Scene& scene, const std::string& tool, const std::string& why);
 
 // The row's reduced numbers for a figure's title ("Nm=5 fc=60 eps=0.5 e_r=0.06 f_r=3"), without
 // the swept one (its values are on the x axis).

@@ -101,6 +101,17 @@ std::string scene_key(const std::string& key, const std::string& context = "");
 /// function that varies `which` refuses an override of either.
 std::array<std::string, 2> keys_replaced_by(SweptParameter which);
 
+/// Analyses that take the paper's five reduced numbers and a forcing period (bifurcation,
+/// classify, continuation, the attractor search) refuse other scenes with the rule, naming the
+/// key: a record or Kanai-Tajimi excitation, model arrays or scatter, a nonlinear contact law.
+/// `user` names the tool or function in the message. Throws SceneError.
+void require_paper_row(const Scene& scene, const std::string& user);
+
+/// Analyses built on the exact propagator or the tangent flow (orbits, the work-precision
+/// study) refuse a non-harmonic excitation or a nonlinear contact law (any row of them), with
+/// the reason `why`. Throws SceneError.
+void require_linear_harmonic(const Scene& scene, const std::string& user, const std::string& why);
+
 /// Parses and validates scene text (see load_scene). Throws SceneError.
 Scene parse_scene(std::string_view text, const std::vector<std::string>& overrides = {},
                   const std::string& source = "<string>");

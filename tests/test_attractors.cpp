@@ -489,3 +489,26 @@ TEST_CASE("design value: where no group settled, it is the larger of the run's F
     CHECK_FALSE(d.start_below);
     CHECK_FALSE(d.run_above);
 }
+
+TEST_CASE("a row the exact scheme refuses keeps its orbits unconfirmed, with its runs' errors") {
+    // Newton shoots on the exact scheme, which takes rows of up to 64 bodies and contacts of up
+    // to 1e5 rad per unit time; the search used to fail after all its runs (fc = 1e9: 23 s).
+    const ReducedParameters p{65, 60, 0.5, 0.5, 1.0};
+    AttractorOptions o = short_runs(2, 1);
+    o.run.periods = 60;
+    const AttractorSet set = find_attractors(p, o);
+    REQUIRE(set.attractors.size() == 1);
+    const Attractor& a = set.attractors.front();
+    CHECK(a.period == 1);
+    CHECK_FALSE(a.newton_confirmed);
+    CHECK(std::isnan(a.lambda_max)); // not computed, never reported as 0
+    CHECK(a.F_m_error > 0.0);
+    // Its F_m is the orbit's: rk8pd at 1e-10, recorded after the start has faded.
+    RunOptions tight;
+    tight.scheme = Scheme::rk8pd;
+    tight.tolerance = 1e-10;
+    tight.periods = 60;
+    tight.transient_periods = 40;
+    const double orbit = simulate(Dynamics::paper_row(p), tight).F_m;
+    CHECK(std::abs(a.F_m - orbit) <= a.F_m_error);
+}

@@ -120,8 +120,12 @@ void print_set(const AttractorSet& s, const AttractorOptions& o) {
             std::printf(" period %-3d", a.period);
         else
             std::printf("           ");
-        std::printf(" F_m = %.6g +- %.2g  lambda_max = %+.3g  basin %.3f +- %.3f\n", a.F_m,
-                    a.F_m_error, a.lambda_max, a.basin_fraction, a.basin_fraction_error);
+        std::printf(" F_m = %.6g +- %.2g  ", a.F_m, a.F_m_error);
+        if (std::isfinite(a.lambda_max))
+            std::printf("lambda_max = %+.3g", a.lambda_max);
+        else
+            std::printf("lambda_max not computed (orbit not confirmed by Newton)");
+        std::printf("  basin %.3f +- %.3f\n", a.basin_fraction, a.basin_fraction_error);
         print_settling(a, o);
     }
     if (s.F_m_max_id >= 0)

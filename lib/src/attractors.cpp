@@ -198,23 +198,28 @@ StartOutcome run_start(const Dynamics& dyn, const AttractorOptions& o,
     s.periodic = true;
     s.period = *r.steady_state_period;
     s.settle_period = r.cycle_entry_period;
-    OrbitOptions orbit_options;
-    orbit_options.period = s.period;
-    orbit_options.tolerance = 1e-9;
-    orbit_options.max_iterations = 12;
-    const PeriodicOrbit orbit = find_minimal_periodic_orbit(dyn, orbit_options, r.final_state);
-    if (orbit.status == OrbitStatus::converged) {
-        s.newton = true;
-        s.period = orbit.minimal_period;
-        s.max_multiplier = orbit.max_multiplier;
-        s.F_m = orbit.F_m;
-        s.state = orbit.state;
-        s.section = orbit.period_ends;
-    } else {
-        const auto k =
-            static_cast<std::ptrdiff_t>(std::min<std::size_t>(s.period, s.section.size()));
-        s.section.erase(s.section.begin(), s.section.end() - k);
+    // The steady state's own largest force, not a transient's (replaced by Newton's below).
+    if (r.F_m_orbit) s.F_m = *r.F_m_orbit;
+    // Newton shoots on the exact scheme; a row it refuses (fc above ~1.27e8, Nm > 64) keeps
+    // the run's orbit unconfirmed rather than failing the whole search after its runs.
+    if (!exact_refusal(dyn)) {
+        OrbitOptions orbit_options;
+        orbit_options.period = s.period;
+        orbit_options.tolerance = 1e-9;
+        orbit_options.max_iterations = 12;
+        const PeriodicOrbit orbit = find_minimal_periodic_orbit(dyn, orbit_options, r.final_state);
+        if (orbit.status == OrbitStatus::converged) {
+            s.newton = true;
+            s.period = orbit.minimal_period;
+            s.max_multiplier = orbit.max_multiplier;
+            s.F_m = orbit.F_m;
+            s.state = orbit.state;
+            s.section = orbit.period_ends;
+            return s;
+        }
     }
+    const auto k = static_cast<std::ptrdiff_t>(std::min<std::size_t>(s.period, s.section.size()));
+    s.section.erase(s.section.begin(), s.section.end() - k);
     return s;
 }
 
@@ -313,8 +318,8 @@ Attractor new_attractor(const StartOutcome& s, const std::vector<double>& start,
     a.newton_confirmed = s.newton;
     a.max_multiplier = s.max_multiplier;
     a.F_m = s.F_m;
-    // A periodic attractor's error is set in characterise() once it is known to be confirmed.
-    a.F_m_error = s.periodic ? std::abs(s.F_m - s.run_F_m) : s.spread;
+    // A confirmed orbit's error is set in characterise(); an unconfirmed one keeps its run's.
+    a.F_m_error = s.periodic && s.newton ? std::abs(s.F_m - s.run_F_m) : s.spread;
     a.initial_state = start;
     a.state = s.state;
     a.section = s.section;
@@ -448,8 +453,12 @@ void characterise(const Dynamics& dyn, const ReducedParameters& p, const Attract
                 a.regime = a.F_m > 0.0 ? Regime::periodic : Regime::no_contact;
                 return;
             }
+            // A steady state Newton did not confirm (or could not shoot: exact refuses the
+            // row) is periodic still, its exponent unknown: a tangent run on rk4 along such a
+            // row's stiff contacts gave +12.4 on a settled orbit (fc = 1e9).
             if (a.period != 0) {
                 a.regime = a.F_m > 0.0 ? Regime::periodic : Regime::no_contact;
+                a.lambda_max = a.lambda_max_error = std::numeric_limits<double>::quiet_NaN();
                 return;
             }
             RunOptions run = o.run;

@@ -138,6 +138,7 @@ long total_impacts(const MaxForceTracker& forces) {
 /// (a period boundary, so phase 0): a multiplier near -1 can make the approach repeat after 2k
 /// periods before it repeats after k; the converged orbit's minimal period settles it.
 void confirm_periodic(const Dynamics& dyn, const std::vector<double>& state, Classification& c) {
+    if (exact_refusal(dyn)) return; // Newton shoots on the exact scheme: the label unconfirmed
     OrbitOptions orbit_options;
     orbit_options.period = c.period;
     orbit_options.tolerance = 1e-9;

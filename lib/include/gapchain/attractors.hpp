@@ -99,7 +99,9 @@ struct Attractor {
     /// unconfirmed periodic one: |its F_m - the run's F_m over the recorded window|; otherwise
     /// the window-halves sampling spread of the member whose F_m is the largest (F_m).
     double F_m_error = 0.0;
-    double lambda_max = 0.0;       ///< largest Lyapunov exponent [1 / reduced time]
+    /// Largest Lyapunov exponent [1 / reduced time]; NaN for a periodic steady state Newton
+    /// did not confirm (not computed: blank in CSV, null in JSON).
+    double lambda_max = 0.0;
     double lambda_max_error = 0.0; ///< its standard error (0 for a Newton-confirmed orbit)
     double basin_fraction = 0.0;   ///< share of the random starts that reach it
     /// binomial standard error sqrt(p (1 - p) / N), at least 1 / N (N starts all alike bound

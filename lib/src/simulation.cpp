@@ -746,8 +746,7 @@ SimulationResult simulate(const Dynamics& dyn, const RunOptions& requested,
     const bool harmonic = dyn.ground_motion().is_harmonic();
     const bool late =
         harmonic && ran && options.multistability_check && settled_late(dyn, options, main);
-    // F_m_orbit and maximum_in_transient are results, not error estimates: every settled run
-    // gets them (run.estimate_error false once left them empty and "false" unchecked).
+    // F_m_orbit and maximum_in_transient are results: every settled run gets them.
     if (harmonic && ran && !record_orbit_maximum(dyn, *planned, main, after_main, result))
         refused = true;
     if (!refused) estimate_error(dyn, options, planned->plan(), initial, main, after_main, result);

@@ -185,6 +185,7 @@ int main(int argc, char** argv) {
                         require_paper_row(scene, "gapchain-continue");
                         a.options.parameter = parse_swept_parameter(a.param);
                         a.options.orbit.scheme = parse_scheme(a.scheme);
+                        a.options.orbit.max_work = scene.run.max_work;
                         validate(a.options);
                         if (!a.overlay.empty()) {
                             check_overlay(a.overlay);

@@ -84,6 +84,7 @@ int main(int argc, char** argv) {
                             "the tangent flow assumes a constant Jacobian between switches");
                         const Dynamics dyn = scene.dynamics();
                         a.options.scheme = parse_scheme(a.scheme);
+                        a.options.max_work = scene.run.max_work;
                         cli::Outputs outputs({a.scene.path});
                         outputs.required_file(a.out, "--out");
                         cli::Progress progress("gapchain-orbit");

@@ -71,10 +71,12 @@ Scene to_swept_scene(const py::object& scene, const std::string& param, const py
 void refuse_run_keys(const py::kwargs& keys, const std::string& function) {
     for (const auto& [key, value] : keys) {
         const std::string name = key.cast<std::string>();
-        if (scene_key(name).rfind("run.", 0) == 0)
+        const std::string dotted = scene_key(name);
+        if (dotted.rfind("run.", 0) == 0 && dotted != "run.max_work")
             throw std::invalid_argument(name + ": " + function +
                                         "() does not read the scene's run section (its "
-                                        "shootings integrate with scheme to 1e-12); drop the " +
+                                        "shootings integrate with scheme to 1e-12) but for "
+                                        "run.max_work; drop the " +
                                         name + " keyword");
     }
 }

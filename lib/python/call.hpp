@@ -31,8 +31,8 @@ Scene to_scene(const py::object& scene, const py::kwargs& keys);
 Scene to_swept_scene(const py::object& scene, const std::string& param, const py::kwargs& keys,
                      const std::string& function);
 
-// Functions that integrate with their own scheme (orbit, continuation) refuse a run.* keyword,
-// which they would silently ignore: std::invalid_argument naming it.
+// Functions that integrate with their own scheme (orbit, continuation) refuse a run.* keyword
+// but run.max_work, which they would silently ignore: std::invalid_argument naming it.
 void refuse_run_keys(const py::kwargs& keys, const std::string& function);
 
 // The paper's row at one point, as the analyses of the five reduced numbers need it

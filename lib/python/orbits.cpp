@@ -66,6 +66,7 @@ py::dict orbit_py(const py::object& scene_arg, int period, long transient, doubl
     o.tolerance = tolerance;
     o.max_iterations = max_iterations;
     o.scheme = parse_scheme(scheme);
+    o.max_work = scene.run.max_work;
     Call call;
     const PeriodicOrbit r = call.run([&] {
         return find_periodic_orbit_after(dyn, o, scene.initial, transient, call.callback());
@@ -146,6 +147,7 @@ py::dict continuation_py(const py::object& scene_arg, const std::string& param, 
     o.follow_doublings = follow_doublings, o.max_branches = max_branches;
     o.transient_periods = transient;
     o.orbit.scheme = parse_scheme(scheme);
+    o.orbit.max_work = scene.run.max_work;
     validate(o);
     Call call(progress);
     const ContinuationResult r =

@@ -31,6 +31,7 @@ void validate(const OrbitOptions& o) {
     detail::require_range("tolerance", o.tolerance, 1e-14, 1e-3);
     detail::require_range("max_iterations", o.max_iterations, 1, 1000);
     detail::require_range("integration_tolerance", o.integration_tolerance, 1e-14, 1e-3);
+    detail::require_range("run.max_work", o.max_work, 1.0, 1e15);
     if (o.scheme == Scheme::automatic)
         throw std::invalid_argument("scheme: name a concrete scheme for the shooting, not auto");
     // Second order at the map's 1e-12 takes ~1e3 times rk4's steps (9 s against 0.04 s for a
@@ -139,6 +140,7 @@ ShootingResult shoot(const Dynamics& dyn, const OrbitOptions& options, const std
     run.tolerance = options.integration_tolerance;
     run.stop_at_steady_state = false;
     run.estimate_error = false;
+    run.max_work = options.max_work;
     PlannedRun planned(dyn, run, x);
     TangentFlow flow(dyn, dyn.dimension());
     MaxForceTracker forces(dyn);
@@ -282,6 +284,7 @@ PeriodicOrbit find_periodic_orbit_after(const Dynamics& dyn, const OrbitOptions&
         run.tolerance = std::max(options.integration_tolerance, 1e-10);
         run.stop_at_steady_state = false;
         run.estimate_error = false;
+        run.max_work = options.max_work;
         PlannedRun planned(dyn, run, start);
         // The transient run is the first half of the progress reported, Newton the second.
         const ProgressCallback first_half = [&](double f) { return !progress || progress(f / 2); };

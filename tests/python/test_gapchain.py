@@ -436,6 +436,11 @@ def test_orbit_and_continuation_refuse_run_keywords_they_would_ignore():
         gapchain.continuation(MIRROR_PAIR, from_=1.2, to=1.21, tolerance=0.1)
     with pytest.raises(ValueError, match="^run.periods: orbit\\(\\) does not read"):
         gapchain.orbit(MIRROR_PAIR, **{"run.periods": 100})
+    # run.max_work is read: the refusal names it and the value given.
+    with pytest.raises(ValueError, match="^run.max_work: .* above run.max_work = 10:"):
+        gapchain.orbit(MIRROR_PAIR, max_work=10)
+    with pytest.raises(ValueError, match="^run.max_work: .* above run.max_work = 10:"):
+        gapchain.continuation(MIRROR_PAIR, from_=1.2, to=1.21, max_work=10)
 
 
 def test_a_missing_required_argument_is_named():

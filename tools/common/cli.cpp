@@ -405,10 +405,10 @@ void require_not_set(const SceneArguments& args, const std::string& param,
 
 void require_no_run_set(const SceneArguments& args, const std::string& tool) {
     for (const std::string& set : args.sets)
-        if (set.rfind("run.", 0) == 0)
+        if (set.rfind("run.", 0) == 0 && set.rfind("run.max_work=", 0) != 0)
             throw SceneError("--set " + set.substr(0, set.find('=')) + ": " + tool +
                              " does not read the scene's run section (its shootings integrate "
-                             "with --scheme to 1e-12); drop the --set");
+                             "with --scheme to 1e-12) but for run.max_work; drop the --set");
 }
 
 namespace {

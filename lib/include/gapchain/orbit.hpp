@@ -34,6 +34,9 @@ struct OrbitOptions {
     /// rkf45 or rk8pd; not automatic or central_difference.
     Scheme scheme = Scheme::exact;
     double integration_tolerance = 1e-12; ///< tolerance of the scheme, 1e-14 .. 1e-3
+    /// Largest work of one integration (the transient run, one shooting) in body-steps, as
+    /// RunOptions::max_work (the scene's run.max_work), 1 .. 1e15.
+    double max_work = 3e10;
 };
 
 /// A periodic orbit and its stability.

@@ -39,7 +39,7 @@ located on the way: gapchain-continue in-process.
 
 param       "f_r", "e_r", "fc" or "eps";  from_  start value (the first orbit is found there)
 to          the branch ends when the parameter leaves [from_, to]
-period      k of the first branch, 1 .. 1000;  step  first arclength step, (0, 1]
+period      k of the first branch, 1 .. 1000;  step  first arclength step, [1e-6, 1]
 max_step    largest arclength step, [step, 1];  max_points  points per branch, 1 .. 1e6
 follow_doublings  switch to the doubled branch at each period doubling and each non-smooth loss of
                   stability next to -1 (max_branches, 1 .. 64)

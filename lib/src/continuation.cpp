@@ -27,8 +27,8 @@ std::string_view to_string(SpecialPointType type) {
 
 void validate(const ContinuationOptions& o) {
     detail::require_range("period", o.period, 1, 1000);
-    detail::require_range("step", o.step, 0.0, 1.0, detail::Bound::open_low);
-    detail::require_range("max_step", o.max_step, 0.0, 1.0, detail::Bound::open_low);
+    detail::require_range("step", o.step, 1e-6, 1.0);
+    detail::require_range("max_step", o.max_step, 1e-6, 1.0);
     if (o.max_step < o.step)
         throw std::invalid_argument("max_step: must be at least the first arclength step, " +
                                     detail::format_number(o.step) + ", got " +

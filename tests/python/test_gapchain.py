@@ -476,3 +476,16 @@ def test_analyses_of_the_five_reduced_numbers_refuse_other_rows():
         gapchain.continuation(seismic, param="eps", from_=0.1, to=0.11)
     with pytest.raises(ValueError, match="^excitation.type: orbit\\(\\) needs harmonic forcing"):
         gapchain.orbit(seismic)
+
+
+def test_line_limits_are_the_tools_limits():
+    # The library's ranges were wider than the CLI's (steps up to 1e5 against 1e4, an arclength
+    # step down to 0 against 1e-6), and a line from = to with several steps searched one point
+    # again and again.
+    fig13 = next(p for p in SCENES if p.endswith("fig13.json"))
+    with pytest.raises(ValueError, match=r"^step: must be a finite number in \[1e-06, 1\]"):
+        gapchain.continuation(fig13, from_=3, to=3.05, step=1e-9)
+    with pytest.raises(ValueError, match=r"^steps: must be an integer in \[1, 10000\]"):
+        gapchain.basin_fractions(fig13, param="f_r", from_=3, to=3.1, steps=20000, samples=2)
+    with pytest.raises(ValueError, match="^steps: from = to"):
+        gapchain.basin_fractions(fig13, param="f_r", from_=3, to=3, steps=3, samples=2)

@@ -222,9 +222,9 @@ struct FractionContinuation {
 };
 
 /// The values of a basin-fraction line: steps values from `from` to `to`, both included, as
-/// from + (to - from) k / (steps - 1) (one value needs from = to). Throws std::invalid_argument
-/// naming from or to when an end is outside `parameter`'s range for base, or steps outside
-/// 1 .. 100000.
+/// from + (to - from) k / (steps - 1) (one value needs from = to, and from = to one value).
+/// Throws std::invalid_argument naming from or to when an end is outside `parameter`'s range
+/// for base, or steps outside 1 .. 10000.
 std::vector<double> fraction_line_values(const ReducedParameters& base, SweptParameter parameter,
                                          double from, double to, int steps);
 

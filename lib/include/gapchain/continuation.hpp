@@ -33,7 +33,7 @@ struct ContinuationOptions {
     double from = 2.15;     ///< start value (the first orbit is found there)
     double to = 4.5;        ///< the branch ends when the parameter leaves [from, to]
     int period = 1;         ///< k of the first branch [forcing periods], 1 .. 1000
-    double step = 0.01;     ///< first arclength step, (0, 1]
+    double step = 0.01;     ///< first arclength step, [1e-6, 1]
     double max_step = 0.05; ///< largest arclength step, [step, 1]
     int max_points = 2000;  ///< points per branch, 1 .. 1e6
     /// switch to the doubled branch at each period doubling, and at each non-smooth loss of

@@ -112,7 +112,8 @@ private:
 };
 
 /// Lyapunov spectrum of the row (count exponents, 1 .. 2 Nm) over options.periods, averaged
-/// after options.transient_periods; runs the full length (no steady-state stop).
+/// after options.transient_periods; runs the full length (no steady-state stop). The scheme
+/// auto is the exact propagator on rows of up to 10 bodies that it takes (rk4 otherwise).
 LyapunovResult chain_lyapunov(const Dynamics& dyn, const RunOptions& options, int count,
                               const std::vector<double>& initial = {},
                               const ProgressCallback& progress = {});

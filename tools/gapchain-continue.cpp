@@ -87,8 +87,8 @@ void check_overlay_line(const std::string& path, const std::string& param,
         const double theirs = b.value(key, std::nan(""));
         if (!(std::abs(theirs - value) <= 1e-9 * std::abs(value)))
             throw std::invalid_argument("--overlay: " + path + " is another row: its " + key +
-                                        " is " + cli::number_text(theirs) + ", this scene's " +
-                                        cli::number_text(value));
+                                        " is " + cli::number_text(theirs, 12) + ", this scene's " +
+                                        cli::number_text(value, 12));
     }
 }
 

@@ -54,7 +54,8 @@ void TangentFlow::on_step(const StepView& step) {
     // coordinates keep the oscillations near h omega (up to pi / 2 on the exact scheme's
     // output interval), but an overdamped body's rate (its damping, 1257 at eps = 100) is not
     // scaled away. Pieces of h rate <= 2 keep it to round-off.
-    const int pieces = std::max(1, static_cast<int>(std::ceil(h * m_dyn.max_rate() / 2.0)));
+    const int pieces =
+        static_cast<int>(std::clamp(std::ceil(h * m_dyn.max_rate() / 2.0), 1.0, 1e6));
     for (int c = 0; c < m_count; ++c)
         for (int piece = 0; piece < pieces; ++piece)
             advance(column(c), h / pieces);

@@ -96,8 +96,8 @@ struct Attractor {
     double max_multiplier = 0.0;   ///< periodic: largest Floquet multiplier modulus
     double F_m = 0.0;              ///< largest reduced impact force on the attractor
     /// A confirmed orbit: |F_m (exact propagator) - F_m (rk8pd at 1e-10)| on the orbit; an
-    /// unconfirmed periodic one: |its F_m - the run's F_m over the recorded window|; otherwise
-    /// the window-halves sampling spread of the member whose F_m is the largest (F_m).
+    /// unconfirmed periodic one (F_m the run's orbit maximum, F_m_orbit): the run's F_m_error;
+    /// otherwise the window-halves sampling spread of the member whose F_m is the largest.
     double F_m_error = 0.0;
     /// Largest Lyapunov exponent [1 / reduced time]; NaN for a periodic steady state Newton
     /// did not confirm (not computed: blank in CSV, null in JSON).

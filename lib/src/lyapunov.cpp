@@ -237,6 +237,19 @@ bool TangentObserver::on_period(long n, double t, const double*) {
     return false;
 }
 
+Scheme tangent_run_scheme(const Dynamics& dyn, Scheme requested) {
+    // The tangent flow is exact along the trajectory it is given, and rk4's at the default
+    // tolerance is not close enough through stiff contacts: Fig 13's row at fc = 2000 gave
+    // lambda_1 = -1.957 +- 0.0011 against exact's -1.9755, at fc = 3e6 +0.240 on a stable
+    // orbit (Newton: -2.88). The exact propagator is as fast or faster on short rows (0.18 s
+    // against 0.21 s at fc = 2000); on longer ones its set-up per contact state costs more than
+    // it saves (Table 4's 46-body chaotic row: minutes against seconds).
+    if (requested == Scheme::automatic && dyn.chain().law == ContactLaw::linear &&
+        dyn.ground_motion().is_harmonic() && dyn.bodies() <= 10 && !exact_refusal(dyn))
+        return Scheme::exact;
+    return requested;
+}
+
 LyapunovResult chain_lyapunov(const Dynamics& dyn, const RunOptions& options, int count,
                               const std::vector<double>& initial,
                               const ProgressCallback& progress) {
@@ -244,17 +257,8 @@ LyapunovResult chain_lyapunov(const Dynamics& dyn, const RunOptions& options, in
     validate(options);
     require_harmonic(dyn, "lyapunov");
     detail::require_range("count", count, 1, dyn.dimension());
-    // The tangent flow is exact along the trajectory it is given, and rk4's at the default
-    // tolerance is not close enough through stiff contacts: Fig 13's row at fc = 2000 gave
-    // lambda_1 = -1.957 +- 0.0011 against exact's -1.9755, at fc = 3e6 +0.240 on a stable
-    // orbit (Newton: -2.88). auto takes the exact propagator on rows of up to 10 bodies that it
-    // takes, where it is as fast or faster (0.18 s against 0.21 s at fc = 2000); on longer
-    // rows its set-up per contact state costs more than it saves (Table 4's 46-body chaotic
-    // row: minutes against seconds).
     RunOptions run = options;
-    if (run.scheme == Scheme::automatic && dyn.chain().law == ContactLaw::linear &&
-        dyn.bodies() <= 10 && !exact_refusal(dyn))
-        run.scheme = Scheme::exact;
+    run.scheme = tangent_run_scheme(dyn, options.scheme);
     PlannedRun planned(dyn, run, initial);
     // Each of the count tangent vectors costs about a step of the row: the run's own
     // affordability check (body-steps) sees only the row.

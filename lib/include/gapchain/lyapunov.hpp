@@ -111,9 +111,15 @@ private:
     bool m_healthy = true;
 };
 
+/// The scheme of a run that carries the tangent flow: `auto` is the exact propagator on rows of
+/// up to 10 bodies that it takes (harmonic forcing, the linear law, contacts it resolves),
+/// where rk4's trajectory at the default tolerance biases the exponents through stiff contacts;
+/// any other request, or a row beyond those, is returned as it is.
+Scheme tangent_run_scheme(const Dynamics& dyn, Scheme requested);
+
 /// Lyapunov spectrum of the row (count exponents, 1 .. 2 Nm) over options.periods, averaged
-/// after options.transient_periods; runs the full length (no steady-state stop). The scheme
-/// auto is the exact propagator on rows of up to 10 bodies that it takes (rk4 otherwise).
+/// after options.transient_periods; runs the full length (no steady-state stop), on
+/// tangent_run_scheme().
 LyapunovResult chain_lyapunov(const Dynamics& dyn, const RunOptions& options, int count,
                               const std::vector<double>& initial = {},
                               const ProgressCallback& progress = {});

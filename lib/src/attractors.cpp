@@ -207,6 +207,7 @@ StartOutcome run_start(const Dynamics& dyn, const AttractorOptions& o,
         orbit_options.period = s.period;
         orbit_options.tolerance = 1e-9;
         orbit_options.max_iterations = 12;
+        orbit_options.max_work = o.run.max_work;
         const PeriodicOrbit orbit = find_minimal_periodic_orbit(dyn, orbit_options, r.final_state);
         if (orbit.status == OrbitStatus::converged) {
             s.newton = true;
@@ -427,8 +428,9 @@ bool confirm_non_periodic(const Dynamics& dyn, const StateScale& scale, const At
 
 /// The error of a confirmed orbit's F_m (exact propagator): its difference from the same
 /// orbit's F_m on rk8pd at 1e-10, an independent scheme; never below 1e-12 F_m.
-double orbit_force_error(const Dynamics& dyn, const Attractor& a) {
+double orbit_force_error(const Dynamics& dyn, const Attractor& a, double max_work) {
     OrbitOptions check;
+    check.max_work = max_work;
     check.period = a.period;
     check.scheme = Scheme::rk8pd;
     check.integration_tolerance = 1e-10;
@@ -449,7 +451,7 @@ void characterise(const Dynamics& dyn, const ReducedParameters& p, const Attract
             Attractor& a = attractors[static_cast<std::size_t>(k)];
             if (a.period != 0 && a.newton_confirmed) {
                 a.lambda_max = std::log(a.max_multiplier) * p.f_r / a.period;
-                a.F_m_error = orbit_force_error(dyn, a);
+                a.F_m_error = orbit_force_error(dyn, a, o.run.max_work);
                 a.regime = a.F_m > 0.0 ? Regime::periodic : Regime::no_contact;
                 return;
             }

@@ -137,12 +137,14 @@ long total_impacts(const MaxForceTracker& forces) {
 /// A periodic label checked by Newton on the k-period map from the state at the end of the run
 /// (a period boundary, so phase 0): a multiplier near -1 can make the approach repeat after 2k
 /// periods before it repeats after k; the converged orbit's minimal period settles it.
-void confirm_periodic(const Dynamics& dyn, const std::vector<double>& state, Classification& c) {
+void confirm_periodic(const Dynamics& dyn, const std::vector<double>& state, double max_work,
+                      Classification& c) {
     if (exact_refusal(dyn)) return; // Newton shoots on the exact scheme: the label unconfirmed
     OrbitOptions orbit_options;
     orbit_options.period = c.period;
     orbit_options.tolerance = 1e-9;
     orbit_options.max_iterations = 12;
+    orbit_options.max_work = max_work;
     const PeriodicOrbit orbit = find_minimal_periodic_orbit(dyn, orbit_options, state);
     if (orbit.status != OrbitStatus::converged) return;
     c.newton_confirmed = true;
@@ -226,7 +228,7 @@ Classification classify(const ReducedParameters& p, const ClassifyOptions& o,
 
     label_regime(o, evidence, p.f_r, steady.period(), c);
     if (o.confirm_by_newton && c.regime == Regime::periodic && c.period > 0)
-        confirm_periodic(dyn, planned.state(), c);
+        confirm_periodic(dyn, planned.state(), o.max_work, c);
     c.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return c;
 }

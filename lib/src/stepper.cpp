@@ -287,10 +287,13 @@ StepPlan plan_step(const Dynamics& dyn, Scheme scheme, double tolerance,
     scheme = resolved_scheme(dyn, scheme, tolerance);
     const SchemeTraits tr = traits(scheme);
     // The fastest of the contact oscillations, an overdamped body's decay and the forcing
-    // sets the step's accuracy and stability.
+    // sets the step's accuracy and stability; the exact propagator integrates the decay
+    // exactly, so only the oscillations bound its output interval (20 times fewer steps at
+    // eps = 100).
     const double period = dyn.period();
+    const double fastest = scheme == Scheme::exact ? dyn.max_angular_frequency() : dyn.max_rate();
     const double omega =
-        std::max(dyn.max_rate(), 2.0 * std::numbers::pi * dyn.ground_motion().resolved_frequency());
+        std::max(fastest, 2.0 * std::numbers::pi * dyn.ground_motion().resolved_frequency());
     const double stable = tr.stability_limit / omega;
     double h = 0.0;
     if (user_step) {

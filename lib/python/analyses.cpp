@@ -164,7 +164,7 @@ py::dict bifurcation_py(const py::object& scene_arg, const std::string& param, d
                         const std::string& variable, double phase, int threads,
                         const py::object& progress, const py::kwargs& keys) {
     const Scene scene = to_swept_scene(scene_arg, param, keys, "bifurcation");
-    paper_row(scene, "bifurcation");
+    require_paper_row(scene, "bifurcation()");
     BifurcationOptions o;
     o.parameter = parse_swept_parameter(param);
     o.from = from, o.to = to, o.steps = steps;

@@ -139,7 +139,7 @@ py::dict continuation_py(const py::object& scene_arg, const std::string& param, 
                          const py::kwargs& keys) {
     refuse_run_keys(keys, "continuation");
     const Scene scene = to_swept_scene(scene_arg, param, keys, "continuation");
-    paper_row(scene, "continuation");
+    require_paper_row(scene, "continuation()");
     ContinuationOptions o;
     o.parameter = parse_swept_parameter(param);
     o.from = from, o.to = to, o.period = period;

@@ -388,19 +388,14 @@ std::string special_csv(const ContinuationResult& result) {
 
 namespace {
 
-/// A number, or an empty field where it was not computed (NaN).
-std::string csv_field(double x) {
-    if (!std::isfinite(x)) return "";
-    std::ostringstream os;
-    os.precision(12);
-    os << x;
-    return os.str();
-}
-
 void attractor_row(std::ostream& os, const Attractor& a) {
     os << a.id << ',' << regime_label(a) << ',' << a.period << ',' << a.F_m << ',' << a.F_m_error
-       << ',' << csv_field(a.lambda_max) << ',' << csv_field(a.lambda_max_error) << ','
-       << a.basin_fraction << ',' << a.basin_fraction_error << ',' << a.samples << ','
+       << ',';
+    // Not computed (an orbit Newton did not confirm): an empty field, never "nan".
+    if (std::isfinite(a.lambda_max)) os << a.lambda_max;
+    os << ',';
+    if (std::isfinite(a.lambda_max_error)) os << a.lambda_max_error;
+    os << ',' << a.basin_fraction << ',' << a.basin_fraction_error << ',' << a.samples << ','
        << a.slice_points << ',' << a.settle_median << ',' << a.settle_max << ',' << a.still_settling
        << ',' << a.F_m_runs << ',' << a.F_m_runs_error << '\n';
 }

@@ -64,12 +64,14 @@ TEST_CASE("F_m_error: the tolerance where the row settles (covering a 1e-8 run),
 TEST_CASE("a diagram too large is refused up front: run.max_work is honoured, the memory capped") {
     BifurcationOptions o;
     o.steps = 1;
+    o.from = o.to = 2.0;
     o.transient_periods = 0;
     o.record_periods = 10'000'000; // 8.7e8 body-steps: above a max_work of 1e8, below 3e10
     o.max_work = 1e8;
     CHECK_THROWS_WITH_AS(bifurcation(fig13, o), doctest::Contains("run.max_work"),
                          std::invalid_argument);
     o.steps = 20; // 2e8 section points kept
+    o.to = 4.5;
     o.max_work = 1e15;
     CHECK_THROWS_WITH_AS(bifurcation(fig13, o), doctest::Contains("record_periods"),
                          std::invalid_argument);
@@ -130,6 +132,10 @@ TEST_CASE("bad options name the option field (the tools translate it into their 
     o = {};
     o.steps = 0;
     CHECK_THROWS_WITH_AS(validate(o, fig13), doctest::Contains("steps: must be"),
+                         std::invalid_argument);
+    // One value of a line 2 .. 4.5 ran `from` alone, silently.
+    o.steps = 1;
+    CHECK_THROWS_WITH_AS(validate(o, fig13), doctest::Contains("steps: one value needs from = to"),
                          std::invalid_argument);
 }
 

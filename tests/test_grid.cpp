@@ -33,3 +33,12 @@ TEST_CASE("linspace and logspace refuse empty or non-finite ranges") {
     CHECK_THROWS_AS(linspace(0, 1.0 / 0.0, 3), std::invalid_argument);
     CHECK_THROWS_AS(logspace(0, 1, 3), std::invalid_argument);
 }
+
+TEST_CASE("require_line: one value needs equal ends, several need distinct ones") {
+    CHECK_NOTHROW(require_line(3.2, 3.2, 1));
+    CHECK_NOTHROW(require_line(2.0, 4.5, 2));
+    CHECK_THROWS_WITH_AS(require_line(2.0, 4.5, 1), doctest::Contains("steps: one value needs"),
+                         std::invalid_argument);
+    CHECK_THROWS_WITH_AS(require_line(3.0, 3.0, 5), doctest::Contains("got 5"),
+                         std::invalid_argument);
+}

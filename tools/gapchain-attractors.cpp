@@ -112,7 +112,7 @@ void print_settling(const Attractor& a, const AttractorOptions& o) {
 }
 
 void print_set(const AttractorSet& s, const AttractorOptions& o) {
-    std::printf("%zu attractor(s) from %ld starts (%ld failed), %.2f s on %d threads\n",
+    std::printf("%zu attractor(s) from %ld starts (%ld failed), %.2f s on %d thread(s)\n",
                 s.attractors.size(), o.samples, s.failed, s.wall_time_s, s.threads_used);
     for (const auto& a : s.attractors) {
         std::printf("  #%d %-14s", a.id, std::string(regime_label(a)).c_str());
@@ -174,7 +174,8 @@ void run_line(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs) 
     outputs.create_folders();
     const std::string dir = outputs.staged(a.out_dir);
     write_file_atomically(dir + "/fractions.csv", fractions_csv(c));
-    if (!a.no_plot)
+    const bool plotted =
+        !a.no_plot &&
         cli::plot_template(dir, "fractions",
                            {{"TITLE", "Basin fractions: " + cli::row_title(scene.reduced, a.param)},
                             {"PARAM", a.param},
@@ -190,7 +191,8 @@ void run_line(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs) 
                     "were still converging to an orbit, their F_m is a transient's); raise "
                     "run.periods\n",
                     unsettled);
-    std::printf("wrote %s/fractions.csv\n", a.out_dir.c_str());
+    std::printf("wrote %s/fractions.csv%s\n", a.out_dir.c_str(),
+                plotted ? ", fractions.gp, fractions.png" : "");
 }
 
 } // namespace

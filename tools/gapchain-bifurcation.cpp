@@ -44,7 +44,7 @@ void print_summary(const gapchain::BifurcationResult& r, const gapchain::Bifurca
     else
         std::printf("max F_m = 0: no contact at any value; %d of %zu rows periodic\n", periodic,
                     r.rows.size());
-    std::printf("wrote %s/points.csv, summary.csv, bifurcation.json%s  (%.2f s on %d threads)\n",
+    std::printf("wrote %s/points.csv, summary.csv, bifurcation.json%s  (%.2f s on %d thread(s))\n",
                 out.c_str(), plotted ? ", bifurcation.png" : "", r.wall_time_s, r.threads_used);
 }
 

@@ -3,6 +3,8 @@
 #include <pybind11/stl.h>
 
 #include <cstring>
+#include <map>
+#include <stdexcept>
 
 namespace gapchain::python {
 
@@ -44,8 +46,15 @@ std::string type_name(const py::object& object) {
 
 Scene to_scene(const py::object& scene, const py::kwargs& keys) {
     std::vector<std::string> overrides;
+    // Keyword -> dotted key: fc and model.fc name one key, which the scene reader would call
+    // "--set ... given twice" in the CLI's words.
+    std::map<std::string, std::string> keyword_of;
     for (const auto& [key, value] : keys) {
-        const std::string name = scene_key(key.cast<std::string>());
+        const std::string keyword = key.cast<std::string>();
+        const std::string name = scene_key(keyword);
+        if (const auto [it, added] = keyword_of.emplace(name, keyword); !added)
+            throw std::invalid_argument(name + ": given twice, as the keywords " + it->second +
+                                        " and " + keyword);
         overrides.push_back(name + "=" + override_text(name, value));
     }
     if (scene.is_none()) return parse_scene("{}", overrides, "<built-in>");

@@ -1,4 +1,5 @@
 #include "gapchain/attractors.hpp"
+#include "gapchain/grid.hpp"
 
 #include "gapchain/poincare.hpp"
 
@@ -763,14 +764,7 @@ std::vector<double> fraction_line_values(const ReducedParameters& base, SweptPar
         if (error) throw std::invalid_argument(std::string(name) + ": " + *error);
     }
     detail::require_range("steps", steps, 1, 10000);
-    if (steps == 1 && from != to)
-        throw std::invalid_argument("steps: one value needs from = to, got from " +
-                                    detail::format_number(from) + " and to " +
-                                    detail::format_number(to));
-    // The same point searched again and again, each time from the same starts.
-    if (steps > 1 && from == to)
-        throw std::invalid_argument("steps: from = to (" + detail::format_number(from) +
-                                    ") is one value, steps = 1, got " + std::to_string(steps));
+    require_line(from, to, steps);
     // Not linspace(): the documented figures were made with these values, bit for bit.
     std::vector<double> values;
     for (int k = 0; k < steps; ++k)

@@ -51,7 +51,7 @@ BifurcationRow diagram_row(const ReducedParameters& p, const BifurcationOptions&
     row.status = planned.run(observers, keep_going).status;
     y = planned.state();
     row.F_m = forces.max_force();
-    row.F_m_error = std::max(forces.half_spread(), o.tolerance * row.F_m);
+    row.F_m_error = forces.window_error(o.tolerance);
     row.period = detect_period(row.points, o.max_period, o.period_tolerance);
     return row;
 }
@@ -112,6 +112,7 @@ void continued_rows(const ReducedParameters& base, const BifurcationOptions& o,
 
 void validate(const BifurcationOptions& o, const ReducedParameters& base) {
     detail::require_range("steps", o.steps, 1, 10'000'000);
+    require_line(o.from, o.to, o.steps);
     detail::require_range("transient_periods", static_cast<double>(o.transient_periods), 0.0, 1e9);
     detail::require_range("record_periods", static_cast<double>(o.record_periods), 1.0, 1e9);
     detail::require_run_length(o.transient_periods, o.record_periods);

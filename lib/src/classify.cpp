@@ -157,7 +157,7 @@ void confirm_periodic(const Dynamics& dyn, const std::vector<double>& state, dou
 void take_forces(const MaxForceTracker& forces, double tolerance, RecordedEvidence& evidence,
                  Classification& c) {
     c.F_m = forces.max_force();
-    c.F_m_error = std::max(forces.half_spread(), tolerance * c.F_m);
+    c.F_m_error = forces.window_error(tolerance);
     evidence.impacts = total_impacts(forces);
 }
 

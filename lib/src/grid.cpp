@@ -1,5 +1,7 @@
 #include "gapchain/grid.hpp"
 
+#include "detail/check.hpp"
+
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -34,6 +36,16 @@ std::vector<double> linspace(double from, double to, long count) {
 
 std::vector<double> logspace(double from, double to, long count) {
     return spaced(from, to, count, true);
+}
+
+void require_line(double from, double to, long steps) {
+    if (steps == 1 && from != to)
+        throw std::invalid_argument("steps: one value needs from = to, got from " +
+                                    detail::format_number(from) + " and to " +
+                                    detail::format_number(to));
+    if (steps > 1 && from == to)
+        throw std::invalid_argument("steps: from = to (" + detail::format_number(from) +
+                                    ") is one value, steps = 1, got " + std::to_string(steps));
 }
 
 } // namespace gapchain

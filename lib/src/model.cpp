@@ -185,14 +185,4 @@ std::optional<std::string> swept_value_error(const ReducedParameters& base, Swep
     }
 }
 
-double value_of(const ReducedParameters& p, SweptParameter which) {
-    switch (which) {
-    case SweptParameter::f_r: return p.f_r;
-    case SweptParameter::e_r: return p.e_r;
-    case SweptParameter::fc: return p.fc;
-    case SweptParameter::eps: return p.eps;
-    }
-    return 0.0;
-}
-
 } // namespace gapchain

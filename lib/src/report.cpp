@@ -27,9 +27,6 @@ nlohmann::json parameters_json(const ReducedParameters& p) {
     return {{"Nm", p.Nm}, {"fc", p.fc}, {"eps", p.eps}, {"e_r", p.e_r}, {"f_r", p.f_r}};
 }
 
-} // namespace
-
-namespace {
 /// Each body's largest force on either side, when, and in newtons for physical scenes.
 json per_body_json(const SimulationResult& r, const Scene& scene) {
     json bodies = json::array();
@@ -50,20 +47,15 @@ json per_body_json(const SimulationResult& r, const Scene& scene) {
 /// start it ran. The chain is written in its own units (Chain, model.hpp), not the scene's: it
 /// is what ran, after the scatter.
 void add_provenance(json& j, const Scene& scene) {
-    const ReducedParameters& p = scene.reduced;
-    j["parameters"] = {{"Nm", p.Nm},
-                       {"fc", p.fc},
-                       {"eps", p.eps},
-                       {"e_r", p.e_r},
-                       {"f_r", p.f_r},
-                       {"periods", scene.run.periods},
-                       {"transient_periods", scene.run.transient_periods == auto_transient
-                                                 ? json("auto")
-                                                 : json(scene.run.transient_periods)},
-                       {"tolerance", scene.run.tolerance},
-                       {"accuracy_mode", to_string(scene.run.accuracy_mode)},
-                       {"estimate_error", scene.run.estimate_error},
-                       {"multistability_check", scene.run.multistability_check}};
+    j["parameters"] = parameters_json(scene.reduced);
+    j["parameters"].update({{"periods", scene.run.periods},
+                            {"transient_periods", scene.run.transient_periods == auto_transient
+                                                      ? json("auto")
+                                                      : json(scene.run.transient_periods)},
+                            {"tolerance", scene.run.tolerance},
+                            {"accuracy_mode", to_string(scene.run.accuracy_mode)},
+                            {"estimate_error", scene.run.estimate_error},
+                            {"multistability_check", scene.run.multistability_check}});
     if (scene.row)
         j["chain"] = {{"mass", scene.row->mass},
                       {"spring", scene.row->spring},

@@ -123,7 +123,10 @@ long read_attractor_starts(const ojson& value) {
 /// "keep": the result names a study writes (F_m always).
 KeptResults read_kept(const ojson& keep) {
     if (!keep.is_array()) throw SceneError("keep: must be a list of result names");
-    KeptResults kept{false, false, false, false};
+    // A keep list names all it keeps: the defaults (steady_state, wall_time) only without one.
+    KeptResults kept;
+    kept.steady_state = false;
+    kept.wall_time = false;
     for (const auto& k : keep) {
         const std::string name = k.is_string() ? k.get<std::string>() : "";
         if (name == "F_m" || name == "multistable") continue; // always written

@@ -301,6 +301,9 @@ def test_numpy_values_in_dicts_and_non_finite_numbers_name_their_key():
         gapchain.simulate({"model": {"fc": 1j}})
     with pytest.raises(ValueError, match=r"run\.periods"):
         gapchain.attractors(MIRROR_PAIR, periods=10)
+    # One key by its short and its dotted name: named in keywords, not in the CLI's --set.
+    with pytest.raises(ValueError, match=r"^model\.fc: given twice, as the keywords fc and model\.fc$"):
+        gapchain.simulate(None, fc=1, **{"model.fc": 2})
 
 
 def test_a_sweep_with_attractors_has_the_design_value_columns():

@@ -29,16 +29,16 @@ struct WorkPrecisionOptions {
 
 /// One run of the study.
 struct WorkPrecisionPoint {
-    Scheme scheme = Scheme::rk4;
-    bool split = true;      ///< steps ended on contact switches
-    double tolerance = 0.0; ///< requested relative F_m tolerance
-    double step = 0.0;      ///< step or output interval
-    double F_m = 0.0;
-    double F_m_error = 0.0;   ///< |F_m - F_m,ref| / F_m,ref
-    double final_error = 0.0; ///< max-norm state error at the final time
-    double l2_error = 0.0;    ///< RMS over once-per-period samples of the max-norm error
-    double wall_time_s = 0.0; ///< median over the repeats [s]
-    long evaluations = 0;     ///< right-hand-side evaluations (exact: propagations)
+    Scheme scheme = Scheme::rk4; ///< the integrator of this run
+    bool split = true;           ///< steps ended on contact switches
+    double tolerance = 0.0;      ///< requested relative F_m tolerance
+    double step = 0.0;           ///< step or output interval
+    double F_m = 0.0;            ///< the run's F_m (reduced force, eq 19)
+    double F_m_error = 0.0;      ///< relative, not absolute: |F_m - F_m,ref| / F_m,ref
+    double final_error = 0.0;    ///< max-norm state error at the final time
+    double l2_error = 0.0;       ///< RMS over once-per-period samples of the max-norm error
+    double wall_time_s = 0.0;    ///< median over the repeats [s]
+    long evaluations = 0;        ///< right-hand-side evaluations (exact: propagations)
 };
 
 /// The study.

@@ -136,7 +136,7 @@ std::string_view regime_label(const Attractor& a);
 
 /// The attractors found.
 struct AttractorSet {
-    std::vector<Attractor> attractors;
+    std::vector<Attractor> attractors; ///< by id (0-based), in the order first reached
     /// The design value: the largest F_m over the attractors (the settled ones; over the
     /// unsettled groups only if none settled).
     double F_m_max = 0.0;
@@ -155,8 +155,8 @@ struct AttractorSet {
     std::vector<double> slice_second; ///< the slice's y values
     double amplitude = 0.0;           ///< A of eq (20), the box's unit
     double wall_time_s = 0.0;         ///< [s]
-    int threads_used = 1;
-    bool cancelled = false; ///< progress asked to stop; nothing was grouped
+    int threads_used = 1;             ///< threads the starts ran on (results do not depend on it)
+    bool cancelled = false;           ///< progress asked to stop; nothing was grouped
     /// Whether some group settled on an attractor (F_m_max is then an attractor's, not a
     /// transient's).
     [[nodiscard]] bool any_settled() const {
@@ -212,12 +212,12 @@ bool multistable(const SimulationResult& run, const DesignValue& design);
 /// unmatched by the nearest centroid of the section points within 0.2 A; never across a jump of
 /// F_m by more than 25 % (F_m is continuous along an attractor that persists).
 struct FractionContinuation {
-    SweptParameter parameter = SweptParameter::f_r;
-    std::vector<double> values;
-    std::vector<AttractorSet> sets;       ///< per value
-    std::vector<std::vector<int>> labels; ///< per value, per attractor: its global label
-    int label_count = 0;                  ///< global labels used
-    double wall_time_s = 0.0;             ///< [s]
+    SweptParameter parameter = SweptParameter::f_r; ///< the parameter varied
+    std::vector<double> values;                     ///< its values, in the parameter's units
+    std::vector<AttractorSet> sets;                 ///< per value
+    std::vector<std::vector<int>> labels;           ///< per value, per attractor: its global label
+    int label_count = 0;                            ///< global labels used
+    double wall_time_s = 0.0;                       ///< [s]
     bool cancelled = false;
 };
 

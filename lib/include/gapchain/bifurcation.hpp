@@ -30,10 +30,12 @@ std::string_view to_string(SweepDirection d);
 /// What a diagram computes.
 struct BifurcationOptions {
     SweptParameter parameter = SweptParameter::f_r; ///< swept parameter
-    double from = 2.0;                              ///< first value (valid for the parameter)
-    double to = 4.5;                                ///< last value
-    int steps = 500;                                ///< number of values, >= 1 (ends included)
-    SweepMode mode = SweepMode::independent;
+    /// First value, in the parameter's reduced units, in its model range
+    /// (validate(ReducedParameters)).
+    double from = 2.0;
+    double to = 4.5; ///< last value, same units and range; = from only with steps = 1
+    int steps = 500; ///< number of values, >= 1 (ends included)
+    SweepMode mode = SweepMode::independent; ///< each value from the start, or continued
     long transient_periods = 200;            ///< discarded periods per value, >= 0
     long record_periods = 100;               ///< recorded periods per value, >= 1
     SectionSpec section;                     ///< default: stroboscopic at phase 0, recording u_1

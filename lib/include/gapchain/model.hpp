@@ -109,8 +109,6 @@ ReducedParameters with_value(ReducedParameters p, SweptParameter which, double v
 /// of with_value()), else nothing: the admissible range of a sweep or a continuation.
 std::optional<std::string> swept_value_error(const ReducedParameters& base, SweptParameter which,
                                              double value);
-/// The swept parameter's value in p.
-double value_of(const ReducedParameters& p, SweptParameter which);
 
 /// Throws std::invalid_argument if the arrays have inconsistent lengths or invalid values.
 void validate(const Chain& chain);

@@ -15,8 +15,8 @@ namespace gapchain {
 
 /// Symmetric tridiagonal matrix: diagonal (n entries) and off-diagonal (n - 1 entries).
 struct Tridiagonal {
-    std::vector<double> diagonal;
-    std::vector<double> off_diagonal;
+    std::vector<double> diagonal;     ///< n entries, units of K / M
+    std::vector<double> off_diagonal; ///< n - 1 entries, the same units
 };
 
 /// The mass-normalised linear-chain matrix M^-1/2 K_lin M^-1/2 of a chain (units of K/M);
@@ -39,11 +39,11 @@ enum class SpectrumEnd { lowest, highest };
 
 /// What to compute.
 struct ModalOptions {
-    int count = 0;                         ///< modes wanted, 0 = all (dense only), <= Nm
-    SpectrumEnd end = SpectrumEnd::lowest; ///< lowest or highest modes
-    EigenMethod method = EigenMethod::automatic;
-    bool shapes = true;       ///< also return the mode shapes
-    double tolerance = 1e-12; ///< relative eigenvalue tolerance (sparse), > 0
+    int count = 0;                               ///< modes wanted, 0 = all (dense only), <= Nm
+    SpectrumEnd end = SpectrumEnd::lowest;       ///< lowest or highest modes
+    EigenMethod method = EigenMethod::automatic; ///< dense, sparse (Spectra) or chosen by size
+    bool shapes = true;                          ///< also return the mode shapes
+    double tolerance = 1e-12;                    ///< relative eigenvalue tolerance (sparse), > 0
     /// Largest Nm the dense solver takes, 1 .. 1e6: it stores an Nm x Nm matrix (8 Nm^2 bytes)
     /// and costs ~Nm^3 operations (Nm = 5000: 200 MB, about a minute; 20000: 3.2 GB, hours).
     int max_dense_bodies = 5000;
@@ -79,8 +79,8 @@ ModalResult modal_analysis(const Chain& chain, const ModalOptions& options);
 
 /// The error of eq (26) at one (Nm, fc).
 struct ApproximationError {
-    int Nm = 1;
-    double fc = 1.0;
+    int Nm = 1;         ///< bodies, >= 1
+    double fc = 1.0;    ///< contact to structural stiffness ratio K_c / K, > 0
     double first = 0.0; ///< (f_1a - f_1) / f_1
     double other = 0.0; ///< the largest |(f_ka - f_k) / f_k| over k >= 2 (0 when Nm = 1)
     int other_mode = 0; ///< the k where it occurs (0 when Nm = 1)

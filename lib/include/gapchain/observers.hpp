@@ -5,6 +5,7 @@
 #include "gapchain/dynamics.hpp"
 #include "gapchain/run.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <limits>
@@ -42,6 +43,11 @@ public:
     /// that does not repeat; 0 without a split.
     [[nodiscard]] double half_spread() const {
         return m_split_period >= 0 ? std::abs(m_half_max[0] - m_half_max[1]) : 0.0;
+    }
+    /// The error of max_force() as a window's answer: half_spread(), at least tolerance
+    /// (relative, the run's accuracy, in (0, 1)) times max_force().
+    [[nodiscard]] double window_error(double tolerance) const {
+        return std::max(half_spread(), tolerance * max_force());
     }
 
 private:
@@ -148,7 +154,8 @@ private:
     double m_nearest = std::numeric_limits<double>::infinity();
 };
 
-/// Receives (t, y) samples of a recorded trajectory.
+/// Receives (t, y) samples of a recorded trajectory: t in reduced time, y the 2 Nm state (u
+/// then v, reduced, relative to the ground).
 using TrajectorySink = std::function<void(double t, const double* y)>;
 
 /// Streams every `every`-th step's end state (while recording) to a sink; stores nothing.

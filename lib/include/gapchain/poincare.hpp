@@ -60,8 +60,8 @@ void validate(const SectionSpec& spec, int bodies);
 
 /// One section point: its time and the recorded values, in SectionSpec::record order.
 struct SectionPoint {
-    double t = 0.0;
-    std::vector<double> values;
+    double t = 0.0;             ///< reduced time of the crossing
+    std::vector<double> values; ///< reduced displacements / velocities, SectionSpec::record order
 };
 
 /// Receives section points in time order.

@@ -38,9 +38,6 @@ std::string to_json(const SimulationResult& result, const Scene& scene);
 std::string to_json(const SimulationResult& result, const Scene& scene, const DesignValue& design,
                     const AttractorOptions& options);
 
-/// Writes a file so that readers never see it half-written and a failure leaves nothing:
-/// the text goes to a temporary file next to path, which is renamed over path on commit().
-/// Destroying an uncommitted OutputFile removes the temporary.
 /// An output that could not be written once the run was under way (disk full, I/O error): the
 /// message names the file and the operating system's reason. Not bad input (tools exit 1).
 class OutputError : public std::runtime_error {
@@ -52,6 +49,9 @@ public:
 /// safe (only unlink(2)): for a SIGINT/SIGTERM handler.
 void remove_temporary_files() noexcept;
 
+/// Writes a file so that readers never see it half-written and a failure leaves nothing:
+/// the text goes to a temporary file next to path, which is renamed over path on commit().
+/// Destroying an uncommitted OutputFile removes the temporary.
 class OutputFile {
 public:
     /// Opens path + ".tmp.<pid>" for writing; throws SceneError naming the path and the

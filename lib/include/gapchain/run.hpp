@@ -69,11 +69,11 @@ std::string_view to_string(RunStatus status);
 
 /// What the loop did.
 struct RunOutcome {
-    RunStatus status = RunStatus::completed;
-    long periods_done = 0; ///< forcing periods integrated
-    long steps = 0;        ///< steps taken
-    double t_end = 0.0;    ///< reduced time at the end
-    std::string message;   ///< why a run failed (empty otherwise)
+    RunStatus status = RunStatus::completed; ///< how the run ended (a numerical outcome)
+    long periods_done = 0;                   ///< forcing periods integrated
+    long steps = 0;                          ///< steps taken
+    double t_end = 0.0;                      ///< reduced time at the end
+    std::string message;                     ///< why a run failed (empty otherwise)
 };
 
 /// Progress report: fraction done in [0, 1]; return false to cancel the run.

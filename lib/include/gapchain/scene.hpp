@@ -91,8 +91,8 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
 /// The dotted scene key ("section.key") of key. A dotted key is returned as it is; a short key
 /// gets its section: Nm, fc, eps, e_r (model.), f_r (excitation.), periods, transient_periods,
 /// scheme, tolerance, step, steady_state, steady_tolerance, max_steady_period, estimate_error,
-/// max_work (run.) and trajectory_every (output.). Any other key throws SceneError naming it
-/// (prefixed by context if not empty).
+/// max_work, multistability_check, accuracy_mode (run.) and trajectory_every (output.). Any other
+/// key throws SceneError naming it (prefixed by context if not empty).
 std::string scene_key(const std::string& key, const std::string& context = "");
 
 /// The dotted scene keys whose value a sweep or continuation of `which` replaces: the reduced

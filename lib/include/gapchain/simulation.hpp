@@ -111,7 +111,10 @@ struct SimulationResult {
 /// reports then write null (JSON), an empty field (CSV), None or NaN (Python).
 [[nodiscard]] bool has_error_estimate(const SimulationResult& r);
 
-/// Optional streams of one simulation.
+/// Optional streams of one simulation. A trajectory sink or any observer keeps a run in
+/// AccuracyMode::automatic on the strict plan throughout (no relaxed part): what they are fed
+/// is then the strict dynamics, and F_m may differ, within its error bar, from the same run
+/// without hooks.
 struct SimulationHooks {
     TrajectorySink trajectory;        ///< receives (decimated) states of the main run, if set
     int trajectory_every = 1;         ///< decimation in steps, >= 1

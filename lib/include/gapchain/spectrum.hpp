@@ -19,8 +19,8 @@ struct PsdOptions {
     double sample_rate = 1.0;  ///< samples per unit reduced time, > 0
     int segment_length = 4096; ///< samples per segment, 8 .. 2^24 (any size; powers of 2 fastest)
     double overlap = 0.5;      ///< fraction of a segment shared with the next, [0, 0.95]
-    Window window = Window::hann;
-    bool remove_mean = true; ///< subtract the signal's mean first
+    Window window = Window::hann; ///< taper applied to each segment
+    bool remove_mean = true;      ///< subtract the signal's mean first
 };
 
 /// One-sided PSD: sum(density) * df equals the mean square of the (mean-removed) signal for a

@@ -8,7 +8,9 @@
 ///   {"scene": {...base scene...},
 ///    "parameters": {"fc": [1, 10, 100], "e_r": {"lin": [0, 1.5, 61]}, "f_r": {"log": [...]}},
 ///    "sample": "grid" | {"method": "random" | "latin_hypercube", "samples": N, "seed": S},
-///    "keep": ["F_m", "per_body", "regime", "steady_state_period", "wall_time"]}
+///    "keep": ["F_m", "multistable", "per_body", "regime", "steady_state_period", "wall_time",
+///             "F_m_orbit"],
+///    "attractors": N}
 /// Parameter keys are dotted scene keys; Nm, fc, eps, e_r (model), f_r (excitation) and the run
 /// keys (periods, tolerance, ...) may be given short (scene_key()).
 

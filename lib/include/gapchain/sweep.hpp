@@ -44,12 +44,12 @@ struct KeptResults {
 
 /// A study.
 struct Study {
-    std::string scene_json = "{}"; ///< the base scene (JSON text)
-    std::vector<StudyAxis> axes;   ///< in order; the first varies slowest on the grid
-    Sampling sampling = Sampling::grid;
-    long samples = 0;            ///< random / Latin hypercube: number of points
-    unsigned long long seed = 1; ///< random / Latin hypercube seed
-    KeptResults keep;
+    std::string scene_json = "{}";      ///< the base scene (JSON text)
+    std::vector<StudyAxis> axes;        ///< in order; the first varies slowest on the grid
+    Sampling sampling = Sampling::grid; ///< how the points are drawn from the axes
+    long samples = 0;                   ///< random / Latin hypercube: number of points
+    unsigned long long seed = 1;        ///< random / Latin hypercube seed
+    KeptResults keep; ///< the result columns written besides F_m and the parameters
     /// "attractors": starts per point for the design value F_m_max (attractors.hpp; the paper's
     /// uniform row only), 0 (off) .. 10000; the starts are seeded by the point's index.
     long attractor_starts = 0;
@@ -80,7 +80,7 @@ using SweepPointFactory = std::function<SweepPointInput(long index)>;
 
 /// One finished point.
 struct SweepPointResult {
-    long index = 0;
+    long index = 0;               ///< the point's index in the study, 0 .. points - 1 (its CSV row)
     std::vector<double> values;   ///< axis values
     ReducedParameters parameters; ///< the point's reduced parameters
     SimulationResult simulation;  ///< F_m and the rest

@@ -2,6 +2,7 @@
 #include "call.hpp"
 
 #include "gapchain/attractors.hpp"
+#include "gapchain/report.hpp"
 #include "gapchain/simulation.hpp"
 
 #include <pybind11/stl.h>
@@ -56,33 +57,31 @@ None: the period from which on the state stayed within 1e-3 of repeating, where 
 ended), status ("completed",
 "steady_state", "non_finite", "cancelled"), message, scheme, step, periods_simulated,
 transient_periods_used, steps, evaluations, final_state (2 Nm: u then v), wall_time_s,
-run (the run options), F_m_newton (physical scenes), and with trajectory=True trajectory =
+accuracy_mode_used, relaxed_from_period (or None), run (the run options), parameters (the
+reduced numbers and run settings that ran), scene (its source); physical scenes add F_m_newton,
+F_m_error_newton and excitation; model arrays or scatter add chain, a start off rest initial.
+These are the keys of gapchain-sim's JSON, from the same writer, with per_body, per_contact
+and final_state as arrays. With trajectory=True, trajectory =
 {"t": (n,) float64, "state": (n, 2 Nm) float64 with columns u1..uNm, v1..vNm}. With attractors
 > 0, design_value = {F_m_max (the largest of the attractors' F_m and this run's), F_m_max_error,
 from_run, start_below (another attractor hits harder beyond both errors), run_above (this run's
 F_m is above every attractor's: a transient's), attractors_F_m_max and its error, attractors,
-unsettled, failed, samples, seed, box, wall_time_s}, and multistable is also True when
-start_below or run_above (gapchain-sim --attractors).
+unsettled, failed, samples, seed, box, wall_time_s, attractor (the F_m_max attractor's regime,
+period, basin fraction and its error, initial_state; None if none), F_m_max_newton (physical
+scenes)}, and multistable is also True when start_below or run_above (gapchain-sim
+--attractors).
 
 Bad input raises ValueError naming the key; numerical outcomes are in "status". The GIL is
 released while it runs; Ctrl-C (KeyboardInterrupt) stops it.)";
 
-py::dict result_dict(const SimulationResult& r, const Scene& scene) {
-    py::dict d;
-    d["F_m"] = r.F_m;
-    d["F_m_error"] = has_error_estimate(r) ? py::object(py::float_(r.F_m_error)) : py::none();
-    d["F_m_error_method"] = std::string(to_string(r.error_method));
-    d["F_m_contact"] = r.F_m_contact;
-    d["F_m_time"] = r.F_m_time;
-    d["contact"] = r.contact;
-    d["multistable"] = r.multistable;
-    d["accuracy_mode_used"] = std::string(to_string(r.accuracy_mode_used));
-    d["F_m_twin"] = r.twin_checked ? py::object(py::float_(r.F_m_twin)) : py::object(py::none());
-    d["F_m_comparison"] =
-        r.F_m_comparison ? py::object(py::float_(*r.F_m_comparison)) : py::object(py::none());
-    d["comparison_ended_elsewhere"] = r.comparison_ended_elsewhere;
-    d["F_m_orbit"] = r.F_m_orbit ? py::object(py::float_(*r.F_m_orbit)) : py::object(py::none());
-    d["maximum_in_transient"] = r.maximum_in_transient;
+// The JSON gapchain-sim writes (report.cpp, the one list of a result's fields), as a dict, with
+// what a NumPy user wants instead of JSON's shapes: per-body and per-contact arrays, the final
+// state, the run options, and None where the JSON leaves out a check that did not run.
+py::dict result_dict(const std::string& report, const SimulationResult& r, const Scene& scene) {
+    py::dict d = py::module_::import("json").attr("loads")(report);
+    for (const char* optional : {"F_m_twin", "F_m_comparison", "F_m_orbit", "relaxed_from_period"})
+        if (!d.contains(optional)) d[optional] = py::none();
+    if (!d.contains("comparison_ended_elsewhere")) d["comparison_ended_elsewhere"] = false;
     std::vector<double> forces, times;
     for (const auto& b : r.per_body) {
         forces.insert(forces.end(), {b.left, b.right});
@@ -91,45 +90,10 @@ py::dict result_dict(const SimulationResult& r, const Scene& scene) {
     d["per_body"] = matrix(forces, r.per_body.size(), 2);
     d["per_body_time"] = matrix(times, r.per_body.size(), 2);
     d["per_contact"] = per_contact_dict(r.per_contact);
-    d["steady_state_period"] = r.steady_state_period ? py::object(py::int_(*r.steady_state_period))
-                                                     : py::object(py::none());
-    d["steady_state_time"] =
-        r.steady_state_time ? py::object(py::float_(*r.steady_state_time)) : py::object(py::none());
-    d["cycle_entry_period"] = r.cycle_entry_period >= 0 ? py::object(py::int_(r.cycle_entry_period))
-                                                        : py::object(py::none());
-    d["status"] = std::string(to_string(r.status));
     d["message"] = r.message;
-    d["scheme"] = std::string(to_string(r.scheme));
-    d["step"] = r.step;
-    d["periods_simulated"] = r.periods_simulated;
-    d["transient_periods_used"] = r.transient_periods_used;
-    d["steps"] = r.steps;
-    d["evaluations"] = r.evaluations;
     d["final_state"] = array(r.final_state);
-    d["wall_time_s"] = r.wall_time_s;
     d["run"] = run_dict(scene);
-    if (scene.physical) d["F_m_newton"] = force_in_newtons(r.F_m, *scene.physical);
     return d;
-}
-
-py::dict design_dict(const DesignValue& d, const AttractorOptions& o) {
-    py::dict v;
-    v["F_m_max"] = d.F_m_max;
-    v["F_m_max_error"] = std::isnan(d.F_m_max_error) ? py::object(py::none())
-                                                     : py::object(py::float_(d.F_m_max_error));
-    v["from_run"] = d.from_run;
-    v["start_below"] = d.start_below;
-    v["run_above"] = d.run_above;
-    v["attractors_F_m_max"] = d.search.F_m_max;
-    v["attractors_F_m_max_error"] = d.search.F_m_max_error;
-    v["attractors"] = d.search.attractors.size();
-    v["unsettled"] = d.search.unsettled;
-    v["failed"] = d.search.failed;
-    v["samples"] = o.samples;
-    v["seed"] = o.seed;
-    v["box"] = o.box;
-    v["wall_time_s"] = d.search.wall_time_s;
-    return v;
 }
 
 py::dict simulate_py(const py::object& scene_arg, bool trajectory, long attractors,
@@ -173,14 +137,13 @@ py::dict simulate_py(const py::object& scene_arg, bool trajectory, long attracto
     }
     const SimulationResult r =
         call.run([&] { return simulate(dyn, scene.run, scene.initial, hooks); });
-    py::dict d = result_dict(r, scene);
+    py::dict d;
     if (attractors != 0 && r.status != RunStatus::cancelled) {
         const DesignValue design =
             call.run([&] { return design_value(scene.reduced, search, r, call.callback()); });
-        py::dict v = design_dict(design, search);
-        if (scene.physical) v["F_m_max_newton"] = force_in_newtons(design.F_m_max, *scene.physical);
-        d["design_value"] = v;
-        d["multistable"] = multistable(r, design);
+        d = result_dict(to_json(r, scene, design, search), r, scene);
+    } else {
+        d = result_dict(to_json(r, scene), r, scene);
     }
     if (trajectory) {
         py::dict tr;

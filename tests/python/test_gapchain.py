@@ -53,6 +53,10 @@ def test_simulate_equals_gapchain_sim_bit_for_bit(scene_path, tmp_path):
     assert r["comparison_ended_elsewhere"] == tool.get("comparison_ended_elsewhere", False)
     if "F_m_newton" in tool:
         assert r["F_m_newton"] == tool["F_m_newton"]
+    # One writer for both: every key of the tool's JSON is in the dict (F_m_error_newton,
+    # excitation and parameters were once the tool's alone).
+    assert set(tool) <= set(r), sorted(set(tool) - set(r))
+    assert r["parameters"] == tool["parameters"]
 
 
 def test_a_dict_and_keywords_give_the_scene_file_numbers(tmp_path):
@@ -237,6 +241,8 @@ def test_simulate_design_value_matches_gapchain_sim(tmp_path):
     tool = json.loads(out.read_text())["design_value"]
     for key in ("F_m_max", "F_m_max_error", "start_below", "run_above", "attractors"):
         assert v[key] == tool[key], key
+    assert set(tool) <= set(v), sorted(set(tool) - set(v))
+    assert v["attractor"] == tool["attractor"]
     assert "design_value" not in gapchain.simulate(scene, **keys)
     # Refused whatever the value, the default's too: without a search nothing reads it.
     for extra in ({"seed": 3}, {"seed": 1}, {"box": 1.0}, {"threads": 0}):

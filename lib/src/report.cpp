@@ -22,6 +22,12 @@ using nlohmann::json;
 
 namespace {
 
+/// A CSV field that may be unknown (NaN: not computed; inf: a window too short for a standard
+/// error): the number, or nothing, as every CSV writer leaves unknown numbers empty.
+void write_if_finite(std::ostream& os, double x) {
+    if (std::isfinite(x)) os << x;
+}
+
 /// The five reduced parameters, as every JSON result gives them.
 nlohmann::json parameters_json(const ReducedParameters& p) {
     return {{"Nm", p.Nm}, {"fc", p.fc}, {"eps", p.eps}, {"e_r", p.e_r}, {"f_r", p.f_r}};
@@ -384,9 +390,9 @@ void attractor_row(std::ostream& os, const Attractor& a) {
     os << a.id << ',' << regime_label(a) << ',' << a.period << ',' << a.F_m << ',' << a.F_m_error
        << ',';
     // Not computed (an orbit Newton did not confirm): an empty field, never "nan".
-    if (std::isfinite(a.lambda_max)) os << a.lambda_max;
+    write_if_finite(os, a.lambda_max);
     os << ',';
-    if (std::isfinite(a.lambda_max_error)) os << a.lambda_max_error;
+    write_if_finite(os, a.lambda_max_error);
     os << ',' << a.basin_fraction << ',' << a.basin_fraction_error << ',' << a.samples << ','
        << a.slice_points << ',' << a.settle_median << ',' << a.settle_max << ',' << a.still_settling
        << ',' << a.F_m_runs << ',' << a.F_m_runs_error << '\n';
@@ -592,8 +598,10 @@ std::string map_csv(const RegimeMap& map) {
             const Classification& c = map.cells[i * map.f_r.size() + k];
             os << map.e_r[i] << ',' << map.f_r[k] << ',' << to_string(c.regime) << ','
                << static_cast<int>(c.regime) << ',' << c.period << ',' << c.F_m << ','
-               << c.lambda_max << ',' << c.lambda_max_error << ',' << c.distinct_points << ','
-               << c.broadband_share << ',' << c.F_m_error << '\n';
+               << c.lambda_max << ',';
+            write_if_finite(os, c.lambda_max_error);
+            os << ',' << c.distinct_points << ',' << c.broadband_share << ',' << c.F_m_error
+               << '\n';
         }
     return os.str();
 }
@@ -691,9 +699,11 @@ std::string sweep_csv_row(const Study& study, const SweepPointResult& r) {
         if (s.F_m_orbit) os << *s.F_m_orbit;
         os << ',' << (s.maximum_in_transient ? 1 : 0);
     }
-    if (study.keep.regime && r.regime)
+    if (study.keep.regime && r.regime) {
         os << ',' << to_string(r.regime->regime) << ',' << r.regime->period << ','
-           << r.regime->lambda_max << ',' << r.regime->lambda_max_error;
+           << r.regime->lambda_max << ',';
+        write_if_finite(os, r.regime->lambda_max_error);
+    }
     if (study.keep.per_body) {
         os << ',';
         for (std::size_t i = 0; i < s.per_body.size(); ++i)

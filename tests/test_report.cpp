@@ -1,0 +1,46 @@
+#include "gapchain/report.hpp"
+
+#include <doctest/doctest.h>
+
+#include <limits>
+#include <sstream>
+#include <string>
+
+using namespace gapchain;
+
+namespace {
+
+/// Field k (0-based) of CSV line `line` (0: the header) of text.
+std::string csv_field(const std::string& text, int line, int k) {
+    std::istringstream lines(text);
+    std::string row;
+    for (int i = 0; i <= line; ++i)
+        std::getline(lines, row);
+    std::istringstream fields(row);
+    std::string field;
+    for (int i = 0; i <= k; ++i)
+        std::getline(fields, field, ',');
+    return field;
+}
+
+} // namespace
+
+TEST_CASE("map_csv: an unknown lambda_max_error is an empty field, a known one its number") {
+    RegimeMap map;
+    map.e_r = {0.06};
+    map.f_r = {2.0, 3.3};
+    map.cells.resize(2);
+    map.cells[0].regime = Regime::periodic;
+    map.cells[0].lambda_max = -1.5;
+    // A point that settled within 20 periods: too few blocks for a standard error.
+    map.cells[0].lambda_max_error = std::numeric_limits<double>::infinity();
+    map.cells[1].regime = Regime::chaotic;
+    map.cells[1].lambda_max = 0.83;
+    map.cells[1].lambda_max_error = 0.06;
+    const std::string csv = map_csv(map);
+    REQUIRE(csv_field(csv, 0, 7) == "lambda_max_error");
+    CHECK(csv_field(csv, 1, 6) == "-1.5");
+    CHECK(csv_field(csv, 1, 7).empty());
+    CHECK(csv_field(csv, 2, 7) == "0.06");
+    CHECK(csv.find("inf") == std::string::npos);
+}

@@ -64,10 +64,15 @@ void print_force(const Scene& scene, const SimulationResult& r) {
 
 void print_result(const Scene& scene, const SimulationResult& r, bool searched) {
     const ReducedParameters& p = scene.reduced;
+    // A run that stopped at its steady state ran fewer periods than run.periods: say both.
+    const std::string ran = r.periods_simulated < scene.run.periods
+                                ? std::to_string(r.periods_simulated) + " of " +
+                                      std::to_string(scene.run.periods) + " periods run"
+                                : std::to_string(r.periods_simulated) + " periods";
     if (scene.harmonic())
-        std::printf("gapchain-sim: Nm=%d fc=%g eps=%g e_r=%g f_r=%g  (%s, h=%.3g, %ld periods)\n",
-                    p.Nm, p.fc, p.eps, p.e_r, p.f_r, std::string(to_string(r.scheme)).c_str(),
-                    r.step, r.periods_simulated);
+        std::printf("gapchain-sim: Nm=%d fc=%g eps=%g e_r=%g f_r=%g  (%s, h=%.3g, %s)\n", p.Nm,
+                    p.fc, p.eps, p.e_r, p.f_r, std::string(to_string(r.scheme)).c_str(), r.step,
+                    ran.c_str());
     else
         std::printf("gapchain-sim: Nm=%d fc=%g eps=%g e_r=%g under a ground-motion record, "
                     "PGA a0 = %g m/s^2  (%s, h=%.3g, %.4g s = %ld natural periods)\n",

@@ -97,10 +97,7 @@ void resolve_options(BifurcationArguments& a, const gapchain::Scene& scene) {
     o.parameter = parse_swept_parameter(a.param);
     o.mode = parse_sweep_mode(a.mode);
     o.section.record = {SectionVariable::parse(a.variable, scene.reduced.Nm, "--variable")};
-    o.scheme = scene.run.scheme;
-    o.tolerance = scene.run.tolerance;
-    o.max_work = scene.run.max_work;
-    o.initial = scene.initial;
+    take_run_settings(scene, o);
     validate(o, scene.reduced);
 }
 

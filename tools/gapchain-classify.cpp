@@ -143,10 +143,7 @@ int main(int argc, char** argv) {
     return cli::run(app, argc, argv, [&] {
         const Scene scene = cli::load(scene_args);
         require_paper_row(scene, "gapchain-classify");
-        o.scheme = scene.run.scheme;
-        o.tolerance = scene.run.tolerance;
-        o.max_work = scene.run.max_work;
-        o.initial = scene.initial;
+        take_run_settings(scene, o);
         validate(o);
         cli::Outputs outputs({scene_args.path});
         if (!map_flag) {

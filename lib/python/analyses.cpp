@@ -173,10 +173,7 @@ py::dict bifurcation_py(const py::object& scene_arg, const std::string& param, d
     o.section.record = {SectionVariable::parse(variable, scene.reduced.Nm, "variable")};
     o.section.phase = phase;
     o.threads = threads;
-    o.scheme = scene.run.scheme;
-    o.tolerance = scene.run.tolerance;
-    o.max_work = scene.run.max_work;
-    o.initial = scene.initial;
+    take_run_settings(scene, o);
     validate(o, scene.reduced);
     Call call(progress);
     const BifurcationResult r =

@@ -67,10 +67,7 @@ ClassifyOptions classify_options(const Scene& scene, long transient, long record
     o.transient_periods = transient;
     o.record_periods = record;
     o.confirm_by_newton = confirm;
-    o.scheme = scene.run.scheme;
-    o.tolerance = scene.run.tolerance;
-    o.max_work = scene.run.max_work;
-    o.initial = scene.initial;
+    take_run_settings(scene, o);
     validate(o);
     return o;
 }

@@ -112,6 +112,17 @@ void require_paper_row(const Scene& scene, const std::string& user);
 /// the reason `why`. Throws SceneError.
 void require_linear_harmonic(const Scene& scene, const std::string& user, const std::string& why);
 
+/// Copies what a scene says of how to run and where to start into the options of an analysis
+/// that runs the row itself (BifurcationOptions, ClassifyOptions): run.scheme, run.tolerance,
+/// run.max_work and the initial state. The options' own validate() checks them.
+template <class AnalysisOptions>
+void take_run_settings(const Scene& scene, AnalysisOptions& o) {
+    o.scheme = scene.run.scheme;
+    o.tolerance = scene.run.tolerance;
+    o.max_work = scene.run.max_work;
+    o.initial = scene.initial;
+}
+
 /// Parses and validates scene text (see load_scene). Throws SceneError.
 Scene parse_scene(std::string_view text, const std::vector<std::string>& overrides = {},
                   const std::string& source = "<string>");

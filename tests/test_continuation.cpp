@@ -294,7 +294,13 @@ TEST_CASE("the period-2 loop of Fig 13's line is traced round once, both of its 
         if (q.branch == 1) loop.push_back(&q);
         if (q.branch == 2) ++again;
     }
-    CHECK(again < loop.size() / 4);
+    // It starts on the loop: it stops within a few points (it ran 25, for the arclength of 20
+    // maximal steps, while every other branch was ignored near a branch's start), so the
+    // loop's special points are listed once.
+    MESSAGE("the third branch ran " << again << " points");
+    CHECK(again <= 6);
+    for (const auto& s : r.special)
+        CHECK(s.branch != 2);
     REQUIRE(loop.size() > 10);
     // Round once: it crosses f_r = 2.4 twice (once per sheet) and ends next to its start.
     std::vector<const BranchPoint*> at_2_4;

@@ -62,7 +62,8 @@ void print_force(const Scene& scene, const SimulationResult& r) {
         std::printf(" (the start checks' difference only: run.estimate_error is false)");
 }
 
-void print_result(const Scene& scene, const SimulationResult& r, bool searched) {
+/// The first line: the row, the scheme and step, and how much of the run ran.
+void print_header(const Scene& scene, const SimulationResult& r) {
     const ReducedParameters& p = scene.reduced;
     // A run that stopped at its steady state ran fewer periods than run.periods: say both.
     const std::string ran = r.periods_simulated < scene.run.periods
@@ -79,6 +80,11 @@ void print_result(const Scene& scene, const SimulationResult& r, bool searched) 
                     p.Nm, p.fc, p.eps, p.e_r, scene.physical->a0,
                     std::string(to_string(r.scheme)).c_str(), r.step, scene.record_duration,
                     r.periods_simulated);
+}
+
+void print_result(const Scene& scene, const SimulationResult& r, bool searched) {
+    const ReducedParameters& p = scene.reduced;
+    print_header(scene, r);
     print_force(scene, r);
     print_where(r, p.Nm);
     if (r.steady_state_period)

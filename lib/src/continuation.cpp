@@ -214,16 +214,17 @@ namespace {
 /// losses of stability of period 1, once at each phase).
 class TracedOrbits {
 public:
-    /// Starts the curves of a new branch of period k.
-    void begin_branch(int branch, int period) {
+    /// Starts the curves of a new branch of period k, switched onto from branch `parent` (-1:
+    /// none).
+    void begin_branch(int branch, int period, int parent) {
         m_current = m_curves.size();
+        m_parent = parent;
         for (int s = 0; s < period; ++s)
             m_curves.push_back({branch, {}});
-        m_arclength.clear();
     }
 
-    /// Adds a point of the current branch, at its arclength from the branch's start.
-    void add(const OrbitPoint& a, double arclength) {
+    /// Adds a point of the current branch.
+    void add(const OrbitPoint& a) {
         const Eigen::Index n = a.z.size() - 1;
         const std::size_t k = m_curves.size() - m_current;
         for (std::size_t s = 0; s < k; ++s) {
@@ -234,20 +235,21 @@ public:
             z[n] = a.z[n];
             m_curves[m_current + s].points.push_back(std::move(z));
         }
-        m_arclength.push_back(arclength);
     }
 
-    /// The branch whose orbits z lies on (the current one only on points passed more than
-    /// `recent` of arclength before: nearer ones are its neighbours on the curve, a fold's
-    /// other side among them), or -1.
-    [[nodiscard]] int branch_under(const Vector& z, double arclength, double recent,
-                                   double step) const {
-        std::size_t old_end = 0;
-        while (old_end < m_arclength.size() && arclength - m_arclength[old_end] > recent)
-            ++old_end;
+    /// The branch whose orbits z lies on, or -1. The current branch counts only on points
+    /// more than `recent` points back (nearer ones are its neighbours on the curve, a fold's
+    /// other side among them), the branch it was switched onto from only beyond `leaving` of
+    /// arclength from the start: a doubled branch leaves its parent as the square root of the
+    /// parameter's distance, along it at first (Fig 13's period-4 branch from 2.33275 stays
+    /// within 3e-4 of the period-2 orbits for 0.01 in f_r).
+    [[nodiscard]] int branch_under(const Vector& z, double arclength, std::size_t recent,
+                                   double leaving, double step) const {
+        const std::size_t added = m_curves[m_current].points.size();
+        const std::size_t old_end = added > recent ? added - recent : 0;
         for (std::size_t c = 0; c < m_curves.size(); ++c) {
             const bool current = c >= m_current;
-            if (!current && arclength <= recent) continue; // still leaving its branch point
+            if (!current && m_curves[c].branch == m_parent && arclength <= leaving) continue;
             if (on_curve(z, m_curves[c].points, current ? old_end : m_curves[c].points.size(),
                          step))
                 return m_curves[c].branch;
@@ -263,8 +265,10 @@ private:
         // Two sheets that meet at a fold come within a step of each other near it (Fig 13's
         // period-2 loop at 2.4557: 0.04 apart at steps of 0.027) without being one curve; a
         // retraced curve lies on its old chords to the corrector's tolerance and their
-        // sagitta (1.3e-5 at the corner of 2.99783, steps of 0.05).
-        const double chord = 0.1 * step;
+        // sagitta (1.3e-5 at the corner of 2.99783, steps of 0.05): within 0.006 step on Fig 13's
+        // retraces, while a branch that crossed another at a shallow angle came within 0.004
+        // step of it once, and within 0.1 step for 7 points in a row.
+        const double chord = 0.02 * step;
         for (std::size_t i = 0; i < end; ++i) {
             if ((points[i] - z).norm() >= 2.0 * step) continue;
             if (i > 0 && distance_to_chord(z, points[i - 1], points[i]) <= chord) return true;
@@ -286,18 +290,18 @@ private:
         std::vector<Vector> points;
     };
     std::vector<Curve> m_curves;
-    std::size_t m_current = 0;       // the current branch's first curve
-    std::vector<double> m_arclength; // of the current branch's points
+    std::size_t m_current = 0; // the current branch's first curve
+    int m_parent = -1;         // the branch the current one was switched onto from
 };
 
 /// One branch traced from a first point along its tangent, special points located on the way.
 class BranchWalk {
 public:
     BranchWalk(BranchTracer& tracer, const ContinuationOptions& o, int period, int branch,
-               ContinuationResult& result, TracedOrbits& traced)
+               int parent, ContinuationResult& result, TracedOrbits& traced)
         : m_tracer(tracer), m_o(o), m_period(period), m_branch(branch), m_result(result),
           m_traced(traced) {
-        m_traced.begin_branch(branch, period);
+        m_traced.begin_branch(branch, period, parent);
     }
 
     /// Doublings found (point, on which side the doubled branch lies) for branch switching.
@@ -317,7 +321,7 @@ public:
         record(a);
         double ds = m_o.step;
         // On from orbits already traced the branch would trace them again (came_onto()).
-        m_traced.add(a, 0.0);
+        m_traced.add(a);
         double arclength = 0.0;
         bool was_on_old = false;
         for (int count = 1; count < m_o.max_points; ++count) {
@@ -359,11 +363,13 @@ public:
                 return end(reached_end ? "left the parameter range at its end"
                                        : "turned back out of the parameter range at its start");
             }
-            const int under =
-                m_traced.branch_under(a.z, arclength, 20.0 * m_o.max_step, std::max(ds, m_o.step));
+            // Neighbours counted in points: in max_step's arclength a small loop (Fig 13's
+            // period-4 loop at 3.13, 0.04 round at steps of 1e-3) went round 20 times.
+            const int under = m_traced.branch_under(a.z, arclength, 20, 20.0 * m_o.max_step,
+                                                    std::max(ds, m_o.step));
             if (was_on_old && under >= 0) return end(came_onto(under, p));
             was_on_old = under >= 0;
-            m_traced.add(a, arclength);
+            m_traced.add(a);
         }
         end("max_points reached");
     }
@@ -715,6 +721,16 @@ PeriodicOrbit first_orbit(const ReducedParameters& start, const ContinuationOpti
 
 namespace {
 
+/// A branch still to trace: its first orbit's state x at parameter value p, its period, the
+/// direction it sets off in, and the branch it was switched onto from (-1 for none).
+struct PendingBranch {
+    std::vector<double> x;
+    double p;
+    int period;
+    double direction;
+    int parent;
+};
+
 /// The row at options.from, once the options, both ends of the line and the row's size are
 /// checked (std::invalid_argument naming the first bad one).
 ReducedParameters checked_start(const ReducedParameters& base, const ContinuationOptions& options) {
@@ -749,19 +765,13 @@ ContinuationResult continue_orbits(const ReducedParameters& base,
     ContinuationResult result;
     const double direction = options.to > options.from ? 1.0 : -1.0;
     const PeriodicOrbit found = first_orbit(start, options, initial, keep_going, result);
-    struct Pending {
-        std::vector<double> x;
-        double p;
-        int period;
-        double direction;
-    };
-    std::deque<Pending> pending;
+    std::deque<PendingBranch> pending;
     TracedOrbits traced;
     if (found.status == OrbitStatus::converged)
-        pending.push_back({found.state, options.from, options.period, direction});
+        pending.push_back({found.state, options.from, options.period, direction, -1});
     for (int branch = 0; !pending.empty() && branch < options.max_branches && !result.cancelled;
          ++branch) {
-        const Pending next = pending.front();
+        const PendingBranch next = pending.front();
         pending.pop_front();
         BranchTracer tracer(base, options, next.period, keep_going);
         std::optional<OrbitPoint> first = first_point(tracer, next.x, next.p, next.direction);
@@ -771,18 +781,19 @@ ContinuationResult continue_orbits(const ReducedParameters& base,
                                                          : "the first point did not converge");
             continue;
         }
-        BranchWalk walk(tracer, options, next.period, branch, result, traced);
+        BranchWalk walk(tracer, options, next.period, branch, next.parent, result, traced);
         walk.walk(std::move(*first), branch == 0 ? first_branch : keep_going);
         result.shootings += tracer.shootings();
         if (!walk.reached_end && !result.cancelled && next.period == options.period)
             if (auto restart =
                     restart_beyond(base, options, initial, walk.farthest, keep_going, result))
-                pending.push_front({restart->first, restart->second, options.period, direction});
+                pending.push_front(
+                    {restart->first, restart->second, options.period, direction, -1});
         if (result.cancelled || !options.follow_doublings) continue; // the loop's test ends it
         for (const auto& [at, side] : walk.doublings) {
             double p = 0.0;
             if (auto x = doubled_orbit(base, options, next.period, at, side, p, keep_going))
-                pending.push_back({*x, p, 2 * next.period, side});
+                pending.push_back({*x, p, 2 * next.period, side, branch});
         }
     }
     result.wall_time_s =

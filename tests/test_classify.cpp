@@ -1,5 +1,6 @@
 #include "gapchain/classify.hpp"
 
+#include "gapchain/lyapunov.hpp"
 #include "gapchain/report.hpp"
 
 #include <doctest/doctest.h>
@@ -87,6 +88,24 @@ TEST_CASE("a periodic label is confirmed by Newton: the period-3 orbit the repet
     CHECK(c.max_multiplier == doctest::Approx(0.7313).epsilon(1e-3));
     o.confirm_by_newton = false;
     CHECK(classify(p, o).period == 6); // the repetition test alone, as before
+}
+
+TEST_CASE("a confirmed orbit's lambda_max is its Floquet exponent, as an independent tangent "
+          "run on the exact propagator finds it") {
+    // Fig 13's row with stiff contacts: the tangent average along classify's rk4 run said
+    // +0.47 +- 1.1 on this stable period-1 orbit (|mu| 0.382).
+    const ReducedParameters p{5, 3e6, 0.5, 0.06, 3.0};
+    const Classification c = classify(p, ClassifyOptions{});
+    REQUIRE(c.regime == Regime::periodic);
+    REQUIRE(c.newton_confirmed);
+    RunOptions run; // auto: the tangent flow on the exact propagator for this row
+    run.periods = 300;
+    run.transient_periods = 100;
+    const LyapunovResult tangent = chain_lyapunov(Dynamics::paper_row(p), run, 1);
+    MESSAGE("classify " << c.lambda_max << ", exact tangent " << tangent.exponents[0] << " +- "
+                        << tangent.errors[0]);
+    CHECK(c.lambda_max < 0.0);
+    CHECK(std::abs(c.lambda_max - tangent.exponents[0]) <= std::max(0.02, 3 * tangent.errors[0]));
 }
 
 TEST_CASE("a record whose samples the machine cannot hold is refused before the run") {

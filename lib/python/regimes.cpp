@@ -26,7 +26,8 @@ scene, **keys  the row (Nm, fc, eps, e_r, f_r; of the run section scheme, tolera
           max_work are used) and its initial state.
 
 Returns a dict: regime, period (forcing periods; 0 if not periodic or longer than 16),
-lambda_max (largest Lyapunov exponent per unit reduced time) and lambda_max_error,
+lambda_max (largest Lyapunov exponent per unit reduced time; a Newton-confirmed orbit's
+from its largest multiplier, error 0) and lambda_max_error,
 distinct_points, section_points, broadband_share ([0, 1]), F_m, F_m_error (tolerance * F_m on
 a periodic state, else the recorded halves' spread, at least that), stopped_at_steady_state,
 newton_confirmed, max_multiplier, periods_run, status, wall_time_s.)";

@@ -50,10 +50,13 @@ void validate(const ClassifyOptions& options);
 /// The label and its evidence.
 struct Classification {
     Regime regime = Regime::no_contact;
-    int period = 0;                ///< forcing periods per cycle when periodic; 0 when the cycle
-                                   ///< is longer than max_period (or not periodic)
-    double lambda_max = 0.0;       ///< largest Lyapunov exponent [1 / reduced time]
-    double lambda_max_error = 0.0; ///< its standard error (inf if the window was too short)
+    int period = 0; ///< forcing periods per cycle when periodic; 0 when the cycle
+                    ///< is longer than max_period (or not periodic)
+    /// Largest Lyapunov exponent [1 / reduced time]: ln(max_multiplier) / (period T) for an
+    /// orbit Newton confirmed, else the tangent vector's average along the run.
+    double lambda_max = 0.0;
+    double lambda_max_error = 0.0; ///< the average's standard error (inf if the window was too
+                                   ///< short); 0 for a confirmed orbit's exponent
     int distinct_points = 0;       ///< distinct stroboscopic points among those recorded
     int section_points = 0;        ///< stroboscopic points recorded
     double broadband_share = 0.0;  ///< spectral power of u_1 away from m/n f_r (n <= 4)

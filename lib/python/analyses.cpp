@@ -45,7 +45,9 @@ transient discarded periods per value, >= 0;  record  recorded periods per value
 variable  u1..uNm, v1..vNm, g0..gNm, F0..FNm;  threads OpenMP threads (0: all cores)
 progress  callable(fraction of values done)
 scene, **keys  the row (Nm, fc, eps, e_r, f_r; of the run section scheme, tolerance and
-          max_work are used) and its initial state.
+          max_work are used) and its initial state. None is the paper's default row (fc 100,
+          e_r 0.5); gapchain-bifurcation without a scene draws Fig 13's, which is
+          data/scenes/fig13.json here.
 
 Returns a dict of columns, one row per value and direction: value, direction ("up"/"down"),
 F_m, F_m_error (the recorded halves' spread of F_m, at least tolerance * F_m), period (0: not

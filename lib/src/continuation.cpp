@@ -214,17 +214,16 @@ namespace {
 /// losses of stability of period 1, once at each phase).
 class TracedOrbits {
 public:
-    /// Starts the curves of a new branch of period k, switched onto from branch `parent` (-1:
-    /// none).
-    void begin_branch(int branch, int period, int parent) {
+    /// Starts the curves of a new branch of period k.
+    void begin_branch(int branch, int period) {
         m_current = m_curves.size();
-        m_parent = parent;
         for (int s = 0; s < period; ++s)
-            m_curves.push_back({branch, {}});
+            m_curves.push_back({branch, period, {}});
+        m_arclength.clear();
     }
 
-    /// Adds a point of the current branch.
-    void add(const OrbitPoint& a) {
+    /// Adds a point of the current branch, at its arclength from the branch's start.
+    void add(const OrbitPoint& a, double arclength) {
         const Eigen::Index n = a.z.size() - 1;
         const std::size_t k = m_curves.size() - m_current;
         for (std::size_t s = 0; s < k; ++s) {
@@ -235,21 +234,27 @@ public:
             z[n] = a.z[n];
             m_curves[m_current + s].points.push_back(std::move(z));
         }
+        m_arclength.push_back(arclength);
     }
 
-    /// The branch whose orbits z lies on, or -1. The current branch counts only on points
-    /// more than `recent` points back (nearer ones are its neighbours on the curve, a fold's
-    /// other side among them), the branch it was switched onto from only beyond `leaving` of
-    /// arclength from the start: a doubled branch leaves its parent as the square root of the
-    /// parameter's distance, along it at first (Fig 13's period-4 branch from 2.33275 stays
-    /// within 3e-4 of the period-2 orbits for 0.01 in f_r).
-    [[nodiscard]] int branch_under(const Vector& z, double arclength, std::size_t recent,
-                                   double leaving, double step) const {
-        const std::size_t added = m_curves[m_current].points.size();
-        const std::size_t old_end = added > recent ? added - recent : 0;
+    /// The branch whose orbits z (of minimal period `minimal`) lies on, or -1. A branch of
+    /// period k holds orbits whose minimal period divides k, so only those are compared: a
+    /// doubled branch leaves its parent along it (Fig 13's period-4 branch from 2.33275 stays
+    /// within 3e-4 of the period-2 orbits for 0.01 in f_r) and is compared with it only once
+    /// its orbits are of the parent's period again. The current branch counts only on points
+    /// more than 20 points and 4 steps of arclength back: nearer ones are its neighbours on the
+    /// curve, a fold's other side among them. (In 20 max_step of arclength, as until
+    /// 2026-11-26, Fig 13's period-4 loop at 3.13, 0.04 round at steps of 1e-3, went round 22
+    /// times; in points alone, steps collapsed to 1e-6 would bring 20 points within a chord's
+    /// tolerance.)
+    [[nodiscard]] int branch_under(const Vector& z, int minimal, double arclength,
+                                   double step) const {
+        std::size_t old_end = m_arclength.size() > 20 ? m_arclength.size() - 20 : 0;
+        while (old_end > 0 && arclength - m_arclength[old_end - 1] <= 4.0 * step)
+            --old_end;
         for (std::size_t c = 0; c < m_curves.size(); ++c) {
+            if (m_curves[c].period % minimal != 0) continue;
             const bool current = c >= m_current;
-            if (!current && m_curves[c].branch == m_parent && arclength <= leaving) continue;
             if (on_curve(z, m_curves[c].points, current ? old_end : m_curves[c].points.size(),
                          step))
                 return m_curves[c].branch;
@@ -287,21 +292,22 @@ private:
 
     struct Curve {
         int branch;
+        int period;
         std::vector<Vector> points;
     };
     std::vector<Curve> m_curves;
-    std::size_t m_current = 0; // the current branch's first curve
-    int m_parent = -1;         // the branch the current one was switched onto from
+    std::size_t m_current = 0;       // the current branch's first curve
+    std::vector<double> m_arclength; // of the current branch's points
 };
 
 /// One branch traced from a first point along its tangent, special points located on the way.
 class BranchWalk {
 public:
     BranchWalk(BranchTracer& tracer, const ContinuationOptions& o, int period, int branch,
-               int parent, ContinuationResult& result, TracedOrbits& traced)
+               ContinuationResult& result, TracedOrbits& traced)
         : m_tracer(tracer), m_o(o), m_period(period), m_branch(branch), m_result(result),
           m_traced(traced) {
-        m_traced.begin_branch(branch, period, parent);
+        m_traced.begin_branch(branch, period);
     }
 
     /// Doublings found (point, on which side the doubled branch lies) for branch switching.
@@ -321,9 +327,9 @@ public:
         record(a);
         double ds = m_o.step;
         // On from orbits already traced the branch would trace them again (came_onto()).
-        m_traced.add(a);
+        m_traced.add(a, 0.0);
         double arclength = 0.0;
-        bool was_on_old = false;
+        int on_old = 0; // points in a row on traced orbits
         for (int count = 1; count < m_o.max_points; ++count) {
             std::optional<OrbitPoint> b;
             bool beyond_range = false;
@@ -350,7 +356,7 @@ public:
             detect(a, *b, ds);
             arclength += (b->z - a.z).norm();
             a = std::move(*b);
-            record(a);
+            const int minimal = record(a);
             ds = std::min(1.5 * ds, m_o.max_step);
             const double p = a.z[n];
             farthest = m_o.to > m_o.from ? std::max(farthest, p) : std::min(farthest, p);
@@ -363,13 +369,11 @@ public:
                 return end(reached_end ? "left the parameter range at its end"
                                        : "turned back out of the parameter range at its start");
             }
-            // Neighbours counted in points: in max_step's arclength a small loop (Fig 13's
-            // period-4 loop at 3.13, 0.04 round at steps of 1e-3) went round 20 times.
-            const int under = m_traced.branch_under(a.z, arclength, 20, 20.0 * m_o.max_step,
-                                                    std::max(ds, m_o.step));
-            if (was_on_old && under >= 0) return end(came_onto(under, p));
-            was_on_old = under >= 0;
-            m_traced.add(a);
+            const int under =
+                m_traced.branch_under(a.z, minimal, arclength, std::max(ds, m_o.step));
+            on_old = under >= 0 ? on_old + 1 : 0;
+            if (on_old == 3) return end(came_onto(under, p));
+            m_traced.add(a, arclength);
         }
         end("max_points reached");
     }
@@ -377,12 +381,12 @@ public:
 private:
     void end(const std::string& why) { m_result.branch_end.push_back(why); }
 
-    /// Why a branch ends where it comes onto traced orbits, two points in a row (a branch that
-    /// crosses another at a branch point touches it once). Back onto itself, long after: it has
-    /// closed (the period-2 loop between Fig 13's folds at 2.2573 and 2.4651) or turned back
-    /// at a corner (its period-1 family at 2.99783). Onto an earlier branch: the loop again,
-    /// reached from another loss of stability, or a period-4 branch's orbits of minimal period
-    /// 2.
+    /// Why a branch ends where it comes onto traced orbits, three points in a row (a branch that
+    /// crosses another at a branch point touches it once, at a shallow angle for two points). Back
+    /// onto itself, long after: it has closed (the period-2 loop between Fig 13's folds at 2.2573
+    /// and 2.4651) or turned back at a corner (its period-1 family at 2.99783). Onto an earlier
+    /// branch: the loop again, reached from another loss of stability, or a period-4 branch's
+    /// orbits of minimal period 2.
     [[nodiscard]] std::string came_onto(int branch, double p) const {
         const std::string where = std::string(to_string(m_o.parameter)) + " = " + std::to_string(p);
         if (branch == m_branch)
@@ -392,13 +396,15 @@ private:
                ": its orbits are traced there";
     }
 
-    void record(const OrbitPoint& a) {
+    /// Writes the point into the result; returns its orbit's minimal period.
+    int record(const OrbitPoint& a) {
         const Eigen::Index n = m_tracer.dimension();
         std::vector<double> x(a.z.data(), a.z.data() + n);
         const int minimal = minimal_period(x, a.shot, m_o.orbit.tolerance);
         m_result.points.push_back({a.z[n], m_period, a.F_m, a.z[0], stable(a),
                                    std::abs(a.multipliers.front()), m_branch, minimal,
                                    std::move(x)});
+        return minimal;
     }
 
     /// Whether a corrected point lies within ds of its prediction: a point farther off has
@@ -721,14 +727,13 @@ PeriodicOrbit first_orbit(const ReducedParameters& start, const ContinuationOpti
 
 namespace {
 
-/// A branch still to trace: its first orbit's state x at parameter value p, its period, the
-/// direction it sets off in, and the branch it was switched onto from (-1 for none).
+/// A branch still to trace: its first orbit's state x at parameter value p, its period, and
+/// the direction it sets off in.
 struct PendingBranch {
     std::vector<double> x;
     double p;
     int period;
     double direction;
-    int parent;
 };
 
 /// The row at options.from, once the options, both ends of the line and the row's size are
@@ -768,7 +773,7 @@ ContinuationResult continue_orbits(const ReducedParameters& base,
     std::deque<PendingBranch> pending;
     TracedOrbits traced;
     if (found.status == OrbitStatus::converged)
-        pending.push_back({found.state, options.from, options.period, direction, -1});
+        pending.push_back({found.state, options.from, options.period, direction});
     for (int branch = 0; !pending.empty() && branch < options.max_branches && !result.cancelled;
          ++branch) {
         const PendingBranch next = pending.front();
@@ -781,19 +786,18 @@ ContinuationResult continue_orbits(const ReducedParameters& base,
                                                          : "the first point did not converge");
             continue;
         }
-        BranchWalk walk(tracer, options, next.period, branch, next.parent, result, traced);
+        BranchWalk walk(tracer, options, next.period, branch, result, traced);
         walk.walk(std::move(*first), branch == 0 ? first_branch : keep_going);
         result.shootings += tracer.shootings();
         if (!walk.reached_end && !result.cancelled && next.period == options.period)
             if (auto restart =
                     restart_beyond(base, options, initial, walk.farthest, keep_going, result))
-                pending.push_front(
-                    {restart->first, restart->second, options.period, direction, -1});
+                pending.push_front({restart->first, restart->second, options.period, direction});
         if (result.cancelled || !options.follow_doublings) continue; // the loop's test ends it
         for (const auto& [at, side] : walk.doublings) {
             double p = 0.0;
             if (auto x = doubled_orbit(base, options, next.period, at, side, p, keep_going))
-                pending.push_back({*x, p, 2 * next.period, side, branch});
+                pending.push_back({*x, p, 2 * next.period, side});
         }
     }
     result.wall_time_s =

@@ -60,8 +60,8 @@ transient_periods_used, steps, evaluations, final_state (2 Nm: u then v), wall_t
 accuracy_mode_used, relaxed_from_period (or None), run (the run options), parameters (the
 reduced numbers and run settings that ran), scene (its source); physical scenes add F_m_newton,
 F_m_error_newton and excitation; model arrays or scatter add chain, a start off rest initial.
-These are the keys of gapchain-sim's JSON, from the same writer, with per_body, per_contact
-and final_state as arrays. With trajectory=True, trajectory =
+These are the keys of gapchain-sim's JSON, from the same writer, with per_body (Nm x 2; its
+newtons as per_body_newton), per_body_time and per_contact as arrays, and final_state added. With trajectory=True, trajectory =
 {"t": (n,) float64, "state": (n, 2 Nm) float64 with columns u1..uNm, v1..vNm}. With attractors
 > 0, design_value = {F_m_max (the largest of the attractors' F_m and this run's), F_m_max_error,
 from_run, start_below (another attractor hits harder beyond both errors), run_above (this run's
@@ -76,12 +76,18 @@ released while it runs; Ctrl-C (KeyboardInterrupt) stops it.)";
 
 // The JSON gapchain-sim writes (report.cpp, the one list of a result's fields), as a dict, with
 // what a NumPy user wants instead of JSON's shapes: per-body and per-contact arrays, the final
-// state, the run options, and None where the JSON leaves out a check that did not run.
+// state, the run options, and None where the JSON leaves out a check that did not run. JSON
+// writes a non-finite number as null, which reads as "not estimated": an estimate that came
+// out infinite (a comparison run that blew up) is put back as inf.
 py::dict result_dict(const std::string& report, const SimulationResult& r, const Scene& scene) {
     py::dict d = py::module_::import("json").attr("loads")(report);
     for (const char* optional : {"F_m_twin", "F_m_comparison", "F_m_orbit", "relaxed_from_period"})
         if (!d.contains(optional)) d[optional] = py::none();
     if (!d.contains("comparison_ended_elsewhere")) d["comparison_ended_elsewhere"] = false;
+    if (has_error_estimate(r)) {
+        d["F_m_error"] = r.F_m_error;
+        if (scene.physical) d["F_m_error_newton"] = force_in_newtons(r.F_m_error, *scene.physical);
+    }
     std::vector<double> forces, times;
     for (const auto& b : r.per_body) {
         forces.insert(forces.end(), {b.left, b.right});
@@ -89,6 +95,11 @@ py::dict result_dict(const std::string& report, const SimulationResult& r, const
     }
     d["per_body"] = matrix(forces, r.per_body.size(), 2);
     d["per_body_time"] = matrix(times, r.per_body.size(), 2);
+    if (scene.physical) {
+        for (double& f : forces)
+            f = force_in_newtons(f, *scene.physical);
+        d["per_body_newton"] = matrix(forces, r.per_body.size(), 2);
+    }
     d["per_contact"] = per_contact_dict(r.per_contact);
     d["message"] = r.message;
     d["final_state"] = array(r.final_state);

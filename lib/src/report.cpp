@@ -23,7 +23,7 @@ using nlohmann::json;
 namespace {
 
 /// A CSV field that may be unknown (NaN: not computed; inf: a window too short for a standard
-/// error): the number, or nothing, as every CSV writer leaves unknown numbers empty.
+/// error): the number, or nothing, as the attractor, map and sweep rows write it.
 void write_if_finite(std::ostream& os, double x) {
     if (std::isfinite(x)) os << x;
 }

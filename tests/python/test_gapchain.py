@@ -53,6 +53,8 @@ def test_simulate_equals_gapchain_sim_bit_for_bit(scene_path, tmp_path):
     assert r["comparison_ended_elsewhere"] == tool.get("comparison_ended_elsewhere", False)
     if "F_m_newton" in tool:
         assert r["F_m_newton"] == tool["F_m_newton"]
+        assert r["per_body_newton"].tolist() == \
+            [[b["left_newton"], b["right_newton"]] for b in tool["per_body"]]
     # One writer for both: every key of the tool's JSON is in the dict (F_m_error_newton,
     # excitation and parameters were once the tool's alone).
     assert set(tool) <= set(r), sorted(set(tool) - set(r))

@@ -61,8 +61,9 @@ accuracy_mode_used, relaxed_from_period (or None), run (the run options), parame
 reduced numbers and run settings that ran), scene (its source); physical scenes add F_m_newton,
 F_m_error_newton and excitation; model arrays or scatter add chain, a start off rest initial.
 These are the keys of gapchain-sim's JSON, from the same writer, with per_body (Nm x 2; its
-newtons as per_body_newton), per_body_time and per_contact as arrays, and final_state added. With trajectory=True, trajectory =
-{"t": (n,) float64, "state": (n, 2 Nm) float64 with columns u1..uNm, v1..vNm}. With attractors
+newtons as per_body_newton), per_body_time and per_contact as arrays, and final_state added.
+With trajectory=True, trajectory = {"t": (n,) float64, "state": (n, 2 Nm) float64 with
+columns u1..uNm, v1..vNm}. With attractors
 > 0, design_value = {F_m_max (the largest of the attractors' F_m and this run's), F_m_max_error,
 from_run, start_below (another attractor hits harder beyond both errors), run_above (this run's
 F_m is above every attractor's: a transient's), attractors_F_m_max and its error, attractors,

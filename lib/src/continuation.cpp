@@ -253,7 +253,7 @@ public:
         while (old_end > 0 && arclength - m_arclength[old_end - 1] <= 4.0 * step)
             --old_end;
         for (std::size_t c = 0; c < m_curves.size(); ++c) {
-            if (m_curves[c].period % minimal != 0) continue;
+            if (minimal > 0 && m_curves[c].period % minimal != 0) continue;
             const bool current = c >= m_current;
             if (on_curve(z, m_curves[c].points, current ? old_end : m_curves[c].points.size(),
                          step))

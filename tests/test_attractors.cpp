@@ -362,6 +362,20 @@ TEST_CASE("bad options are refused naming the option") {
     undamped.eps = 0.0;
     CHECK_THROWS_WITH_AS(find_attractors(undamped, o), doctest::Contains("model.eps"),
                          std::invalid_argument);
+    // run.max_work bounds the whole search, every start at its full length: 1e7 starts of
+    // 20,000 periods were accepted and would have run for years.
+    o = AttractorOptions{};
+    o.samples = 10'000'000;
+    o.run.periods = 20'000;
+    CHECK_THROWS_WITH_AS(validate(mirror_pair, o), doctest::Contains("run.max_work"),
+                         std::invalid_argument);
+    o.run.max_work = 1e15;
+    CHECK_NOTHROW(validate(mirror_pair, o));
+    o = AttractorOptions{};
+    o.slice = BasinSlice{0, 1, 2000}; // 4e6 slice starts count too
+    o.run.periods = 20'000;
+    CHECK_THROWS_WITH_AS(validate(mirror_pair, o), doctest::Contains("starts"),
+                         std::invalid_argument);
 }
 
 TEST_CASE("a chaotic transient that outlasts the runs is not an attractor (issue 19's Nm = 2 "

@@ -117,7 +117,7 @@ void validate(const ReducedParameters& p, const AttractorOptions& options) {
             " periods), about " + detail::format_number(std::ceil(work / 1e7 / 3600.0)) +
             " h at 1e7 body-steps/s; above run.max_work = " +
             detail::format_number(options.run.max_work) +
-            ": fewer samples, a coarser slice, a shorter run.periods, or raise run.max_work");
+            ": fewer starts, a coarser slice, a shorter run.periods, or raise run.max_work");
     const RunOptions run = with_transient_resolved(dyn, options.run);
     const long window = run.periods - run.transient_periods;
     if (window < 20)

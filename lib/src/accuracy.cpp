@@ -111,16 +111,11 @@ void require_affordable_study(const Dynamics& dyn, const WorkPrecisionOptions& o
     for (Scheme scheme : unsplit_schemes(o))
         count(scheme, o.repeats);
     const double work = steps_per_period * dyn.bodies() * static_cast<double>(o.periods);
-    if (work <= o.max_work) return;
-    char hours[32];
-    std::snprintf(hours, sizeof hours, "%.3g", work / 1e7 / 3600.0);
-    throw std::invalid_argument(
-        "run.max_work: this study takes at least " + detail::format_number(work) +
-        " body-steps (every scheme, tolerance and repeat, Nm " + std::to_string(dyn.bodies()) +
-        ", " + std::to_string(o.periods) + " periods each), about " + hours +
-        " h at 1e7 body-steps/s; above run.max_work = " + detail::format_number(o.max_work) +
-        ": fewer --periods, --tolerances, --repeats or --schemes, a higher excitation.f_r, or "
-        "raise run.max_work");
+    detail::require_work(work, o.max_work, "this study takes at least",
+                         "every scheme, tolerance and repeat, Nm " + std::to_string(dyn.bodies()) +
+                             ", " + std::to_string(o.periods) + " periods each",
+                         "fewer --periods, --tolerances, --repeats or --schemes, a higher "
+                         "excitation.f_r, or raise run.max_work");
 }
 
 /// A run's errors against the reference: F_m's (relative), the final state's and the RMS over

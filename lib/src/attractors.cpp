@@ -108,16 +108,13 @@ void validate(const ReducedParameters& p, const AttractorOptions& options) {
         (options.slice ? std::pow(static_cast<double>(options.slice->resolution), 2.0) : 0.0);
     const double work = starts * dyn.bodies() * static_cast<double>(plan.steps_per_period) *
                         static_cast<double>(options.run.periods);
-    if (work > options.run.max_work)
-        throw std::invalid_argument(
-            "run.max_work: this search runs up to " + detail::format_number(work) +
-            " body-steps (" + detail::format_number(starts) + " starts x Nm " +
-            std::to_string(dyn.bodies()) + " x " + std::to_string(plan.steps_per_period) +
-            " steps per forcing period x " + std::to_string(options.run.periods) +
-            " periods), about " + detail::format_number(std::ceil(work / 1e7 / 3600.0)) +
-            " h at 1e7 body-steps/s; above run.max_work = " +
-            detail::format_number(options.run.max_work) +
-            ": fewer starts, a coarser slice, a shorter run.periods, or raise run.max_work");
+    detail::require_work(
+        work, options.run.max_work, "this search runs up to",
+        detail::format_number(starts) + " starts x Nm " + std::to_string(dyn.bodies()) + " x " +
+            std::to_string(plan.steps_per_period) + " steps per forcing period x " +
+            std::to_string(options.run.periods) + " periods",
+        "fewer starts, a coarser slice, a shorter run.periods, or raise "
+        "run.max_work");
     const RunOptions run = with_transient_resolved(dyn, options.run);
     const long window = run.periods - run.transient_periods;
     if (window < 20)

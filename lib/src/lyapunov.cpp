@@ -264,14 +264,10 @@ LyapunovResult chain_lyapunov(const Dynamics& dyn, const RunOptions& options, in
     // affordability check (body-steps) sees only the row.
     const double work = static_cast<double>(dyn.bodies()) * planned.plan().steps_per_period *
                         static_cast<double>(options.periods) * (1.0 + count);
-    if (work > options.max_work)
-        throw std::invalid_argument(
-            "run.max_work: with its " + std::to_string(count) +
-            " tangent vectors this run takes about " + detail::format_number(work) +
-            " body-steps (about " + detail::format_number(std::ceil(work / 1e7 / 3600.0)) +
-            " h at 1e7 body-steps/s); above run.max_work = " +
-            detail::format_number(options.max_work) +
-            ": fewer exponents (count), a shorter run (run.periods) or a larger run.max_work");
+    detail::require_work(work, options.max_work, "this run takes about",
+                         "the row and its " + std::to_string(count) + " tangent vectors",
+                         "fewer exponents (count), a shorter run (run.periods) or a larger "
+                         "run.max_work");
     TangentObserver tangent(dyn, count, planned.transient_periods());
     Observer* observers[] = {&tangent};
     const RunOutcome outcome = planned.run(observers, progress);

@@ -468,17 +468,13 @@ const RunOptions& validated(const RunOptions& options) {
 const StepPlan& affordable(const Dynamics& dyn, const RunOptions& options, const StepPlan& plan) {
     const double work = static_cast<double>(dyn.bodies()) * plan.steps_per_period *
                         static_cast<double>(options.periods);
-    if (work <= options.max_work) return plan;
-    char hours[32];
-    std::snprintf(hours, sizeof hours, "%.3g", work / 1e7 / 3600.0);
-    throw std::invalid_argument(
-        "run.max_work: this run takes up to " + detail::format_number(work) + " body-steps (Nm " +
-        std::to_string(dyn.bodies()) + " x " + std::to_string(plan.steps_per_period) +
-        " steps per forcing period x " + std::to_string(options.periods) + " periods), about " +
-        hours +
-        " h at 1e7 body-steps/s; above run.max_work = " + detail::format_number(options.max_work) +
-        ": shorten the run (fewer forcing periods: run.periods, or the tool's own --transient / "
+    detail::require_work(
+        work, options.max_work, "this run takes up to",
+        "Nm " + std::to_string(dyn.bodies()) + " x " + std::to_string(plan.steps_per_period) +
+            " steps per forcing period x " + std::to_string(options.periods) + " periods",
+        "shorten the run (fewer forcing periods: run.periods, or the tool's own --transient / "
         "--record / --from-transient; or a higher excitation.f_r) or raise run.max_work");
+    return plan;
 }
 
 } // namespace

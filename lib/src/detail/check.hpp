@@ -36,6 +36,21 @@ inline void require_range(const std::string& key, int value, int lo, int hi) {
                                     std::to_string(hi) + "], got " + std::to_string(value));
 }
 
+/// Refuses work (body-steps: bodies x steps) above run.max_work, in the one wording every
+/// refusal uses: "run.max_work: <what> W body-steps (<breakdown>), about H h at 1e7
+/// body-steps/s; above run.max_work = M: <remedy>". Returns if work <= max_work.
+inline void require_work(double work, double max_work, const std::string& what,
+                         const std::string& breakdown, const std::string& remedy) {
+    if (work <= max_work) return;
+    std::ostringstream hours;
+    hours.precision(3);
+    hours << work / 1e7 / 3600.0;
+    throw std::invalid_argument(
+        "run.max_work: " + what + " " + format_number(work) + " body-steps (" + breakdown +
+        "), about " + hours.str() +
+        " h at 1e7 body-steps/s; above run.max_work = " + format_number(max_work) + ": " + remedy);
+}
+
 /// The same for a count held in a long (samples, starts).
 inline void require_count(const std::string& key, long value, long lo, long hi) {
     if (value < lo || value > hi)

@@ -44,6 +44,8 @@ TEST_CASE("F_m_error: the tolerance on a periodic state (covering a 1e-8 run), t
     const double reference = classify({5, 60, 0.5, 0.06, 2.9}, tight).F_m;
     CHECK(std::abs(periodic.F_m - reference) <= periodic.F_m_error);
 
+    // On rk4, where this record's maximum falls in its second half.
+    o.scheme = Scheme::rk4;
     const Classification chaotic = classify({5, 60, 0.5, 0.06, 3.3}, o);
     REQUIRE_FALSE(chaotic.stopped_at_steady_state);
     // The first half of the record, classified on its own, is the same trajectory (a chaotic
@@ -78,9 +80,11 @@ TEST_CASE("a regime map does not depend on the number of threads") {
 
 TEST_CASE("a periodic label is confirmed by Newton: the period-3 orbit the repetition test read "
           "as 6") {
-    // Issue 17: a multiplier near -1 makes the approach alternate every 3 periods.
+    // Issue 17: a multiplier near -1 makes the approach alternate every 3 periods. With a
+    // 40-period record after the default settling, the record's second half still alternates.
     const ReducedParameters p{3, 200, 0.5, 0.03, 5.5};
     ClassifyOptions o;
+    o.record_periods = 40;
     const Classification c = classify(p, o);
     REQUIRE(c.regime == Regime::periodic);
     CHECK(c.newton_confirmed);
@@ -106,6 +110,44 @@ TEST_CASE("a confirmed orbit's lambda_max is its Floquet exponent, as an indepen
                         << tangent.errors[0]);
     CHECK(c.lambda_max < 0.0);
     CHECK(std::abs(c.lambda_max - tangent.exponents[0]) <= std::max(0.02, 3 * tangent.errors[0]));
+}
+
+TEST_CASE("a run that does not settle takes lambda_max from the tangent flow on the exact "
+          "propagator, as the Lyapunov spectrum does") {
+    // The same stable orbit, but no settling phase and no Newton: the label rests on the tangent
+    // average along the run, which rk4's trajectory through these contacts biased (+0.47).
+    const ReducedParameters p{5, 3e6, 0.5, 0.06, 3.0};
+    const double floquet = classify(p, ClassifyOptions{}).lambda_max; // Newton's, error 0
+    ClassifyOptions o;
+    o.transient_periods = 0;
+    o.confirm_by_newton = false;
+    const Classification c = classify(p, o);
+    MESSAGE("tangent average " << c.lambda_max << " +- " << c.lambda_max_error << ", Floquet "
+                               << floquet);
+    CHECK(c.scheme_used == Scheme::exact);
+    CHECK(c.regime == Regime::periodic);
+    CHECK(std::abs(c.lambda_max - floquet) <= std::max(0.05, 3 * c.lambda_max_error));
+    o.scheme = Scheme::rk4; // asked for: kept
+    CHECK(classify(p, o).scheme_used == Scheme::rk4);
+}
+
+TEST_CASE("a chaotic point's lambda_max through stiff contacts agrees with a tangent run of "
+          "another scheme at a tight tolerance") {
+    // Fig 13's row at fc = 1e5, f_r = 2.5: rk4 at the default tolerance gave +1.60 +- 0.07;
+    // rk4 at 1e-6 and rk8pd at 1e-8 give 1.14 and 1.13 over 2000 periods.
+    const ReducedParameters p{5, 1e5, 0.5, 0.06, 2.5};
+    const Classification c = classify(p, ClassifyOptions{});
+    RunOptions run;
+    run.scheme = Scheme::rk4;
+    run.tolerance = 1e-6;
+    run.periods = 400;
+    run.transient_periods = 100;
+    const LyapunovResult reference = chain_lyapunov(Dynamics::paper_row(p), run, 1);
+    MESSAGE("classify " << c.lambda_max << " +- " << c.lambda_max_error << ", rk4 at 1e-6 "
+                        << reference.exponents[0] << " +- " << reference.errors[0]);
+    REQUIRE(c.regime == Regime::chaotic);
+    CHECK(std::abs(c.lambda_max - reference.exponents[0]) <=
+          3 * std::hypot(c.lambda_max_error, reference.errors[0]));
 }
 
 TEST_CASE("a record whose samples the machine cannot hold is refused before the run") {

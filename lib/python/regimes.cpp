@@ -2,6 +2,7 @@
 #include "call.hpp"
 
 #include "gapchain/classify.hpp"
+#include "gapchain/report.hpp"
 #include "gapchain/study.hpp"
 
 #include <pybind11/stl.h>
@@ -30,7 +31,8 @@ lambda_max (largest Lyapunov exponent per unit reduced time; a Newton-confirmed 
 from its largest multiplier, error 0) and lambda_max_error,
 distinct_points, section_points, broadband_share ([0, 1]), F_m, F_m_error (tolerance * F_m on
 a periodic state, else the recorded halves' spread, at least that), stopped_at_steady_state,
-newton_confirmed, max_multiplier, periods_run, status, wall_time_s.)";
+newton_confirmed, max_multiplier (0 unless confirmed), periods_run, scheme (the one the run
+took: "exact" where the Lyapunov spectrum takes it), status, wall_time_s, parameters.)";
 
 constexpr const char* regime_map_doc =
     R"(regime_map(scene=None, *, e_r, f_r, transient=100, record=300, confirm=True, threads=0, progress=None, **keys) -> dict
@@ -80,22 +82,11 @@ py::dict classify_py(const py::object& scene_arg, long transient, long record, b
     Call call;
     const ReducedParameters& row = paper_row(scene, "classify");
     const Classification c = call.run([&] { return classify(row, o, call.callback()); });
-    py::dict d;
-    d["regime"] = std::string(to_string(c.regime));
-    d["period"] = c.period;
-    d["lambda_max"] = c.lambda_max;
+    // The JSON gapchain-classify writes (report.cpp, the one list of the fields), as a dict; an
+    // infinite error (a window too short) that JSON writes as null is put back as inf.
+    py::dict d = py::module_::import("json").attr("loads")(to_json(c, row));
     d["lambda_max_error"] = c.lambda_max_error;
-    d["distinct_points"] = c.distinct_points;
-    d["section_points"] = c.section_points;
-    d["broadband_share"] = c.broadband_share;
-    d["F_m"] = c.F_m;
-    d["F_m_error"] = c.F_m_error;
-    d["stopped_at_steady_state"] = c.stopped_at_steady_state;
-    d["newton_confirmed"] = c.newton_confirmed;
     d["max_multiplier"] = c.max_multiplier;
-    d["periods_run"] = c.periods_run;
-    d["status"] = std::string(to_string(c.status));
-    d["wall_time_s"] = c.wall_time_s;
     return d;
 }
 

@@ -576,6 +576,7 @@ json classification_json(const Classification& c) {
     j["newton_confirmed"] = c.newton_confirmed;
     if (c.newton_confirmed) j["max_multiplier"] = c.max_multiplier;
     j["periods_run"] = c.periods_run;
+    j["scheme"] = std::string(to_string(c.scheme_used));
     j["status"] = std::string(to_string(c.status));
     j["wall_time_s"] = c.wall_time_s;
     return j;

@@ -27,6 +27,9 @@ struct ClassifyOptions {
     long transient_periods = 100; ///< discarded periods (a periodic steady state may stop the
                                   ///< run as soon as it is found), >= 0
     long record_periods = 300;    ///< periods of evidence for non-periodic motion, >= 10
+    /// Integration scheme (run.scheme). `auto` is the exact propagator where the Lyapunov
+    /// spectrum takes it (tangent_run_scheme(): linear contacts, harmonic forcing, <= 10
+    /// bodies), else the simulator's `auto`.
     Scheme scheme = Scheme::automatic;
     double tolerance = 1e-4;                 ///< integration tolerance (relative, F_m)
     double max_work = RunOptions{}.max_work; ///< body-steps the run may take (run.max_work)
@@ -70,6 +73,8 @@ struct Classification {
                                    ///< minimal period)
     double max_multiplier = 0.0;   ///< largest Floquet multiplier modulus (when confirmed)
     long periods_run = 0;          ///< periods integrated
+    Scheme scheme_used =
+        Scheme::rk4; ///< the concrete scheme the run took (options.scheme resolved)
     RunStatus status = RunStatus::completed;
     double wall_time_s = 0.0; ///< [s]
 };

@@ -63,8 +63,8 @@ void classify_point(const ReducedParameters& p, const ClassifyOptions& o, const 
                 "broadband share %.3f\n",
                 c.lambda_max, c.lambda_max_error, c.distinct_points, c.section_points,
                 c.broadband_share);
-    std::printf("  F_m = %.6g +- %.2g, %ld periods, %.3f s\n", c.F_m, c.F_m_error, c.periods_run,
-                c.wall_time_s);
+    std::printf("  F_m = %.6g +- %.2g, %ld periods (%s), %.3f s\n", c.F_m, c.F_m_error,
+                c.periods_run, std::string(to_string(c.scheme_used)).c_str(), c.wall_time_s);
 }
 
 void classify_map(const ReducedParameters& p, const ClassifyOptions& o, const std::string& out,

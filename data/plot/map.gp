@@ -14,6 +14,7 @@ set palette maxcolors 4
 set palette defined (0 '#e8e8e8', 1 '#4c9be8', 2 '#f2b134', 3 '#d62728')
 set cbrange [-0.5:3.5]
 set cbtics ('no contact' 0, 'periodic' 1, 'quasi-periodic' 2, 'chaotic' 3)
+set rmargin 16
 plot 'map.csv' every ::1 using 2:1:4 @STYLE@ notitle, no_impact(x) with lines lw 2 lc rgb 'black' title 'eq (20): no impact above'
 set output 'force.png'
 set title 'F_m, @TITLE@'
@@ -21,5 +22,6 @@ set palette maxcolors 0
 set palette rgbformulae 21,22,23
 set cbrange [*:*]
 set cbtics auto
+set rmargin -1
 set cblabel 'F_m'
 plot 'map.csv' every ::1 using 2:1:6 @STYLE@ notitle, no_impact(x) with lines lw 2 lc rgb 'white' title 'eq (20): no impact above'

@@ -1,6 +1,8 @@
 #include "gapchain/continuation.hpp"
 #include "gapchain/orbit.hpp"
 
+#include "detail/traced_orbits.hpp"
+
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -8,6 +10,7 @@
 #include <limits>
 #include <numbers>
 #include <optional>
+#include <vector>
 
 using namespace gapchain;
 using std::numbers::pi;
@@ -202,6 +205,57 @@ TEST_CASE("a branch says its orbits' minimal period") {
     const ContinuationResult doubled = continue_orbits(fig13_row, one_branch(2.3, 2.31, 2));
     REQUIRE(!doubled.points.empty());
     CHECK(doubled.points.front().minimal_period == 2);
+}
+
+namespace {
+/// (u, v, parameter) as a traced point.
+detail::TracedOrbits::Vector point(double u, double v, double parameter) {
+    detail::TracedOrbits::Vector z(3);
+    z << u, v, parameter;
+    return z;
+}
+} // namespace
+
+TEST_CASE("traced orbits: a point is compared only with branches whose period its minimal "
+          "period divides, at each of their phases") {
+    detail::TracedOrbits traced;
+    const double step = 0.01;
+    // A period-2 branch: state (0.3, 0.1) at phase 0, (-0.3, -0.1) after one period.
+    traced.begin_branch(0, 2);
+    for (int i = 0; i <= 100; ++i)
+        traced.add(point(0.3, 0.1, i * step), {{-0.3, -0.1}, {0.3, 0.1}}, i * step);
+    traced.begin_branch(1, 4);                                 // a doubled branch leaving along it
+    const auto on_parent = point(0.3, 0.1, 0.505);             // between two points, on their chord
+    const auto other_phase = point(-0.3, -0.1, 0.505);         // the same orbits one period on
+    CHECK(traced.branch_under(on_parent, 4, 0.0, step) == -1); // period 4 is not on period 2
+    CHECK(traced.branch_under(on_parent, 2, 0.0, step) == 0);
+    CHECK(traced.branch_under(on_parent, 1, 0.0, step) == 0); // a period-1 orbit can be
+    CHECK(traced.branch_under(other_phase, 2, 0.0, step) == 0);
+    CHECK(traced.branch_under(on_parent, 0, 0.0, step) == 0); // minimal period unknown: compared
+    // Off the chord by more than 0.02 step, though within two steps of its points.
+    CHECK(traced.branch_under(point(0.3, 0.1 + 0.03 * step, 0.505), 2, 0.0, step) == -1);
+    CHECK(traced.branch_under(point(0.3, 0.1 + 0.01 * step, 0.505), 2, 0.0, step) == 0);
+}
+
+TEST_CASE("traced orbits: the current branch is compared only with its points more than 20 "
+          "points and 4 steps of arclength back") {
+    detail::TracedOrbits traced;
+    const double step = 0.01;
+    traced.begin_branch(0, 1);
+    for (int i = 0; i < 50; ++i)
+        traced.add(point(i * step, 0.0, 1.0), {}, i * step);
+    const double now = 49 * step;
+    // On the chord between points 44 and 45: a neighbour, not a retrace.
+    CHECK(traced.branch_under(point(44.5 * step, 0.0, 1.0), 1, now, step) == -1);
+    // Between points 28 and 29: 20 points and 20 steps of arclength back, compared.
+    CHECK(traced.branch_under(point(28.5 * step, 0.0, 1.0), 1, now, step) == 0);
+    // Points 1e-5 apart: at a step of 1e-5 the same point is compared; at a step of 1e-3 (the
+    // steps collapsed near a corner) the whole branch lies within 4 steps, so none is.
+    traced.begin_branch(1, 1);
+    for (int i = 0; i < 50; ++i)
+        traced.add(point(i * 1e-5, 1.0, 2.0), {}, i * 1e-5);
+    CHECK(traced.branch_under(point(28.5e-5, 1.0, 2.0), 1, 49e-5, 1e-5) == 1);
+    CHECK(traced.branch_under(point(28.5e-5, 1.0, 2.0), 1, 49e-5, 1e-3) == -1);
 }
 
 TEST_CASE("a branch continued to the end of the parameter's range ends there, written") {

@@ -1,0 +1,122 @@
+#include "gapchain/run.hpp"
+#include "gapchain/scene.hpp"
+#include "gapchain/study.hpp"
+
+#include <doctest/doctest.h>
+
+#include <algorithm>
+#include <set>
+#include <stdexcept>
+#include <string>
+
+using namespace gapchain;
+
+TEST_CASE("study files: lists, lin and log ranges, and the grid order") {
+    const Study s = parse_study(R"({"scene": {"model": {"Nm": 2}},
+        "parameters": {"fc": {"log": [1, 100, 3]}, "e_r": {"lin": [0, 1, 3]}, "f_r": [0.5, 1.0]},
+        "sample": "grid", "keep": ["F_m", "regime"]})");
+    REQUIRE(s.axes.size() == 3);
+    CHECK(s.axes[0].values[1] == doctest::Approx(10.0));
+    CHECK(s.axes[1].values[2] == doctest::Approx(1.0));
+    CHECK(point_count(s) == 18);
+    CHECK(s.keep.regime);
+    CHECK_FALSE(s.keep.per_body);
+    // The first axis varies slowest, the last fastest.
+    CHECK(point_values(s, 0) == std::vector<double>{1.0, 0.0, 0.5});
+    CHECK(point_values(s, 1) == std::vector<double>{1.0, 0.0, 1.0});
+    CHECK(point_values(s, 17)[0] == doctest::Approx(100.0));
+    const Scene scene = point_scene(s, 17);
+    CHECK(scene.reduced.fc == doctest::Approx(100.0));
+    CHECK(scene.reduced.f_r == 1.0);
+    CHECK(scene.reduced.Nm == 2);
+}
+
+TEST_CASE("random and Latin-hypercube samples are seeded and spread") {
+    const std::string axes =
+        R"("parameters": {"e_r": {"lin": [0, 1, 10]}, "f_r": {"lin": [1, 2, 10]}})";
+    const Study lhs = parse_study(
+        "{" + axes + R"(, "sample": {"method": "latin_hypercube", "samples": 10, "seed": 4}})");
+    // Each of the 10 values of each axis is used exactly once.
+    for (std::size_t a = 0; a < 2; ++a) {
+        std::set<double> used;
+        for (long i = 0; i < 10; ++i)
+            used.insert(point_values(lhs, i)[a]);
+        CHECK(used.size() == 10);
+    }
+    const Study r1 =
+        parse_study("{" + axes + R"(, "sample": {"method": "random", "samples": 50, "seed": 9}})");
+    const Study r2 = r1;
+    CHECK(point_values(r1, 33) == point_values(r2, 33));
+}
+
+TEST_CASE("bad studies name the key") {
+    CHECK_THROWS_WITH_AS(parse_study(R"({"parameters": {"fc": [0]}})"),
+                         doctest::Contains("model.fc"), SceneError);
+    CHECK_THROWS_WITH_AS(parse_study(R"({"parameters": {"model.springiness": [1]}})"),
+                         doctest::Contains("model.springiness: unknown key"), SceneError);
+    CHECK_THROWS_WITH_AS(parse_study(R"({"parameters": {"fc": {"lin": [1, 2]}}})"),
+                         doctest::Contains("parameters.fc"), SceneError);
+    CHECK_THROWS_WITH_AS(parse_study(R"({"parameters": {}})"), doctest::Contains("parameters"),
+                         SceneError);
+    CHECK_THROWS_WITH_AS(parse_study(R"({"parameters": {"fc": [1]}, "keep": ["speed"]})"),
+                         doctest::Contains("keep"), SceneError);
+    CHECK_THROWS_AS(parse_study("{nope"), SceneError);
+    // A method that is no string was a raw JSON type error; samples without a method were
+    // silently dropped for the grid.
+    CHECK_THROWS_WITH_AS(parse_study(R"({"parameters": {"fc": [1]}, "sample": {"method": 5}})"),
+                         doctest::Contains("sample.method: must be grid, random or"), SceneError);
+    CHECK_THROWS_WITH_AS(
+        parse_study(R"({"parameters": {"fc": [1]}, "sample": {"samples": 100, "seed": 3}})"),
+        doctest::Contains("sample.samples: applies to random or latin_hypercube"), SceneError);
+    // "multistable" is always written, so keeping it is no error; 2e0 starts are 2 starts.
+    const Study kept = parse_study(
+        R"({"parameters": {"fc": [1]}, "keep": ["F_m", "multistable"], "attractors": 2e0})");
+    CHECK(kept.attractor_starts == 2);
+    CHECK_THROWS_WITH_AS(parse_study(R"({"parameters": {"fc": [1]}, "attractors": 2.5})"),
+                         doctest::Contains("attractors: starts per point"), SceneError);
+}
+
+TEST_CASE("a study point above run.max_work is refused when the study is read") {
+    // Each axis alone is affordable; the point Nm = 1976 at f_r = 0.01 (100 times the steps per
+    // period of f_r = 1) is not. 4 points are checked one by one, 6400 at the axes' corners.
+    const std::string scene = R"({"scene": {"model": {"Nm": 1, "fc": 100, "eps": 0.1, "e_r": 0.5},
+                                    "run": {"periods": 1000 @MAX@}}, )";
+    for (const std::string axes : {R"("parameters": {"Nm": [1, 1976], "f_r": [1, 0.01]}})",
+                                   R"("parameters": {"Nm": {"lin": [1, 1976, 80]},
+                                                     "f_r": {"lin": [1, 0.01, 80]}}})"}) {
+        std::string refused = scene + axes;
+        refused.replace(refused.find("@MAX@"), 5, "");
+        CHECK_THROWS_WITH_AS(parse_study(refused),
+                             doctest::Contains("run.max_work: this run takes up to"), SceneError);
+        CHECK_THROWS_WITH_AS(parse_study(refused), doctest::Contains("Nm = 1976, f_r = 0.01"),
+                             SceneError);
+        std::string allowed = scene + axes;
+        allowed.replace(allowed.find("@MAX@"), 5, R"(, "max_work": 1e12)");
+        CHECK_NOTHROW((void)parse_study(allowed));
+    }
+    // An attractor search needs 20 recorded periods: 30 periods pass at f_r = 1 (3 discarded)
+    // but not at f_r = 5 (15 discarded), a combination no single axis value shows.
+    CHECK_THROWS_WITH_AS(
+        parse_study(R"({"scene": {"model": {"Nm": 2, "fc": 10, "eps": 0.5, "e_r": 0.3}},
+                        "parameters": {"run.periods": [100, 30], "f_r": [1, 5]},
+                        "attractors": 2})"),
+        doctest::Contains("(study point with run.periods = 30, f_r = 5)"), SceneError);
+    // The same point alone: refused by the run itself, with the same rule.
+    const Scene big = parse_scene(R"({"model": {"Nm": 2000, "fc": 100, "eps": 0.1, "e_r": 0.5},
+                                      "excitation": {"f_r": 0.01}, "run": {"periods": 1000}})");
+    CHECK_THROWS_WITH_AS(require_affordable(big.dynamics(), big.run),
+                         doctest::Contains("run.max_work"), std::invalid_argument);
+    const Scene small = parse_scene(R"({"model": {"Nm": 1, "fc": 100, "eps": 0.1, "e_r": 0.5},
+                                        "excitation": {"f_r": 0.01}, "run": {"periods": 1000}})");
+    CHECK_NOTHROW(require_affordable(small.dynamics(), small.run));
+}
+
+TEST_CASE("the paper-scale study has 430,080 points") {
+    const Study s = load_study(GAPCHAIN_SOURCE_DIR "/data/studies/paper-scale.json");
+    CHECK(point_count(s) == 430080);
+    long below = 0;
+    for (double e : s.axes[3].values)
+        below += e < 0.3;
+    CHECK(below >= 15);
+    CHECK(s.axes[4].values.size() == 56);
+}

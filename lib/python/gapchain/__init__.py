@@ -46,22 +46,12 @@ def _import_numpy():
 
 _import_numpy()
 
-from ._gapchain import (  # noqa: E402  (after NumPy is importable)
-    __version__,
-    attractors,
-    basin_fractions,
-    bifurcation,
-    classify,
-    continuation,
-    lyapunov,
-    modes,
-    orbit,
-    poincare,
-    regime_map,
-    simulate,
-    spectrum,
-    sweep,
-)
+from . import _gapchain  # noqa: E402  (after NumPy is importable)
+from ._gapchain import __version__  # noqa: E402
+
+# The one list of the module's functions: each is the compiled one behind _typed() (below).
+_FUNCTIONS = ("simulate", "modes", "bifurcation", "poincare", "spectrum", "lyapunov", "classify",
+              "regime_map", "sweep", "orbit", "continuation", "attractors", "basin_fractions")
 
 
 def _signature(message):
@@ -235,15 +225,9 @@ def _typed(function):
     return call
 
 
-attractors, basin_fractions, bifurcation, classify, continuation, lyapunov, modes, orbit, \
-    poincare, regime_map, simulate, spectrum, sweep = (
-        _typed(f) for f in (
-            attractors, basin_fractions, bifurcation, classify, continuation, lyapunov, modes,
-            orbit, poincare, regime_map, simulate, spectrum, sweep))
+globals().update((name, _typed(getattr(_gapchain, name))) for name in _FUNCTIONS)
 
-__all__ = ["simulate", "modes", "bifurcation", "poincare", "spectrum", "lyapunov", "classify",
-           "regime_map", "sweep", "orbit", "continuation", "attractors", "basin_fractions",
-           "__version__"]
+__all__ = list(_FUNCTIONS) + ["__version__"]
 
 
 def _scene_json(value, key=""):

@@ -41,6 +41,23 @@ TEST_CASE("an orbit search longer than max_orbit_bodies is refused before any al
         doctest::Contains("scheme: exact takes rows of up to 64"), std::invalid_argument);
 }
 
+TEST_CASE("a shooting whose tangent vectors exceed run.max_work is refused before it runs") {
+    // Nm = 50 on rk4 at 1e-12: the row alone is below the limit, the row and its 100 tangent
+    // vectors are not.
+    const Dynamics dyn = Dynamics::paper_row({50, 60, 0.5, 0.06, 3.0});
+    OrbitOptions o;
+    o.scheme = Scheme::rk4;
+    const StepPlan plan = plan_step(dyn, Scheme::rk4, o.integration_tolerance);
+    const double row_work = 50.0 * plan.steps_per_period;
+    o.max_work = 10.0 * row_work;
+    const std::vector<double> rest(dyn.dimension(), 0.0);
+    CHECK_THROWS_WITH_AS(shoot(dyn, o, rest),
+                         doctest::Contains("run.max_work: one shooting takes about"),
+                         std::invalid_argument);
+    o.max_work = 102.0 * row_work;
+    CHECK(shoot(dyn, o, rest).finite);
+}
+
 TEST_CASE("the shooting refuses the automatic and central-difference schemes, as the tools do") {
     const Dynamics dyn = row({2, 10, 0.5, 0.5, 1.0});
     OrbitOptions o;

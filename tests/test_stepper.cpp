@@ -134,6 +134,30 @@ TEST_CASE("exact agrees with rk8pd at tolerance 1e-10 to better than 1e-8 in F_m
     }
 }
 
+TEST_CASE("critical damping (eps = 1): exact agrees with rk8pd, as just off it") {
+    // A contact-free mode of eps = 1 has one repeated eigenvalue and one eigenvector: the
+    // eigendecomposition gave F_m 0.393103 against rk8pd's 0.391612 here, and final states 9e-3
+    // apart; at eps = 1 + 1e-9 the two agreed to 3e-13.
+    for (const double eps : {1.0, 1.0 + 1e-9}) {
+        const ReducedParameters p{2, 100, eps, 0.3, 1.0};
+        const SimulationResult exact = run_with(p, Scheme::exact, 1e-10, 100);
+        const SimulationResult rk8pd = run_with(p, Scheme::rk8pd, 1e-11, 100);
+        CAPTURE(eps);
+        CHECK(std::abs(exact.F_m - rk8pd.F_m) < 1e-8 * rk8pd.F_m);
+        for (std::size_t i = 0; i < exact.final_state.size(); ++i)
+            CHECK(exact.final_state[i] ==
+                  doctest::Approx(rk8pd.final_state[i]).epsilon(1e-6).scale(1));
+    }
+    // Five bodies (Fig 13's row at eps = 1): the orbit is period 2, as just off it.
+    RunOptions o;
+    o.scheme = Scheme::exact;
+    const SimulationResult at = simulate(Dynamics::paper_row({5, 60, 1.0, 0.06, 3.0}), o);
+    const SimulationResult off = simulate(Dynamics::paper_row({5, 60, 0.9999, 0.06, 3.0}), o);
+    REQUIRE(at.steady_state_period.has_value());
+    CHECK(*at.steady_state_period == *off.steady_state_period);
+    CHECK(at.F_m == doctest::Approx(off.F_m).epsilon(1e-3));
+}
+
 TEST_CASE("extreme cases: finite, and two schemes agree to the requested tolerance") {
     struct Case {
         const char* name;

@@ -655,8 +655,12 @@ ReducedParameters checked_start(const ReducedParameters& base, const Continuatio
     const ReducedParameters end = model_with(base, options, options.to, "to");
     // Both ends: the exact scheme's limit on the contacts' speed rises with fc, and a line
     // that crossed it was refused only where it got there, its output lost.
-    require_orbit_size(Dynamics::paper_row(start), options.orbit.scheme);
-    require_orbit_size(Dynamics::paper_row(end), options.orbit.scheme);
+    OrbitOptions shooting = options.orbit;
+    shooting.period = options.period;
+    for (const ReducedParameters& row : {start, end}) {
+        require_orbit_size(Dynamics::paper_row(row), shooting.scheme);
+        require_shooting_affordable(Dynamics::paper_row(row), shooting);
+    }
     return start;
 }
 

@@ -53,6 +53,21 @@ void require_orbit_size(const Dynamics& dyn, Scheme scheme) {
                                     std::to_string(dyn.bodies()));
 }
 
+void require_shooting_affordable(const Dynamics& dyn, const OrbitOptions& options) {
+    const StepPlan plan = plan_step(dyn, options.scheme, options.integration_tolerance);
+    // A run's own check sees the row only; each of the 2 Nm tangent columns carried along costs
+    // about a row's step (measured: Nm = 200 on rk4, one period at the default 1e-12, 11.8 s
+    // where this count, 5.6e8 body-steps, gives 56 s at 1e7 per second; Nm = 4096 would have
+    // taken over an hour per shooting, after its transient run, with no estimate).
+    const double work = static_cast<double>(dyn.bodies()) * plan.steps_per_period *
+                        static_cast<double>(options.period) * (1.0 + dyn.dimension());
+    detail::require_work(work, options.max_work, "one shooting takes about",
+                         "the row and its " + std::to_string(dyn.dimension()) +
+                             " tangent vectors over " + std::to_string(options.period) +
+                             " period(s)",
+                         "fewer bodies (model.Nm), a shorter period or a larger run.max_work");
+}
+
 namespace {
 
 /// The states at the period ends and the largest gap of every contact at step ends.
@@ -142,6 +157,7 @@ ShootingResult shoot(const Dynamics& dyn, const OrbitOptions& options, const std
     run.estimate_error = false;
     run.max_work = options.max_work;
     PlannedRun planned(dyn, run, x);
+    require_shooting_affordable(dyn, options);
     TangentFlow flow(dyn, dyn.dimension());
     MaxForceTracker forces(dyn);
     PeriodEnds ends(dyn);
@@ -205,6 +221,7 @@ PeriodicOrbit find_periodic_orbit(const Dynamics& dyn, const OrbitOptions& optio
     const auto clock = std::chrono::steady_clock::now();
     validate(options);
     require_orbit_size(dyn, options.scheme);
+    require_shooting_affordable(dyn, options);
     detail::require_length("start state", start.size(), static_cast<std::size_t>(dyn.dimension()));
     PeriodicOrbit orbit;
     orbit.period = options.period;
@@ -273,6 +290,7 @@ PeriodicOrbit find_periodic_orbit_after(const Dynamics& dyn, const OrbitOptions&
     const auto clock = std::chrono::steady_clock::now();
     validate(options);
     require_orbit_size(dyn, options.scheme);
+    require_shooting_affordable(dyn, options);
     detail::require_range("transient_periods", static_cast<double>(transient_periods), 0.0, 1e7);
     std::vector<double> start =
         initial.empty() ? std::vector<double>(dyn.dimension(), 0.0) : initial;

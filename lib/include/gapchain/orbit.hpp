@@ -79,6 +79,11 @@ inline constexpr int max_orbit_bodies = 4096;
 /// naming scheme when it is exact and dyn longer than max_exact_bodies.
 void require_orbit_size(const Dynamics& dyn, Scheme scheme);
 
+/// Throws std::invalid_argument naming run.max_work when one shooting of options on dyn (the
+/// row and its 2 Nm tangent vectors over options.period periods, in body-steps: Nm x steps per
+/// period x period x (1 + 2 Nm)) exceeds options.max_work. Called before any run.
+void require_shooting_affordable(const Dynamics& dyn, const OrbitOptions& options);
+
 /// One shooting evaluation: P^k(x), the monodromy dP^k/dx (2 Nm x 2 Nm, column-major) and the
 /// contact maxima over the k periods. A harmonic, linear-law row only.
 struct ShootingResult {

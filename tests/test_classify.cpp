@@ -1,6 +1,7 @@
 #include "gapchain/classify.hpp"
 
 #include "gapchain/lyapunov.hpp"
+#include "gapchain/orbit.hpp"
 #include "gapchain/report.hpp"
 
 #include <doctest/doctest.h>
@@ -110,6 +111,27 @@ TEST_CASE("a confirmed orbit's lambda_max is its Floquet exponent, as an indepen
                         << tangent.errors[0]);
     CHECK(c.lambda_max < 0.0);
     CHECK(std::abs(c.lambda_max - tangent.exponents[0]) <= std::max(0.02, 3 * tangent.errors[0]));
+}
+
+TEST_CASE("a confirmed orbit's F_m is the orbit's, its error bar covering the record's maximum") {
+    // No settling phase: the record starts at rest and takes the start-up's impacts.
+    const ReducedParameters p{5, 60, 0.5, 0.06, 2.9};
+    ClassifyOptions o;
+    o.transient_periods = 0;
+    o.record_periods = 40;
+    const Classification confirmed = classify(p, o);
+    o.confirm_by_newton = false;
+    const Classification recorded = classify(p, o);
+    OrbitOptions orbit_options;
+    const PeriodicOrbit orbit =
+        find_periodic_orbit_after(Dynamics::paper_row(p), orbit_options, {}, 200);
+    REQUIRE(orbit.status == OrbitStatus::converged);
+    REQUIRE(confirmed.newton_confirmed);
+    MESSAGE("record " << recorded.F_m << ", orbit " << orbit.F_m << ", reported " << confirmed.F_m
+                      << " +- " << confirmed.F_m_error);
+    CHECK(std::abs(recorded.F_m - orbit.F_m) > 1e-3 * orbit.F_m); // the start-up's maximum
+    CHECK(confirmed.F_m == doctest::Approx(orbit.F_m).epsilon(1e-9));
+    CHECK(confirmed.F_m_error >= (1 - 1e-9) * std::abs(recorded.F_m - orbit.F_m));
 }
 
 TEST_CASE("a run that does not settle takes lambda_max from the tangent flow on the exact "

@@ -29,8 +29,9 @@ scene, **keys  the row (Nm, fc, eps, e_r, f_r; of the run section scheme, tolera
 Returns a dict: regime, period (forcing periods; 0 if not periodic or longer than 16),
 lambda_max (largest Lyapunov exponent per unit reduced time; a Newton-confirmed orbit's
 from its largest multiplier, error 0) and lambda_max_error,
-distinct_points, section_points, broadband_share ([0, 1]), F_m, F_m_error (tolerance * F_m on
-a periodic state, else the recorded halves' spread, at least that), stopped_at_steady_state,
+distinct_points, section_points, broadband_share ([0, 1]), F_m (a Newton-confirmed orbit's,
+else the record's maximum), F_m_error (tolerance * F_m on a periodic state, else the recorded
+halves' spread, at least that; covering the record's maximum too), stopped_at_steady_state,
 newton_confirmed, max_multiplier (0 unless confirmed), periods_run, scheme (the one the run
 took: "exact" where the Lyapunov spectrum takes it), status, wall_time_s, parameters.)";
 

@@ -63,10 +63,13 @@ struct Classification {
     int distinct_points = 0;       ///< distinct stroboscopic points among those recorded
     int section_points = 0;        ///< stroboscopic points recorded
     double broadband_share = 0.0;  ///< spectral power of u_1 away from m/n f_r (n <= 4)
-    double F_m = 0.0;              ///< max reduced force over the recorded periods
+    /// Max reduced force: over the orbit Newton confirmed (newton_confirmed), else over the
+    /// recorded periods.
+    double F_m = 0.0;
     /// Error estimate of F_m, >= 0: on a periodic state (recorded over one orbit cycle) the
     /// accuracy the run is held to, tolerance * F_m; otherwise the sampling spread |max over the
-    /// first half - max over the second half of the recorded periods|, at least that.
+    /// first half - max over the second half of the recorded periods|, at least that; for a
+    /// confirmed orbit also at least its difference from the recorded maximum.
     double F_m_error = 0.0;
     bool stopped_at_steady_state = false; ///< the run ended early on a periodic steady state
     bool newton_confirmed = false; ///< Newton converged on the periodic orbit (period is then its

@@ -317,6 +317,20 @@ TEST_CASE("bad options are refused naming the option") {
                          doctest::Contains("run.scheme: exact takes contacts"),
                          std::invalid_argument);
     CHECK_FALSE(asked);
+    // A line whose values are each within run.max_work but not together (10,000 values were
+    // accepted with an estimate of 17 hours).
+    o = AttractorOptions{};
+    o.run.max_work = 1e9;
+    const ReducedParameters fig13{5, 60, 0.5, 0.06, 3.0};
+    CHECK_NOTHROW(validate(fig13, o));
+    CHECK_THROWS_WITH_AS(
+        continue_basin_fractions(fig13, SweptParameter::f_r, std::vector<double>(100, 3.0), o,
+                                 [&](double) {
+                                     asked = true;
+                                     return true;
+                                 }),
+        doctest::Contains("run.max_work: this line runs up to"), std::invalid_argument);
+    CHECK_FALSE(asked);
     o = AttractorOptions{};
     o.samples = 0;
     CHECK_THROWS_WITH_AS(find_attractors(mirror_pair, o), doctest::Contains("samples"),

@@ -172,6 +172,30 @@ TEST_CASE("a chaotic point's lambda_max through stiff contacts agrees with a tan
           3 * std::hypot(c.lambda_max_error, reference.errors[0]));
 }
 
+TEST_CASE("a map of more than 1e6 cells, or beyond run.max_work at full length, is refused "
+          "before any cell runs") {
+    const ReducedParameters base{5, 60, 0.5, 0.06, 3.0};
+    ClassifyOptions o;
+    bool asked = false;
+    const ProgressCallback progress = [&](double) {
+        asked = true;
+        return true;
+    };
+    CHECK_THROWS_WITH_AS(regime_map(base, std::vector<double>(1001, 0.1),
+                                    std::vector<double>(1000, 3.0), o, 1, progress),
+                         doctest::Contains("e_r, f_r: 1001000 map cells; at most 1e6"),
+                         std::invalid_argument);
+    o.record_periods = 100'000;
+    CHECK_THROWS_WITH_AS(regime_map(base, std::vector<double>(100, 0.1),
+                                    std::vector<double>(100, 3.0), o, 1, progress),
+                         doctest::Contains("run.max_work: this map runs up to"),
+                         std::invalid_argument);
+    CHECK_FALSE(asked);
+    o.max_work = 1e15; // the same map, allowed: refused no more (one cell run to show it)
+    o.record_periods = 10;
+    CHECK(regime_map(base, {0.1}, {3.0}, o, 1).cells.size() == 1);
+}
+
 TEST_CASE("a record whose samples the machine cannot hold is refused before the run") {
     ClassifyOptions o;
     o.record_periods = 500'000'000; // 16 samples of u_1 and a section point each: ~96 GB

@@ -29,18 +29,12 @@ std::vector<double> parse_range(const std::string& text, const std::string& flag
     for (double end : {from, to})
         if (const auto error = swept_value_error(base, parameter, end))
             throw std::invalid_argument(flag + ": " + *error);
+    // A map axis of several equal values had gnuplot fail after the whole map had run.
+    if ((count > 1) == (from == to))
+        throw std::invalid_argument(flag +
+                                    ": count 1 goes with from = to and count > 1 with from " +
+                                    "!= to, got \"" + text + "\"");
     return linspace(from, to, count);
-}
-
-// Each cell is a classification run (0.01-1 s): a million is days of work already, and more
-// would not fit in memory; larger studies are sweeps (resumable, sharded).
-void require_map_size(std::size_t e_r_values, std::size_t f_r_values) {
-    const double cells = static_cast<double>(e_r_values) * static_cast<double>(f_r_values);
-    if (cells > 1e6)
-        throw std::invalid_argument(
-            "--f_r: --e_r values x --f_r values = " + std::to_string(static_cast<long>(cells)) +
-            " map cells; at most 1e6 (gapchain-sweep with \"keep\": [\"regime\"] runs larger "
-            "studies)");
 }
 
 void classify_point(const ReducedParameters& p, const ClassifyOptions& o, const std::string& out,
@@ -146,6 +140,9 @@ int main(int argc, char** argv) {
         take_run_settings(scene, o);
         validate(o);
         cli::Outputs outputs({scene_args.path});
+        if (out.empty() && app.get_option("--out")->count() > 0)
+            throw std::invalid_argument("--out: must name a file (or, with --map, a folder); "
+                                        "leave it out to print the summary only");
         if (!map_flag) {
             outputs.file(out, "--out");
             return classify_point(scene.reduced, o, out, outputs);
@@ -156,7 +153,6 @@ int main(int argc, char** argv) {
             parse_range(e_r_range, "--e_r", scene.reduced, SweptParameter::e_r);
         const std::vector<double> f_r =
             parse_range(f_r_range, "--f_r", scene.reduced, SweptParameter::f_r);
-        require_map_size(e_r.size(), f_r.size());
         classify_map(scene.reduced, o, out, e_r, f_r, threads, !no_plot, outputs);
     });
 }

@@ -196,6 +196,33 @@ void label_regime(const ClassifyOptions& o, const RecordedEvidence& evidence, do
     c.regime = (c.F_m > 0.0 || evidence.impacts > 0) ? Regime::periodic : Regime::no_contact;
 }
 
+/// Refuses a map of more than 1e6 cells (days of work, and more than fits in memory: larger
+/// studies are sweeps, resumable and sharded), or whose cells, each run to its full length
+/// (a periodic one stops sooner), exceed run.max_work together: a 3000 x 3000 map from Python
+/// and a 1000 x 1000 one of 100,000 recorded periods from the tool were accepted with
+/// estimates of days.
+void require_map_work(const ReducedParameters& base, std::size_t rows,
+                      const std::vector<double>& f_r, const ClassifyOptions& o) {
+    const double cells = static_cast<double>(rows) * static_cast<double>(f_r.size());
+    if (cells > 1e6)
+        throw std::invalid_argument("e_r, f_r: " + detail::format_number(cells) +
+                                    " map cells; at most 1e6 (a sweep with \"keep\": "
+                                    "[\"regime\"] runs larger studies)");
+    const double periods = static_cast<double>(o.transient_periods + o.record_periods);
+    double body_steps = 0.0;
+    for (double f : f_r) {
+        const Dynamics dyn = Dynamics::paper_row({base.Nm, base.fc, base.eps, base.e_r, f});
+        body_steps +=
+            static_cast<double>(rows) * dyn.bodies() *
+            static_cast<double>(plan_run(dyn, classify_run_options(dyn, o)).steps_per_period) *
+            periods;
+    }
+    detail::require_work(body_steps, o.max_work, "this map runs up to",
+                         detail::format_number(cells) + " cells of " +
+                             detail::format_number(periods) + " periods at full length",
+                         "fewer cells, a shorter record or settling, or raise run.max_work");
+}
+
 } // namespace
 
 Classification classify(const ReducedParameters& p, const ClassifyOptions& o,
@@ -268,6 +295,7 @@ RegimeMap regime_map(const ReducedParameters& base, const std::vector<double>& e
         validate(ReducedParameters{base.Nm, base.fc, base.eps, e, base.f_r});
     for (double f : f_r)
         validate(ReducedParameters{base.Nm, base.fc, base.eps, base.e_r, f});
+    require_map_work(base, e_r.size(), f_r, o);
     // A bad start is refused here, once, rather than by every cell's run.
     (void)initial_state(Dynamics::paper_row({base.Nm, base.fc, base.eps, e_r[0], f_r[0]}),
                         o.initial);

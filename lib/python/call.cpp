@@ -2,6 +2,7 @@
 
 #include <pybind11/stl.h>
 
+#include <algorithm>
 #include <cstring>
 #include <map>
 #include <stdexcept>
@@ -77,16 +78,19 @@ Scene to_swept_scene(const py::object& scene, const std::string& param, const py
     return to_scene(scene, keys);
 }
 
-void refuse_run_keys(const py::kwargs& keys, const std::string& function) {
+void refuse_run_keys(const py::kwargs& keys, const std::string& function,
+                     const std::vector<std::string>& read, const std::string& instead) {
+    std::string listed;
+    for (const auto& key : read)
+        listed += (listed.empty() ? "" : ", ") + key;
     for (const auto& [key, value] : keys) {
         const std::string name = key.cast<std::string>();
         const std::string dotted = scene_key(name);
-        if (dotted.rfind("run.", 0) == 0 && dotted != "run.max_work")
+        if (dotted.rfind("run.", 0) == 0 &&
+            std::find(read.begin(), read.end(), dotted) == read.end())
             throw std::invalid_argument(name + ": " + function +
-                                        "() does not read the scene's run section (its "
-                                        "shootings integrate with scheme to 1e-12) but for "
-                                        "run.max_work; drop the " +
-                                        name + " keyword");
+                                        "() does not read the scene's run section (" + instead +
+                                        ") but for " + listed + "; drop the " + name + " keyword");
     }
 }
 

@@ -31,9 +31,12 @@ Scene to_scene(const py::object& scene, const py::kwargs& keys);
 Scene to_swept_scene(const py::object& scene, const std::string& param, const py::kwargs& keys,
                      const std::string& function);
 
-// Functions that integrate with their own scheme (orbit, continuation) refuse a run.* keyword
-// but run.max_work, which they would silently ignore: std::invalid_argument naming it.
-void refuse_run_keys(const py::kwargs& keys, const std::string& function);
+// Functions that run the row their own way (orbit and continuation shoot with their scheme,
+// classify and bifurcation run transient + record periods) refuse a run.* keyword they would
+// silently ignore, every one but those in `read`: std::invalid_argument naming it, with
+// `instead` saying how the function runs.
+void refuse_run_keys(const py::kwargs& keys, const std::string& function,
+                     const std::vector<std::string>& read, const std::string& instead);
 
 // The paper's row at one point, as the analyses of the five reduced numbers need it
 // (require_paper_row(), naming function()); SceneError otherwise.

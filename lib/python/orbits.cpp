@@ -56,7 +56,8 @@ branch_end (why each branch ended), shootings, cancelled, wall_time_s.)";
 
 py::dict orbit_py(const py::object& scene_arg, int period, long transient, double tolerance,
                   int max_iterations, const std::string& scheme, const py::kwargs& keys) {
-    refuse_run_keys(keys, "orbit");
+    refuse_run_keys(keys, "orbit", {"run.max_work"},
+                    "its shootings integrate with scheme to 1e-12");
     const Scene scene = to_scene(scene_arg, keys);
     require_linear_harmonic(scene, "orbit()",
                             "the tangent flow assumes a constant Jacobian between switches");
@@ -137,7 +138,8 @@ py::dict continuation_py(const py::object& scene_arg, const std::string& param, 
                          bool follow_doublings, int max_branches, long transient,
                          const std::string& scheme, const py::object& progress,
                          const py::kwargs& keys) {
-    refuse_run_keys(keys, "continuation");
+    refuse_run_keys(keys, "continuation", {"run.max_work"},
+                    "its shootings integrate with scheme to 1e-12");
     const Scene scene = to_swept_scene(scene_arg, param, keys, "continuation");
     require_paper_row(scene, "continuation()");
     ContinuationOptions o;

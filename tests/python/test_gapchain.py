@@ -325,6 +325,7 @@ def test_an_argument_of_the_wrong_type_is_named_in_one_line():
     cases = [(gapchain.attractors, {"samples": 1.5}, "samples: must be an integer, got 1.5"),
              (gapchain.orbit, {"period": 3.0}, "period: must be an integer, got 3.0"),
              (gapchain.classify, {"transient": None}, "transient: must be an integer, got None"),
+             (gapchain.classify, {"confirm": None}, "confirm: must be True or False, got None"),
              (gapchain.simulate, {"trajectory": "yes"}, "trajectory: must be True or False"),
              (gapchain.regime_map, {"e_r": [0.1, "x"], "f_r": [1.0]},
               "e_r: must be a list of numbers"),
@@ -364,10 +365,13 @@ def test_an_argument_of_the_wrong_type_is_named_in_one_line():
     # A scene keyword of a kind JSON cannot hold names its key.
     with pytest.raises(ValueError, match="model.fc: must be a number, string, list or object"):
         gapchain.simulate(fc=decimal.Decimal("3"))
-    # What pybind11 took before and users pass: flags as 0, 1 or None, any sequence, 0-d
-    # arrays, Decimal for a number; a string keyword reaches the scene parser unchanged.
+    # What pybind11 took before and users pass: flags as 0 or 1, any sequence, 0-d arrays,
+    # Decimal for a number; a string keyword reaches the scene parser unchanged. None is no
+    # flag: classify(confirm=None) skipped the Newton confirmation it defaults to.
     assert "trajectory" in gapchain.simulate(MIRROR_PAIR, trajectory=1, **SHORT)
-    assert "trajectory" not in gapchain.simulate(MIRROR_PAIR, trajectory=None, **SHORT)
+    assert "trajectory" not in gapchain.simulate(MIRROR_PAIR, trajectory=0, **SHORT)
+    with pytest.raises(TypeError, match="^trajectory: must be True or False, got None"):
+        gapchain.simulate(MIRROR_PAIR, trajectory=None, **SHORT)
     assert gapchain.orbit(MIRROR_PAIR, period=np.array(1),
                           tolerance=decimal.Decimal("1e-10"))["status"] == "converged"
     assert gapchain.regime_map(MIRROR_PAIR, e_r=range(1, 2), f_r=(1.2,), transient=10,
@@ -447,6 +451,14 @@ def test_orbit_and_continuation_refuse_run_keywords_they_would_ignore():
         gapchain.continuation(MIRROR_PAIR, from_=1.2, to=1.21, tolerance=0.1)
     with pytest.raises(ValueError, match="^run.periods: orbit\\(\\) does not read"):
         gapchain.orbit(MIRROR_PAIR, **{"run.periods": 100})
+    # classify(periods=10) and bifurcation(transient_periods=5) ran, the keywords unread.
+    with pytest.raises(ValueError, match="^periods: classify\\(\\) does not read"):
+        gapchain.classify(MIRROR_PAIR, periods=10)
+    with pytest.raises(ValueError, match="^step: regime_map\\(\\) does not read"):
+        gapchain.regime_map(MIRROR_PAIR, e_r=[0.5], f_r=[1.2], step=0.001)
+    with pytest.raises(ValueError, match="^transient_periods: bifurcation\\(\\) does not read"):
+        gapchain.bifurcation(MIRROR_PAIR, from_=1.2, to=1.3, steps=2, transient_periods=5)
+    assert gapchain.classify(MIRROR_PAIR, scheme="rk4", transient=10, record=20)["scheme"] == "rk4"
     # run.max_work is read: the refusal names it and the value given.
     with pytest.raises(ValueError, match="^run.max_work: .* above run.max_work = 10:"):
         gapchain.orbit(MIRROR_PAIR, max_work=10)

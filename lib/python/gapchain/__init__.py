@@ -87,8 +87,8 @@ def _is_bool(value):
 def _fits(kind, value):
     """Whether value is of the parameter kind: no bool for a number, no fraction for an integer
     (pybind11 would take True as 1 and truncate 3.7 to 3), no 0.5 for a flag; NumPy scalars and
-    0-d arrays, Decimal for a number, and 0, 1 or None for a flag (as pybind11 takes them) are
-    accepted."""
+    0-d arrays, Decimal for a number, and 0 or 1 for a flag are accepted. None is not a flag:
+    pybind11 took it as False, so classify(confirm=None) skipped the Newton confirmation."""
     if getattr(value, "ndim", None) == 0 and hasattr(value, "item"):
         value = value.item()
     if kind.startswith("Optional[") and kind.endswith("]"):
@@ -100,7 +100,7 @@ def _fits(kind, value):
                 (hasattr(value, "__float__") and not isinstance(value, (str, bytes)))) \
             and not _is_bool(value)
     if kind == "bool":
-        return _is_bool(value) or value is None or (
+        return _is_bool(value) or (
             isinstance(value, _numbers.Integral) and value in (0, 1))
     if kind == "str":
         return isinstance(value, str)
@@ -219,7 +219,8 @@ def _typed(function):
             raise kind(message) from None
         except ValueError as error:
             for field, argument in renamed:
-                if str(error).startswith(field):
+                # A keyword of that very name (a scene key, transient_periods=...) keeps it.
+                if str(error).startswith(field) and field[:-1] not in kwargs:
                     raise ValueError(argument + str(error)[len(field):]) from None
             raise
     return call

@@ -24,4 +24,6 @@ set cbrange [*:*]
 set cbtics auto
 set rmargin -1
 set cblabel 'F_m'
+# The no-contact corner is black here: a white key on it shows the white boundary's sample.
+set key noopaque textcolor rgb 'white'
 plot 'map.csv' every ::1 using 2:1:6 @STYLE@ notitle, no_impact(x) with lines lw 2 lc rgb 'white' title 'eq (20): no impact above'

@@ -36,17 +36,21 @@ TEST_CASE("along the Fig 13 line: periodic in 2.7 < f_r < 3.1, chaotic inside 3.
 
 TEST_CASE("F_m_error: the tolerance on a periodic state (covering a 1e-8 run), the halves' "
           "spread on a chaotic record (equal to the two halves classified on their own)") {
+    // On rk4 and without Newton (whose orbit F_m does not depend on the tolerance): the run's
+    // own window, whose error the tolerance bounds.
     ClassifyOptions o;
+    o.scheme = Scheme::rk4;
+    o.confirm_by_newton = false;
     const Classification periodic = classify({5, 60, 0.5, 0.06, 2.9}, o);
     REQUIRE(periodic.stopped_at_steady_state);
     CHECK(periodic.F_m_error == doctest::Approx(o.tolerance * periodic.F_m));
     ClassifyOptions tight = o;
     tight.tolerance = 1e-8;
     const double reference = classify({5, 60, 0.5, 0.06, 2.9}, tight).F_m;
+    CHECK(reference != periodic.F_m); // the tolerance changed the run
     CHECK(std::abs(periodic.F_m - reference) <= periodic.F_m_error);
 
     // On rk4, where this record's maximum falls in its second half.
-    o.scheme = Scheme::rk4;
     const Classification chaotic = classify({5, 60, 0.5, 0.06, 3.3}, o);
     REQUIRE_FALSE(chaotic.stopped_at_steady_state);
     // The first half of the record, classified on its own, is the same trajectory (a chaotic
@@ -139,7 +143,9 @@ TEST_CASE("a run that does not settle takes lambda_max from the tangent flow on 
     // The same stable orbit, but no settling phase and no Newton: the label rests on the tangent
     // average along the run, which rk4's trajectory through these contacts biased (+0.47).
     const ReducedParameters p{5, 3e6, 0.5, 0.06, 3.0};
-    const double floquet = classify(p, ClassifyOptions{}).lambda_max; // Newton's, error 0
+    const Classification confirmed = classify(p, ClassifyOptions{});
+    REQUIRE(confirmed.newton_confirmed);
+    const double floquet = confirmed.lambda_max; // Newton's, error 0
     ClassifyOptions o;
     o.transient_periods = 0;
     o.confirm_by_newton = false;
@@ -191,8 +197,7 @@ TEST_CASE("a map of more than 1e6 cells, or beyond run.max_work at full length, 
                          doctest::Contains("run.max_work: this map runs up to"),
                          std::invalid_argument);
     CHECK_FALSE(asked);
-    o.max_work = 1e15; // the same map, allowed: refused no more (one cell run to show it)
-    o.record_periods = 10;
+    // The limit is run.max_work: one cell of the long record is within it.
     CHECK(regime_map(base, {0.1}, {3.0}, o, 1).cells.size() == 1);
 }
 

@@ -19,6 +19,7 @@
 #include <iterator>
 #include <limits>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 
 namespace gapchain {
@@ -84,10 +85,6 @@ std::optional<std::string> search_row_error(const ReducedParameters& p) {
                detail::format_number(p.eps);
     return std::nullopt;
 }
-
-} // namespace
-
-namespace {
 
 /// The body-steps of a search with every start run to its full length (settled starts stop
 /// sooner), and what they are made of.
@@ -233,12 +230,13 @@ StartOutcome run_start(const Dynamics& dyn, const AttractorOptions& o,
     if (r.F_m_orbit) s.F_m = *r.F_m_orbit;
     // Newton shoots on the exact scheme; a row it refuses (fc above ~1.27e8, Nm > 64) keeps
     // the run's orbit unconfirmed rather than failing the whole search after its runs.
-    if (!exact_refusal(dyn)) {
-        OrbitOptions orbit_options;
-        orbit_options.period = s.period;
-        orbit_options.tolerance = 1e-9;
-        orbit_options.max_iterations = 12;
-        orbit_options.max_work = o.run.max_work;
+    // So does one whose shooting exceeds run.max_work.
+    OrbitOptions orbit_options;
+    orbit_options.period = s.period;
+    orbit_options.tolerance = 1e-9;
+    orbit_options.max_iterations = 12;
+    orbit_options.max_work = o.run.max_work;
+    if (!exact_refusal(dyn) && shooting_work(dyn, orbit_options) <= o.run.max_work) {
         const PeriodicOrbit orbit = find_minimal_periodic_orbit(dyn, orbit_options, r.final_state);
         if (orbit.status == OrbitStatus::converged) {
             s.newton = true;
@@ -458,13 +456,15 @@ bool confirm_non_periodic(const Dynamics& dyn, const StateScale& scale, const At
 }
 
 /// The error of a confirmed orbit's F_m (exact propagator): its difference from the same
-/// orbit's F_m on rk8pd at 1e-10, an independent scheme; never below 1e-12 F_m.
-double orbit_force_error(const Dynamics& dyn, const Attractor& a, double max_work) {
+/// orbit's F_m on rk8pd at 1e-10, an independent scheme; never below 1e-12 F_m. Nothing where
+/// that shooting exceeds max_work.
+std::optional<double> orbit_force_error(const Dynamics& dyn, const Attractor& a, double max_work) {
     OrbitOptions check;
     check.max_work = max_work;
     check.period = a.period;
     check.scheme = Scheme::rk8pd;
     check.integration_tolerance = 1e-10;
+    if (shooting_work(dyn, check) > max_work) return std::nullopt;
     const ShootingResult s = shoot(dyn, check, a.state);
     double F_m = 0.0;
     for (const auto& c : s.per_contact)
@@ -482,7 +482,8 @@ void characterise(const Dynamics& dyn, const ReducedParameters& p, const Attract
             Attractor& a = attractors[static_cast<std::size_t>(k)];
             if (a.period != 0 && a.newton_confirmed) {
                 a.lambda_max = std::log(a.max_multiplier) * p.f_r / a.period;
-                a.F_m_error = orbit_force_error(dyn, a, o.run.max_work);
+                if (const auto error = orbit_force_error(dyn, a, o.run.max_work))
+                    a.F_m_error = *error;
                 a.regime = a.F_m > 0.0 ? Regime::periodic : Regime::no_contact;
                 return;
             }

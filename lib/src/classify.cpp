@@ -156,6 +156,8 @@ void confirm_periodic(const Dynamics& dyn, const std::vector<double>& state, dou
     orbit_options.tolerance = 1e-9;
     orbit_options.max_iterations = 12;
     orbit_options.max_work = max_work;
+    // A shooting beyond the limit the run kept to leaves the label unconfirmed, as a refused row.
+    if (shooting_work(dyn, orbit_options) > max_work) return;
     const PeriodicOrbit orbit = find_minimal_periodic_orbit(dyn, orbit_options, state);
     if (orbit.status != OrbitStatus::converged) return;
     c.newton_confirmed = true;
@@ -172,6 +174,8 @@ void confirm_periodic(const Dynamics& dyn, const std::vector<double>& state, dou
     // The regime's F_m is the orbit's, and its error bar covers the record's.
     c.F_m_error = std::max(c.F_m_error, std::abs(c.F_m - orbit.F_m));
     c.F_m = orbit.F_m;
+    // Impacts in the record that the orbit does not have were the start-up's.
+    if (orbit.F_m == 0.0) c.regime = Regime::no_contact;
 }
 
 /// F_m, its error (the halves' spread, at least the tolerance) and the impacts, into c and
@@ -214,7 +218,8 @@ void require_map_work(const ReducedParameters& base, std::size_t rows,
         const Dynamics dyn = Dynamics::paper_row({base.Nm, base.fc, base.eps, base.e_r, f});
         body_steps +=
             static_cast<double>(rows) * dyn.bodies() *
-            static_cast<double>(plan_run(dyn, classify_run_options(dyn, o)).steps_per_period) *
+            static_cast<double>(plan_run(dyn, classify_run_options(dyn, o), o.samples_per_period)
+                                    .steps_per_period) *
             periods;
     }
     detail::require_work(body_steps, o.max_work, "this map runs up to",

@@ -567,6 +567,8 @@ std::optional<std::vector<double>> doubled_orbit(const ReducedParameters& base,
         if (swept_value_error(base, o.parameter, p)) continue;
         const ReducedParameters q = with_value(base, o.parameter, p);
         const Dynamics dyn = Dynamics::paper_row(q);
+        // A 2k-shooting beyond run.max_work leaves the doubling unfollowed, not the line lost.
+        if (shooting_work(dyn, orbit) > orbit.max_work) continue;
         for (double a : {0.02, -0.02, 0.1, -0.1}) {
             std::vector<double> x(static_cast<std::size_t>(n));
             for (Eigen::Index i = 0; i < n; ++i)

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <complex>
+#include <limits>
 #include <numbers>
 #include <string>
 #include <unordered_map>
@@ -37,10 +38,14 @@ public:
         m_last = &c;
         m_r0 = y0 - particular(c, t);
         if (!c.defective) m_w0 = c.v_inverse * m_r0.cast<Complex>();
-        if (c.defective && c.step_tau != h) {
+        // Step lengths from the period grid differ in their last bits from step to step (an
+        // exact comparison missed half the time): a length within 8 ulps reuses the flow, whose
+        // error is then |A| 8 ulps h, round-off.
+        if (c.defective && !(std::abs(h - c.step_tau) <= 8 * kUlp * h)) {
             c.step_flow = (c.a * h).exp();
             c.step_tau = h;
         }
+        m_step_tau = c.defective ? c.step_tau : -1.0;
         state_at(t + h, y.data());
         ++m_evaluations;
     }
@@ -84,14 +89,36 @@ private:
         }
     }
 
+    // At critical damping (eps = 1 in a contact-free mode: lambda = -2 pi twice) A is
+    // defective and the computed eigenvectors nearly parallel: V Lambda V^-1 missed A by
+    // 6e-3 relative and the states by 9e-3 (Nm = 2, fc = 100, e_r = 0.3, f_r = 1, against
+    // rk8pd at 1e-11). Where the decomposition misses A by more than 1e-10 relative, this
+    // configuration is propagated by exp(A t) (scaling and squaring, O(Nm^3) per state).
+    // With 1e-6, configurations near critical still left errors of 5e-8 that varied from
+    // cycle to cycle, so that Fig 13's row at eps = 1 never repeated to the steady state's
+    // 1e-9. Healthy configurations miss by 1e-15 to 1e-13 on rows of up to 10 bodies (fc up
+    // to 1e7). The price: Fig 13's row at eps = 1 runs 8 times slower than at 0.9999 (steps
+    // split at switches and dense states each take an exponential); a 60-body row, whose
+    // contact-free modes share one frequency, misses by up to 2e-8 and takes this path,
+    // 8 times slower and 20 times closer to rk8pd (6e-8 -> 3e-9).
+    static void mark_if_defective(Configuration& conf, const Eigen::MatrixXd& a) {
+        const double mismatch =
+            (conf.v * conf.lambda.asDiagonal() * conf.v_inverse - a.cast<Complex>()).norm();
+        if (!(mismatch <= 1e-10 * a.norm())) {
+            conf.defective = true;
+            conf.a = a;
+        }
+    }
+
     Configuration& configuration() {
         const std::string key(m_closed.begin(), m_closed.end());
         auto it = m_cache.find(key);
         if (it != m_cache.end()) return it->second;
         // A chaotic long row can visit a great many configurations: bound the memory (each
-        // entry holds two complex (2 Nm)^2 matrices) to about 1 GB by starting the cache
-        // afresh when it is full (4096 entries of Nm = 150 took 4.5 GB and more).
-        const double entry_bytes = 2.0 * 16.0 * static_cast<double>(m_dim) * m_dim;
+        // entry holds two complex (2 Nm)^2 matrices, a defective one two real ones more: 1.5
+        // times, counted) to about 1 GB by starting the cache afresh when it is full (4096
+        // entries of Nm = 150 took 4.5 GB and more).
+        const double entry_bytes = 3.0 * 16.0 * static_cast<double>(m_dim) * m_dim;
         const auto capacity = static_cast<std::size_t>(std::clamp(1e9 / entry_bytes, 16.0, 4096.0));
         if (m_cache.size() >= capacity) {
             m_cache.clear();
@@ -118,23 +145,7 @@ private:
         conf.v = eigen.eigenvectors();
         conf.lambda = eigen.eigenvalues();
         conf.v_inverse = conf.v.inverse();
-        // At critical damping (eps = 1 in a contact-free mode: lambda = -2 pi twice) A is
-        // defective and the computed eigenvectors nearly parallel: V Lambda V^-1 missed A by
-        // 6e-3 relative and the states by 9e-3 (Nm = 2, fc = 100, e_r = 0.3, f_r = 1, against
-        // rk8pd at 1e-11). Where the decomposition misses A by more than 1e-10 relative, this
-        // configuration is propagated by exp(A t) (scaling and squaring, O(Nm^3) per state; the
-        // step length's is kept). With 1e-6, configurations near critical still left errors of
-        // 5e-8 that varied from cycle to cycle, so that Fig 13's row at eps = 1 never repeated
-        // to the steady state's 1e-9. Healthy configurations miss by 1e-15 to 1e-13 on rows of
-        // up to 10 bodies (fc up to 1e7); a 40- or 60-body row, whose contact-free modes share
-        // one frequency, by up to 2e-8: there this path is 4-10 times slower and two digits
-        // closer to rk8pd (60 bodies: 6e-8 -> 7e-10).
-        const double mismatch =
-            (conf.v * conf.lambda.asDiagonal() * conf.v_inverse - a.cast<Complex>()).norm();
-        if (!(mismatch <= 1e-10 * a.norm())) {
-            conf.defective = true;
-            conf.a = a;
-        }
+        mark_if_defective(conf, a);
         Eigen::VectorXcd b = Eigen::VectorXcd::Zero(m_dim);
         for (int i = 0; i < m_n; ++i)
             b[m_n + i] = -four_pi_squared * m_dyn.ground_motion().amplitude();
@@ -154,7 +165,8 @@ private:
         Eigen::Map<Eigen::VectorXd> state(y, m_dim);
         if (c.defective) {
             const double tau = t - m_t0;
-            state = (tau == c.step_tau ? c.step_flow : Eigen::MatrixXd((c.a * tau).exp())) * m_r0 +
+            const bool step_end = std::abs(tau - m_step_tau) <= 8 * kUlp * m_step_tau;
+            state = (step_end ? c.step_flow : Eigen::MatrixXd((c.a * tau).exp())) * m_r0 +
                     particular(c, t);
             return;
         }
@@ -171,8 +183,10 @@ private:
     std::unordered_map<std::string, Configuration> m_cache;
     const Configuration* m_last = nullptr;
     double m_t0 = 0.0;
-    Eigen::VectorXcd m_w0; // V^-1 (y(t0) - y_p(t0))
-    Eigen::VectorXd m_r0;  // y(t0) - y_p(t0)
+    Eigen::VectorXcd m_w0;    // V^-1 (y(t0) - y_p(t0))
+    Eigen::VectorXd m_r0;     // y(t0) - y_p(t0)
+    double m_step_tau = -1.0; // the cached step length of a defective configuration
+    static constexpr double kUlp = std::numeric_limits<double>::epsilon();
 };
 
 } // namespace

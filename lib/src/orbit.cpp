@@ -53,15 +53,18 @@ void require_orbit_size(const Dynamics& dyn, Scheme scheme) {
                                     std::to_string(dyn.bodies()));
 }
 
-void require_shooting_affordable(const Dynamics& dyn, const OrbitOptions& options) {
+double shooting_work(const Dynamics& dyn, const OrbitOptions& options) {
     const StepPlan plan = plan_step(dyn, options.scheme, options.integration_tolerance);
     // A run's own check sees the row only; each of the 2 Nm tangent columns carried along costs
     // about a row's step (measured: Nm = 200 on rk4, one period at the default 1e-12, 11.8 s
     // where this count, 5.6e8 body-steps, gives 56 s at 1e7 per second; Nm = 4096 would have
     // taken over an hour per shooting, after its transient run, with no estimate).
-    const double work = static_cast<double>(dyn.bodies()) * plan.steps_per_period *
-                        static_cast<double>(options.period) * (1.0 + dyn.dimension());
-    detail::require_work(work, options.max_work, "one shooting takes about",
+    return static_cast<double>(dyn.bodies()) * plan.steps_per_period *
+           static_cast<double>(options.period) * (1.0 + dyn.dimension());
+}
+
+void require_shooting_affordable(const Dynamics& dyn, const OrbitOptions& options) {
+    detail::require_work(shooting_work(dyn, options), options.max_work, "one shooting takes about",
                          "the row and its " + std::to_string(dyn.dimension()) +
                              " tangent vectors over " + std::to_string(options.period) +
                              " period(s)",

@@ -33,12 +33,14 @@ struct ClassifyOptions {
     Scheme scheme = Scheme::automatic;
     double tolerance = 1e-4;                 ///< integration tolerance (relative, F_m)
     double max_work = RunOptions{}.max_work; ///< body-steps the run may take (run.max_work)
-    int max_period = 16;                     ///< largest period recognised, >= 1
-    double period_tolerance = 1e-6;          ///< section points closer than this (relative) are one
-    double steady_tolerance = 1e-9;          ///< state repeat tolerance for an early periodic stop
-    int samples_per_period = 16;             ///< samples of u_1 per period for the spectrum, >= 4
-    double chaos_threshold = 0.02; ///< lambda_max must exceed this [1 / reduced time] and three
-                                   ///< standard errors to count as chaos
+    /// Largest period recognised, >= 1: by the steady state up to max_period, by the
+    /// repetition of the record's second half up to min(max_period, record_periods / 4).
+    int max_period = 16;
+    double period_tolerance = 1e-6; ///< section points closer than this (relative) are one
+    double steady_tolerance = 1e-9; ///< state repeat tolerance for an early periodic stop
+    int samples_per_period = 16;    ///< samples of u_1 per period for the spectrum, >= 4
+    double chaos_threshold = 0.02;  ///< lambda_max must exceed this [1 / reduced time] and three
+                                    ///< standard errors to count as chaos
     /// Confirm a periodic regime by Newton shooting (orbit.hpp) from the final state: the
     /// period becomes the orbit's minimal period, and its largest Floquet multiplier is given.
     bool confirm_by_newton = true;

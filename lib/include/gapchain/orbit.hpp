@@ -79,9 +79,14 @@ inline constexpr int max_orbit_bodies = 4096;
 /// naming scheme when it is exact and dyn longer than max_exact_bodies.
 void require_orbit_size(const Dynamics& dyn, Scheme scheme);
 
-/// Throws std::invalid_argument naming run.max_work when one shooting of options on dyn (the
-/// row and its 2 Nm tangent vectors over options.period periods, in body-steps: Nm x steps per
-/// period x period x (1 + 2 Nm)) exceeds options.max_work. Called before any run.
+/// The work of one shooting of options on dyn in body-steps, >= 0: the row and its 2 Nm
+/// tangent vectors over options.period periods, Nm x steps per period x period x (1 + 2 Nm).
+double shooting_work(const Dynamics& dyn, const OrbitOptions& options);
+
+/// Throws std::invalid_argument naming run.max_work when shooting_work() exceeds
+/// options.max_work. The searches call it before any run; an analysis that only confirms its
+/// runs by Newton (classify, the attractor search, a doubled branch) compares shooting_work()
+/// itself and leaves the run unconfirmed instead.
 void require_shooting_affordable(const Dynamics& dyn, const OrbitOptions& options);
 
 /// One shooting evaluation: P^k(x), the monodromy dP^k/dx (2 Nm x 2 Nm, column-major) and the

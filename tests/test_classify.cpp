@@ -178,6 +178,33 @@ TEST_CASE("a chaotic point's lambda_max through stiff contacts agrees with a tan
           3 * std::hypot(c.lambda_max_error, reference.errors[0]));
 }
 
+TEST_CASE("a shooting beyond run.max_work leaves the label unconfirmed, after a run within it") {
+    // Fig 13's row at f_r = 4.05, started on its period-3 orbit and recorded for 12 periods:
+    // the run is within the limit, one 3-period shooting with its 10 tangent vectors is not.
+    // It threw after the run before.
+    const ReducedParameters p{5, 60, 0.5, 0.06, 4.05};
+    const Dynamics dyn = Dynamics::paper_row(p);
+    OrbitOptions orbit_options;
+    orbit_options.period = 3;
+    const PeriodicOrbit orbit = find_periodic_orbit_after(dyn, orbit_options, {}, 300);
+    REQUIRE(orbit.status == OrbitStatus::converged);
+    ClassifyOptions o;
+    o.transient_periods = 0;
+    o.record_periods = 12;
+    o.initial = orbit.state;
+    const double run_work = 5.0 * plan_step(dyn, Scheme::exact, o.tolerance).steps_per_period * 12;
+    o.max_work = 1.01 * run_work;
+    OrbitOptions shooting;
+    shooting.period = 3;
+    REQUIRE(shooting_work(dyn, shooting) > o.max_work);
+    Classification c;
+    CHECK_NOTHROW(c = classify(p, o));
+    CHECK(c.regime == Regime::periodic);
+    CHECK_FALSE(c.newton_confirmed);
+    o.max_work = RunOptions{}.max_work;
+    CHECK(classify(p, o).newton_confirmed);
+}
+
 TEST_CASE("a map of more than 1e6 cells, or beyond run.max_work at full length, is refused "
           "before any cell runs") {
     const ReducedParameters base{5, 60, 0.5, 0.06, 3.0};

@@ -24,6 +24,15 @@ std::string error_of(const std::string& text, const std::vector<std::string>& se
 }
 } // namespace
 
+TEST_CASE("a scene file that opens but cannot be read is named as such, not as malformed JSON") {
+    // /proc/self/mem opens, and its first read fails (EIO): the copy through a stream's rdbuf()
+    // only failed, as for an empty file, and the parser then said "unexpected end of input".
+    CHECK_THROWS_WITH_AS(load_scene("/proc/self/mem"),
+                         doctest::Contains("/proc/self/mem: cannot read the scene file"),
+                         SceneError);
+    CHECK_THROWS_WITH_AS(parse_scene(""), doctest::Contains("malformed JSON"), SceneError);
+}
+
 TEST_CASE("an empty scene takes the paper's defaults") {
     const Scene s = parse_scene("{}");
     CHECK(s.reduced.eps == 0.5);

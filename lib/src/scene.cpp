@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <memory>
 #include <numbers>
 #include <sstream>
 #include <unistd.h>
@@ -556,14 +557,22 @@ std::string read_text_file(const std::string& path, const std::string& what) {
     if (std::filesystem::is_directory(path, ec))
         throw SceneError(path + ": is a directory, not a " + what + " file");
     errno = 0;
-    std::ifstream in(path);
-    if (!in)
+    const std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"),
+                                                               &std::fclose);
+    if (!file)
         throw SceneError(path + ": cannot read the " + what +
                          " file: " + (errno ? std::strerror(errno) : "unreadable"));
-    std::ostringstream text;
-    text << in.rdbuf();
-    if (in.bad()) throw SceneError(path + ": cannot read the " + what + " file");
-    return text.str();
+    // stdio, not a stream's rdbuf(): a read error there only failed the copy, which an empty
+    // file fails too, so /proc/self/mem was reported as malformed JSON.
+    std::string text;
+    char buffer[1 << 16];
+    std::size_t n = 0;
+    while ((n = std::fread(buffer, 1, sizeof buffer, file.get())) > 0)
+        text.append(buffer, n);
+    if (std::ferror(file.get()))
+        throw SceneError(path + ": cannot read the " + what +
+                         " file: " + (errno ? std::strerror(errno) : "read error"));
+    return text;
 }
 
 } // namespace detail

@@ -165,7 +165,7 @@ py::dict bifurcation_py(const py::object& scene_arg, const std::string& param, d
                         double to, int steps, const std::string& mode, long transient, long record,
                         const std::string& variable, double phase, int threads,
                         const py::object& progress, const py::kwargs& keys) {
-    refuse_run_keys(keys, "bifurcation", {"run.scheme", "run.tolerance", "run.max_work"},
+    refuse_run_keys(keys, "bifurcation", run_settings_keys,
                     "each value runs transient, then record periods");
     const Scene scene = to_swept_scene(scene_arg, param, keys, "bifurcation");
     require_paper_row(scene, "bifurcation()");

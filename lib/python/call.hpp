@@ -38,6 +38,11 @@ Scene to_swept_scene(const py::object& scene, const std::string& param, const py
 void refuse_run_keys(const py::kwargs& keys, const std::string& function,
                      const std::vector<std::string>& read, const std::string& instead);
 
+// The run keys take_run_settings() reads (scene.hpp): all that classify(), regime_map() and
+// bifurcation() read of the run section.
+inline const std::vector<std::string> run_settings_keys{"run.scheme", "run.tolerance",
+                                                        "run.max_work"};
+
 // The paper's row at one point, as the analyses of the five reduced numbers need it
 // (require_paper_row(), naming function()); SceneError otherwise.
 const ReducedParameters& paper_row(const Scene& scene, const std::string& function);

@@ -66,9 +66,7 @@ steady_state_period (0: none), wall_time_s; with "per_body" kept, per_body (poin
 period, lambda_max, lambda_max_error; with "F_m_orbit" kept, F_m_orbit (NaN: did not settle)
 and maximum_in_transient (bool); F_m_newton for physical scenes; and cancelled.)";
 
-// The run keys classify() and regime_map() read (take_run_settings()); the others they would
-// ignore, and refuse.
-const std::vector<std::string> classify_run_keys{"run.scheme", "run.tolerance", "run.max_work"};
+// How classify() and regime_map() run, for the refusal of a run key they do not read.
 const std::string classify_runs = "it runs transient, then record periods";
 
 ClassifyOptions classify_options(const Scene& scene, long transient, long record, bool confirm) {
@@ -83,7 +81,7 @@ ClassifyOptions classify_options(const Scene& scene, long transient, long record
 
 py::dict classify_py(const py::object& scene_arg, long transient, long record, bool confirm,
                      const py::kwargs& keys) {
-    refuse_run_keys(keys, "classify", classify_run_keys, classify_runs);
+    refuse_run_keys(keys, "classify", run_settings_keys, classify_runs);
     const Scene scene = to_scene(scene_arg, keys);
     const ClassifyOptions o = classify_options(scene, transient, record, confirm);
     Call call;
@@ -131,7 +129,7 @@ py::dict regime_map_dict(const RegimeMap& m) {
 py::dict regime_map_py(const py::object& scene_arg, const std::vector<double>& e_r,
                        const std::vector<double>& f_r, long transient, long record, bool confirm,
                        int threads, const py::object& progress, const py::kwargs& keys) {
-    refuse_run_keys(keys, "regime_map", classify_run_keys, classify_runs);
+    refuse_run_keys(keys, "regime_map", run_settings_keys, classify_runs);
     const Scene scene = to_scene(scene_arg, keys);
     const ClassifyOptions o = classify_options(scene, transient, record, confirm);
     Call call(progress);

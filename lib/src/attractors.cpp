@@ -231,22 +231,15 @@ StartOutcome run_start(const Dynamics& dyn, const AttractorOptions& o,
     // Newton shoots on the exact scheme; a row it refuses (fc above ~1.27e8, Nm > 64) keeps
     // the run's orbit unconfirmed rather than failing the whole search after its runs.
     // So does one whose shooting exceeds run.max_work.
-    OrbitOptions orbit_options;
-    orbit_options.period = s.period;
-    orbit_options.tolerance = 1e-9;
-    orbit_options.max_iterations = 12;
-    orbit_options.max_work = o.run.max_work;
-    if (!exact_refusal(dyn) && shooting_work(dyn, orbit_options) <= o.run.max_work) {
-        const PeriodicOrbit orbit = find_minimal_periodic_orbit(dyn, orbit_options, r.final_state);
-        if (orbit.status == OrbitStatus::converged) {
-            s.newton = true;
-            s.period = orbit.minimal_period;
-            s.max_multiplier = orbit.max_multiplier;
-            s.F_m = orbit.F_m;
-            s.state = orbit.state;
-            s.section = orbit.period_ends;
-            return s;
-        }
+    const auto found = confirm_periodic_orbit(dyn, s.period, r.final_state, o.run.max_work);
+    if (found && found->status == OrbitStatus::converged) {
+        s.newton = true;
+        s.period = found->minimal_period;
+        s.max_multiplier = found->max_multiplier;
+        s.F_m = found->F_m;
+        s.state = found->state;
+        s.section = found->period_ends;
+        return s;
     }
     const auto k = static_cast<std::ptrdiff_t>(std::min<std::size_t>(s.period, s.section.size()));
     s.section.erase(s.section.begin(), s.section.end() - k);

@@ -150,16 +150,11 @@ long total_impacts(const MaxForceTracker& forces) {
 /// periods before it repeats after k; the converged orbit's minimal period settles it.
 void confirm_periodic(const Dynamics& dyn, const std::vector<double>& state, double max_work,
                       Classification& c) {
-    if (exact_refusal(dyn)) return; // Newton shoots on the exact scheme: the label unconfirmed
-    OrbitOptions orbit_options;
-    orbit_options.period = c.period;
-    orbit_options.tolerance = 1e-9;
-    orbit_options.max_iterations = 12;
-    orbit_options.max_work = max_work;
-    // A shooting beyond the limit the run kept to leaves the label unconfirmed, as a refused row.
-    if (shooting_work(dyn, orbit_options) > max_work) return;
-    const PeriodicOrbit orbit = find_minimal_periodic_orbit(dyn, orbit_options, state);
-    if (orbit.status != OrbitStatus::converged) return;
+    // A row the exact scheme refuses, or a shooting beyond the limit the run kept to, leaves the
+    // label unconfirmed.
+    const auto found = confirm_periodic_orbit(dyn, c.period, state, max_work);
+    if (!found || found->status != OrbitStatus::converged) return;
+    const PeriodicOrbit& orbit = *found;
     c.newton_confirmed = true;
     c.period = orbit.minimal_period;
     c.max_multiplier = orbit.max_multiplier;

@@ -41,11 +41,10 @@ public:
         // Step lengths from the period grid differ in their last bits from step to step (an
         // exact comparison missed half the time): a length within 8 ulps reuses the flow, whose
         // error is then |A| 8 ulps h, round-off.
-        if (c.defective && !(std::abs(h - c.step_tau) <= 8 * kUlp * h)) {
+        if (c.defective && !(std::abs(h - c.step_tau) <= 8 * unit_roundoff * h)) {
             c.step_flow = (c.a * h).exp();
             c.step_tau = h;
         }
-        m_step_tau = c.defective ? c.step_tau : -1.0;
         state_at(t + h, y.data());
         ++m_evaluations;
     }
@@ -165,7 +164,7 @@ private:
         Eigen::Map<Eigen::VectorXd> state(y, m_dim);
         if (c.defective) {
             const double tau = t - m_t0;
-            const bool step_end = std::abs(tau - m_step_tau) <= 8 * kUlp * m_step_tau;
+            const bool step_end = std::abs(tau - c.step_tau) <= 8 * unit_roundoff * c.step_tau;
             state = (step_end ? c.step_flow : Eigen::MatrixXd((c.a * tau).exp())) * m_r0 +
                     particular(c, t);
             return;
@@ -183,10 +182,9 @@ private:
     std::unordered_map<std::string, Configuration> m_cache;
     const Configuration* m_last = nullptr;
     double m_t0 = 0.0;
-    Eigen::VectorXcd m_w0;    // V^-1 (y(t0) - y_p(t0))
-    Eigen::VectorXd m_r0;     // y(t0) - y_p(t0)
-    double m_step_tau = -1.0; // the cached step length of a defective configuration
-    static constexpr double kUlp = std::numeric_limits<double>::epsilon();
+    Eigen::VectorXcd m_w0; // V^-1 (y(t0) - y_p(t0))
+    Eigen::VectorXd m_r0;  // y(t0) - y_p(t0)
+    static constexpr double unit_roundoff = std::numeric_limits<double>::epsilon();
 };
 
 } // namespace

@@ -287,6 +287,18 @@ PeriodicOrbit find_minimal_periodic_orbit(const Dynamics& dyn, const OrbitOption
     return minimal;
 }
 
+std::optional<PeriodicOrbit> confirm_periodic_orbit(const Dynamics& dyn, int period,
+                                                    const std::vector<double>& state,
+                                                    double max_work) {
+    OrbitOptions options;
+    options.period = period;
+    options.tolerance = 1e-9;
+    options.max_iterations = 12;
+    options.max_work = max_work;
+    if (exact_refusal(dyn) || shooting_work(dyn, options) > max_work) return std::nullopt;
+    return find_minimal_periodic_orbit(dyn, options, state);
+}
+
 PeriodicOrbit find_periodic_orbit_after(const Dynamics& dyn, const OrbitOptions& options,
                                         const std::vector<double>& initial, long transient_periods,
                                         const ProgressCallback& progress) {

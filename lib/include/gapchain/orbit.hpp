@@ -8,6 +8,7 @@
 #include "gapchain/run.hpp"
 
 #include <complex>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -127,6 +128,15 @@ PeriodicOrbit find_periodic_orbit(const Dynamics& dyn, const OrbitOptions& optio
 /// powers). The first result is returned if the second search fails.
 PeriodicOrbit find_minimal_periodic_orbit(const Dynamics& dyn, const OrbitOptions& options,
                                           const std::vector<double>& start);
+
+/// Newton's confirmation of a run's periodic steady state of `period` periods, from state (the
+/// run's end, a period boundary): find_minimal_periodic_orbit() on the exact scheme to 1e-9 in
+/// at most 12 iterations. Nothing where the exact scheme refuses the row or one shooting exceeds
+/// max_work [body-steps]: the caller keeps its run's label unconfirmed rather than failing after
+/// its runs (classify, the attractor search). Otherwise the search's result, converged or not.
+std::optional<PeriodicOrbit> confirm_periodic_orbit(const Dynamics& dyn, int period,
+                                                    const std::vector<double>& state,
+                                                    double max_work);
 
 /// find_periodic_orbit() started from the end of a plain run of transient_periods (0 .. 1e7)
 /// forcing periods from initial (empty: rest), on options.scheme: the usual way to reach an

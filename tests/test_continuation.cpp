@@ -27,7 +27,9 @@ TEST_CASE("a contact-free branch: no special point, MODEL.md's multipliers all a
     const ContinuationResult r = continue_orbits(p, o);
     REQUIRE(r.points.size() > 5);
     CHECK(r.special.empty());
-    CHECK(r.branch_end.front() == "left the parameter range at its end");
+    CHECK(r.branch_end.front() == "reached the end value f_r = 1.5");
+    // The last point is on the end value, not a step past it.
+    CHECK(r.points.back().value == 1.5);
     for (const auto& point : r.points) {
         CHECK(point.stable);
         CHECK(point.F_m == 0.0);

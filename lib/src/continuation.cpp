@@ -229,7 +229,7 @@ public:
     /// The parameter value reached farthest in the direction from -> to.
     double farthest = 0.0;
 
-    /// Walks from first until the parameter leaves [from, to], max_points or a failure.
+    /// Walks from first until it lands on `to`, leaves [from, to], max_points or a failure.
     void walk(OrbitPoint first, const ProgressCallback& progress) {
         const Eigen::Index n = m_tracer.dimension();
         const double lo = std::min(m_o.from, m_o.to), hi = std::max(m_o.from, m_o.to);
@@ -242,17 +242,8 @@ public:
         double arclength = 0.0;
         int on_old = 0; // points in a row on traced orbits
         for (int count = 1; count < m_o.max_points; ++count) {
-            std::optional<OrbitPoint> b;
             bool beyond_range = false;
-            while (!b && ds >= 1e-7 && !m_tracer.cancelled()) {
-                const Vector guess = a.z + ds * a.tangent;
-                beyond_range = !m_tracer.admissible(guess[n]);
-                b = m_tracer.correct(guess, a.tangent);
-                // A corrected point far from its prediction sits on another sheet: joining
-                // the two would draw a branch that does not exist.
-                if (b && !near(*b, guess, ds)) b.reset();
-                if (!b) ds /= 2;
-            }
+            std::optional<OrbitPoint> b = next_point(a, ds, beyond_range);
             if (m_tracer.cancelled()) {
                 m_result.cancelled = true;
                 return end("cancelled");
@@ -264,6 +255,7 @@ public:
                                ? "reached the end of the model's range of " + where
                                : "the corrector failed at the smallest step (1e-7) at " + where);
             }
+            const bool landed = land_on_end(a, *b, ds);
             detect(a, *b, ds);
             arclength += (b->z - a.z).norm();
             a = std::move(*b);
@@ -274,6 +266,11 @@ public:
             if (progress && !progress(std::min(1.0, std::abs(p - m_o.from) / (hi - lo)))) {
                 m_result.cancelled = true;
                 return end("cancelled");
+            }
+            if (landed) {
+                reached_end = true;
+                return end("reached the end value " + std::string(to_string(m_o.parameter)) +
+                           " = " + detail::format_number(m_o.to));
             }
             if (p < lo || p > hi) {
                 reached_end = (p - m_o.from) * (m_o.to - m_o.from) > 0;
@@ -291,6 +288,41 @@ public:
 
 private:
     void end(const std::string& why) { m_result.branch_end.push_back(why); }
+
+    /// The next point from a along its tangent, ds halved until the corrector converges
+    /// (down to 1e-7); nothing if it never does. beyond_range: the last prediction lay outside
+    /// the model's range of the parameter.
+    std::optional<OrbitPoint> next_point(const OrbitPoint& a, double& ds, bool& beyond_range) {
+        const Eigen::Index n = m_tracer.dimension();
+        std::optional<OrbitPoint> b;
+        while (!b && ds >= 1e-7 && !m_tracer.cancelled()) {
+            const Vector guess = a.z + ds * a.tangent;
+            beyond_range = !m_tracer.admissible(guess[n]);
+            b = m_tracer.correct(guess, a.tangent);
+            // A corrected point far from its prediction sits on another sheet: joining the two
+            // would draw a branch that does not exist.
+            if (b && !near(*b, guess, ds)) b.reset();
+            if (!b) ds /= 2;
+        }
+        return b;
+    }
+
+    /// Moves b, past the end value `to`, onto `to` itself (Newton at that value from the
+    /// chord a -> b) and shortens ds to match; false, b and ds untouched, where b is not past
+    /// `to` or Newton fails. Otherwise the last point would lie up to a step past `to`, at a
+    /// value not asked for.
+    bool land_on_end(const OrbitPoint& a, OrbitPoint& b, double& ds) {
+        const Eigen::Index n = m_tracer.dimension();
+        if (!((b.z[n] - m_o.to) * (m_o.to - m_o.from) > 0)) return false;
+        const double s = (m_o.to - a.z[n]) / (b.z[n] - a.z[n]);
+        Vector guess = a.z + s * (b.z - a.z);
+        guess[n] = m_o.to;
+        std::optional<OrbitPoint> at_end = m_tracer.correct_at_value(guess);
+        if (!at_end || !near(*at_end, guess, ds)) return false;
+        b = std::move(*at_end);
+        ds *= s;
+        return true;
+    }
 
     /// Why a branch ends where it comes onto traced orbits, three points in a row (a branch that
     /// crosses another at a branch point touches it once, at a shallow angle for two points). Back

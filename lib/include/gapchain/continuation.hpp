@@ -31,7 +31,8 @@ std::string_view to_string(SpecialPointType type);
 struct ContinuationOptions {
     SweptParameter parameter = SweptParameter::f_r; ///< the continued reduced number
     double from = 2.15;     ///< start value (the first orbit is found there)
-    double to = 4.5;        ///< the branch ends when the parameter leaves [from, to]
+    double to = 4.5;        ///< end value: the branch's last point lands on it (Newton at this
+                            ///< value), or lies past it where that fails
     int period = 1;         ///< k of the first branch [forcing periods], 1 .. 1000
     double step = 0.01;     ///< first arclength step, [1e-6, 1]
     double max_step = 0.05; ///< largest arclength step, [step, 1]

@@ -60,11 +60,12 @@ void report_maxima(const SingleRun& main, SimulationResult& result) {
     }
 }
 
-/// The comparison run's plan. Fixed-step schemes: twice the step (or half, if twice would
-/// break the stability limit). GSL adaptive schemes: ten times the tolerance and twice the
-/// output interval, which bounds their steps. Exact: half the output interval (its F_m then
-/// moves only by round-off and event location).
-StepPlan comparison_plan(const Dynamics& dyn, const StepPlan& plan) {
+/// The comparison run's plan. Fixed-step schemes: half the step for a run whose F_m is its
+/// orbit's (on_orbit), twice it otherwise (half, if twice would break the stability limit).
+/// GSL adaptive schemes: ten times the tolerance and twice the output interval, which bounds
+/// their steps. Exact: half the output interval (its F_m then moves only by round-off and event
+/// location).
+StepPlan comparison_plan(const Dynamics& dyn, const StepPlan& plan, bool on_orbit) {
     StepPlan other = plan;
     const SchemeTraits tr = traits(plan.scheme);
     if (plan.scheme == Scheme::rkf45 || plan.scheme == Scheme::rk8pd) {
@@ -73,13 +74,19 @@ StepPlan comparison_plan(const Dynamics& dyn, const StepPlan& plan) {
         // (rkf45 at 1e-2, Nm 4, fc 500, eps 0.1, e_r 0.2, f_r 0.8, one period from rest).
         other.tolerance = std::min(0.1, 10.0 * plan.tolerance);
         if (plan.steps_per_period >= 2) other.steps_per_period = plan.steps_per_period / 2;
-    } else if (plan.scheme == Scheme::exact) {
+    } else if (plan.scheme == Scheme::exact || on_orbit || plan.steps_per_period < 2 ||
+               2.0 * plan.step * dyn.max_rate() >= 0.9 * tr.stability_limit) {
+        // An orbit's F_m is compared at half the step, not twice: at rk4's default
+        // h omega_max = 0.4 many periodic rows are not yet in its asymptotic order. Their
+        // error falls 2-4 times from 2h to h and 10-16 times from h to h/2 (Nm 1, fc 6.24,
+        // eps 0.14, e_r 0.0636, f_r 0.2198: 2.2e-5 at 2h, 1.1e-5 at h, 9.9e-7 at h/2), so
+        // Richardson against 2h missed the orbit's error on 70 of 300 random periodic contact
+        // points (up to 340 times), against h/2 on 3 (docs/accuracy.md). Elsewhere the
+        // difference is not a truncation error (a transient followed differently), and the
+        // coarser run measures it at a quarter of the cost.
         other.steps_per_period = plan.steps_per_period * 2;
-    } else if (plan.steps_per_period >= 2 &&
-               2.0 * plan.step * dyn.max_rate() < 0.9 * tr.stability_limit) {
-        other.steps_per_period = plan.steps_per_period / 2;
     } else {
-        other.steps_per_period = plan.steps_per_period * 2;
+        other.steps_per_period = plan.steps_per_period / 2;
     }
     other.step = dyn.period() / other.steps_per_period;
     return other;
@@ -136,51 +143,84 @@ bool ended_elsewhere(const RunOptions& options, const SingleRun& main, const Sin
                orbit_mismatch(options.tolerance) * std::max(main_orbit, *check_orbit);
 }
 
-/// F_m_error from a comparison run on another plan.
-Comparison comparison_error(const Dynamics& dyn, const RunOptions& options, const StepPlan& plan,
-                            const std::vector<double>& initial, const SingleRun& main,
-                            const ProgressCallback& progress, SimulationResult& result) {
-    const StepPlan other = comparison_plan(dyn, plan);
+/// A comparison run from the main run's start on another plan, and, where it settled on an
+/// orbit (harmonic forcing), that orbit's largest force.
+struct ComparisonRun {
+    SingleRun run;
+    std::optional<double> orbit;
+};
+
+ComparisonRun run_comparison(const Dynamics& dyn, const RunOptions& options, const StepPlan& other,
+                             const std::vector<double>& initial, const ProgressCallback& progress,
+                             SimulationResult& result) {
     RunOptions strict = options;
     strict.accuracy_mode = AccuracyMode::strict;
     PlannedRun planned(dyn, strict, other, initial);
     SimulationHooks hooks;
     hooks.progress = progress;
-    const SingleRun check = run_once(dyn, strict, planned, hooks);
-    result.evaluations += check.evaluations;
-    if (check.outcome.status == RunStatus::non_finite)
-        return {std::numeric_limits<double>::infinity(), false};
-    std::optional<double> check_orbit;
-    if (result.F_m_orbit && check.outcome.status == RunStatus::steady_state && check.period) {
+    ComparisonRun c{run_once(dyn, strict, planned, hooks), std::nullopt};
+    result.evaluations += c.run.evaluations;
+    if (result.F_m_orbit && c.run.outcome.status == RunStatus::steady_state && c.run.period) {
         const long before = planned.evaluations();
-        check_orbit = orbit_maximum(dyn, planned, check, progress);
+        c.orbit = orbit_maximum(dyn, planned, c.run, progress);
         result.evaluations += planned.evaluations() - before;
     }
-    result.F_m_comparison = check.F_m;
+    return c;
+}
+
+/// The difference between a main run's F_m, taken on its orbit, and a comparison run's that
+/// settled on the same orbit: against that run's orbit where it took its own maximum in the
+/// transient. Nothing where the comparison did not settle there.
+std::optional<double> orbit_difference(const RunOptions& options, const SingleRun& main,
+                                       const SimulationResult& result, const ComparisonRun& c) {
+    if (!result.F_m_orbit || !c.orbit || !c.run.period ||
+        ended_elsewhere(options, main, c.run, c.orbit, *result.F_m_orbit))
+        return std::nullopt;
+    const bool transient = above_orbit(c.run.F_m, *c.orbit, options.tolerance);
+    return std::abs(result.F_m - (transient ? *c.orbit : c.run.F_m));
+}
+
+/// F_m_error from a comparison run on another plan.
+Comparison comparison_error(const Dynamics& dyn, const RunOptions& options, const StepPlan& plan,
+                            const std::vector<double>& initial, const SingleRun& main,
+                            const ProgressCallback& progress, SimulationResult& result) {
+    const bool on_orbit = result.steady_state_period && result.F_m_orbit &&
+                          !above_orbit(result.F_m, *result.F_m_orbit, options.tolerance);
+    const StepPlan other = comparison_plan(dyn, plan, on_orbit);
+    const ComparisonRun check = run_comparison(dyn, options, other, initial, progress, result);
+    if (check.run.outcome.status == RunStatus::non_finite)
+        return {std::numeric_limits<double>::infinity(), false};
+    result.F_m_comparison = check.run.F_m;
     Comparison c;
-    c.ended_elsewhere =
-        result.F_m_orbit && ended_elsewhere(options, main, check, check_orbit, *result.F_m_orbit);
-    // Periodic runs converge at the scheme's order p, so the error of F_m is about
-    // |F_m - F_m'| / (2^p - 1); we report twice that. Runs that never settle (chaotic, long
+    c.ended_elsewhere = result.F_m_orbit &&
+                        ended_elsewhere(options, main, check.run, check.orbit, *result.F_m_orbit);
+    // Periodic runs converge at the scheme's order p: against half the step the error of F_m
+    // is |F_m - F_m'| / (1 - 2^-p); we report twice that. Runs that never settle (chaotic, long
     // transients) get the raw difference: there it is not a truncation error. Nor is it where
     // the main run took its maximum before its orbit: a chaotic transient that the other step
     // follows differently (Nm 4, fc 870.908, eps 0.238, e_r 0.113, f_r 2.577: 0.865 at h, 1.185
-    // at 2h, both settling on the orbit of 0.8643; Richardson reported +- 0.043). A main run
-    // whose maximum is its orbit's is compared with the other run's orbit where that run took
-    // its own maximum in the transient.
+    // at 2h, both settling on the orbit of 0.8643; Richardson reported +- 0.043).
     const SchemeTraits tr = traits(plan.scheme);
-    double diff = std::abs(result.F_m - check.F_m);
-    const double gain = std::ldexp(1.0, tr.order) - 1.0;
-    bool periodic = result.steady_state_period && check.period && !tr.adaptive &&
-                    other.steps_per_period < plan.steps_per_period && !c.ended_elsewhere;
-    if (periodic && result.F_m_orbit) { // harmonic forcing: both orbits are known
-        periodic = check_orbit && !above_orbit(result.F_m, *result.F_m_orbit, options.tolerance);
-        if (periodic && above_orbit(check.F_m, *check_orbit, options.tolerance))
-            diff = std::abs(result.F_m - *check_orbit);
-    }
-    // A finer comparison run (stability fallback) differs by (1 - 2^-p) of the error.
     const bool finer = !tr.adaptive && other.steps_per_period > plan.steps_per_period;
-    const double estimate = periodic ? 2.0 * diff / gain : (finer ? 2.0 * diff : diff);
+    // on_orbit implies a settled run with its orbit cycle (harmonic forcing).
+    const std::optional<double> periodic_diff =
+        finer && on_orbit ? orbit_difference(options, main, result, check) : std::nullopt;
+    const double diff = std::abs(result.F_m - check.run.F_m);
+    double estimate = periodic_diff ? 2.0 * *periodic_diff / (1.0 - std::ldexp(1.0, -tr.order))
+                                    : (finer ? 2.0 * diff : diff);
+    // A third run at twice the step: two pairs of steps give two estimates, which agree in the
+    // asymptotic order; where they do not (an error that is flat or changes sign between h and
+    // h/2, Nm 3, fc 200, eps 0.5, e_r 0.1, f_r 0.2: 3.2e-7 at h, 3.6e-7 at h/2, 1.9e-4 at 2h)
+    // the larger stands. It costs a quarter of the finer run.
+    if (periodic_diff) {
+        const StepPlan wide_plan = comparison_plan(dyn, plan, false);
+        if (wide_plan.steps_per_period < plan.steps_per_period) {
+            const ComparisonRun wide =
+                run_comparison(dyn, options, wide_plan, initial, progress, result);
+            if (const auto d = orbit_difference(options, main, result, wide))
+                estimate = std::max(estimate, 2.0 * *d / (std::ldexp(1.0, tr.order) - 1.0));
+        }
+    }
     // Round-off floor: F_m is never known better than a few ulps of itself; for exact, whose
     // two runs share the same eigendecompositions and so the same round-off, the floor is what
     // it measured against rk8pd at 1e-10 (6e-13 relative, accuracy.md).

@@ -8,18 +8,30 @@ F_m_error, how many took their maximum in the transient, and how many the tool c
 multistable (and why). Prints a summary and, with --list, one line per point.
 
     python3 tools/dev/error_coverage.py build/bin/gapchain-sim [--points 300] [--list]
+        [--ranges paper-scale]   (Nm 1-10, fc 1-2000 log-uniform, eps 0.1-0.5, e_r 0-6, f_r 0.1-5)
 """
 import argparse
 import concurrent.futures
 import json
+import math
 import os
 import random
 import subprocess
 import tempfile
 
 
-def draw(seed):
+def draw(seed, ranges):
     rnd = random.Random(seed)
+    if ranges == "paper-scale":
+        # The paper-scale study's ranges (data/studies/paper-scale.json), drawn continuously;
+        # soft contacts (fc down to 1) and wide clearances included. Rows of up to 10 bodies.
+        return {"model": {"Nm": rnd.choice([1, 2, 3, 5, 10]),
+                          "fc": round(10 ** rnd.uniform(0, math.log10(2000)), 4),
+                          "eps": round(rnd.uniform(0.1, 0.5), 4),
+                          "e_r": round(rnd.uniform(0, 0.35) if rnd.random() < 0.5
+                                       else rnd.uniform(0.35, 6), 4)},
+                "excitation": {"f_r": round(rnd.uniform(0.1, 5), 4)},
+                "run": {"periods": 400}}
     return {"model": {"Nm": rnd.randint(2, 10), "fc": round(rnd.uniform(60, 2000), 3),
                       "eps": round(rnd.uniform(0.05, 0.5), 3),
                       "e_r": round(rnd.uniform(0, 0.4), 3)},
@@ -42,8 +54,8 @@ def simulate(binary, scene, sets, workdir):
     return result
 
 
-def point(binary, seed, workdir):
-    scene = draw(seed)
+def point(binary, seed, workdir, ranges):
+    scene = draw(seed, ranges)
     run = simulate(binary, scene, [], workdir)
     if not run or run["status"] != "steady_state" or run["F_m"] <= 0.0:
         return None
@@ -59,10 +71,13 @@ def main():
     parser.add_argument("--points", type=int, default=300, help="points drawn (seeds 1..N)")
     parser.add_argument("--threads", type=int, default=2)
     parser.add_argument("--list", action="store_true", help="one line per periodic point")
+    parser.add_argument("--ranges", choices=["paper", "paper-scale"], default="paper",
+                        help="paper: the ranges above; paper-scale: Nm 1-10, fc 1-2000 "
+                             "(log-uniform), eps 0.1-0.5, e_r 0-6, f_r 0.1-5")
     args = parser.parse_args()
     workdir = tempfile.mkdtemp(prefix="gapchain-coverage-")
     with concurrent.futures.ThreadPoolExecutor(args.threads) as pool:
-        rows = [r for r in pool.map(lambda s: point(args.binary, s, workdir),
+        rows = [r for r in pool.map(lambda s: point(args.binary, s, workdir, args.ranges),
                                     range(1, args.points + 1)) if r]
     os.rmdir(workdir)
     counts = {"window": 0, "orbit": 0, "orbit_n": 0, "transient": 0, "multistable": 0,

@@ -82,7 +82,8 @@ struct SimulationResult {
     bool multistable = false;
     double F_m_twin = 0.0; ///< the twin run's F_m (when twin_checked)
     /// The F_m of the error estimate's comparison run (error_method comparison_run: the same
-    /// start on another plan, see simulate()); empty when none ran.
+    /// start on another plan, see simulate(); the half-step run where a periodic run had two);
+    /// empty when none ran.
     std::optional<double> F_m_comparison;
     /// That comparison run ended elsewhere than a main run that settled on an orbit: it ran its
     /// full length without settling where the main run settled within half of it, or it settled
@@ -130,14 +131,16 @@ struct SimulationHooks {
 ///   the two halves of the recorded window differ by more than 10 * tolerance * F_m, reports
 ///   that difference: the sampling spread of a maximum over a finite window.
 /// - comparison_run otherwise: a second run on another plan gives F_m'. Fixed-step schemes
-///   run at twice the step (half, if twice breaks the stability limit); a periodic run whose
-///   F_m is its orbit's (no more than max(tolerance, 1e-9) F_m above F_m_orbit) then reports
-///   2 |F_m - F_m'| / (2^p - 1) (Richardson with a safety factor of 2, p the scheme's order;
-///   F_m' is the comparison run's orbit maximum over one cycle where that run took its own
-///   maximum in the transient); others - a run that did not settle, one that took its maximum
-///   in the transient, one whose comparison ended elsewhere (comparison_ended_elsewhere) -
-///   |F_m - F_m'| (2 |F_m - F_m'| for the halved step): a maximum taken in a transient is not
-///   a truncation error (a chaotic transient followed differently at the other step). rkf45/rk8pd
+///   compare a periodic run whose F_m is its orbit's (no more than max(tolerance, 1e-9) F_m
+///   above F_m_orbit) at half the step (at twice it, rk4's default step is often not yet in
+///   its asymptotic order: docs/accuracy.md), which then reports 2 |F_m - F_m'| / (1 - 2^-p)
+///   (Richardson with a safety factor of 2, p the scheme's order; F_m' is the comparison run's
+///   orbit maximum over one cycle where that run took its own maximum in the transient), or
+///   2 |F_m - F_m'| where the comparison did not settle there. Others - a run that did not
+///   settle, one that took its maximum in the transient - compare at twice the step (half, if
+///   twice breaks the stability limit) and report |F_m - F_m'| (2 |F_m - F_m'| for the halved
+///   step): a maximum taken in a transient is not a truncation error (a chaotic transient
+///   followed differently at the other step). rkf45/rk8pd
 ///   compare at ten times the tolerance and twice the output interval (their largest step),
 ///   exact at half the output interval. The estimate is never
 ///   below a round-off floor (1e-14 F_m; 1e-12 F_m for exact).

@@ -604,6 +604,25 @@ TEST_CASE("comparison run: the orbit's F_m error is covered where rk4's default 
     }
 }
 
+TEST_CASE("comparison run: a run at twice the step that ends elsewhere still calls for the twin") {
+    // A periodic run whose F_m is its orbit's is compared at h/2 and 2h. Here the run at h/2
+    // settles on the main run's orbit and the run at 2h does not: as when 2h was the only
+    // comparison, the twin runs and the bar covers the 2h run's F_m and the exact answer.
+    const Dynamics dyn = Dynamics::paper_row({2, 21.0571, 0.1774, 0.0348, 0.5459});
+    RunOptions o;
+    o.scheme = Scheme::rk4;
+    const SimulationResult r = simulate(dyn, o);
+    REQUIRE(r.steady_state_period.has_value());
+    CHECK(r.comparison_ended_elsewhere);
+    CHECK(r.twin_checked);
+    RunOptions reference;
+    reference.scheme = Scheme::exact;
+    reference.tolerance = 1e-9;
+    const SimulationResult exact = simulate(dyn, reference);
+    MESSAGE("rk4 " << r.F_m << " +- " << r.F_m_error << ", exact " << exact.F_m);
+    CHECK(std::abs(r.F_m - exact.F_m) <= r.F_m_error);
+}
+
 TEST_CASE("a cancel after the main run stops the comparison run, and the result says so") {
     const ReducedParameters fig5{5, 100, 0.5, 0.5, 1.0};
     const Dynamics dyn = Dynamics::paper_row(fig5);

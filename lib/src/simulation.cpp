@@ -76,14 +76,14 @@ StepPlan comparison_plan(const Dynamics& dyn, const StepPlan& plan, bool on_orbi
         if (plan.steps_per_period >= 2) other.steps_per_period = plan.steps_per_period / 2;
     } else if (plan.scheme == Scheme::exact || on_orbit || plan.steps_per_period < 2 ||
                2.0 * plan.step * dyn.max_rate() >= 0.9 * tr.stability_limit) {
-        // An orbit's F_m is compared at half the step, not twice: at rk4's default
-        // h omega_max = 0.4 many periodic rows are not yet in its asymptotic order. Their
-        // error falls 2-4 times from 2h to h and 10-16 times from h to h/2 (Nm 1, fc 6.24,
-        // eps 0.14, e_r 0.0636, f_r 0.2198: 2.2e-5 at 2h, 1.1e-5 at h, 9.9e-7 at h/2), so
-        // Richardson against 2h missed the orbit's error on 70 of 300 random periodic contact
-        // points (up to 340 times), against h/2 on 3 (docs/accuracy.md). Elsewhere the
-        // difference is not a truncation error (a transient followed differently), and the
-        // coarser run measures it at a quarter of the cost.
+        // An orbit's F_m is compared at half the step (and at twice it: comparison_error()):
+        // at rk4's default h omega_max = 0.4 many periodic rows are not yet in its asymptotic
+        // order. Their error falls 2-5 times from 2h to h and 10-16 times from h to h/2 (Nm 1,
+        // fc 6.24, eps 0.14, e_r 0.0636, f_r 0.2198: 2.2e-5 at 2h, 1.1e-5 at h, 9.9e-7 at
+        // h/2), so Richardson against 2h alone missed the orbit's error on 65 of 400 random
+        // periodic contact points (up to 63 times; docs/accuracy.md). Elsewhere the difference
+        // is not a truncation error (a transient followed differently), and the coarser run
+        // measures it at a quarter of the cost.
         other.steps_per_period = plan.steps_per_period * 2;
     } else {
         other.steps_per_period = plan.steps_per_period / 2;
@@ -110,8 +110,8 @@ bool above_orbit(double window_max, double orbit_max, double tolerance) {
     return window_max - orbit_max > std::max(tolerance, 1e-9) * window_max;
 }
 
-/// Relative difference of two orbits' largest forces beyond which the comparison run's
-/// truncation error cannot explain it: 10 %, or 1000 times a tolerance above 1e-4. The
+/// Relative difference of two orbits' largest forces beyond which a comparison run's
+/// truncation error cannot explain it: 10 %, or 1000 times a tolerance above 1e-4. A
 /// comparison run at twice the step (h omega_max = 0.8 at the default tolerance) is not yet
 /// in its asymptotic order where contacts touch at rest: its orbit's F_m was 1.3-2 % off on
 /// rows of Figs 4, 15 and 16 (e_r = 0 or 0.125) where the main run's was within 1e-4.
@@ -210,15 +210,23 @@ Comparison comparison_error(const Dynamics& dyn, const RunOptions& options, cons
                                     : (finer ? 2.0 * diff : diff);
     // A third run at twice the step: two pairs of steps give two estimates, which agree in the
     // asymptotic order; where they do not (an error that is flat or changes sign between h and
-    // h/2, Nm 3, fc 200, eps 0.5, e_r 0.1, f_r 0.2: 3.2e-7 at h, 3.6e-7 at h/2, 1.9e-4 at 2h)
-    // the larger stands. It costs a quarter of the finer run.
+    // h/2, Nm 3, fc 200, eps 0.5, e_r 0.1, f_r 0.2: 3.2e-7 at h, 3.6e-7 at h/2, 1.6e-4 at 2h)
+    // the larger stands. It costs a quarter of the finer run. Where it ends elsewhere it calls
+    // for the twin and the bar covers its F_m, as when it was the only comparison run (Nm 2,
+    // fc 21.0571, eps 0.1774, e_r 0.0348, f_r 0.5459). A non-finite run at twice the step (near
+    // the stability limit) says nothing of the run at h: the finer pair stands alone.
     if (periodic_diff) {
         const StepPlan wide_plan = comparison_plan(dyn, plan, false);
         if (wide_plan.steps_per_period < plan.steps_per_period) {
             const ComparisonRun wide =
                 run_comparison(dyn, options, wide_plan, initial, progress, result);
-            if (const auto d = orbit_difference(options, main, result, wide))
+            if (const auto d = orbit_difference(options, main, result, wide)) {
                 estimate = std::max(estimate, 2.0 * *d / (std::ldexp(1.0, tr.order) - 1.0));
+            } else if (wide.run.outcome.status != RunStatus::non_finite &&
+                       ended_elsewhere(options, main, wide.run, wide.orbit, *result.F_m_orbit)) {
+                c.ended_elsewhere = true;
+                estimate = std::max(estimate, std::abs(result.F_m - wide.run.F_m));
+            }
         }
     }
     // Round-off floor: F_m is never known better than a few ulps of itself; for exact, whose

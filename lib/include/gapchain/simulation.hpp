@@ -132,11 +132,13 @@ struct SimulationHooks {
 ///   that difference: the sampling spread of a maximum over a finite window.
 /// - comparison_run otherwise: a second run on another plan gives F_m'. Fixed-step schemes
 ///   compare a periodic run whose F_m is its orbit's (no more than max(tolerance, 1e-9) F_m
-///   above F_m_orbit) at half the step (at twice it, rk4's default step is often not yet in
-///   its asymptotic order: docs/accuracy.md), which then reports 2 |F_m - F_m'| / (1 - 2^-p)
-///   (Richardson with a safety factor of 2, p the scheme's order; F_m' is the comparison run's
-///   orbit maximum over one cycle where that run took its own maximum in the transient), or
-///   2 |F_m - F_m'| where the comparison did not settle there. Others - a run that did not
+///   above F_m_orbit) at half the step and at twice it (rk4's default step is often not yet
+///   in its asymptotic order: docs/accuracy.md), and report the larger of 2 |F_m - F_m'| /
+///   (1 - 2^-p) (half the step) and 2 |F_m - F_m''| / (2^p - 1) (twice it): Richardson with
+///   a safety factor of 2, p the scheme's order; F_m' is a comparison run's orbit maximum over
+///   one cycle where that run took its own maximum in the transient. Where the half-step run
+///   does not settle on that orbit, 2 |F_m - F_m'|; where the run at twice the step ends
+///   elsewhere, |F_m - F_m''| at least. Others - a run that did not
 ///   settle, one that took its maximum in the transient - compare at twice the step (half, if
 ///   twice breaks the stability limit) and report |F_m - F_m'| (2 |F_m - F_m'| for the halved
 ///   step): a maximum taken in a transient is not a truncation error (a chaotic transient

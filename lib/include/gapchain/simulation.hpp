@@ -136,9 +136,10 @@ struct SimulationHooks {
 ///   in its asymptotic order: docs/accuracy.md), and report the larger of 2 |F_m - F_m'| /
 ///   (1 - 2^-p) (half the step) and 2 |F_m - F_m''| / (2^p - 1) (twice it): Richardson with
 ///   a safety factor of 2, p the scheme's order; F_m' is a comparison run's orbit maximum over
-///   one cycle where that run took its own maximum in the transient. Where the half-step run
-///   does not settle on that orbit, 2 |F_m - F_m'|; where the run at twice the step ends
-///   elsewhere, |F_m - F_m''| at least. Others - a run that did not
+///   one cycle where that run took its own maximum in the transient, and the bar then also
+///   covers how far that run's window maximum lies above F_m (its path's start-up reached into
+///   the window). Where the half-step run does not settle on that orbit, 2 |F_m - F_m'|; where
+///   the run at twice the step ends elsewhere, |F_m - F_m''| at least. Others - a run that did not
 ///   settle, one that took its maximum in the transient - compare at twice the step (half, if
 ///   twice breaks the stability limit) and report |F_m - F_m'| (2 |F_m - F_m'| for the halved
 ///   step): a maximum taken in a transient is not a truncation error (a chaotic transient

@@ -571,6 +571,22 @@ TEST_CASE("comparison run: a maximum taken in a chaotic transient gets the raw d
     CHECK(plain.F_m_error <= 2.0 * std::max(richardson, plain.F_m - *plain.F_m_orbit));
 }
 
+namespace {
+/// A user's run of the row: rk4 at the default tolerance, with its error estimate.
+SimulationResult rk4_at_defaults(const Dynamics& dyn) {
+    RunOptions o;
+    o.scheme = Scheme::rk4;
+    return simulate(dyn, o);
+}
+/// The reference: the exact propagator at tolerance 1e-9.
+SimulationResult exact_reference(const Dynamics& dyn) {
+    RunOptions o;
+    o.scheme = Scheme::exact;
+    o.tolerance = 1e-9;
+    return simulate(dyn, o);
+}
+} // namespace
+
 TEST_CASE("comparison run: the orbit's F_m error is covered where rk4's default step is not yet "
           "in its asymptotic order") {
     // Rows of random draws of periodic contact points (docs/accuracy.md). The first three: the
@@ -587,13 +603,8 @@ TEST_CASE("comparison run: the orbit's F_m error is covered where rk4's default 
           Row{{5, 1.19, 0.2, 2.42, 1.0063}, true}, Row{{3, 145.862, 0.5, 0.052152, 3.45635}, true},
           Row{{3, 200, 0.5, 0.1, 0.2}, false}}) {
         const Dynamics dyn = Dynamics::paper_row(row.p);
-        RunOptions o;
-        o.scheme = Scheme::rk4;
-        const SimulationResult r = simulate(dyn, o);
-        RunOptions reference;
-        reference.scheme = Scheme::exact;
-        reference.tolerance = 1e-9;
-        const SimulationResult exact = simulate(dyn, reference);
+        const SimulationResult r = rk4_at_defaults(dyn);
+        const SimulationResult exact = exact_reference(dyn);
         REQUIRE(r.F_m_orbit.has_value());
         REQUIRE(exact.F_m_orbit.has_value());
         const double error = std::abs(*r.F_m_orbit - *exact.F_m_orbit);
@@ -609,16 +620,11 @@ TEST_CASE("comparison run: a run at twice the step that ends elsewhere still cal
     // settles on the main run's orbit and the run at 2h does not: as when 2h was the only
     // comparison, the twin runs and the bar covers the 2h run's F_m and the exact answer.
     const Dynamics dyn = Dynamics::paper_row({2, 21.0571, 0.1774, 0.0348, 0.5459});
-    RunOptions o;
-    o.scheme = Scheme::rk4;
-    const SimulationResult r = simulate(dyn, o);
+    const SimulationResult r = rk4_at_defaults(dyn);
     REQUIRE(r.steady_state_period.has_value());
     CHECK(r.comparison_ended_elsewhere);
     CHECK(r.twin_checked);
-    RunOptions reference;
-    reference.scheme = Scheme::exact;
-    reference.tolerance = 1e-9;
-    const SimulationResult exact = simulate(dyn, reference);
+    const SimulationResult exact = exact_reference(dyn);
     MESSAGE("rk4 " << r.F_m << " +- " << r.F_m_error << ", exact " << exact.F_m);
     CHECK(std::abs(r.F_m - exact.F_m) <= r.F_m_error);
 }
@@ -629,9 +635,7 @@ TEST_CASE("comparison run: a comparison whose transient reaches into the window 
     // the same orbit. The window's maximum depends on the path: the bar covers theirs. (exact at
     // 1e-9 ends on another orbit, 0.8125, a second attractor that no run here visits.)
     const Dynamics dyn = Dynamics::paper_row({3, 1528.7283, 0.1773, 0.0687, 3.2363});
-    RunOptions o;
-    o.scheme = Scheme::rk4;
-    const SimulationResult r = simulate(dyn, o);
+    const SimulationResult r = rk4_at_defaults(dyn);
     REQUIRE(r.steady_state_period.has_value());
     REQUIRE(r.F_m_orbit.has_value());
     REQUIRE(r.F_m_comparison.has_value());

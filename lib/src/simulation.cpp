@@ -191,6 +191,30 @@ double transient_excess(const RunOptions& options, const SimulationResult& resul
     return std::max(0.0, c.run.F_m - result.F_m);
 }
 
+/// The third run of a periodic run whose F_m is its orbit's, at twice the step: two pairs of
+/// steps give two estimates, which agree in the asymptotic order; where they do not (an error
+/// that is flat or changes sign between h and h/2, Nm 3, fc 200, eps 0.5, e_r 0.1, f_r 0.2:
+/// 3.2e-7 at h, 3.6e-7 at h/2, 1.6e-4 at 2h) the larger stands. It costs a quarter of the
+/// finer run. Where it ends elsewhere it calls for the twin and the bar covers its F_m, as when
+/// it was the only comparison run (Nm 2, fc 21.0571, eps 0.1774, e_r 0.0348, f_r 0.5459). A
+/// non-finite run, or none (twice the step breaks the stability limit), says nothing of the run
+/// at h: estimate 0.
+Comparison wide_comparison(const Dynamics& dyn, const RunOptions& options, const StepPlan& plan,
+                           const std::vector<double>& initial, const SingleRun& main,
+                           const ProgressCallback& progress, SimulationResult& result) {
+    const StepPlan wide_plan = comparison_plan(dyn, plan, false);
+    if (wide_plan.steps_per_period >= plan.steps_per_period) return {};
+    const ComparisonRun wide = run_comparison(dyn, options, wide_plan, initial, progress, result);
+    if (const auto d = orbit_difference(options, main, result, wide)) {
+        const double richardson = 2.0 * *d / (std::ldexp(1.0, traits(plan.scheme).order) - 1.0);
+        return {std::max(richardson, transient_excess(options, result, wide)), false};
+    }
+    if (wide.run.outcome.status != RunStatus::non_finite &&
+        ended_elsewhere(options, main, wide.run, wide.orbit, *result.F_m_orbit))
+        return {std::abs(result.F_m - wide.run.F_m), true};
+    return {};
+}
+
 /// F_m_error from a comparison run on another plan.
 Comparison comparison_error(const Dynamics& dyn, const RunOptions& options, const StepPlan& plan,
                             const std::vector<double>& initial, const SingleRun& main,
@@ -219,28 +243,11 @@ Comparison comparison_error(const Dynamics& dyn, const RunOptions& options, cons
     const double diff = std::abs(result.F_m - check.run.F_m);
     double estimate = periodic_diff ? 2.0 * *periodic_diff / (1.0 - std::ldexp(1.0, -tr.order))
                                     : (finer ? 2.0 * diff : diff);
-    if (periodic_diff) estimate = std::max(estimate, transient_excess(options, result, check));
-    // A third run at twice the step: two pairs of steps give two estimates, which agree in the
-    // asymptotic order; where they do not (an error that is flat or changes sign between h and
-    // h/2, Nm 3, fc 200, eps 0.5, e_r 0.1, f_r 0.2: 3.2e-7 at h, 3.6e-7 at h/2, 1.6e-4 at 2h)
-    // the larger stands. It costs a quarter of the finer run. Where it ends elsewhere it calls
-    // for the twin and the bar covers its F_m, as when it was the only comparison run (Nm 2,
-    // fc 21.0571, eps 0.1774, e_r 0.0348, f_r 0.5459). A non-finite run at twice the step (near
-    // the stability limit) says nothing of the run at h: the finer pair stands alone.
     if (periodic_diff) {
-        const StepPlan wide_plan = comparison_plan(dyn, plan, false);
-        if (wide_plan.steps_per_period < plan.steps_per_period) {
-            const ComparisonRun wide =
-                run_comparison(dyn, options, wide_plan, initial, progress, result);
-            if (const auto d = orbit_difference(options, main, result, wide)) {
-                estimate = std::max({estimate, 2.0 * *d / (std::ldexp(1.0, tr.order) - 1.0),
-                                     transient_excess(options, result, wide)});
-            } else if (wide.run.outcome.status != RunStatus::non_finite &&
-                       ended_elsewhere(options, main, wide.run, wide.orbit, *result.F_m_orbit)) {
-                c.ended_elsewhere = true;
-                estimate = std::max(estimate, std::abs(result.F_m - wide.run.F_m));
-            }
-        }
+        const Comparison wide =
+            wide_comparison(dyn, options, plan, initial, main, progress, result);
+        estimate = std::max({estimate, transient_excess(options, result, check), wide.estimate});
+        c.ended_elsewhere = c.ended_elsewhere || wide.ended_elsewhere;
     }
     // Round-off floor: F_m is never known better than a few ulps of itself; for exact, whose
     // two runs share the same eigendecompositions and so the same round-off, the floor is what

@@ -333,6 +333,10 @@ gone=$(sh -c 'echo $$') # the pid of a process that has ended: its staging folde
 mkdir -p "keep25/.gapchain-staging.$gone"
 expect 25 0 "" "$bin/gapchain-attractors" nm2.json --samples 2 --no-plot --out keep25
 absent 25 keep25/basins.csv keep25/basins.png keep25/basins.gp "keep25/.gapchain-staging.$gone"
+# Only files a run wrote are removed (the probe of 2026-11-26: a user's basins.csv went).
+mkdir -p user25 && echo my,data >user25/basins.csv && echo mine >user25/fractions.gp
+expect 25 0 "" "$bin/gapchain-attractors" nm2.json --samples 2 --no-plot --out user25
+[ "$(cat user25/basins.csv)" = my,data ] && [ "$(cat user25/fractions.gp)" = mine ] || { echo "class 25: FAIL: a user's file was removed"; failed+=(25); }
 # An input kept in the output folder under a name the tool writes is refused, untouched; a run
 # that cannot place one file places none (a folder named like an output is in the way).
 mkdir -p in25 && cp nm2.json in25/attractors.json

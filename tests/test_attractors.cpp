@@ -467,6 +467,36 @@ TEST_CASE("runs still converging to an orbit are an unsettled group, not a quasi
     CHECK(late.unsettled == 0);
 }
 
+TEST_CASE("a non-periodic group that never touched is unsettled whatever its exponent") {
+    // Without contact the damped row is linear: its one attractor is eq (20)'s orbit. An
+    // overdamped row (eps = 100, slowest decay pi / eps = 0.031 per unit time) needs about 730
+    // periods to settle to 1e-10; 60 periods at f_r = 1e4 are 0.006 time units, over which a
+    // tangent run read +0.24. Both were reported as several settled no-contact attractors.
+    for (const ReducedParameters& p :
+         {ReducedParameters{2, 100, 100.0, 0.5, 1.0}, ReducedParameters{2, 100, 0.5, 0.5, 1e4}}) {
+        CAPTURE(p.eps);
+        AttractorOptions o;
+        o.samples = 6;
+        o.run.periods = 60;
+        const AttractorSet set = find_attractors(p, o);
+        REQUIRE_FALSE(set.attractors.empty());
+        for (const auto& a : set.attractors) {
+            CHECK(a.F_m == 0.0);
+            CHECK_FALSE(a.settled);
+            CHECK(regime_label(a) == "unsettled");
+        }
+        CHECK(set.unsettled == static_cast<int>(set.attractors.size()));
+    }
+    AttractorOptions o;
+    o.samples = 6;
+    o.run.periods = 1500;
+    const AttractorSet late = find_attractors({2, 100, 100.0, 0.5, 1.0}, o);
+    REQUIRE(late.attractors.size() == 1);
+    CHECK(late.attractors.front().settled);
+    CHECK(late.attractors.front().period == 1);
+    CHECK(late.attractors.front().regime == Regime::no_contact);
+}
+
 TEST_CASE("fractions.csv: a label absent at a value has fraction 0 +- 1/N, not 0 +- 0") {
     // Two values, 25 starts each: label 1 is reached only at the first.
     FractionContinuation c;

@@ -190,9 +190,12 @@ struct StartOutcome {
     int period = 0;
     bool newton = false;
     double max_multiplier = 0.0;
-    double F_m = 0.0;          // the orbit's (Newton) or the run's
-    double run_F_m = 0.0;      // over the run's recorded window
-    double spread = 0.0;       // the run's F_m_error
+    double F_m = 0.0;     // the orbit's (Newton) or the run's
+    double run_F_m = 0.0; // over the run's recorded window
+    double spread = 0.0;  // the run's F_m_error
+    // A Newton orbit's state error bound (absolute): for a contraction with multiplier mu,
+    // |x - x*| <= |P(x) - x| / (1 - |mu|), the Euclidean norm bounding every component.
+    double newton_accuracy = 0.0;
     long settle_period = -1;   // the run's cycle_entry_period (-1: did not settle)
     std::vector<double> state; // on the attractor at phase 0
     Points section;            // the orbit's points, or the run's last ones
@@ -236,6 +239,13 @@ StartOutcome run_start(const Dynamics& dyn, const AttractorOptions& o,
         s.newton = true;
         s.period = found->minimal_period;
         s.max_multiplier = found->max_multiplier;
+        double size = 0.0; // |x|, the Euclidean norm of the residual's scale
+        for (const double x : found->state)
+            size += x * x;
+        size = std::sqrt(size);
+        s.newton_accuracy = found->max_multiplier < 1.0
+                                ? found->residual * (1.0 + size) / (1.0 - found->max_multiplier)
+                                : 0.0;
         s.F_m = found->F_m;
         s.state = found->state;
         s.section = found->period_ends;
@@ -316,15 +326,23 @@ bool forces_agree(const StartOutcome& s, const StartOutcome& representative) {
 }
 
 /// Whether s reached attractor a, whose first member was `representative`. Two Newton orbits
-/// match to 1e-6 with equal minimal periods; a steady state Newton did not confirm is the run's
-/// discrete orbit, off the exact one by the run's truncation error, and its detected period may
-/// be a multiple of the minimal one: it matches to 10 x the run's tolerance, with either period
-/// dividing the other.
+/// with equal minimal periods match to 1e-6, or to ten times their state error bounds where
+/// those are larger (at most converging_distance): Newton stops at a residual of 1e-9, which a
+/// slowly contracting orbit leaves 1 / (1 - |mu|) times larger in the state (an overdamped row,
+/// eps = 100, |mu| = 0.969, A = 0.005: its orbit was found twice, 1.2e-6 A apart); a steady state
+/// Newton did not confirm is the run's discrete orbit, off the exact one by the run's truncation
+/// error, and its detected period may be a multiple of the minimal one: it matches to 10 x the
+/// run's tolerance, with either period dividing the other.
 bool belongs(const StartOutcome& s, const Attractor& a, const StartOutcome& representative,
              const StateScale& scale, const AttractorOptions& o) {
     if (s.periodic && a.period != 0) {
-        if (s.newton && a.newton_confirmed)
-            return a.period == s.period && same_orbit(a.section, s.section, scale, 1e-6);
+        if (s.newton && a.newton_confirmed) {
+            const double bound =
+                (s.newton_accuracy + representative.newton_accuracy) / std::min(scale.u, scale.v);
+            return a.period == s.period &&
+                   same_orbit(a.section, s.section, scale,
+                              std::clamp(10.0 * bound, 1e-6, converging_distance));
+        }
         return (a.period % s.period == 0 || s.period % a.period == 0) &&
                same_orbit(a.section, s.section, scale, 10.0 * o.run.tolerance);
     }
@@ -500,8 +518,12 @@ void characterise(const Dynamics& dyn, const ReducedParameters& p, const Attract
                        : a.lambda_max > margin ? Regime::chaotic
                                                : Regime::quasi_periodic;
             // A torus has lambda_max = 0 and chaos > 0: a clearly negative one is the approach
-            // to a stable orbit that the runs did not reach.
-            a.settled = a.F_m == 0.0 || a.lambda_max >= -margin;
+            // to a stable orbit that the runs did not reach. A group that never touched is the
+            // linear damped row's transient whatever its exponent: that row has one attractor,
+            // eq (20)'s orbit (MODEL.md §5), which its runs did not reach (eps = 100 decays at
+            // pi / eps = 0.031 per unit time; at f_r = 1e4, 60 periods span 0.006 time units
+            // and a 300-period tangent run measured +0.24).
+            a.settled = a.F_m > 0.0 && a.lambda_max >= -margin;
         },
         [](long) { return true; });
 }

@@ -12,6 +12,7 @@
 #include <cstring>
 #include <fcntl.h>
 #include <filesystem>
+#include <fstream>
 #include <iostream>
 #include <regex>
 #include <system_error>
@@ -281,14 +282,45 @@ void Outputs::replacing(const std::string& path) {
     m_replaced.emplace_back(path, aside);
 }
 
+namespace {
+
+// The names a run placed in an output folder, listed in it (one per line) so that the next run
+// removes only files a run wrote, never a user's file that happens to bear an output's name.
+constexpr const char* written_list = ".gapchain-outputs";
+
+std::vector<fs::path> read_written_list(const fs::path& folder) {
+    std::vector<fs::path> names;
+    std::ifstream in(folder / written_list);
+    for (std::string line; std::getline(in, line);)
+        if (!line.empty()) names.emplace_back(line);
+    return names;
+}
+
+// Adds the list of the files staged in staging, to be placed with them.
+void stage_written_list(const fs::path& staging) {
+    std::error_code ec;
+    std::ofstream out(staging / written_list);
+    for (const auto& entry : fs::directory_iterator(staging, ec))
+        if (entry.path().filename() != written_list)
+            out << entry.path().filename().string() << '\n';
+    if (!out.flush()) throw OutputError((staging / written_list).string() + ": cannot write");
+}
+
+} // namespace
+
 void Outputs::keep() {
     for (auto& f : m_folders) {
         if (f.staging.empty()) continue;
+        const std::vector<fs::path> earlier = read_written_list(f.path);
+        stage_written_list(f.staging);
         const std::vector<fs::path> written = commit_staged(f.path, f.staging);
         std::error_code ec;
         // Files this tool writes in its other modes, left by an earlier run: not this run's.
+        const auto listed = [](const std::vector<fs::path>& names, const std::string& name) {
+            return std::find(names.begin(), names.end(), fs::path(name)) != names.end();
+        };
         for (const auto& name : f.owned)
-            if (std::find(written.begin(), written.end(), fs::path(name)) == written.end())
+            if (!listed(written, name) && listed(earlier, name))
                 fs::remove(fs::path(f.path) / name, ec);
         fs::remove_all(f.staging, ec);
         f.staging.clear();

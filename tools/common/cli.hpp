@@ -69,16 +69,19 @@ public:
     // fails, so that a failed run leaves the path as it was; keep() drops what was set aside.
     void replacing(const std::string& path);
     // A folder output given by flag. owned: every file name the tool may write there, in any
-    // of its modes; keep() removes those this run did not write, so that no file of an earlier
-    // run (a basin slice next to a new attractor list) passes for this run's.
+    // of its modes; keep() removes those this run did not write that an earlier run wrote (it
+    // lists what it placed in the folder's .gapchain-outputs), so that no file of an earlier run
+    // (a basin slice next to a new attractor list) passes for this run's, and a user's own file
+    // of such a name is left alone.
     void folder(const std::string& path, const std::string& flag, std::vector<std::string> owned);
     // Creates the folders not there yet (remembered for removal on failure) and their staging
     // folders.
     void create_folders();
     // The folder a run writes folder `path`'s files into (after create_folders()).
     [[nodiscard]] std::string staged(const std::string& path) const;
-    // The run succeeded: staged files replace the folders' ones, owned files not written are
-    // removed, nothing else is. Throws OutputError if a file cannot be moved.
+    // The run succeeded: staged files replace the folders' ones, owned files an earlier run
+    // wrote and this one did not are removed, nothing else is. Throws OutputError if a file
+    // cannot be moved.
     void keep();
 
 private:

@@ -181,6 +181,21 @@ TEST_CASE("Liouville's check is withheld where double precision cannot resolve i
     CHECK(std::isnan(underflow.liouville_error));
 }
 
+TEST_CASE("an undamped row's orbit: det M = 1, neutral, and Liouville's check absolute") {
+    // eps = 0, no contact (e_r = 5 against the response 1 / (1 - f_r^2) = 1.33): the linear row
+    // is conservative, every multiplier on the unit circle. The check divided by |log det| = 0
+    // and printed 7.8e285; the orbit was called stable.
+    const Dynamics dyn = row({2, 100, 0.0, 5.0, 0.5});
+    OrbitOptions o;
+    const PeriodicOrbit orbit = find_periodic_orbit(dyn, o, std::vector<double>(4, 0.0));
+    REQUIRE(orbit.status == OrbitStatus::converged);
+    CHECK(orbit.F_m == 0.0);
+    for (const auto& mu : orbit.multipliers)
+        CHECK(std::abs(mu) == doctest::Approx(1.0).epsilon(1e-9));
+    CHECK(orbit.liouville_error < 1e-9);
+    CHECK_FALSE(orbit.stable);
+}
+
 TEST_CASE("Fig 5's orbit: Liouville's product, and the F_m of the long run") {
     const ReducedParameters p{5, 100, 0.5, 0.5, 1.0};
     const Dynamics dyn = row(p);

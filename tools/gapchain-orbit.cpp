@@ -50,8 +50,11 @@ void print_orbit(const PeriodicOrbit& orbit) {
     if (!std::isnan(orbit.liouville_error))
         std::snprintf(check, sizeof check, "Liouville check %.1e", orbit.liouville_error);
     std::printf("  period %d (minimal %d), %s, largest multiplier |mu| = %.6g (%s)\n", orbit.period,
-                orbit.minimal_period, orbit.stable ? "stable" : "unstable", orbit.max_multiplier,
-                check);
+                orbit.minimal_period,
+                orbit.stable                         ? "stable"
+                : orbit.max_multiplier <= 1.0 + 1e-9 ? "neutral"
+                                                     : "unstable",
+                orbit.max_multiplier, check);
     std::printf("  F_m over the orbit = %.10g\n  wall time %.3f s\n", orbit.F_m, orbit.wall_time_s);
 }
 

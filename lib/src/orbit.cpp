@@ -113,10 +113,12 @@ void read_stability(const Dynamics& dyn, int period, const std::vector<double>& 
     std::sort(orbit.multipliers.begin(), orbit.multipliers.end(),
               [](auto a, auto b) { return std::abs(a) > std::abs(b); });
     orbit.max_multiplier = std::abs(orbit.multipliers.front());
-    orbit.stable = orbit.max_multiplier < 1.0;
     // det M = exp(trace J * k T) with trace J = -sum of the damping rates (MODEL.md §5).
     const auto& c = dyn.chain().damping;
     const double log_det = -std::accumulate(c.begin(), c.end(), 0.0) * period * dyn.period();
+    // An undamped row (eps = 0) has det M = 1: its multipliers cannot all lie inside the unit
+    // circle, and a largest one computed a hair below 1 is round-off. Neutral is not stable.
+    orbit.stable = orbit.max_multiplier < 1.0 && log_det < 0.0;
     double log_product = 0.0;
     for (const auto& mu : orbit.multipliers)
         log_product += std::log(std::abs(mu));
@@ -128,7 +130,7 @@ void read_stability(const Dynamics& dyn, int period, const std::vector<double>& 
     orbit.liouville_error =
         geometric_mean < 1e-6 * orbit.max_multiplier || !std::isfinite(log_product)
             ? std::numeric_limits<double>::quiet_NaN()
-            : std::abs(log_product - log_det) / std::max(std::abs(log_det), 1e-300);
+            : std::abs(log_product - log_det) / std::max(std::abs(log_det), 1.0);
 }
 
 /// The orbit's record once Newton has stopped: maxima over one orbit, stability, period.

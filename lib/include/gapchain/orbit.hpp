@@ -54,9 +54,12 @@ struct PeriodicOrbit {
     /// first.
     std::vector<std::complex<double>> multipliers;
     double max_multiplier = 0.0; ///< largest modulus
-    bool stable = false;         ///< every modulus < 1
-    /// |log|prod mu| - log det| / |log det|, det = exp(-k T sum_i c_i) (Liouville, MODEL.md §5,
-    /// c_i the damping rates): the multipliers' own check, ~1e-10 or better. NaN (null in JSON)
+    /// Every modulus < 1 on a damped row; false on an undamped one (eps = 0: det M = 1, so the
+    /// orbit is at best neutral).
+    bool stable = false;
+    /// |log|prod mu| - log det| / max(|log det|, 1), det = exp(-k T sum_i c_i) (Liouville,
+    /// MODEL.md §5, c_i the damping rates; absolute where |log det| < 1, as at eps = 0): the
+    /// multipliers' own check, ~1e-10 or better. NaN (null in JSON)
     /// when det^(1 / 2Nm) < 1e-6 max|mu|: the smallest multipliers are then below what double
     /// precision resolves next to the largest (a smaller period resolves them).
     double liouville_error = 0.0;

@@ -70,8 +70,19 @@ TEST_CASE("a diagram too large is refused up front: run.max_work is honoured, th
     o.max_work = 1e8;
     CHECK_THROWS_WITH_AS(bifurcation(fig13, o), doctest::Contains("run.max_work"),
                          std::invalid_argument);
-    o.steps = 20; // 2e8 section points kept
+    // The whole diagram, not each value: 100 values up and back of 300 periods at 87 steps
+    // each are 2.6e7 body-steps, one value 1.3e5 (the probe of 2026-11-26 ran it at 1e6).
+    o.mode = SweepMode::continuation;
+    o.steps = 100;
     o.to = 4.5;
+    o.transient_periods = 200;
+    o.record_periods = 100;
+    o.max_work = 1e6;
+    CHECK_THROWS_WITH_AS(bifurcation(fig13, o), doctest::Contains("this diagram runs up to"),
+                         std::invalid_argument);
+    o.mode = SweepMode::independent;
+    o.steps = 20; // 2e8 section points kept
+    o.record_periods = 10'000'000;
     o.max_work = 1e15;
     CHECK_THROWS_WITH_AS(bifurcation(fig13, o), doctest::Contains("record_periods"),
                          std::invalid_argument);
@@ -105,7 +116,8 @@ TEST_CASE("independent mode: identical CSVs with 1 and 2 threads") {
     CHECK(summary_csv(one) == summary_csv(two));
 }
 
-TEST_CASE("continuation sweeps up then down, each value from the previous end state") {
+TEST_CASE("continuation sweeps from `from` to `to` and back, each value from the previous end "
+          "state") {
     BifurcationOptions o;
     o.mode = SweepMode::continuation;
     o.from = 2.8;
@@ -123,6 +135,14 @@ TEST_CASE("continuation sweeps up then down, each value from the previous end st
     // On the period-1 branch both directions land on the same attractor.
     CHECK(r.rows[5].points.back().values[0] ==
           doctest::Approx(r.rows[0].points.back().values[0]).epsilon(1e-6));
+    // A line given downwards goes down first, and says so.
+    std::swap(o.from, o.to);
+    const BifurcationResult down = bifurcation(fig13, o);
+    REQUIRE(down.rows.size() == 6);
+    CHECK(down.rows[0].direction == SweepDirection::down);
+    CHECK(down.rows[0].value == doctest::Approx(3.0));
+    CHECK(down.rows[3].direction == SweepDirection::up);
+    CHECK(down.rows[3].value == doctest::Approx(2.8));
 }
 
 TEST_CASE("bad options name the option field (the tools translate it into their flag)") {

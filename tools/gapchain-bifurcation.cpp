@@ -68,9 +68,10 @@ void add_options(CLI::App& app, BifurcationArguments& a) {
     app.add_option("--steps", o.steps, "Number of values (ends included)")
         ->check(cli::range(1, 10'000'000))
         ->capture_default_str();
-    app.add_option("--mode", a.mode,
-                   "independent (parallel, each from the scene's initial state, default rest) or "
-                   "continuation (up then down, from it)")
+    app.add_option(
+           "--mode", a.mode,
+           "independent (parallel, each from the scene's initial state, default rest) or "
+           "continuation (--from to --to and back, from it; a leg is up where the value grows)")
         ->check(CLI::IsMember({"independent", "continuation"}))
         ->capture_default_str();
     app.add_option("--transient", o.transient_periods, "Discarded periods per value")

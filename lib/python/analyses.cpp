@@ -40,7 +40,7 @@ is discarded, then the stroboscopic section points (phase in [0, 1) of the forci
 
 param     "f_r", "e_r", "fc" or "eps";  from_, to  first and last value;  steps >= 1 values
 mode      "independent" (each value from the scene's initial state, default rest, in
-          parallel) or "continuation" (up then down, from it)
+          parallel) or "continuation" (from from_ to to and back, from it; a leg is "up" where the value grows)
 transient discarded periods per value, >= 0;  record  recorded periods per value, >= 1
 variable  u1..uNm, v1..vNm, g0..gNm, F0..FNm;  threads OpenMP threads (0: all cores)
 progress  callable(fraction of values done)

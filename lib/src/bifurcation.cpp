@@ -78,7 +78,7 @@ void independent_rows(const ReducedParameters& base, const BifurcationOptions& o
     result.cancelled = end == detail::LoopEnd::cancelled;
 }
 
-/// Continuation mode: up then down, each value from the previous end state.
+/// Continuation mode: from `from` to `to` and back, each value from the previous end state.
 void continued_rows(const ReducedParameters& base, const BifurcationOptions& o,
                     const ProgressCallback& progress, BifurcationResult& result) {
     const std::vector<double> values = linspace(o.from, o.to, o.steps);
@@ -88,9 +88,13 @@ void continued_rows(const ReducedParameters& base, const BifurcationOptions& o,
     const ProgressCallback keep_going = [&](double) {
         return !progress || progress(static_cast<double>(done) / total);
     };
-    for (SweepDirection dir : {SweepDirection::up, SweepDirection::down}) {
+    // From `from` to `to` and back; a leg is labelled by whether the value grows along it, so
+    // that a line given from 4 down to 2 labels its first leg down.
+    const bool rising = o.from <= o.to;
+    for (const bool outward : {true, false}) {
+        const SweepDirection dir = outward == rising ? SweepDirection::up : SweepDirection::down;
         for (int i = 0; i < o.steps; ++i) {
-            const int k = dir == SweepDirection::up ? i : o.steps - 1 - i;
+            const int k = outward ? i : o.steps - 1 - i;
             result.rows.push_back(diagram_row(with_value(base, o.parameter, values[k]), o, y, dir,
                                               values[k], keep_going));
             if (result.rows.back().status == RunStatus::cancelled) {
@@ -140,9 +144,28 @@ void validate(const BifurcationOptions& o, const ReducedParameters& base) {
     (void)initial_state(Dynamics::paper_row(with_value(base, o.parameter, o.from)), o.initial);
     // The scheme must take both ends (exact's limit on the contacts' speed rises with fc): a
     // line that crossed it was refused only where it got there, its output lost.
-    for (const double end : {o.from, o.to})
-        (void)plan_step(Dynamics::paper_row(with_value(base, o.parameter, end)), o.scheme,
-                        o.tolerance);
+    // run.max_work bounds the whole diagram, as it bounds an attractor search: each value's run
+    // alone was checked, and 1e5 values of 1e4 periods (a day of work) were accepted. A value's
+    // steps per period are largest at an end of the line (they fall with f_r, rise with fc).
+    const double periods = static_cast<double>(o.transient_periods + o.record_periods);
+    double per_value = 0.0;
+    int steps_per_period = 0;
+    for (const double end : {o.from, o.to}) {
+        const Dynamics dyn = Dynamics::paper_row(with_value(base, o.parameter, end));
+        const StepPlan plan = plan_step(dyn, o.scheme, o.tolerance);
+        const double work = dyn.bodies() * static_cast<double>(plan.steps_per_period) * periods;
+        if (work > per_value) {
+            per_value = work;
+            steps_per_period = plan.steps_per_period;
+        }
+    }
+    const long runs = o.steps * (o.mode == SweepMode::continuation ? 2L : 1L);
+    detail::require_work(
+        static_cast<double>(runs) * per_value, o.max_work, "this diagram runs up to",
+        detail::format_number(static_cast<double>(runs)) + " runs x Nm " + std::to_string(base.Nm) +
+            " x " + std::to_string(steps_per_period) + " steps per forcing period x " +
+            detail::format_number(periods) + " periods",
+        "fewer values, fewer periods, or raise run.max_work");
     validate(o.section, base.Nm);
 }
 

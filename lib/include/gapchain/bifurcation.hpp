@@ -17,7 +17,8 @@ namespace gapchain {
 /// How the values of a sweep are linked.
 enum class SweepMode {
     independent,  ///< each value from the initial state; values run in parallel (OpenMP)
-    continuation, ///< each value from the previous end state, sweeping up then down
+    continuation, ///< each value from the previous end state, from `from` to `to` and back (rows
+                  ///< labelled up where the value grows)
 };
 /// Parses "independent" or "continuation"; throws std::invalid_argument otherwise.
 SweepMode parse_sweep_mode(std::string_view name);
@@ -41,10 +42,12 @@ struct BifurcationOptions {
     SectionSpec section;                     ///< default: stroboscopic at phase 0, recording u_1
     Scheme scheme = Scheme::automatic;       ///< integration scheme
     double tolerance = 1e-4;                 ///< relative accuracy asked of each run
-    double max_work = RunOptions{}.max_work; ///< body-steps a value's run may take (run.max_work)
-    double period_tolerance = 1e-6;          ///< relative tolerance telling section points apart
-    int max_period = 16;                     ///< largest period detected, >= 1
-    int threads = 0;                         ///< OpenMP threads for independent mode (0: all)
+    /// Body-steps the whole diagram may take (run.max_work): its runs, at the costlier end's
+    /// steps per period, refused up front above it.
+    double max_work = RunOptions{}.max_work;
+    double period_tolerance = 1e-6; ///< relative tolerance telling section points apart
+    int max_period = 16;            ///< largest period detected, >= 1
+    int threads = 0;                ///< OpenMP threads for independent mode (0: all)
     /// Start of every value (independent mode) or of the first (continuation mode): 2 Nm
     /// reduced numbers (u then v, relative to the ground), finite; empty: rest.
     std::vector<double> initial;

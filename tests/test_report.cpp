@@ -1,4 +1,5 @@
 #include "gapchain/report.hpp"
+#include "gapchain/scene.hpp"
 
 #include <doctest/doctest.h>
 
@@ -43,4 +44,15 @@ TEST_CASE("map_csv: an unknown lambda_max_error is an empty field, a known one i
     CHECK(csv_field(csv, 1, 7).empty());
     CHECK(csv_field(csv, 2, 7) == "0.06");
     CHECK(csv.find("inf") == std::string::npos);
+}
+
+TEST_CASE("simulation JSON: multistable is null where the check did not run, never false") {
+    const Scene scene = parse_scene(R"({"model": {"Nm": 2}})");
+    SimulationResult r;
+    r.multistability_checked = false;
+    CHECK(to_json(r, scene).find("\"multistable\": null") != std::string::npos);
+    r.multistability_checked = true;
+    CHECK(to_json(r, scene).find("\"multistable\": false") != std::string::npos);
+    r.multistable = true;
+    CHECK(to_json(r, scene).find("\"multistable\": true") != std::string::npos);
 }

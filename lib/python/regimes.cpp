@@ -61,7 +61,8 @@ study     a study dict ({"scene": {...}, "parameters": {"fc": [1, 10], "e_r": {"
 threads   OpenMP threads (0: all cores);  progress  callable(fraction of points done)
 
 Returns a dict of columns in index order: index, one column per axis (named by its key), Nm,
-fc, eps, e_r, f_r, F_m, F_m_error (NaN: not estimated), status, multistable (bool),
+fc, eps, e_r, f_r, F_m, F_m_error (NaN: not estimated), status, multistable (bool;
+False also where run.multistability_check was false, which the CSV leaves empty),
 steady_state_period (0: none), wall_time_s; with "per_body" kept, per_body (points x Nm x 2); with "regime" kept, regime,
 period, lambda_max, lambda_max_error; with "F_m_orbit" kept, F_m_orbit (NaN: did not settle)
 and maximum_in_transient (bool); F_m_newton for physical scenes; and cancelled.)";

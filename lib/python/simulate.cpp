@@ -45,7 +45,7 @@ None when not estimated),
 F_m_error_method, F_m_contact (j = 0 left wall .. Nm right wall, -1 no contact), F_m_time
 (reduced time), contact (bool), multistable (bool: a twin run from a start moved by 1e-8 gave
 an F_m beyond the error, or a run that settled late took its F_m in the transient; F_m_error then
-covers the difference), F_m_twin (or None), F_m_comparison (the error estimate's comparison
+covers the difference; None when run.multistability_check is false), F_m_twin (or None), F_m_comparison (the error estimate's comparison
 run's F_m, or None), comparison_ended_elsewhere (bool: that run, from the same start on another
 step, did not settle where this one did, or settled on an orbit whose largest force differs by
 more than max(0.1, 1000 tolerance); the twin run then decides), F_m_orbit (the largest

@@ -86,7 +86,8 @@ json simulation_json(const SimulationResult& r, const Scene& scene) {
     j["F_m_contact"] = r.F_m_contact;
     j["F_m_time"] = r.F_m_time;
     j["contact"] = r.contact;
-    j["multistable"] = r.multistable;
+    j["multistable"] =
+        r.multistability_checked || r.multistable ? json(r.multistable) : json(nullptr);
     if (r.twin_checked) j["F_m_twin"] = r.F_m_twin;
     if (r.F_m_comparison) {
         j["F_m_comparison"] = *r.F_m_comparison;
@@ -686,7 +687,10 @@ std::string sweep_csv_row(const Study& study, const SweepPointResult& r) {
     os << ',' << p.Nm << ',' << p.fc << ',' << p.eps << ',' << p.e_r << ',' << p.f_r << ',' << s.F_m
        << ',';
     if (has_error_estimate(s)) os << s.F_m_error;
-    os << ',' << to_string(s.status) << ',' << (r.multistable ? 1 : 0);
+    os << ',' << to_string(s.status) << ',';
+    // Unknown where the check was off and no attractor search ran: empty, never 0.
+    if (r.multistable || s.multistability_checked || study.attractor_starts > 0)
+        os << (r.multistable ? 1 : 0);
     if (r.F_m_newton) os << ',' << *r.F_m_newton;
     if (study.attractor_starts > 0)
         os << ',' << (r.F_m_max ? *r.F_m_max : s.F_m) << ',' << r.attractors_found << ','

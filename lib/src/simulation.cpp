@@ -444,15 +444,15 @@ SimulationResult simulate(const Dynamics& dyn, const RunOptions& requested,
     const bool ran =
         result.status == RunStatus::completed || result.status == RunStatus::steady_state;
     const bool harmonic = dyn.ground_motion().is_harmonic();
-    const bool late =
-        harmonic && ran && options.multistability_check && settled_late(dyn, options, main);
+    result.multistability_checked = harmonic && ran && options.multistability_check;
+    const bool late = result.multistability_checked && settled_late(dyn, options, main);
     // F_m_orbit and maximum_in_transient are results: every settled run gets them.
     if (harmonic && ran && !record_orbit_maximum(dyn, *planned, main, after_main, result))
         refused = true;
     if (!refused) estimate_error(dyn, options, planned->plan(), initial, main, after_main, result);
     // A comparison run that ended elsewhere calls for the twin too (ended_elsewhere()).
-    const bool twin_wanted = late || (harmonic && ran && options.multistability_check &&
-                                      result.comparison_ended_elsewhere);
+    const bool twin_wanted =
+        late || (result.multistability_checked && result.comparison_ended_elsewhere);
     if (!refused && ran && harmonic)
         check_transient_and_twin(dyn, options, initial, main, late, twin_wanted, after_main,
                                  result);

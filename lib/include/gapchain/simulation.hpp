@@ -80,6 +80,10 @@ struct SimulationResult {
     /// settled late took its maximum in the transient. F_m_error covers |F_m - F_m_twin| (as it
     /// does whenever the twin ran). gapchain-attractors gives the F_m of each attractor.
     bool multistable = false;
+    /// The multistability check applied (run.multistability_check, harmonic forcing, a run
+    /// that ran its course). Without it, multistable = false says nothing: written as JSON null,
+    /// an empty CSV field, Python None.
+    bool multistability_checked = false;
     double F_m_twin = 0.0; ///< the twin run's F_m (when twin_checked)
     /// The F_m of the error estimate's comparison run (error_method comparison_run: the same
     /// start on another plan, see simulate(); the half-step run where a periodic run had two);

@@ -18,7 +18,7 @@ starts: gapchain-attractors in-process (docs/attractors.md). Each start, drawn u
 box of half-width box x A (A: eq (20)'s contact-free amplitude; velocities box x 2 pi f_r A),
 runs the scene's run section; the runs are grouped into attractors.
 
-samples         random starts, 1 .. 1e7;  seed  their seed, >= 0;  box  (0, 100]
+samples         random starts, 1 .. 1e7;  seed  their seed, >= 0;  box  [1e-9, 100]
 section_points  stroboscopic points kept of a run that does not settle, 20 .. 100000
 grid            two state variables ("u1", "v1", ... "uNm", "vNm") for a basin slice of
                 resolution x resolution starts (2 .. 2000), the others at rest; or None

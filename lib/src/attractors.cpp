@@ -31,7 +31,7 @@ void validate(const AttractorOptions& o, int Nm) {
         throw std::invalid_argument("seed: must be an integer in [0, 2^62 = 4611686018427387904], "
                                     "got " +
                                     std::to_string(o.seed));
-    detail::require_range("box", o.box, 0.0, 100.0, detail::Bound::open_low);
+    detail::require_range("box", o.box, 1e-9, 100.0);
     detail::require_range("section_points", o.section_points, 20, 100000);
     detail::require_range("overlap_factor", o.overlap_factor, 1.0, 100.0);
     detail::require_range("lyapunov_periods", static_cast<double>(o.lyapunov_periods), 10.0, 1e6);

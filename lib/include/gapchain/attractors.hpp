@@ -54,7 +54,7 @@ struct BasinSlice {
 struct AttractorOptions {
     long samples = 200;     ///< random starts for the basin fractions, 1 .. 1e7
     std::uint64_t seed = 1; ///< seed of the starts, 0 .. 2^62
-    double box = 1.0;       ///< half-width of the box of starts, in units of A, (0, 100]
+    double box = 1.0;       ///< half-width of the box of starts, in units of A, [1e-9, 100]
     /// Each start's run (steady-state stop on to finish early). Its estimate_error is taken as
     /// true and its multistability_check as false whatever they say: each start needs its
     /// F_m_error to be grouped, and the search itself replaces the twin.

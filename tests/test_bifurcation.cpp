@@ -28,8 +28,8 @@ TEST_CASE("Fig 13 row: a period-1 and a period-2 value are told apart") {
     CHECK(r.rows[0].F_m > 0.0);
 }
 
-TEST_CASE("F_m_error: the tolerance where the row settles (covering a 1e-8 run), the window "
-          "halves' spread where it does not") {
+TEST_CASE("F_m_error: the tolerance where the row settles (covering a 1e-8 run), at least the "
+          "window halves' spread where it does not") {
     BifurcationOptions o;
     o.from = 2.9; // period 1
     o.to = 3.2;   // chaotic from rest (issue 19)
@@ -56,7 +56,10 @@ TEST_CASE("F_m_error: the tolerance where the row settles (covering a 1e-8 run),
     const double first = bifurcation(fig13, half).rows[0].F_m;
     half.transient_periods = 450;
     const double second = bifurcation(fig13, half).rows[0].F_m;
-    CHECK(chaotic.F_m_error == doctest::Approx(std::abs(first - second)).epsilon(1e-12));
+    // At least that spread; above it only by the tail of the per-period maxima (their spread,
+    // test_observers.cpp), which is a few per cent of F_m here.
+    CHECK(chaotic.F_m_error >= std::abs(first - second));
+    CHECK(chaotic.F_m_error < 0.1 * chaotic.F_m);
     CHECK(chaotic.F_m_error > 10.0 * o.tolerance * chaotic.F_m);
     CHECK(chaotic.F_m == doctest::Approx(std::max(first, second)).epsilon(1e-12));
 }

@@ -61,8 +61,9 @@ TEST_CASE("F_m_error: the tolerance on a periodic state (covering a 1e-8 run), t
     MESSAGE("F_m " << chaotic.F_m << ", first half " << first << ", error " << chaotic.F_m_error);
     // Here the maximum falls in the second half (0.20406 against 0.20305 before the split).
     REQUIRE(first < chaotic.F_m);
-    CHECK(chaotic.F_m_error == doctest::Approx(chaotic.F_m - first).epsilon(1e-9));
-    CHECK(chaotic.F_m_error < 0.5 * chaotic.F_m); // both halves were recorded
+    // At least the halves' spread (the tail of the per-period maxima can add to it).
+    CHECK(chaotic.F_m_error >= chaotic.F_m - first);
+    CHECK(chaotic.F_m_error < 0.1 * chaotic.F_m); // both halves were recorded
     CHECK(chaotic.F_m_error > 10.0 * o.tolerance * chaotic.F_m);
 }
 

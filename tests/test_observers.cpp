@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
+#include <numbers>
 #include <string>
 #include <tuple>
 #include <utility>
@@ -60,6 +62,56 @@ TEST_CASE("MaxForceTracker: the half-window maxima equal the maxima of runs reco
           doctest::Approx(largest_force(whole)).epsilon(1e-12));
     // Not trivially equal: the record is in the first half, well above the second's maximum.
     CHECK(whole.first_half_max() > 1.05 * whole.second_half_max());
+}
+
+TEST_CASE("MaxForceTracker: the tail spread is read from the maxima of runs recording one "
+          "period each") {
+    // The tracker keeps the largest per-period maxima without locating every peak (a peak
+    // below the smallest kept one is skipped): the tail must be the one of every period's
+    // maximum, each from a tracker of its own on the same trajectory.
+    const ReducedParameters p{5, 60, 0.5, 0.06, 3.3}; // Fig 13's line, not settling
+    const Dynamics dyn = Dynamics::paper_row(p);
+    const StepPlan plan = plan_step(dyn, Scheme::rk4, 1e-4);
+    constexpr long periods = 80;
+    auto stepper = make_stepper(plan, dyn);
+    MaxForceTracker whole(dyn);
+    std::array<Observer*, 1> all{&whole};
+    std::vector<double> y(2 * p.Nm, 0.0);
+    REQUIRE(run(dyn, *stepper, plan, {periods, 0, 0.0}, y, all).status == RunStatus::completed);
+
+    std::vector<double> maxima;
+    auto one_at_a_time = make_stepper(plan, dyn);
+    std::vector<double> z(2 * p.Nm, 0.0);
+    for (long n = 0; n < periods; ++n) {
+        MaxForceTracker period(dyn);
+        std::array<Observer*, 1> one{&period};
+        const RunSpan span{n + 1, 0, static_cast<double>(n) * dyn.period(), n};
+        REQUIRE(run(dyn, *one_at_a_time, plan, span, z, one).status == RunStatus::completed);
+        maxima.push_back(largest_force(period));
+    }
+    double apart = 0.0;
+    for (int i = 0; i < 2 * p.Nm; ++i)
+        apart = std::max(apart, std::abs(y[i] - z[i]));
+    // The same trajectory: 80 periods of this chaotic row part runs restarted at each period by
+    // 3e-8 (120 periods by 3e-5, which moves the tail).
+    REQUIRE(apart < 1e-6);
+    std::sort(maxima.begin(), maxima.end(), std::greater<>());
+    constexpr int r = MaxForceTracker::tail_periods;
+    double excess = 0.0;
+    for (int i = 0; i + 1 < r; ++i)
+        excess += maxima[static_cast<std::size_t>(i)] - maxima[r - 1];
+    const double expected = std::numbers::pi / std::sqrt(6.0) * excess / (r - 1);
+    MESSAGE("tail spread " << whole.tail_spread() << ", F_m " << largest_force(whole));
+    CHECK(expected > 1e-3 * maxima.front()); // a spread to read
+    CHECK(whole.tail_spread() == doctest::Approx(expected).epsilon(1e-9));
+    CHECK(largest_force(whole) == doctest::Approx(maxima.front()).epsilon(1e-12));
+    // Fewer than 4 tail_periods recorded periods: no tail to read.
+    MaxForceTracker short_run(dyn);
+    std::array<Observer*, 1> brief{&short_run};
+    std::vector<double> x(2 * p.Nm, 0.0);
+    auto again = make_stepper(plan, dyn);
+    REQUIRE(run(dyn, *again, plan, {4 * r - 1, 0, 0.0}, x, brief).status == RunStatus::completed);
+    CHECK(short_run.tail_spread() == 0.0);
 }
 
 namespace {

@@ -95,8 +95,8 @@ void print_result(const Scene& scene, const SimulationResult& r, bool searched) 
     else
         std::printf("no periodic steady state within %ld periods%s\n", r.periods_simulated,
                     r.error_method == ErrorMethod::window_halves
-                        ? " (error: sampling spread: the maxima of the two window halves, and of a "
-                          "twin run when one ran)"
+                        ? " (error: sampling spread: the maxima of the two window halves and the "
+                          "tail of the per-period maxima, and of a twin run when one ran)"
                         : "");
     if (r.accuracy_mode_used == AccuracyUsed::relaxed)
         std::printf("accuracy: relaxed from period %ld on (the run does not settle%s; "

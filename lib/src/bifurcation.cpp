@@ -51,8 +51,8 @@ BifurcationRow diagram_row(const ReducedParameters& p, const BifurcationOptions&
     row.status = planned.run(observers, keep_going).status;
     y = planned.state();
     row.F_m = forces.max_force();
-    row.F_m_error = forces.window_error(o.tolerance);
     row.period = detect_period(row.points, o.max_period, o.period_tolerance);
+    row.F_m_error = forces.window_error(o.tolerance, row.period > 0);
     return row;
 }
 

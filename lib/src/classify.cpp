@@ -173,12 +173,12 @@ void confirm_periodic(const Dynamics& dyn, const std::vector<double>& state, dou
     if (orbit.F_m == 0.0) c.regime = Regime::no_contact;
 }
 
-/// F_m, its error (the halves' spread, at least the tolerance) and the impacts, into c and
-/// evidence.
-void take_forces(const MaxForceTracker& forces, double tolerance, RecordedEvidence& evidence,
-                 Classification& c) {
+/// F_m, its error (the halves' spread and, for a record that does not repeat, the spread of
+/// its per-period maxima's tail; at least the tolerance) and the impacts, into c and evidence.
+void take_forces(const MaxForceTracker& forces, double tolerance, bool repeats,
+                 RecordedEvidence& evidence, Classification& c) {
     c.F_m = forces.max_force();
-    c.F_m_error = forces.window_error(tolerance);
+    c.F_m_error = forces.window_error(tolerance, repeats);
     evidence.impacts = total_impacts(forces);
 }
 
@@ -273,7 +273,7 @@ Classification classify(const ReducedParameters& p, const ClassifyOptions& o,
     const LyapunovResult lyap = periodic_state ? settling_lyap : tangent.result();
     c.lambda_max = lyap.exponents.front();
     c.lambda_max_error = lyap.errors.front();
-    take_forces(forces, o.tolerance, evidence, c);
+    take_forces(forces, o.tolerance, periodic_state, evidence, c);
     count_section_points(evidence.section, o.period_tolerance, c);
 
     label_regime(o, evidence, p.f_r, steady.period(), c);

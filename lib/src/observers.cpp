@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
+#include <numbers>
 #include <stdexcept>
 
 namespace gapchain {
@@ -209,16 +211,23 @@ void MaxForceTracker::on_step(const StepView& step) {
     m_have_previous = true;
     if (step.recording) {
         const int half_index = step.period < m_split_period ? 0 : 1;
-        if (half_index != m_threshold_half) set_thresholds(half_index);
+        if (step.period != m_period) {
+            start_period(step.period);
+            set_thresholds(half_index);
+        } else if (half_index != m_threshold_half) {
+            set_thresholds(half_index);
+        }
         const int active = list_contacts_to_scan(step.t1 - step.t0);
         StepScan scan(m_dyn, step, continuous, m_scratch.data());
         double& half = m_half_max[half_index];
+        const double floor = period_floor();
         bool new_record = false;
         for (int k = 0; k < active; ++k) {
             const int j = m_active[k];
             ContactMaximum& best = m_max[j];
             const GapEnds ends{m_gap[j], m_rate[j], m_gap_next[j], m_rate_next[j]};
-            const PeakAt peak = scan.force_peak(j, ends, std::min(best.force, half), best.impacts);
+            const PeakAt peak =
+                scan.force_peak(j, ends, std::min({best.force, half, floor}), best.impacts);
             if (peak.value > best.force) {
                 best.force = peak.value;
                 best.time = peak.t;
@@ -227,6 +236,10 @@ void MaxForceTracker::on_step(const StepView& step) {
             if (peak.value > half) {
                 half = peak.value;
                 new_record = true;
+            }
+            if (peak.value > m_period_max) {
+                m_period_max = peak.value;
+                new_record = new_record || peak.value > floor;
             }
         }
         if (new_record) set_thresholds(half_index);
@@ -240,10 +253,48 @@ void MaxForceTracker::set_thresholds(int half) {
     if (m_dyn.dissipative_contacts()) return;
     // Lowered by a relative 1e-9 so that rounding in the inverse never drops a contact that
     // the exact test of gap_peak() would keep.
+    const double floor = period_floor();
     for (std::size_t j = 0; j < m_max.size(); ++j)
-        m_threshold[j] =
-            (1.0 - 1e-9) * m_dyn.penetration_at_force(static_cast<int>(j),
-                                                      std::min(m_max[j].force, m_half_max[half]));
+        m_threshold[j] = (1.0 - 1e-9) * m_dyn.penetration_at_force(
+                                            static_cast<int>(j),
+                                            std::min({m_max[j].force, m_half_max[half], floor}));
+}
+
+double MaxForceTracker::period_floor() const {
+    const bool full = m_top_periods.size() == static_cast<std::size_t>(tail_periods);
+    return std::max(m_period_max, full ? m_top_periods.front() : 0.0);
+}
+
+void MaxForceTracker::start_period(long n) {
+    if (m_period >= 0) {
+        const auto smallest_first = std::greater<>();
+        if (m_top_periods.size() < static_cast<std::size_t>(tail_periods)) {
+            m_top_periods.push_back(m_period_max);
+            std::push_heap(m_top_periods.begin(), m_top_periods.end(), smallest_first);
+        } else if (m_period_max > m_top_periods.front()) {
+            std::pop_heap(m_top_periods.begin(), m_top_periods.end(), smallest_first);
+            m_top_periods.back() = m_period_max;
+            std::push_heap(m_top_periods.begin(), m_top_periods.end(), smallest_first);
+        }
+    }
+    m_period = n;
+    m_period_max = 0.0;
+    ++m_periods_recorded;
+}
+
+double MaxForceTracker::tail_spread() const {
+    if (m_periods_recorded < 4 * tail_periods) return 0.0;
+    std::vector<double> top = m_top_periods;
+    top.push_back(m_period_max);
+    std::sort(top.begin(), top.end(), std::greater<>());
+    top.resize(tail_periods);
+    // Excesses over a high threshold of a maximum in the Gumbel domain (an exponential tail)
+    // are exponential with the tail's scale beta; their mean over the top r - 1 estimates it
+    // without bias, and the maximum of a window has standard deviation beta pi / sqrt(6).
+    double excess = 0.0;
+    for (int i = 0; i + 1 < tail_periods; ++i)
+        excess += top[static_cast<std::size_t>(i)] - top.back();
+    return std::numbers::pi / std::sqrt(6.0) * excess / (tail_periods - 1);
 }
 
 double MaxForceTracker::max_force() const {

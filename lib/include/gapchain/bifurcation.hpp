@@ -63,8 +63,9 @@ struct BifurcationRow {
     std::vector<SectionPoint> points; ///< the recorded section points, in time order
     double F_m = 0.0;                 ///< max reduced force over the recorded periods
     /// Error estimate of F_m, >= 0: the sampling spread |max over the first half - max over the
-    /// second half of the recorded periods| (the error of a run that never settles), at least
-    /// tolerance * F_m (the accuracy each run is held to, docs/accuracy.md). No extra run.
+    /// second half of the recorded periods| (the error of a run that never settles) and, on a
+    /// value not periodic, MaxForceTracker::tail_spread(), at least tolerance * F_m (the
+    /// accuracy each run is held to, docs/accuracy.md). No extra run.
     double F_m_error = 0.0;
     int period = 0; ///< detected period in forcing periods (0: not periodic)
     RunStatus status = RunStatus::completed; ///< how the run ended

@@ -70,7 +70,8 @@ struct Classification {
     double F_m = 0.0;
     /// Error estimate of F_m, >= 0: on a periodic state (recorded over one orbit cycle) the
     /// accuracy the run is held to, tolerance * F_m; otherwise the sampling spread |max over the
-    /// first half - max over the second half of the recorded periods|, at least that; for a
+    /// first half - max over the second half of the recorded periods| and the spread of the tail
+    /// of its per-period maxima (MaxForceTracker::tail_spread()), at least that; for a
     /// confirmed orbit also at least its difference from the recorded maximum.
     double F_m_error = 0.0;
     bool stopped_at_steady_state = false; ///< the run ended early on a periodic steady state

@@ -44,10 +44,20 @@ public:
     [[nodiscard]] double half_spread() const {
         return m_split_period >= 0 ? std::abs(m_half_max[0] - m_half_max[1]) : 0.0;
     }
+    /// The standard deviation of the window's maximum over windows like it, from the tail of
+    /// its per-period maxima: pi / sqrt(6) (a Gumbel maximum's) times their mean excess over
+    /// the tail_periods-th largest, the exponential tail's scale. 0 with fewer than
+    /// 4 tail_periods recorded periods. Meaningful for a window that does not repeat (a
+    /// periodic one's per-period maxima take k values, and its maximum is known).
+    [[nodiscard]] double tail_spread() const;
+    /// Per-period maxima whose tail tail_spread() reads: its relative error is about
+    /// 1 / sqrt(tail_periods - 1), 23 %.
+    static constexpr int tail_periods = 20;
     /// The error of max_force() as a window's answer: half_spread(), at least tolerance
-    /// (relative, the run's accuracy, in (0, 1)) times max_force().
-    [[nodiscard]] double window_error(double tolerance) const {
-        return std::max(half_spread(), tolerance * max_force());
+    /// (relative, the run's accuracy, in (0, 1)) times max_force(); with repeats = false (the
+    /// window did not repeat) at least tail_spread() too.
+    [[nodiscard]] double window_error(double tolerance, bool repeats) const {
+        return std::max({half_spread(), tolerance * max_force(), repeats ? 0.0 : tail_spread()});
     }
 
 private:
@@ -68,6 +78,18 @@ private:
     bool m_have_previous = false;
     long m_split_period;
     double m_half_max[2] = {0.0, 0.0};
+    /// The tail_periods largest maxima of the recorded periods before m_period (a min-heap:
+    /// the smallest first), the maximum of period m_period so far, and the periods recorded.
+    std::vector<double> m_top_periods;
+    long m_period = -1;
+    double m_period_max = 0.0;
+    long m_periods_recorded = 0;
+
+    /// The force below which a peak changes nothing of the per-period tail: the current
+    /// period's maximum, or the smallest kept maximum once tail_periods are kept.
+    [[nodiscard]] double period_floor() const;
+    /// Starts recording period n: the last one's maximum joins the kept ones if it is large.
+    void start_period(long n);
 
     /// Sets m_threshold from the records, for window half `half` (0 or 1).
     void set_thresholds(int half);

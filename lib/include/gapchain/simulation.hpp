@@ -26,8 +26,9 @@ struct BodyMaximum {
 enum class ErrorMethod {
     none,           ///< not estimated (estimate_error off, or the run failed)
     comparison_run, ///< a second run at another step (or tolerance): truncation error
-    window_halves,  ///< a run that never settled: |max over first half - max over second
-                    ///< half| of the recorded window, the sampling spread of F_m
+    window_halves,  ///< a run that never settled: the sampling spread of F_m, the larger of
+                    ///< |max over first half - max over second half| of the recorded window
+                    ///< and the tail of its per-period maxima (MaxForceTracker::tail_spread())
     /// estimate_error off, but the start checks widened F_m_error: it is only the difference
     /// to the twin run's F_m or to the settled orbit's maximum (no truncation error in it)
     start_dependence,
@@ -131,9 +132,11 @@ struct SimulationHooks {
 /// resolved by with_transient_resolved() (result.transient_periods_used).
 ///
 /// F_m_error (when options.estimate_error), error_method says which:
-/// - window_halves: a harmonic run that ran its full length without settling, whose maxima over
-///   the two halves of the recorded window differ by more than 10 * tolerance * F_m, reports
-///   that difference: the sampling spread of a maximum over a finite window.
+/// - window_halves: a harmonic run that ran its full length without settling, whose sampling
+///   spread (the larger of its window halves' maxima's difference and the spread read from
+///   the tail of its per-period maxima, MaxForceTracker::tail_spread()) exceeds
+///   10 * tolerance * F_m, reports that spread: how far a maximum over a finite window moves.
+///   A run that never settled gets at least it whichever method stands.
 /// - comparison_run otherwise: a second run on another plan gives F_m'. Fixed-step schemes
 ///   compare a periodic run whose F_m is its orbit's (no more than max(tolerance, 1e-9) F_m
 ///   above F_m_orbit) at half the step and at twice it (rk4's default step is often not yet
@@ -198,7 +201,7 @@ struct SimulationHooks {
 /// docs/performance.md). Otherwise the
 /// run is done again in strict mode, so a quasi-periodic answer, and a periodic one of the
 /// strict dynamics the relaxed plan reached, is a strict one. A relaxed answer's F_m_error
-/// (window_halves) is the largest of its halves' spread, that twin's and 3e-3 F_m (and the
+/// (window_halves) is the largest of its sampling spread, that twin's and 3e-3 F_m (and the
 /// twin's difference). The multistability check's twin of a relaxed run is that twin (run if it
 /// was not). A cancel through hooks.progress ends the call in any phase. `strict` keeps every run
 /// to the tolerance. result.accuracy_mode_used says which answer came back.

@@ -73,6 +73,7 @@ public:
         }
         r.first_half_max = m_forces.first_half_max();
         r.second_half_max = m_forces.second_half_max();
+        r.tail_spread = m_forces.tail_spread();
         return r;
     }
 

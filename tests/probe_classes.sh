@@ -337,6 +337,12 @@ absent 25 keep25/basins.csv keep25/basins.png keep25/basins.gp "keep25/.gapchain
 mkdir -p user25 && echo my,data >user25/basins.csv && echo mine >user25/fractions.gp
 expect 25 0 "" "$bin/gapchain-attractors" nm2.json --samples 2 --no-plot --out user25
 [ "$(cat user25/basins.csv)" = my,data ] && [ "$(cat user25/fractions.gp)" = mine ] || { echo "class 25: FAIL: a user's file was removed"; failed+=(25); }
+# Another tool's run into the same folder keeps the list of what runs wrote there.
+"$bin/gapchain-attractors" nm2.json --samples 2 --grid u1,v1 --resolution 2 --no-plot --out mix25 >/dev/null 2>&1
+expect 25 0 "" "$bin/gapchain-bifurcation" nm2.json --steps 2 --transient 5 --record 20 --no-plot --out mix25
+expect 25 0 "" "$bin/gapchain-attractors" nm2.json --samples 2 --no-plot --out mix25
+absent 25 mix25/basins.csv
+[ -s mix25/summary.csv ] || { echo "class 25: FAIL: another tool's output was removed"; failed+=(25); }
 # An input kept in the output folder under a name the tool writes is refused, untouched; a run
 # that cannot place one file places none (a folder named like an output is in the way).
 mkdir -p in25 && cp nm2.json in25/attractors.json

@@ -470,8 +470,8 @@ TEST_CASE("runs still converging to an orbit are an unsettled group, not a quasi
 TEST_CASE("a non-periodic group that never touched is unsettled whatever its exponent") {
     // Without contact the damped row is linear: its one attractor is eq (20)'s orbit. An
     // overdamped row (eps = 100, slowest decay pi / eps = 0.031 per unit time) needs about 730
-    // periods to settle to 1e-10; 60 periods at f_r = 1e4 are 0.006 time units, over which a
-    // tangent run read +0.24. Both were reported as several settled no-contact attractors.
+    // periods to settle to 1e-10; at eps = 0.5 and f_r = 1e4, 60 periods are 0.006 time units, over
+    // which a tangent run read +0.24. Both were reported as several settled no-contact attractors.
     for (const ReducedParameters& p :
          {ReducedParameters{2, 100, 100.0, 0.5, 1.0}, ReducedParameters{2, 100, 0.5, 0.5, 1e4}}) {
         CAPTURE(p.eps);

@@ -38,6 +38,22 @@ TEST_CASE("a contact-free branch: no special point, MODEL.md's multipliers all a
     }
 }
 
+TEST_CASE("an undamped contact-free branch is neutral all along, not stable") {
+    // eps = 0: det M = 1, every multiplier on the unit circle; a largest one computed a hair
+    // below 1 was reported stable.
+    const ReducedParameters p{2, 100, 0.0, 5.0, 0.5};
+    ContinuationOptions o;
+    o.from = 0.5;
+    o.to = 0.55;
+    o.transient_periods = 0;
+    const ContinuationResult r = continue_orbits(p, o);
+    REQUIRE(r.points.size() > 2);
+    for (const auto& point : r.points) {
+        CHECK_FALSE(point.stable);
+        CHECK(point.max_multiplier == doctest::Approx(1.0).epsilon(1e-9));
+    }
+}
+
 TEST_CASE("a cancel inside a shooting ends the continuation as cancelled") {
     const ReducedParameters p{5, 60, 0.5, 0.06, 2.6};
     ContinuationOptions o;

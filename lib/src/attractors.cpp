@@ -193,8 +193,9 @@ struct StartOutcome {
     double F_m = 0.0;     // the orbit's (Newton) or the run's
     double run_F_m = 0.0; // over the run's recorded window
     double spread = 0.0;  // the run's F_m_error
-    // A Newton orbit's state error bound (absolute): for a contraction with multiplier mu,
-    // |x - x*| <= |P(x) - x| / (1 - |mu|), the Euclidean norm bounding every component.
+    // A Newton orbit's state error (absolute), estimated as |P(x) - x| / (1 - |mu|): the bound
+    // for a contraction whose monodromy is normal, mu its largest multiplier (a row with
+    // contacts has a non-normal one, so an estimate; matching allows ten times it).
     double newton_accuracy = 0.0;
     long settle_period = -1;   // the run's cycle_entry_period (-1: did not settle)
     std::vector<double> state; // on the attractor at phase 0
@@ -326,7 +327,7 @@ bool forces_agree(const StartOutcome& s, const StartOutcome& representative) {
 }
 
 /// Whether s reached attractor a, whose first member was `representative`. Two Newton orbits
-/// with equal minimal periods match to 1e-6, or to ten times their state error bounds where
+/// with equal minimal periods match to 1e-6, or to ten times their state error estimates where
 /// those are larger (at most converging_distance): Newton stops at a residual of 1e-9, which a
 /// slowly contracting orbit leaves 1 / (1 - |mu|) times larger in the state (an overdamped row,
 /// eps = 100, |mu| = 0.969, A = 0.005: its orbit was found twice, 1.2e-6 A apart); a steady state

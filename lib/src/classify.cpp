@@ -182,6 +182,13 @@ void take_forces(const MaxForceTracker& forces, double tolerance, bool repeats,
     evidence.impacts = total_impacts(forces);
 }
 
+/// A record that turned periodic while recording (labelled so from its section points)
+/// repeats: its per-period maxima take k values, no tail to read; F_m_error without it.
+void drop_tail_if_periodic(const MaxForceTracker& forces, double tolerance, Classification& c) {
+    if (c.regime == Regime::periodic && c.period > 0)
+        c.F_m_error = forces.window_error(tolerance, true);
+}
+
 /// The regime of a point that settled on a cycle of `period` periods (periodic or no contact),
 /// or else from the recorded evidence.
 void label_regime(const ClassifyOptions& o, const RecordedEvidence& evidence, double f_r,
@@ -277,6 +284,7 @@ Classification classify(const ReducedParameters& p, const ClassifyOptions& o,
     count_section_points(evidence.section, o.period_tolerance, c);
 
     label_regime(o, evidence, p.f_r, steady.period(), c);
+    if (!periodic_state) drop_tail_if_periodic(forces, o.tolerance, c);
     if (o.confirm_by_newton && c.regime == Regime::periodic && c.period > 0)
         confirm_periodic(dyn, planned.state(), o.max_work, c);
     c.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

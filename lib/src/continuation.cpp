@@ -73,6 +73,14 @@ public:
     [[nodiscard]] bool cancelled() const { return m_cancelled; }
     [[nodiscard]] long shootings() const { return m_shootings; }
 
+    /// Whether the orbit at a attracts: every multiplier inside the unit circle, on a damped
+    /// row (at eps = 0 det M = 1 and a largest multiplier a hair below 1 is round-off, as in
+    /// find_periodic_orbit()).
+    [[nodiscard]] bool stable(const OrbitPoint& a) const {
+        const double p = a.z[dimension()];
+        return std::abs(a.multipliers.front()) < 1.0 &&
+               with_value(m_base, m_o.parameter, p).eps > 0.0;
+    }
     /// Whether p is a value the model accepts for the continued parameter.
     [[nodiscard]] bool admissible(double p) const {
         return !swept_value_error(m_base, m_o.parameter, p);
@@ -200,9 +208,6 @@ std::optional<double> torus_test(const OrbitPoint& a) {
         if (std::abs(mu.imag()) > 1e-9 * std::abs(mu))
             largest = std::max(largest.value_or(-1.0), std::abs(mu) - 1.0);
     return largest;
-}
-bool stable(const OrbitPoint& a) {
-    return std::abs(a.multipliers.front()) < 1.0;
 }
 
 } // namespace
@@ -344,7 +349,7 @@ private:
         const Eigen::Index n = m_tracer.dimension();
         std::vector<double> x(a.z.data(), a.z.data() + n);
         const int minimal = minimal_period(x, a.shot, m_o.orbit.tolerance);
-        m_result.points.push_back({a.z[n], m_period, a.F_m, a.z[0], stable(a),
+        m_result.points.push_back({a.z[n], m_period, a.F_m, a.z[0], m_tracer.stable(a),
                                    std::abs(a.multipliers.front()), m_branch, minimal,
                                    std::move(x)});
         return minimal;
@@ -510,9 +515,11 @@ private:
     /// near -1 jumps across the unit circle and det(M + I) keeps its sign) can also give birth
     /// to doubled orbits: offered for branch switching as a period doubling is.
     void offer_nonsmooth_doubling(const OrbitPoint& a, const OrbitPoint& b) {
-        if (stable(a) == stable(b) || (doubling_test(a) > 0) != (doubling_test(b) > 0)) return;
-        const OrbitPoint& unstable = stable(a) ? b : a;
-        const OrbitPoint& still = stable(a) ? a : b;
+        if (m_tracer.stable(a) == m_tracer.stable(b) ||
+            (doubling_test(a) > 0) != (doubling_test(b) > 0))
+            return;
+        const OrbitPoint& unstable = m_tracer.stable(a) ? b : a;
+        const OrbitPoint& still = m_tracer.stable(a) ? a : b;
         const std::complex<double> mu = unstable.multipliers.front();
         // Within 10 degrees of the negative real axis.
         if (!(mu.real() < 0.0 && std::abs(mu.imag()) < 0.17 * std::abs(mu))) return;
@@ -533,7 +540,8 @@ private:
             add(SpecialPointType::period_doubling, located);
             // The doubled orbit lies where the k-orbit is unstable.
             const Eigen::Index n = m_tracer.dimension();
-            const double side = (stable(a) ? b.z[n] - a.z[n] : a.z[n] - b.z[n]) > 0 ? 1.0 : -1.0;
+            const double side =
+                (m_tracer.stable(a) ? b.z[n] - a.z[n] : a.z[n] - b.z[n]) > 0 ? 1.0 : -1.0;
             doublings.emplace_back(at, side);
         }
         offer_nonsmooth_doubling(a, b);

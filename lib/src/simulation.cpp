@@ -267,37 +267,39 @@ void estimate_error(const Dynamics& dyn, const RunOptions& options, const StepPl
     // of the recorded window differ by a sampling spread that, when it is well above the
     // scheme's truncation error (~ tolerance * F_m), is the error to report; the comparison
     // run would only measure the same spread again, at the cost of a second full-length run.
-    // The halves' spread is one draw of how far a window's maximum moves: it fell below a
-    // quarter of the spread over starts on 1 point in 8 (45 non-settling points of the
-    // paper-scale grid, 4 strict starts each; docs/accuracy.md). The tail of the per-period
-    // maxima estimates that spread from 19 excesses (under harmonic forcing only: a ground
-    // motion record is not stationary).
+    // The halves' spread is one draw of how far a window's maximum moves: it was below the
+    // standard deviation over starts on 10 of 45 non-settling points of the paper-scale grid
+    // (5 strict starts each; docs/accuracy.md). The tail of the per-period maxima estimates
+    // that spread from 19 excesses; like the halves, only for a stationary record (harmonic
+    // forcing: a ground motion record is not) of at least two periods.
     const bool unsettled = result.status == RunStatus::completed;
-    const bool stationary = unsettled && dyn.ground_motion().is_harmonic();
-    const double sampling = std::max(window_spread(main), stationary ? main.tail_spread : 0.0);
+    const bool stationary = unsettled && dyn.ground_motion().is_harmonic() &&
+                            options.periods - options.transient_periods >= 2;
+    const double halves = window_spread(main);
+    const double tail = stationary ? main.tail_spread : 0.0;
     // A relaxed answer (it stands: see run_settled()) is never credited with less than its
     // plan's error. One whose halves barely spread stood by its twin, an equally valid sample
     // of the same chaos: the twin's spread and its difference count as much as its own spread,
     // whether or not the multistability check runs.
     if (main.relaxed_from >= 0 && unsettled) {
-        const double twin_bound = main.twin
-                                      ? std::max({window_spread(*main.twin), main.twin->tail_spread,
-                                                  std::abs(main.twin->F_m - main.F_m)})
-                                      : 0.0;
-        result.F_m_error = std::max({sampling, twin_bound, relaxed_error * result.F_m});
+        const double twin_bound =
+            main.twin
+                ? std::max({window_spread(*main.twin), stationary ? main.twin->tail_spread : 0.0,
+                            std::abs(main.twin->F_m - main.F_m)})
+                : 0.0;
+        result.F_m_error = std::max({halves, tail, twin_bound, relaxed_error * result.F_m});
         result.error_method = ErrorMethod::window_halves;
         return;
     }
-    const bool sampling_dominated = unsettled && dyn.ground_motion().is_harmonic() &&
-                                    options.periods - options.transient_periods >= 2 &&
-                                    sampling > 10.0 * options.tolerance * result.F_m;
+    const double sampling = stationary ? std::max(halves, tail) : 0.0;
+    const bool sampling_dominated = sampling > 10.0 * options.tolerance * result.F_m;
     if (sampling_dominated) {
         result.F_m_error = sampling;
         result.error_method = ErrorMethod::window_halves;
     } else if (result.status != RunStatus::non_finite && result.status != RunStatus::cancelled) {
         result.error_method = ErrorMethod::comparison_run;
         const Comparison c = comparison_error(dyn, options, plan, initial, main, progress, result);
-        result.F_m_error = std::max(c.estimate, sampling);
+        result.F_m_error = std::max(c.estimate, tail);
         result.comparison_ended_elsewhere = c.ended_elsewhere;
     }
 }
@@ -391,8 +393,12 @@ void check_transient_and_twin(const Dynamics& dyn, const RunOptions& options,
         result.evaluations += ran->evaluations;
     }
     const SingleRun& twin = *ran;
-    if (twin.outcome.status == RunStatus::non_finite || twin.outcome.status == RunStatus::cancelled)
+    if (twin.outcome.status == RunStatus::non_finite ||
+        twin.outcome.status == RunStatus::cancelled) {
+        // No verdict: unknown, unless a late settle already said multistable.
+        result.multistability_checked = result.multistable;
         return;
+    }
     result.twin_checked = true;
     result.F_m_twin = twin.F_m;
     // The twin's answer is as valid as the main run's (its start is 1e-8 away): the error bar
@@ -400,26 +406,23 @@ void check_transient_and_twin(const Dynamics& dyn, const RunOptions& options,
     const double difference = std::abs(twin.F_m - result.F_m);
     // Each run's own sampling spread counts, whether or not F_m_error was asked. A twin that
     // let a relaxed answer stand agreed with it already (run_settled()).
-    const double allowed = std::max({3.0 * result.F_m_error, 3.0 * window_spread(main),
-                                     3.0 * window_spread(twin), 1e-6 * result.F_m});
+    const bool stationary =
+        main.outcome.status == RunStatus::completed && twin.outcome.status == RunStatus::completed;
+    const double allowed = std::max(
+        {3.0 * result.F_m_error, 3.0 * window_spread(main), 3.0 * window_spread(twin),
+         stationary ? 3.0 * std::max(main.tail_spread, twin.tail_spread) : 0.0, 1e-6 * result.F_m});
     if (difference > allowed && !main.twin) result.multistable = true;
     if (difference > 0.0) widen_error(result, difference);
 }
 
-} // namespace
-
-SimulationResult simulate(const Dynamics& dyn, const RunOptions& requested,
-                          const std::vector<double>& initial, const SimulationHooks& hooks) {
-    const auto start = std::chrono::steady_clock::now();
-    validate(requested);
-    const RunOptions options = with_transient_resolved(dyn, requested);
-    std::optional<PlannedRun> planned;
-    const SingleRun main = run_settled(dyn, options, initial, hooks, planned);
+/// What the main run found, into a result: its outcome, plan, maxima and steady state.
+SimulationResult main_run_result(const Dynamics& dyn, const RunOptions& options,
+                                 const SingleRun& main, const StepPlan& plan) {
     SimulationResult result;
     result.status = main.outcome.status;
     result.message = main.outcome.message;
-    result.scheme = planned->plan().scheme;
-    result.step = planned->plan().step;
+    result.scheme = plan.scheme;
+    result.step = plan.step;
     result.accuracy_mode_used =
         main.relaxed_from >= 0 ? AccuracyUsed::relaxed : AccuracyUsed::strict;
     result.relaxed_from_period = main.relaxed_from;
@@ -438,6 +441,19 @@ SimulationResult simulate(const Dynamics& dyn, const RunOptions& requested,
                                                    std::lround(*main.period_time / dyn.period()));
     result.final_state = main.final_state;
     report_maxima(main, result);
+    return result;
+}
+
+} // namespace
+
+SimulationResult simulate(const Dynamics& dyn, const RunOptions& requested,
+                          const std::vector<double>& initial, const SimulationHooks& hooks) {
+    const auto start = std::chrono::steady_clock::now();
+    validate(requested);
+    const RunOptions options = with_transient_resolved(dyn, requested);
+    std::optional<PlannedRun> planned;
+    const SingleRun main = run_settled(dyn, options, initial, hooks, planned);
+    SimulationResult result = main_run_result(dyn, options, main, planned->plan());
     // The runs after the main one (comparison, orbit cycle, twin) can be cancelled too; they
     // report the main run's end, and a refusal cancels the whole result.
     bool refused = false;
@@ -463,7 +479,10 @@ SimulationResult simulate(const Dynamics& dyn, const RunOptions& requested,
     if (!refused && ran && harmonic)
         check_transient_and_twin(dyn, options, initial, main, late, twin_wanted, after_main,
                                  result);
-    if (refused) result.status = RunStatus::cancelled;
+    if (refused) {
+        result.status = RunStatus::cancelled;
+        result.multistability_checked = result.multistable;
+    }
     result.wall_time_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;

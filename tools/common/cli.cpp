@@ -296,32 +296,59 @@ std::vector<fs::path> read_written_list(const fs::path& folder) {
     return names;
 }
 
-// Adds the list of the files staged in staging, to be placed with them.
-void stage_written_list(const fs::path& staging) {
+bool listed(const std::vector<fs::path>& names, const fs::path& name) {
+    return std::find(names.begin(), names.end(), name) != names.end();
+}
+
+// The owned files an earlier run wrote into folder that this run does not write (staged holds
+// what it does): not this run's, to be removed once its files are in place.
+std::vector<fs::path> stale_outputs(const fs::path& folder, const fs::path& staging,
+                                    const std::vector<std::string>& owned) {
+    const std::vector<fs::path> earlier = read_written_list(folder);
+    std::vector<fs::path> stale;
     std::error_code ec;
-    std::ofstream out(staging / written_list);
+    for (const auto& name : owned)
+        if (listed(earlier, name) && !fs::exists(staging / name, ec)) stale.emplace_back(name);
+    return stale;
+}
+
+// Adds to staging the list of what the folder will hold from runs: the files staged, and those
+// an earlier run listed that are still there and not stale (another tool's, into the same
+// folder), to be placed with them.
+void stage_written_list(const fs::path& folder, const fs::path& staging,
+                        const std::vector<fs::path>& stale) {
+    std::vector<fs::path> names;
+    std::error_code ec;
     for (const auto& entry : fs::directory_iterator(staging, ec))
-        if (entry.path().filename() != written_list)
-            out << entry.path().filename().string() << '\n';
+        names.push_back(entry.path().filename());
+    for (const auto& name : read_written_list(folder))
+        if (!listed(names, name) && !listed(stale, name) && fs::exists(folder / name, ec))
+            names.push_back(name);
+    std::ofstream out(staging / written_list);
+    for (const auto& name : names)
+        if (name != written_list) out << name.string() << '\n';
     if (!out.flush()) throw OutputError((staging / written_list).string() + ": cannot write");
 }
 
 } // namespace
 
 void Outputs::keep() {
-    for (auto& f : m_folders) {
+    // Every list is staged before any folder is committed, so that a list that cannot be
+    // written leaves every folder as it was.
+    std::vector<std::vector<fs::path>> stale(m_folders.size());
+    for (std::size_t k = 0; k < m_folders.size(); ++k) {
+        const FolderOutput& f = m_folders[k];
         if (f.staging.empty()) continue;
-        const std::vector<fs::path> earlier = read_written_list(f.path);
-        stage_written_list(f.staging);
-        const std::vector<fs::path> written = commit_staged(f.path, f.staging);
+        stale[k] = stale_outputs(f.path, f.staging, f.owned);
+        stage_written_list(f.path, f.staging, stale[k]);
+    }
+    for (std::size_t k = 0; k < m_folders.size(); ++k) {
+        FolderOutput& f = m_folders[k];
+        if (f.staging.empty()) continue;
+        (void)commit_staged(f.path, f.staging);
         std::error_code ec;
-        // Files this tool writes in its other modes, left by an earlier run: not this run's.
-        const auto listed = [](const std::vector<fs::path>& names, const std::string& name) {
-            return std::find(names.begin(), names.end(), fs::path(name)) != names.end();
-        };
-        for (const auto& name : f.owned)
-            if (!listed(written, name) && listed(earlier, name))
-                fs::remove(fs::path(f.path) / name, ec);
+        for (const auto& name : stale[k])
+            fs::remove(fs::path(f.path) / name, ec);
         fs::remove_all(f.staging, ec);
         f.staging.clear();
     }

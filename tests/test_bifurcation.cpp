@@ -146,6 +146,10 @@ TEST_CASE("continuation sweeps from `from` to `to` and back, each value from the
     CHECK(down.rows[0].value == doctest::Approx(3.0));
     CHECK(down.rows[3].direction == SweepDirection::up);
     CHECK(down.rows[3].value == doctest::Approx(2.8));
+    // Independent values start from rest; their label says which way the line goes.
+    o.mode = SweepMode::independent;
+    for (const auto& row : bifurcation(fig13, o).rows)
+        CHECK(row.direction == SweepDirection::down);
 }
 
 TEST_CASE("bad options name the option field (the tools translate it into their flag)") {

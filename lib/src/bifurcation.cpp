@@ -71,8 +71,10 @@ void independent_rows(const ReducedParameters& base, const BifurcationOptions& o
         o.steps, result.threads_used,
         [&](long k) {
             std::vector<double> y = o.initial; // empty: rest (PlannedRun)
-            result.rows[k] = diagram_row(with_value(base, o.parameter, values[k]), o, y,
-                                         SweepDirection::up, values[k], shared.item_callback());
+            // No value starts from another's end: the label only says which way the line goes.
+            const SweepDirection dir = o.from <= o.to ? SweepDirection::up : SweepDirection::down;
+            result.rows[k] = diagram_row(with_value(base, o.parameter, values[k]), o, y, dir,
+                                         values[k], shared.item_callback());
         },
         [&](long) { return shared.finished(); });
     result.cancelled = end == detail::LoopEnd::cancelled;

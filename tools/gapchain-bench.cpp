@@ -11,7 +11,9 @@
 #endif
 
 #include "gapchain/bifurcation.hpp"
+#include "gapchain/model.hpp"
 #include "gapchain/modes.hpp"
+#include "gapchain/observers.hpp"
 #include "gapchain/simulation.hpp"
 
 #include <algorithm>
@@ -21,7 +23,10 @@
 #include <cstdio>
 #include <fstream>
 #include <map>
+#include <memory>
+#include <numeric>
 #include <sstream>
+#include <utility>
 
 namespace {
 
@@ -228,6 +233,64 @@ void bench_relaxed(const std::string& path, int count) {
                 n, mean, std::sqrt(sum2 / n), largest);
 }
 
+/// Per-period maxima of a run: one MaxForceTracker per forcing period.
+class PeriodMaxima final : public Observer {
+public:
+    explicit PeriodMaxima(const Dynamics& dyn)
+        : m_dyn(dyn), m_tracker(std::make_unique<MaxForceTracker>(dyn)) {}
+    void on_step(const StepView& step) override { m_tracker->on_step(step); }
+    bool on_period(long n, double, const double*) override {
+        if (n == 0) return false;
+        maxima.push_back(m_tracker->max_force());
+        m_tracker = std::make_unique<MaxForceTracker>(m_dyn);
+        return false;
+    }
+    std::vector<double> maxima;
+
+private:
+    const Dynamics& m_dyn;
+    std::unique_ptr<MaxForceTracker> m_tracker;
+};
+
+/// Mean and standard deviation (n - 1) of values.
+std::pair<double, double> mean_sd(const std::vector<double>& v) {
+    const double m = std::accumulate(v.begin(), v.end(), 0.0) / static_cast<double>(v.size());
+    double s = 0.0;
+    for (const double x : v)
+        s += (x - m) * (x - m);
+    return {m, std::sqrt(s / static_cast<double>(v.size() - 1))};
+}
+
+/// relaxed_plan() against the strict rk4 plan at 1e-4 on one row: F_m, the mean of the top 20
+/// per-period maxima and the mean per-period maximum over 1000 periods (100 discarded), from
+/// `starts` starts u_1(0) = k 1.3e-7, as mean +- standard deviation over the starts.
+void bench_plans(const ReducedParameters& p, int starts) {
+    const Dynamics dyn = Dynamics::paper_row(p);
+    for (const bool relaxed : {false, true}) {
+        const StepPlan plan = relaxed ? relaxed_plan(dyn) : plan_step(dyn, Scheme::rk4, 1e-4);
+        std::vector<double> means, tops, maxima;
+        for (int k = 0; k < starts; ++k) {
+            const auto stepper = make_stepper(plan, dyn);
+            PeriodMaxima per_period(dyn);
+            Observer* observers[] = {&per_period};
+            std::vector<double> y(dyn.dimension(), 0.0);
+            y[0] = k * 1.3e-7;
+            run(dyn, *stepper, plan, RunSpan{1000, 0, 0.0, 0}, y, observers);
+            std::vector<double> w(per_period.maxima.begin() + 100, per_period.maxima.end());
+            means.push_back(mean_sd(w).first);
+            std::sort(w.begin(), w.end(), std::greater<>());
+            tops.push_back(std::accumulate(w.begin(), w.begin() + 20, 0.0) / 20.0);
+            maxima.push_back(w.front());
+        }
+        const auto [m, m_sd] = mean_sd(means);
+        const auto [t, t_sd] = mean_sd(tops);
+        const auto [f, f_sd] = mean_sd(maxima);
+        std::printf("%s: F_m %.5f +- %.5f  top-20 per-period maxima %.5f +- %.5f  mean "
+                    "per-period maximum %.5f +- %.5f\n",
+                    relaxed ? "relaxed plan    " : "strict rk4 1e-4 ", f, f_sd, t, t_sd, m, m_sd);
+    }
+}
+
 void bench_bifurcation(int threads) {
     BifurcationOptions o;
     o.threads = threads;
@@ -297,6 +360,14 @@ int main(int argc, char** argv) {
     relaxed->add_option("--points", relaxed_points, "Periodic rows to use")
         ->check(cli::range(1, 1'000'000))
         ->capture_default_str();
+    std::vector<double> row;
+    int starts = 6;
+    auto* plans = app.add_subcommand(
+        "plans", "The relaxed plan against the strict one on one row, over several starts");
+    plans->add_option("--row", row, "Nm,fc,eps,e_r,f_r")->required()->delimiter(',')->expected(5);
+    plans->add_option("--starts", starts, "Starts per plan")
+        ->check(cli::range(2, 1000))
+        ->capture_default_str();
     return gapchain::cli::run(
         app, argc, argv,
         [&] {
@@ -308,9 +379,15 @@ int main(int argc, char** argv) {
             std::setvbuf(stdout, nullptr, _IOLBF, 0);
             if (app.get_subcommands().empty())
                 throw std::invalid_argument(
-                    "a benchmark is required: sim, bifurcation, modes, peer or relaxed");
+                    "a benchmark is required: sim, bifurcation, modes, peer, relaxed or plans");
             if (peer->parsed()) bench_peer(peer_periods);
             if (relaxed->parsed()) bench_relaxed(sample, relaxed_points);
+            if (plans->parsed()) {
+                const ReducedParameters p{static_cast<int>(row[0]), row[1], row[2], row[3], row[4]};
+                if (p.Nm != row[0]) throw std::invalid_argument("--row: Nm must be an integer");
+                validate(p);
+                bench_plans(p, starts);
+            }
             if (mod->parsed()) bench_modes(Nm, modes);
             if (sim->parsed()) bench_sim(periods, tolerance);
             if (bif->parsed()) {

@@ -321,6 +321,49 @@ void bench_modes(int Nm, int count) {
     }
 }
 
+/// gapchain-bench relaxed: its subcommand and options.
+struct RelaxedArguments {
+    std::string sample; ///< a gapchain-sweep CSV
+    int points = 300;
+    CLI::App* command = nullptr;
+};
+
+void add_relaxed(CLI::App& app, RelaxedArguments& a) {
+    a.command = app.add_subcommand("relaxed", "The relaxed plan's F_m error on periodic rows");
+    a.command->add_option("sample", a.sample, "gapchain-sweep CSV (its periodic rows are used)")
+        ->required()
+        ->check(CLI::ExistingFile);
+    a.command->add_option("--points", a.points, "Periodic rows to use")
+        ->check(cli::range(1, 1'000'000))
+        ->capture_default_str();
+}
+
+/// gapchain-bench plans: its subcommand and options.
+struct PlansArguments {
+    std::vector<double> row; ///< Nm, fc, eps, e_r, f_r
+    int starts = 6;
+    CLI::App* command = nullptr;
+};
+
+void add_plans(CLI::App& app, PlansArguments& a) {
+    a.command = app.add_subcommand(
+        "plans", "The relaxed plan against the strict one on one row, over several starts");
+    a.command->add_option("--row", a.row, "Nm,fc,eps,e_r,f_r")
+        ->required()
+        ->delimiter(',')
+        ->expected(5);
+    a.command->add_option("--starts", a.starts, "Starts per plan")
+        ->check(cli::range(2, 1000))
+        ->capture_default_str();
+}
+
+void run_plans(const PlansArguments& a) {
+    const ReducedParameters p{static_cast<int>(a.row[0]), a.row[1], a.row[2], a.row[3], a.row[4]};
+    if (p.Nm != a.row[0]) throw std::invalid_argument("--row: Nm must be an integer");
+    validate(p);
+    bench_plans(p, a.starts);
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -351,23 +394,10 @@ int main(int argc, char** argv) {
     peer->add_option("--periods", peer_periods, "Forcing periods")
         ->check(cli::range(20L, 1'000'000L))
         ->capture_default_str();
-    std::string sample;
-    int relaxed_points = 300;
-    auto* relaxed = app.add_subcommand("relaxed", "The relaxed plan's F_m error on periodic rows");
-    relaxed->add_option("sample", sample, "gapchain-sweep CSV (its periodic rows are used)")
-        ->required()
-        ->check(CLI::ExistingFile);
-    relaxed->add_option("--points", relaxed_points, "Periodic rows to use")
-        ->check(cli::range(1, 1'000'000))
-        ->capture_default_str();
-    std::vector<double> row;
-    int starts = 6;
-    auto* plans = app.add_subcommand(
-        "plans", "The relaxed plan against the strict one on one row, over several starts");
-    plans->add_option("--row", row, "Nm,fc,eps,e_r,f_r")->required()->delimiter(',')->expected(5);
-    plans->add_option("--starts", starts, "Starts per plan")
-        ->check(cli::range(2, 1000))
-        ->capture_default_str();
+    RelaxedArguments relaxed;
+    add_relaxed(app, relaxed);
+    PlansArguments plans;
+    add_plans(app, plans);
     return gapchain::cli::run(
         app, argc, argv,
         [&] {
@@ -381,13 +411,8 @@ int main(int argc, char** argv) {
                 throw std::invalid_argument(
                     "a benchmark is required: sim, bifurcation, modes, peer, relaxed or plans");
             if (peer->parsed()) bench_peer(peer_periods);
-            if (relaxed->parsed()) bench_relaxed(sample, relaxed_points);
-            if (plans->parsed()) {
-                const ReducedParameters p{static_cast<int>(row[0]), row[1], row[2], row[3], row[4]};
-                if (p.Nm != row[0]) throw std::invalid_argument("--row: Nm must be an integer");
-                validate(p);
-                bench_plans(p, starts);
-            }
+            if (relaxed.command->parsed()) bench_relaxed(relaxed.sample, relaxed.points);
+            if (plans.command->parsed()) run_plans(plans);
             if (mod->parsed()) bench_modes(Nm, modes);
             if (sim->parsed()) bench_sim(periods, tolerance);
             if (bif->parsed()) {

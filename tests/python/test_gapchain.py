@@ -303,8 +303,13 @@ def test_numpy_values_in_dicts_and_non_finite_numbers_name_their_key():
     base = {"model": {"Nm": np.int32(2), "fc": np.float64(100.0), "e_r": 0.5}}
     assert gapchain.simulate(base, **SHORT)["F_m"] == \
         gapchain.simulate({"model": {"Nm": 2, "fc": 100.0, "e_r": 0.5}}, **SHORT)["F_m"]
-    with pytest.raises(ValueError, match=r"model\.fc: must be a finite number"):
+    # A non-finite value names its key and the key's range (the probe of 2026-11-26: no range).
+    with pytest.raises(ValueError, match=r"^model\.fc: must be a number in \(0, 1000000000\], got \"nan\"$"):
         gapchain.simulate({"model": {"fc": float("nan")}})
+    with pytest.raises(ValueError, match=r"^run\.periods: must be an integer in \[1, 1000000000\]"):
+        gapchain.simulate({"run": {"periods": float("inf")}})
+    with pytest.raises(ValueError, match=r"^model\.mass\[1\]: must be a finite number, got nan$"):
+        gapchain.simulate({"model": {"Nm": 3, "mass": [1, float("nan"), 1]}})
     with pytest.raises(ValueError, match=r"model\.fc: must be a number"):
         gapchain.simulate({"model": {"fc": 1j}})
     with pytest.raises(ValueError, match=r"run\.periods"):

@@ -233,9 +233,9 @@ __all__ = list(_FUNCTIONS) + ["__version__"]
 
 def _scene_json(value, key=""):
     """A scene or study dict (or one keyword's value, named key) as JSON text for the library
-    (called by it): NumPy scalars and arrays become numbers and lists; a non-finite number, or a
-    value JSON cannot hold, raises ValueError naming its dotted key, as the scene parser does
-    for keywords."""
+    (called by it): NumPy scalars and arrays become numbers and lists; a non-finite number
+    becomes its text ("nan", "inf"), which the scene reader refuses naming the key and its
+    range; a value JSON cannot hold raises ValueError naming its dotted key."""
     import json
 
     def plain(v, key):
@@ -264,7 +264,12 @@ def _scene_json(value, key=""):
             return int(v)
         if isinstance(v, _numbers.Real):
             if not _math.isfinite(float(v)):
-                raise ValueError("%s: must be a finite number, got %r" % (key, float(v)))
+                # JSON holds no NaN or infinity. A key's value is passed as text, which the
+                # scene reader refuses naming the key and its range, as for a keyword; an array
+                # entry is named here (the reader would only say the array is not numbers).
+                if key.endswith("]"):
+                    raise ValueError("%s: must be a finite number, got %r" % (key, float(v)))
+                return repr(float(v))
             return float(v)
         raise ValueError("%s: must be a number, string, list or object, got %s"
                          % (key or "scene", type(v).__name__))

@@ -1,3 +1,4 @@
+#include "detail/check.hpp"
 #include "detail/steppers.hpp"
 
 #include <Eigen/Dense>
@@ -8,6 +9,7 @@
 #include <complex>
 #include <limits>
 #include <numbers>
+#include <stdexcept>
 #include <string>
 #include <unordered_map>
 
@@ -150,6 +152,17 @@ private:
             b[m_n + i] = -four_pi_squared * m_dyn.ground_motion().amplitude();
         const Eigen::MatrixXcd shifted =
             Complex(0.0, m_omega) * Eigen::MatrixXcd::Identity(m_dim, m_dim) - a.cast<Complex>();
+        // A configuration with a free mode at the forcing frequency (only an undamped row has
+        // one) answers with a response growing as t sin(w t): no particular solution of this
+        // form exists, and the solve would return round-off amplified without bound.
+        for (const Complex& l : conf.lambda)
+            if (std::abs(Complex(0.0, m_omega) - l) <= 1e-8 * m_omega ||
+                std::abs(Complex(0.0, -m_omega) - l) <= 1e-8 * m_omega)
+                throw std::invalid_argument(
+                    "run.scheme: exact cannot take an undamped row forced at a natural frequency "
+                    "of one of its contact configurations (f_r = " +
+                    detail::format_number(m_omega / (2.0 * std::numbers::pi)) +
+                    ": the response grows as t sin); use rk4 or rk8pd");
         conf.z = shifted.partialPivLu().solve(b);
         conf.z0 = a.partialPivLu().solve(-c);
         return m_cache.emplace(key, std::move(conf)).first->second;

@@ -62,6 +62,20 @@ std::optional<std::string> exact_refusal(const Dynamics& dyn) {
                " rad per unit time (model.fc up to about 1.27e8 in the paper's row; stiffer ones "
                "cost its eigendecompositions their accuracy), got " +
                detail::format_number(dyn.max_angular_frequency()) + "; use rk4 or rk8pd";
+    // An undamped body forced at its natural frequency (eps = 0, f_r = 1 in the paper's row)
+    // answers with t sin(w t), which no harmonic particular solution holds: (i w - A) is
+    // singular and the closed form was off by hundreds (the probe of 2026-11-26). This is the
+    // contact-free configuration; ExactPropagator refuses any other one it meets resonant.
+    if (dyn.ground_motion().is_harmonic()) {
+        const Chain& c = dyn.chain();
+        const double w = 2.0 * std::numbers::pi * dyn.ground_motion().f_r();
+        for (std::size_t i = 0; i < c.mass.size(); ++i)
+            if (c.damping[i] == 0.0 && std::abs(std::sqrt(c.spring[i] / c.mass[i]) - w) <= 1e-8 * w)
+                return "exact cannot take an undamped row forced at a natural frequency (body " +
+                       std::to_string(i + 1) +
+                       " at f_r = " + detail::format_number(dyn.ground_motion().f_r()) +
+                       ": the response grows as t sin); use rk4 or rk8pd";
+    }
     return std::nullopt;
 }
 

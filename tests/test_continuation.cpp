@@ -117,6 +117,16 @@ ContinuationOptions one_branch(double from, double to, int k) {
 }
 } // namespace
 
+TEST_CASE("a branch walked down ends on its end value with no fold there") {
+    // The last point, corrected at the end value, had its tangent turned along +f_r: a fold
+    // was reported at every downward end (the probe of 2026-11-26: f_r = 2.95002 from 3.0).
+    const ContinuationResult r = continue_orbits(fig13_row, one_branch(3.0, 2.95, 1));
+    REQUIRE(r.branch_end.size() == 1);
+    CHECK(r.branch_end.front() == "reached the end value f_r = 2.95");
+    CHECK(r.points.back().value == 2.95);
+    CHECK(r.special.empty());
+}
+
 TEST_CASE("the fold at f_r = 2.762 located walking through it in both directions") {
     // Forward: up the sheet the transient lands on, through the fold, back down the other.
     ContinuationOptions o = one_branch(2.70, 2.9, 1);

@@ -324,6 +324,10 @@ private:
         guess[n] = m_o.to;
         std::optional<OrbitPoint> at_end = m_tracer.correct_at_value(guess);
         if (!at_end || !near(*at_end, guess, ds)) return false;
+        // Corrected at a fixed value, its tangent comes out oriented along +p: on a walk down
+        // it must keep the walk's orientation, or the fold test sees a sign change that is not
+        // there (a fold reported at every downward end value; the probe of 2026-11-26).
+        if (at_end->tangent.dot(b.tangent) < 0.0) at_end->tangent = -at_end->tangent;
         b = std::move(*at_end);
         ds *= s;
         return true;

@@ -15,13 +15,14 @@ namespace gapchain::python {
 namespace {
 
 constexpr const char* modes_doc =
-    R"(modes(Nm=5, fc=100, *, count=0, end="lowest", method="auto", shapes=True, scene=None, **keys) -> dict
+    R"(modes(Nm=None, fc=None, *, count=0, end="lowest", method="auto", shapes=True, scene=None, **keys) -> dict
 
 Natural frequencies and mode shapes of the linear chain (e_r = 0, every contact acting both
 ways; paper Section 5) against the paper's approximation eq (26),
 f_ka = sqrt(1 + fc (k/Nm)^2 (4.935 - 2.935 (k/Nm)^1.81)): gapchain-modes in-process.
 
-Nm      bodies, 1 .. 1e6;  fc  stiffness ratio Kc/K, (0, 1e9]
+Nm      bodies, 1 .. 1e6;  fc  stiffness ratio Kc/K, (0, 1e9]; either, when given, overrides
+        the scene's (without a scene: 5 and 100, the paper's defaults)
 count   modes wanted, 0 .. Nm (0: all, dense solver only)
 end     "lowest" or "highest" modes;  method "auto", "dense" or "sparse"
 shapes  also return the mode shapes (phi^T M phi = 1)
@@ -99,8 +100,9 @@ exponents (n x count) running estimates), status, message, wall_time_s.)";
 py::dict modes_py(const py::object& Nm, const py::object& fc, int count, const std::string& end,
                   const std::string& method, bool shapes, const py::object& scene_arg,
                   py::kwargs keys) {
-    keys["Nm"] = Nm;
-    keys["fc"] = fc;
+    // Given, they override the scene's; else the scene's (the paper's 5 and 100 without one).
+    if (!Nm.is_none()) keys["Nm"] = Nm;
+    if (!fc.is_none()) keys["fc"] = fc;
     const Scene scene = to_scene(scene_arg, keys);
     ModalOptions o;
     o.count = count;
@@ -301,9 +303,9 @@ py::dict lyapunov_py(const py::object& scene_arg, int count, const py::object& p
 } // namespace
 
 void register_analyses(py::module_& m) {
-    m.def("modes", &modes_py, modes_doc, py::arg("Nm") = 5, py::arg("fc") = 100, py::kw_only(),
-          py::arg("count") = 0, py::arg("end") = "lowest", py::arg("method") = "auto",
-          py::arg("shapes") = true, py::arg("scene") = py::none());
+    m.def("modes", &modes_py, modes_doc, py::arg("Nm") = py::none(), py::arg("fc") = py::none(),
+          py::kw_only(), py::arg("count") = 0, py::arg("end") = "lowest",
+          py::arg("method") = "auto", py::arg("shapes") = true, py::arg("scene") = py::none());
     const BifurcationOptions b;
     m.def("bifurcation", &bifurcation_py, bifurcation_doc, py::arg("scene") = py::none(),
           py::kw_only(), py::arg("param") = "f_r", py::arg("from_") = b.from, py::arg("to") = b.to,

@@ -100,6 +100,10 @@ def test_modes_match_the_paper_approximation_formula():
     assert np.allclose(m["rel_error"], (f_ka - m["frequency"]) / m["frequency"], rtol=1e-12)
     # A single body between two walls: f^2 = 1 + 2 fc (both contacts acting), exactly.
     assert gapchain.modes(1, 37)["frequency"][0] == pytest.approx(math.sqrt(75), rel=1e-14)
+    # A scene's Nm and fc stand unless given (the probe of 2026-11-26: the defaults 5, 100 won).
+    from_scene = gapchain.modes(scene={"model": {"Nm": 1, "fc": 37}})
+    assert from_scene["frequency"].tolist() == pytest.approx([math.sqrt(75)], rel=1e-14)
+    assert len(gapchain.modes(3, scene={"model": {"Nm": 7}})["frequency"]) == 3
 
 
 @pytest.mark.parametrize("keys, key", [

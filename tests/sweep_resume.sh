@@ -56,5 +56,20 @@ cp "$dir/full.csv.json" "$dir/torn.csv.json"
 "$sweep" "$study" --out "$dir/torn.csv" >/dev/null 2>&1
 diff <(rows "$dir/full.csv") <(rows "$dir/torn.csv") >/dev/null || { echo "FAIL: torn row not redone"; fail=1; }
 
+# A row twice (an edited or merged file) or a damaged row is refused, the file untouched.
+{ cat "$dir/full.csv"; tail -n 1 "$dir/full.csv"; } > "$dir/twice.csv"
+cp "$dir/full.csv.json" "$dir/twice.csv.json"
+cp "$dir/twice.csv" "$dir/twice.before"
+if "$sweep" "$study" --out "$dir/twice.csv" >/dev/null 2>"$dir/twice.err" ||
+    ! grep -q "has two rows" "$dir/twice.err" || ! cmp -s "$dir/twice.csv" "$dir/twice.before"; then
+    echo "FAIL: a duplicated row was not refused"; fail=1
+fi
+sed '2s/^\([0-9]*\),[^,]*,/\1,abc,/' "$dir/full.csv" > "$dir/edited.csv"
+cp "$dir/full.csv.json" "$dir/edited.csv.json"
+if "$sweep" "$study" --out "$dir/edited.csv" >/dev/null 2>"$dir/edited.err" ||
+    ! grep -q "unreadable row" "$dir/edited.err"; then
+    echo "FAIL: a damaged row was not refused"; fail=1
+fi
+
 [ "$fail" -eq 0 ] && echo "sweep resume, threads, shards and torn-row checks passed"
 exit $fail

@@ -784,6 +784,39 @@ std::string study_json(const Study& study) {
     return j.dump(2) + "\n";
 }
 
+namespace {
+
+std::vector<std::string> csv_fields(const std::string& line) {
+    std::vector<std::string> fields;
+    std::size_t start = 0;
+    for (;;) {
+        const std::size_t comma = line.find(',', start);
+        fields.push_back(line.substr(start, comma - start));
+        if (comma == std::string::npos) return fields;
+        start = comma + 1;
+    }
+}
+
+/// Whether a results row has no more columns than the header (a point without a regime leaves
+/// those out), each a number or empty, but for the columns of text (status, regime) and of
+/// lists (per_body).
+bool row_matches_header(const std::string& line, const std::string& header) {
+    const std::vector<std::string> names = csv_fields(header);
+    const std::vector<std::string> fields = csv_fields(line);
+    if (fields.size() > names.size() || fields.size() < 2) return false;
+    for (std::size_t k = 0; k < fields.size(); ++k) {
+        if (names[k] == "status" || names[k] == "regime" || names[k] == "per_body" ||
+            fields[k].empty())
+            continue;
+        char* tail = nullptr;
+        std::strtod(fields[k].c_str(), &tail);
+        if (tail != fields[k].c_str() + fields[k].size()) return false;
+    }
+    return true;
+}
+
+} // namespace
+
 ResultLog::ResultLog(const std::string& path, const std::string& header, long index_count)
     : m_path(path), m_done(static_cast<std::size_t>(index_count), 0) {
     std::string existing;
@@ -809,8 +842,14 @@ ResultLog::ResultLog(const std::string& path, const std::string& header, long in
             const std::string line = existing.substr(pos, end - pos);
             char* tail = nullptr;
             const long index = std::strtol(line.c_str(), &tail, 10);
-            if (tail == line.c_str() || *tail != ',' || index < 0 || index >= index_count)
+            if (tail == line.c_str() || *tail != ',' || index < 0 || index >= index_count ||
+                !row_matches_header(line, header))
                 throw SceneError(path + ": unreadable row \"" + line.substr(0, 60) + "\"");
+            // A row twice means an edited or merged file: its points would count twice.
+            if (m_done[index])
+                throw SceneError(path + ": point " + std::to_string(index) +
+                                 " has two rows (an edited or merged file?); remove one or "
+                                 "choose another --out");
             m_done[index] = 1;
             ++m_rows_found;
             keep = end + 1;

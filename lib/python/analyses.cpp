@@ -93,7 +93,8 @@ averaged after run.transient_periods: gapchain-lyapunov in-process.
 
 count  exponents wanted, 0 .. 2 Nm (0: all 2 Nm)
 
-Returns a dict: exponents (largest first, per unit reduced time), errors (standard errors),
+Returns a dict: exponents (largest first up to their errors: Benettin's order, equal ones in
+either order; per unit reduced time), errors (standard errors),
 sum (-4 pi eps Nm for the paper's row when count = 2 Nm), averaging_time, history (dict: t, and
 exponents (n x count) running estimates), status, message, wall_time_s.)";
 

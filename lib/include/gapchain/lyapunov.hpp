@@ -23,7 +23,10 @@ struct LyapunovSample {
 
 /// The spectrum and how well it is known.
 struct LyapunovResult {
-    std::vector<double> exponents;       ///< largest first [1 / unit time]
+    /// [1 / unit time], in Benettin's order: the k-th is the growth rate of the k-th tangent
+    /// direction, largest first up to its error (exponents equal within their errors, as on a
+    /// contact-free row, can come out in either order).
+    std::vector<double> exponents;
     std::vector<double> errors;          ///< standard error of each (from 10 time blocks)
     double sum = 0.0;                    ///< sum of the exponents
     double averaging_time = 0.0;         ///< time the averages cover

@@ -5,6 +5,7 @@
 #include "gapchain/poincare.hpp"
 #include "gapchain/report.hpp"
 
+#include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <sstream>
@@ -109,7 +110,10 @@ int main(int argc, char** argv) {
             outputs.folder(out_dir, "--out", {"section.csv", "section.gp", "section.png"});
             outputs.create_folders();
             const std::string staged = outputs.staged(out_dir);
+            const auto start = std::chrono::steady_clock::now();
             const long count = take_section_to_csv(scene, spec, staged);
+            const double wall =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             // No point (an event never met, a contact that never closes): nothing to draw.
             if (count == 0 && !no_plot)
                 std::fprintf(stderr, "note: the section has no points: no figure\n");
@@ -122,8 +126,8 @@ int main(int argc, char** argv) {
                                                  : std::string("stroboscopic section")},
                      {"COUNT", std::to_string(count)}});
             outputs.keep();
-            std::printf("gapchain-poincare: %ld section points in %s/section.csv\n", count,
-                        out_dir.c_str());
+            std::printf("gapchain-poincare: %ld section points in %s/section.csv (%.3f s)\n", count,
+                        out_dir.c_str(), wall);
         },
         {{"section.phase", "--phase"},
          {"section.trigger", "--trigger"},

@@ -22,6 +22,7 @@ void print_spectrum(const RowSpectrumOptions& o, const RowSpectrum& s) {
     for (std::size_t i = 0; i < std::min<std::size_t>(8, s.content.peaks.size()); ++i)
         std::printf("  peak %-10s f = %.5f  power %.3g\n", s.content.peaks[i].label().c_str(),
                     s.content.peaks[i].frequency, s.content.peaks[i].power);
+    std::printf("wall time %.3f s\n", s.wall_time_s);
 }
 
 // The command line of a spectrum.

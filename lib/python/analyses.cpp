@@ -10,6 +10,8 @@
 
 #include <pybind11/stl.h>
 
+#include <chrono>
+
 namespace gapchain::python {
 
 namespace {
@@ -68,7 +70,7 @@ trigger    u1..uNm, v1..vNm or g0..gNm (event sections)
 record     names of the recorded values: u1..uNm, v1..vNm, g0..gNm, F0..FNm or t
 
 Returns a dict: t ((n,) reduced times), points ((n, len(record)) float64), names (record),
-status, message.)";
+status, message, wall_time_s.)";
 
 constexpr const char* spectrum_doc =
     R"(spectrum(scene=None, *, variable="u1", samples_per_period=32, segment=4096, window="hann", order=4, progress=None, **keys) -> dict
@@ -83,7 +85,7 @@ window    "hann" or "rectangular";  order  largest subharmonic order n labelled,
 
 Returns a dict: frequency ((n,) cycles per reduced time unit), f_over_f_r, density
 (signal^2 per unit frequency), df, segments, broadband_share (power away from m/n f_r, [0, 1]),
-peaks (dict of columns frequency, power, numerator, denominator, label), sample_rate, status.)";
+peaks (dict of columns frequency, power, numerator, denominator, label), sample_rate, status, wall_time_s.)";
 
 constexpr const char* lyapunov_doc =
     R"(lyapunov(scene=None, *, count=0, progress=None, **keys) -> dict
@@ -221,9 +223,12 @@ py::dict poincare_py(const py::object& scene_arg, const std::string& section, do
         values.insert(values.end(), p.values.begin(), p.values.end());
     };
     Call call(progress);
+    const auto start = std::chrono::steady_clock::now();
     const RunOutcome outcome = call.run(
         [&] { return take_section(dyn, scene.run, spec, sink, scene.initial, call.callback()); });
     py::dict d;
+    d["wall_time_s"] =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     d["t"] = array(t);
     d["points"] = matrix(values, t.size(), record.size());
     d["names"] = record;
@@ -260,6 +265,7 @@ py::dict spectrum_py(const py::object& scene_arg, const std::string& variable,
         call.run([&] { return row_spectrum(dyn, scene.run, o, scene.initial, call.callback()); });
     py::dict d;
     d["status"] = std::string(to_string(s.outcome.status));
+    d["wall_time_s"] = s.wall_time_s;
     if (s.outcome.status != RunStatus::completed) return d;
     std::vector<double> ratio;
     for (double f : s.psd.frequency)

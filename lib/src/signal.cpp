@@ -2,6 +2,7 @@
 
 #include "detail/check.hpp"
 
+#include <chrono>
 #include <cmath>
 
 namespace gapchain {
@@ -80,19 +81,25 @@ void validate(const RowSpectrumOptions& o, const Dynamics& dyn, const RunOptions
 RowSpectrum row_spectrum(const Dynamics& dyn, const RunOptions& run, const RowSpectrumOptions& o,
                          const std::vector<double>& initial, const ProgressCallback& progress) {
     validate(o, dyn, run);
+    const auto start = std::chrono::steady_clock::now();
     RowSpectrum r;
+    const auto finish = [&] {
+        r.wall_time_s =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        return r;
+    };
     const Signal signal = record_signal(dyn, run, spectrum_variable(o.variable, dyn),
                                         o.samples_per_period, r.outcome, initial, progress);
     r.samples = static_cast<long>(signal.values.size());
     r.sample_rate = signal.sample_rate;
-    if (r.outcome.status != RunStatus::completed) return r;
+    if (r.outcome.status != RunStatus::completed) return finish();
     PsdOptions po;
     po.sample_rate = signal.sample_rate;
     po.segment_length = o.segment;
     po.window = o.window;
     r.psd = welch_psd(signal.values, po);
     r.content = spectral_content(r.psd, dyn.ground_motion().f_r(), o.order);
-    return r;
+    return finish();
 }
 
 } // namespace gapchain

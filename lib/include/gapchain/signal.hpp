@@ -55,11 +55,12 @@ struct RowSpectrumOptions {
 
 /// The recorded signal's size, its PSD and its reading against f_r.
 struct RowSpectrum {
-    RunOutcome outcome;      ///< the run (psd and content are empty unless it completed)
-    long samples = 0;        ///< samples recorded
-    double sample_rate = 0;  ///< [samples per unit reduced time]
-    Psd psd;                 ///< Welch PSD of the variable
-    SpectralContent content; ///< peaks and broadband share
+    RunOutcome outcome;       ///< the run (psd and content are empty unless it completed)
+    long samples = 0;         ///< samples recorded
+    double sample_rate = 0;   ///< [samples per unit reduced time]
+    Psd psd;                  ///< Welch PSD of the variable
+    SpectralContent content;  ///< peaks and broadband share
+    double wall_time_s = 0.0; ///< the run and the PSD [s]
 };
 
 /// Throws std::invalid_argument naming variable, samples_per_period, segment (also when longer

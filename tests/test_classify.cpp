@@ -8,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 #include <stdexcept>
 
 using namespace gapchain;
@@ -71,6 +72,16 @@ TEST_CASE("no contact above the eq (20) boundary") {
     const Classification c = classify({5, 60, 0.5, 1.4, 1.0}, ClassifyOptions{});
     CHECK(c.regime == Regime::no_contact);
     CHECK(c.F_m == 0.0);
+    // The linear row's orbit, confirmed by Newton: every free mode decays as exp(-2 pi eps t)
+    // (MODEL.md §5); the settling run's tangent average read -3.08 +- inf at e_r = 0.3, f_r = 2.
+    for (const ReducedParameters& p :
+         {ReducedParameters{5, 60, 0.5, 1.4, 1.0}, ReducedParameters{5, 60, 0.5, 0.3, 2.0}}) {
+        const Classification free = classify(p, ClassifyOptions{});
+        REQUIRE(free.regime == Regime::no_contact);
+        CHECK(free.newton_confirmed);
+        CHECK(free.lambda_max == doctest::Approx(-2.0 * std::numbers::pi * p.eps).epsilon(1e-8));
+        CHECK(free.lambda_max_error == 0.0);
+    }
 }
 
 TEST_CASE("a regime map does not depend on the number of threads") {

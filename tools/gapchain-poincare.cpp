@@ -11,6 +11,7 @@
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 namespace {
 
@@ -45,8 +46,11 @@ void refuse_other_kind_options(const CLI::App& app, const std::string& kind) {
         throw std::invalid_argument("--phase: applies to --section stroboscopic only");
 }
 
-// Streams the section into out_dir/section.csv; returns the number of points.
-long take_section_to_csv(const Scene& scene, const SectionSpec& spec, const std::string& out_dir) {
+// Streams the section into out_dir/section.csv; returns the number of points and the run
+// time [s].
+std::pair<long, double> take_section_to_csv(const Scene& scene, const SectionSpec& spec,
+                                            const std::string& out_dir) {
+    const auto start = std::chrono::steady_clock::now();
     OutputFile csv(out_dir + "/section.csv");
     csv.stream() << "t";
     for (const auto& v : spec.record)
@@ -67,7 +71,7 @@ long take_section_to_csv(const Scene& scene, const SectionSpec& spec, const std:
     cli::throw_if_interrupted();
     if (outcome.status == RunStatus::non_finite) throw cli::NumericalFailure(outcome.message);
     csv.commit();
-    return count;
+    return {count, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()};
 }
 
 } // namespace
@@ -110,10 +114,7 @@ int main(int argc, char** argv) {
             outputs.folder(out_dir, "--out", {"section.csv", "section.gp", "section.png"});
             outputs.create_folders();
             const std::string staged = outputs.staged(out_dir);
-            const auto start = std::chrono::steady_clock::now();
-            const long count = take_section_to_csv(scene, spec, staged);
-            const double wall =
-                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            const auto [count, wall] = take_section_to_csv(scene, spec, staged);
             // No point (an event never met, a contact that never closes): nothing to draw.
             if (count == 0 && !no_plot)
                 std::fprintf(stderr, "note: the section has no points: no figure\n");

@@ -173,6 +173,14 @@ void confirm_periodic(const Dynamics& dyn, const std::vector<double>& state, dou
     if (orbit.F_m == 0.0) c.regime = Regime::no_contact;
 }
 
+/// Whether Newton is to confirm the state c settled on: a periodic one, or a no-contact one,
+/// the linear row's orbit, whose exponent Newton gives exactly where the settling run's short
+/// tangent average read -3.08 +- inf for -pi (the probe of 2026-11-26).
+bool newton_confirms(const ClassifyOptions& o, const Classification& c) {
+    return o.confirm_by_newton && c.period > 0 &&
+           (c.regime == Regime::periodic || c.regime == Regime::no_contact);
+}
+
 /// F_m, its error (the halves' spread and, for a record that does not repeat, the spread of
 /// its per-period maxima's tail; at least the tolerance) and the impacts, into c and evidence.
 void take_forces(const MaxForceTracker& forces, double tolerance, bool repeats,
@@ -285,8 +293,7 @@ Classification classify(const ReducedParameters& p, const ClassifyOptions& o,
 
     label_regime(o, evidence, p.f_r, steady.period(), c);
     if (!periodic_state) drop_tail_if_periodic(forces, o.tolerance, c);
-    if (o.confirm_by_newton && c.regime == Regime::periodic && c.period > 0)
-        confirm_periodic(dyn, planned.state(), o.max_work, c);
+    if (newton_confirms(o, c)) confirm_periodic(dyn, planned.state(), o.max_work, c);
     c.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return c;
 }

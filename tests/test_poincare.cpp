@@ -83,6 +83,13 @@ TEST_CASE("event sections agree with a much finer run to 1e-8") {
     }
 }
 
+TEST_CASE("a section records each variable once") {
+    SectionSpec spec;
+    spec.record = {SectionVariable::parse("u1", 5, "r"), SectionVariable::parse("u1", 5, "r")};
+    CHECK_THROWS_WITH_AS(validate(spec, 5), "section.record: u1 given twice",
+                         std::invalid_argument);
+}
+
 TEST_CASE("section variables parse, and bad names are refused with the key") {
     CHECK(SectionVariable::parse("u3", 5, "k").index == 2);
     CHECK(SectionVariable::parse("F5", 5, "k").kind == SectionVariable::Kind::force);

@@ -67,7 +67,7 @@ on the dense output between steps: gapchain-poincare in-process.
 section    "stroboscopic" (once per forcing period at phase in [0, 1)) or "event" (trigger
            crossing level in direction "up", "down" or "both")
 trigger    u1..uNm, v1..vNm or g0..gNm (event sections)
-record     names of the recorded values: u1..uNm, v1..vNm, g0..gNm, F0..FNm or t
+record     names of the recorded values, each once: u1..uNm, v1..vNm, g0..gNm, F0..FNm or t
 
 Returns a dict: t ((n,) reduced times), points ((n, len(record)) float64), names (record),
 status, message, wall_time_s.)";

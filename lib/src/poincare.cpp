@@ -92,6 +92,9 @@ void validate(const SectionSpec& spec, int bodies) {
         if (v.index < 0 || v.index > limit)
             throw std::invalid_argument("section.record: " + v.name() + " is outside a row of " +
                                         std::to_string(bodies) + " bodies");
+        if (std::count_if(spec.record.begin(), spec.record.end(),
+                          [&](const SectionVariable& w) { return w.name() == v.name(); }) > 1)
+            throw std::invalid_argument("section.record: " + v.name() + " given twice");
     }
 }
 

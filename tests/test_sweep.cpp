@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <thread>
@@ -48,6 +49,24 @@ TEST_CASE("a study with \"attractors\": F_m_max over the starts is never below t
     CHECK(*results[0].F_m_max >= results[0].simulation.F_m);
     CHECK(*results[0].F_m_max == doctest::Approx(0.3853).epsilon(1e-3));
     CHECK(results[0].attractors_found >= 2);
+    // The design value carries its error into the row, CSV and Python: the torus's F_m is its
+    // run's sample maximum, with that run's spread (> 0, a few per mille at most here).
+    CHECK(results[0].F_m_max_error > 0.0);
+    CHECK(results[0].F_m_max_error < 0.01 * *results[0].F_m_max);
+    const std::string row = sweep_csv_row(s, results[0]);
+    const std::string header = sweep_csv_header(s);
+    const auto field = [](const std::string& line, const std::string& names, const char* name) {
+        std::vector<std::string> n, v;
+        std::stringstream a(names), b(line);
+        for (std::string x; std::getline(a, x, ',');)
+            n.push_back(x);
+        for (std::string x; std::getline(b, x, ',');)
+            v.push_back(x);
+        const auto k = std::find(n.begin(), n.end(), name) - n.begin();
+        return v.at(static_cast<std::size_t>(k));
+    };
+    CHECK(std::stod(field(row, header, "F_m_max_error")) ==
+          doctest::Approx(results[0].F_m_max_error).epsilon(1e-9));
     CHECK(*results[1].F_m_max == 0.0);
     CHECK(results[1].attractors_found == 1);
     CHECK_THROWS_WITH_AS(parse_study(R"({"parameters": {"fc": [1]}, "attractors": -3})"),

@@ -65,7 +65,8 @@ fc, eps, e_r, f_r, F_m, F_m_error (NaN: not estimated), status, multistable (boo
 False also where run.multistability_check was false, which the CSV leaves empty),
 steady_state_period (0: none), wall_time_s; with "per_body" kept, per_body (points x Nm x 2); with "regime" kept, regime,
 period, lambda_max, lambda_max_error; with "F_m_orbit" kept, F_m_orbit (NaN: did not settle)
-and maximum_in_transient (bool); F_m_newton for physical scenes; and cancelled.)";
+and maximum_in_transient (bool); with "attractors", F_m_max, F_m_max_error (NaN: not
+estimated), attractors and unsettled; F_m_newton for physical scenes; and cancelled.)";
 
 // How classify() and regime_map() run, for the refusal of a run key they do not read.
 const std::string classify_runs = "it runs transient, then record periods";
@@ -179,6 +180,11 @@ void kept_columns(py::dict& d, const Study& study, const std::vector<SweepPointR
     if (study.attractor_starts > 0) {
         d["F_m_max"] =
             column<double>(rows, [](const R& r) { return r.F_m_max.value_or(r.simulation.F_m); });
+        d["F_m_max_error"] = column<double>(rows, [](const R& r) {
+            if (r.F_m_max) return r.F_m_max_error;
+            return has_error_estimate(r.simulation) ? r.simulation.F_m_error
+                                                    : std::numeric_limits<double>::quiet_NaN();
+        });
         d["attractors"] = column<int>(rows, [](const R& r) { return r.attractors_found; });
         d["unsettled"] = column<int>(rows, [](const R& r) { return r.attractors_unsettled; });
     }

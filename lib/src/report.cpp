@@ -667,7 +667,7 @@ std::string sweep_csv_header(const Study& study) {
         h += ",axis:" + a.key;
     h += ",Nm,fc,eps,e_r,f_r,F_m,F_m_error,status,multistable";
     if (parse_scene(study.scene_json).physical) h += ",F_m_newton";
-    if (study.attractor_starts > 0) h += ",F_m_max,attractors,unsettled";
+    if (study.attractor_starts > 0) h += ",F_m_max,F_m_max_error,attractors,unsettled";
     if (study.keep.steady_state) h += ",steady_state_period";
     if (study.keep.wall_time) h += ",wall_time_s";
     if (study.keep.orbit) h += ",F_m_orbit,maximum_in_transient";
@@ -692,9 +692,14 @@ std::string sweep_csv_row(const Study& study, const SweepPointResult& r) {
     if (r.multistable || s.multistability_checked || study.attractor_starts > 0)
         os << (r.multistable ? 1 : 0);
     if (r.F_m_newton) os << ',' << *r.F_m_newton;
-    if (study.attractor_starts > 0)
-        os << ',' << (r.F_m_max ? *r.F_m_max : s.F_m) << ',' << r.attractors_found << ','
-           << r.attractors_unsettled;
+    if (study.attractor_starts > 0) {
+        os << ',' << (r.F_m_max ? *r.F_m_max : s.F_m) << ',';
+        if (r.F_m_max)
+            write_if_finite(os, r.F_m_max_error);
+        else if (has_error_estimate(s))
+            os << s.F_m_error;
+        os << ',' << r.attractors_found << ',' << r.attractors_unsettled;
+    }
     if (study.keep.steady_state)
         os << ','
            << (s.steady_state_period ? std::to_string(*s.steady_state_period) : std::string(""));

@@ -151,6 +151,7 @@ SweepPointResult run_point(const Study& s, const SweepPointFactory& make_point, 
         ao.threads = 1; // the sweep is already parallel over points
         const DesignValue design = design_value(in.reduced, ao, r.simulation, keep_going);
         r.F_m_max = design.F_m_max;
+        r.F_m_max_error = design.F_m_max_error;
         r.multistable = multistable(r.simulation, design);
         r.attractors_found = static_cast<int>(design.search.attractors.size());
         r.attractors_unsettled = design.search.unsettled;

@@ -89,6 +89,7 @@ struct SweepPointResult {
     bool multistable = false;
     std::optional<Classification> regime; ///< if the study keeps the regime
     std::optional<double> F_m_max;        ///< design value over the attractors (attractors > 0)
+    double F_m_max_error = 0.0;           ///< its error (NaN where not estimated)
     int attractors_found = 0;             ///< attractors found (attractors > 0)
     int attractors_unsettled = 0;         ///< of them unsettled: F_m_max may be a transient's
     std::optional<double> F_m_newton;     ///< F_m in newtons, for physical scenes

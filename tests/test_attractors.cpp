@@ -507,6 +507,7 @@ TEST_CASE("fractions.csv: a label absent at a value has fraction 0 +- 1/N, not 0
         set.sample_attractor.assign(25, 0);
         Attractor a;
         a.F_m = 1.5;
+        a.F_m_error = 0.002;
         a.period = 1;
         a.basin_fraction = k == 0 ? 0.6 : 1.0;
         a.basin_fraction_error = 0.1;
@@ -524,10 +525,10 @@ TEST_CASE("fractions.csv: a label absent at a value has fraction 0 +- 1/N, not 0
     std::getline(csv, header);
     std::getline(csv, first);
     std::getline(csv, second);
-    CHECK(header == "value,fraction_0,fraction_error_0,F_m_0,period_0,fraction_1,"
-                    "fraction_error_1,F_m_1,period_1");
-    CHECK(first == "1,0.6,0.1,1.5,1,0.4,0.1,1.5,1");
-    CHECK(second == "2,1,0.1,1.5,1,0,0.04,,");
+    CHECK(header == "value,fraction_0,fraction_error_0,F_m_0,F_m_error_0,period_0,fraction_1,"
+                    "fraction_error_1,F_m_1,F_m_error_1,period_1");
+    CHECK(first == "1,0.6,0.1,1.5,0.002,1,0.4,0.1,1.5,0.002,1");
+    CHECK(second == "2,1,0.1,1.5,0.002,1,0,0.04,,,");
 }
 
 TEST_CASE("design value: where no group settled, it is the larger of the run's F_m and the "

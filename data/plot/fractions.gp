@@ -17,12 +17,12 @@ set autoscale xfix
 set xlabel '@PARAM@'
 set ylabel 'basin fraction (stacked)'
 set yrange [0:1]
-frac(k) = column(2 + 4 * k)
+frac(k) = column(2 + 5 * k)
 below(i) = (i == 0 ? 0 : sum [k=0:i-1] frac(k))
 solid = count < 10 ? count : 10
 plot for [i=0:solid-1] 'fractions.csv' every ::1 using 1:(below(i)):(below(i) + frac(i)) with filledcurves fs solid 0.7 lc rgb colour(i) title sprintf('attractor %d', i), \
      for [i=10:count-1] 'fractions.csv' every ::1 using 1:(below(i)):(below(i) + frac(i)) with filledcurves fs pattern 1 + (i / 10 - 1) % 7 lc rgb colour(i) title sprintf('attractor %d', i)
 set ylabel 'F_m (reduced)'
 set autoscale y
-plot for [i=0:count-1] 'fractions.csv' every ::1 using 1:(frac(i) > 0 ? column(4 + 4 * i) : 1/0) with linespoints pt (i < 10 ? 7 : 6 + 2 * ((i / 10 - 1) % 3)) ps 0.6 lc rgb colour(i) title sprintf('attractor %d', i)
+plot for [i=0:count-1] 'fractions.csv' every ::1 using 1:(frac(i) > 0 ? column(4 + 5 * i) : 1/0) with linespoints pt (i < 10 ? 7 : 6 + 2 * ((i / 10 - 1) % 3)) ps 0.6 lc rgb colour(i) title sprintf('attractor %d', i)
 unset multiplot

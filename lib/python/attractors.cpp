@@ -46,7 +46,7 @@ each attractor labelled across the line (seeded from the previous value's attrac
 by nearest centroid): gapchain-attractors --param in-process.
 
 Returns a dict: values, and per value x label (label_count columns) arrays fraction,
-fraction_error, F_m, period (NaN where the label is absent; period 0 for a
+fraction_error, F_m, F_m_error, period (NaN where the label is absent; period 0 for a
 non-periodic attractor); unsettled (per value: groups still converging, whose F_m is a
 transient's); label_count, wall_time_s, cancelled.)";
 
@@ -190,6 +190,8 @@ py::dict basin_fractions_py(const py::object& scene_arg, const std::string& para
         c, [](const Attractor& a) { return a.basin_fraction_error; }, nan);
     d["F_m"] = per_label(
         c, [](const Attractor& a) { return a.F_m; }, nan);
+    d["F_m_error"] = per_label(
+        c, [](const Attractor& a) { return a.F_m_error; }, nan);
     d["period"] = per_label(
         c, [](const Attractor& a) { return double(a.period); }, nan);
     d["unsettled"] = column<int>(c.sets, [](const AttractorSet& set) { return set.unsettled; });

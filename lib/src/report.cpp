@@ -487,8 +487,8 @@ std::string fractions_csv(const FractionContinuation& c) {
     os.precision(12);
     os << "value";
     for (int label = 0; label < c.label_count; ++label)
-        os << ",fraction_" << label << ",fraction_error_" << label << ",F_m_" << label << ",period_"
-           << label;
+        os << ",fraction_" << label << ",fraction_error_" << label << ",F_m_" << label
+           << ",F_m_error_" << label << ",period_" << label;
     os << '\n';
     for (std::size_t k = 0; k < c.sets.size(); ++k) {
         os << c.values[k];
@@ -498,13 +498,15 @@ std::string fractions_csv(const FractionContinuation& c) {
             // Absent: none of the N starts reached it, which bounds its fraction to about 1/N
             // (as basin_fraction_error's floor), not to 0; no F_m, no period.
             if (it == labels.end()) {
-                os << ",0," << 1.0 / static_cast<double>(c.sets[k].sample_attractor.size()) << ",,";
+                os << ",0," << 1.0 / static_cast<double>(c.sets[k].sample_attractor.size())
+                   << ",,,";
                 continue;
             }
             const Attractor& a =
                 c.sets[k].attractors[static_cast<std::size_t>(it - labels.begin())];
-            os << ',' << a.basin_fraction << ',' << a.basin_fraction_error << ',' << a.F_m << ','
-               << a.period;
+            os << ',' << a.basin_fraction << ',' << a.basin_fraction_error << ',' << a.F_m << ',';
+            write_if_finite(os, a.F_m_error);
+            os << ',' << a.period;
         }
         os << '\n';
     }

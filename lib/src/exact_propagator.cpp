@@ -156,8 +156,8 @@ private:
         // one) answers with a response growing as t sin(w t): no particular solution of this
         // form exists, and the solve would return round-off amplified without bound.
         for (const Complex& l : conf.lambda)
-            if (std::abs(Complex(0.0, m_omega) - l) <= 1e-8 * m_omega ||
-                std::abs(Complex(0.0, -m_omega) - l) <= 1e-8 * m_omega)
+            if (std::abs(Complex(0.0, m_omega) - l) <= exact_resonance_tolerance * m_omega ||
+                std::abs(Complex(0.0, -m_omega) - l) <= exact_resonance_tolerance * m_omega)
                 throw std::invalid_argument(
                     "run.scheme: exact cannot take an undamped row forced at a natural frequency "
                     "of one of its contact configurations (f_r = " +

@@ -807,8 +807,7 @@ std::vector<std::string> csv_fields(const std::string& line) {
 /// Whether a results row has no more columns than the header (a point without a regime leaves
 /// those out), each a number or empty, but for the columns of text (status, regime) and of
 /// lists (per_body).
-bool row_matches_header(const std::string& line, const std::string& header) {
-    const std::vector<std::string> names = csv_fields(header);
+bool row_matches_header(const std::string& line, const std::vector<std::string>& names) {
     const std::vector<std::string> fields = csv_fields(line);
     if (fields.size() > names.size() || fields.size() < 2) return false;
     for (std::size_t k = 0; k < fields.size(); ++k) {
@@ -842,6 +841,7 @@ ResultLog::ResultLog(const std::string& path, const std::string& header, long in
             throw SceneError(path + ": exists with other columns (another study?); remove it or "
                                     "choose another --out");
         keep = first + 1;
+        const std::vector<std::string> names = csv_fields(header);
         std::size_t pos = keep;
         while (pos < existing.size()) {
             const std::size_t end = existing.find('\n', pos);
@@ -850,7 +850,7 @@ ResultLog::ResultLog(const std::string& path, const std::string& header, long in
             char* tail = nullptr;
             const long index = std::strtol(line.c_str(), &tail, 10);
             if (tail == line.c_str() || *tail != ',' || index < 0 || index >= index_count ||
-                !row_matches_header(line, header))
+                !row_matches_header(line, names))
                 throw SceneError(path + ": unreadable row \"" + line.substr(0, 60) + "\"");
             // A row twice means an edited or merged file: its points would count twice.
             if (m_done[index])

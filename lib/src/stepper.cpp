@@ -70,7 +70,8 @@ std::optional<std::string> exact_refusal(const Dynamics& dyn) {
         const Chain& c = dyn.chain();
         const double w = 2.0 * std::numbers::pi * dyn.ground_motion().f_r();
         for (std::size_t i = 0; i < c.mass.size(); ++i)
-            if (c.damping[i] == 0.0 && std::abs(std::sqrt(c.spring[i] / c.mass[i]) - w) <= 1e-8 * w)
+            if (c.damping[i] == 0.0 &&
+                std::abs(std::sqrt(c.spring[i] / c.mass[i]) - w) <= exact_resonance_tolerance * w)
                 return "exact cannot take an undamped row forced at a natural frequency (body " +
                        std::to_string(i + 1) +
                        " at f_r = " + detail::format_number(dyn.ground_motion().f_r()) +

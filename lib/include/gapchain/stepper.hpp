@@ -22,8 +22,14 @@ inline constexpr int max_exact_bodies = 64;
 /// was 6e-6 at fc = 1e8 (8.9e4 rad), 3.5e-5 at 1.5e8 (1.1e5) and 62 % at 3e8 (1.5e5).
 inline constexpr double max_exact_angular_frequency = 1e5;
 
-/// Why the exact scheme cannot take the row dyn (more than max_exact_bodies bodies, or
-/// contacts faster than max_exact_angular_frequency), ending with the way out; nothing if it
+/// Relative distance of a free mode's frequency from the forcing's below which the exact scheme
+/// counts the row as resonant and refuses it (an undamped row only: its response grows as
+/// t sin(w t), which no harmonic particular solution holds).
+inline constexpr double exact_resonance_tolerance = 1e-8;
+
+/// Why the exact scheme cannot take the row dyn (more than max_exact_bodies bodies, contacts
+/// faster than max_exact_angular_frequency, or an undamped body forced at its natural
+/// frequency), ending with the way out; nothing if it
 /// can. The message ("exact takes ...") names the row's offending key (model.Nm, model.fc);
 /// callers prefix the key that chose exact.
 std::optional<std::string> exact_refusal(const Dynamics& dyn);

@@ -497,6 +497,25 @@ TEST_CASE("a non-periodic group that never touched is unsettled whatever its exp
     CHECK(late.attractors.front().regime == Regime::no_contact);
 }
 
+TEST_CASE("a non-periodic group of a row its runs are too short to damp is unsettled") {
+    // eps = 1e-9: the contact-free row decays to 1e-3 in 1.4e9 periods at f_r = 1.3. Over 100
+    // periods the nearly conservative row wanders with lambda_max near +0.5; the search called
+    // that a chaotic attractor with basin fraction 1.
+    AttractorOptions o;
+    o.samples = 6;
+    o.run.periods = 100;
+    const AttractorSet set = find_attractors({3, 10, 1e-9, 0.3, 1.3}, o);
+    REQUIRE_FALSE(set.attractors.empty());
+    bool wandering = false;
+    for (const auto& a : set.attractors) {
+        CHECK(a.period == 0);
+        CHECK_FALSE(a.settled);
+        wandering = wandering || a.lambda_max > o.chaos_threshold;
+    }
+    CHECK(wandering);
+    CHECK(set.unsettled == static_cast<int>(set.attractors.size()));
+}
+
 TEST_CASE("fractions.csv: a label absent at a value has fraction 0 +- 1/N, not 0 +- 0") {
     // Two values, 25 starts each: label 1 is reached only at the first.
     FractionContinuation c;

@@ -43,7 +43,8 @@ void add_options(CLI::App& app, AttractorArguments& a) {
         ->check(cli::range(2, 2000))
         ->capture_default_str();
     app.add_option("--section-points", o.section_points,
-                   "Stroboscopic points kept of a run that does not settle")
+                   "Stroboscopic points kept of a run that does not settle (at most one per "
+                   "recorded period: run.periods - run.transient_periods)")
         ->check(cli::range(20, 100000))
         ->capture_default_str();
     app.add_option("--param", a.param, "Basin fractions along this parameter")
@@ -111,6 +112,11 @@ void print_settling(const Attractor& a, const AttractorOptions& o) {
                     a.F_m_runs);
 }
 
+// Why a group is unsettled (Attractor::settled), for the warnings of both modes.
+constexpr const char* unsettled_reason =
+    " (their runs ended still converging: lambda_max < 0, no contact, or shorter than four decay "
+    "times of the row; their F_m is a transient's); raise run.periods";
+
 void print_set(const AttractorSet& s, const AttractorOptions& o) {
     std::printf("%zu attractor(s) from %ld starts (%ld failed), %.2f s on %d thread(s)\n",
                 s.attractors.size(), o.samples, s.failed, s.wall_time_s, s.threads_used);
@@ -131,9 +137,7 @@ void print_set(const AttractorSet& s, const AttractorOptions& o) {
     if (s.F_m_max_id >= 0)
         std::printf("design value F_m_max = %.6g (attractor #%d)\n", s.F_m_max, s.F_m_max_id);
     if (s.unsettled > 0)
-        std::printf("warning: %d of them unsettled (lambda_max < 0: the runs were still converging "
-                    "to an orbit, their F_m is a transient's); raise run.periods\n",
-                    s.unsettled);
+        std::printf("warning: %d of them unsettled%s\n", s.unsettled, unsettled_reason);
 }
 
 void run_point(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs) {
@@ -187,10 +191,8 @@ void run_line(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs) 
     for (const auto& set : c.sets)
         unsettled += set.unsettled;
     if (unsettled > 0)
-        std::printf("warning: %d attractor(s) along the line unsettled (lambda_max < 0: the runs "
-                    "were still converging to an orbit, their F_m is a transient's); raise "
-                    "run.periods\n",
-                    unsettled);
+        std::printf("warning: %d attractor(s) along the line unsettled%s\n", unsettled,
+                    unsettled_reason);
     std::printf("wrote %s/fractions.csv%s\n", a.out_dir.c_str(),
                 plotted ? ", fractions.gp, fractions.png" : "");
 }

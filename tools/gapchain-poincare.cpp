@@ -12,6 +12,7 @@
 #include <stdexcept>
 #include <string>
 #include <utility>
+#include <vector>
 
 namespace {
 
@@ -46,6 +47,21 @@ void refuse_other_kind_options(const CLI::App& app, const std::string& kind) {
         throw std::invalid_argument("--phase: applies to --section stroboscopic only");
 }
 
+// The CSV's columns: t first, then the recorded variables; a recorded t is that first column,
+// not a second copy of it.
+bool is_time(const SectionVariable& v) {
+    return v.name() == "t";
+}
+
+// 1-based CSV column of a recorded variable.
+int csv_column(const SectionSpec& spec, std::size_t index) {
+    if (is_time(spec.record[index])) return 1;
+    int column = 1;
+    for (std::size_t i = 0; i <= index; ++i)
+        column += is_time(spec.record[i]) ? 0 : 1;
+    return column;
+}
+
 // Streams the section into out_dir/section.csv; returns the number of points and the run
 // time [s].
 std::pair<long, double> take_section_to_csv(const Scene& scene, const SectionSpec& spec,
@@ -54,7 +70,7 @@ std::pair<long, double> take_section_to_csv(const Scene& scene, const SectionSpe
     OutputFile csv(out_dir + "/section.csv");
     csv.stream() << "t";
     for (const auto& v : spec.record)
-        csv.stream() << ',' << v.name();
+        if (!is_time(v)) csv.stream() << ',' << v.name();
     csv.stream() << '\n';
     long count = 0;
     cli::Progress progress("gapchain-poincare");
@@ -62,8 +78,8 @@ std::pair<long, double> take_section_to_csv(const Scene& scene, const SectionSpe
         scene.dynamics(), scene.run, spec,
         [&](const SectionPoint& p) {
             csv.stream() << p.t;
-            for (double v : p.values)
-                csv.stream() << ',' << v;
+            for (std::size_t i = 0; i < p.values.size(); ++i)
+                if (!is_time(spec.record[i])) csv.stream() << ',' << p.values[i];
             csv.stream() << '\n';
             ++count;
         },
@@ -72,6 +88,19 @@ std::pair<long, double> take_section_to_csv(const Scene& scene, const SectionSpe
     if (outcome.status == RunStatus::non_finite) throw cli::NumericalFailure(outcome.message);
     csv.commit();
     return {count, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()};
+}
+
+// DIR/section.gp and section.png: the first two recorded variables against each other.
+void plot_section(const std::string& dir, const SectionSpec& spec, const SectionArguments& a,
+                  long count) {
+    cli::plot_template(dir, "section",
+                       {{"X", spec.record[0].name()},
+                        {"Y", spec.record[1].name()},
+                        {"XCOLUMN", std::to_string(csv_column(spec, 0))},
+                        {"YCOLUMN", std::to_string(csv_column(spec, 1))},
+                        {"TITLE", a.kind == "event" ? "event section " + a.trigger + " = level"
+                                                    : std::string("stroboscopic section")},
+                        {"COUNT", std::to_string(count)}});
 }
 
 } // namespace
@@ -119,13 +148,7 @@ int main(int argc, char** argv) {
             if (count == 0 && !no_plot)
                 std::fprintf(stderr, "note: the section has no points: no figure\n");
             if (!no_plot && spec.record.size() >= 2 && count > 0)
-                cli::plot_template(
-                    staged, "section",
-                    {{"X", spec.record[0].name()},
-                     {"Y", spec.record[1].name()},
-                     {"TITLE", a.kind == "event" ? "event section " + a.trigger + " = level"
-                                                 : std::string("stroboscopic section")},
-                     {"COUNT", std::to_string(count)}});
+                plot_section(staged, spec, a, count);
             outputs.keep();
             std::printf("gapchain-poincare: %ld section points in %s/section.csv (%.3f s)\n", count,
                         out_dir.c_str(), wall);

@@ -7,4 +7,4 @@ set key off
 set xlabel '@X@'
 set ylabel '@Y@'
 set title '@TITLE@ (@COUNT@ points)'
-plot 'section.csv' every ::1 using 2:3 with points pt 7 ps 0.4 lc rgb '#1f4e9c'
+plot 'section.csv' every ::1 using @XCOLUMN@:@YCOLUMN@ with points pt 7 ps 0.4 lc rgb '#1f4e9c'

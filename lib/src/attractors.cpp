@@ -5,6 +5,7 @@
 
 #include "gapchain/bounds.hpp"
 #include "gapchain/lyapunov.hpp"
+#include "gapchain/observers.hpp"
 #include "gapchain/orbit.hpp"
 #include "gapchain/simulation.hpp"
 
@@ -484,6 +485,19 @@ std::optional<double> orbit_force_error(const Dynamics& dyn, const Attractor& a,
     return std::max(std::abs(F_m - a.F_m), 1e-12 * a.F_m);
 }
 
+/// Whether the runs of a non-periodic group (run.periods, and as long again in
+/// confirm_non_periodic) last more than four times the contact-free row's decay time to
+/// SteadyStateDetector::far_distance: the rule by which gapchain-sim tells a chaotic transient
+/// from a start-up. Shorter runs have not let the row's damping act: at eps = 1e-9 a
+/// 100-period search called the nearly conservative row's wandering a chaotic attractor
+/// (lambda_max +0.5, basin 1) though it decays to 1e-3 in 1.4e9 periods.
+bool outlasts_decay(const Dynamics& dyn, const RunOptions& run) {
+    RunOptions decay = run;
+    decay.tolerance = SteadyStateDetector::far_distance;
+    decay.periods = 2'000'000'000; // no cap: the decay time itself
+    return 2 * run.periods > 4 * default_transient_periods(dyn, decay);
+}
+
 /// lambda_max and the regime of each attractor: from the multipliers of a confirmed orbit,
 /// else from a tangent run on the attractor.
 void characterise(const Dynamics& dyn, const ReducedParameters& p, const AttractorOptions& o,
@@ -523,8 +537,9 @@ void characterise(const Dynamics& dyn, const ReducedParameters& p, const Attract
             // linear damped row's transient whatever its exponent: that row has one attractor,
             // eq (20)'s orbit (MODEL.md §5), which its runs did not reach (eps = 100 decays at
             // pi / eps = 0.031 per unit time; at f_r = 1e4, 60 periods span 0.006 time units
-            // and a 300-period tangent run measured +0.24).
-            a.settled = a.F_m > 0.0 && a.lambda_max >= -margin;
+            // and a 300-period tangent run measured +0.24). Nor is one whose runs the row's
+            // damping has not had time to act on (outlasts_decay).
+            a.settled = a.F_m > 0.0 && a.lambda_max >= -margin && outlasts_decay(dyn, o.run);
         },
         [](long) { return true; });
 }

@@ -60,7 +60,8 @@ struct AttractorOptions {
     /// F_m_error to be grouped, and the search itself replaces the twin.
     RunOptions run;
     int section_points = 200;        ///< stroboscopic points kept of a run that does not settle,
-                                     ///< 20 .. 100000 (at most the recorded periods)
+                                     ///< 20 .. 100000; a run recording fewer periods keeps
+                                     ///< them all (one point per recorded period)
     double overlap_factor = 3.0;     ///< nearest-neighbour test factor, 1 .. 100
     long lyapunov_periods = 300;     ///< periods of the lambda_max run of a non-periodic attractor,
                                      ///< 10 .. 1e6
@@ -89,8 +90,10 @@ struct Attractor {
     Regime regime = Regime::periodic; ///< periodic, quasi-periodic or chaotic (or no-contact)
     int period = 0;                   ///< minimal period [forcing periods]; 0 if not periodic
     /// False for a non-periodic group whose lambda_max is negative beyond max(chaos_threshold,
-    /// 3 errors): its runs were still converging to a stable orbit when they ended, so its F_m
-    /// is a transient's (raise run.periods). Shown as the regime "unsettled".
+    /// 3 errors) (its runs were still converging to a stable orbit when they ended), that never
+    /// touched (the damped linear row has one attractor, a periodic one), or whose runs last
+    /// less than four decay times of the contact-free row (eps near 0): its F_m is a
+    /// transient's (raise run.periods). Shown as the regime "unsettled".
     bool settled = true;
     bool newton_confirmed = false; ///< periodic: the orbit converged under Newton
     double max_multiplier = 0.0;   ///< periodic: largest Floquet multiplier modulus

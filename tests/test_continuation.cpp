@@ -117,6 +117,34 @@ ContinuationOptions one_branch(double from, double to, int k) {
 }
 } // namespace
 
+TEST_CASE("each continued orbit and special point carries its F_m's error") {
+    // On rk4 at a loose tolerance the branch's F_m is off the exact orbit's by about 1e-5: the
+    // error of each point (an independent scheme) covers its distance from the exact scheme's
+    // orbit at the same value.
+    ContinuationOptions o = one_branch(2.7, 2.75, 1);
+    o.orbit.scheme = Scheme::rk4;
+    o.orbit.integration_tolerance = 1e-5;
+    o.orbit.tolerance = 1e-9;
+    const ContinuationResult r = continue_orbits(fig13_row, o);
+    REQUIRE(r.points.size() >= 3);
+    for (std::size_t i = 0; i < r.points.size(); i += r.points.size() / 3) {
+        const BranchPoint& q = r.points[i];
+        ReducedParameters at = fig13_row;
+        at.f_r = q.value;
+        const PeriodicOrbit exact =
+            find_periodic_orbit(Dynamics::paper_row(at), OrbitOptions{}, q.state);
+        REQUIRE(exact.status == OrbitStatus::converged);
+        const double gap = std::abs(q.F_m - exact.F_m);
+        CAPTURE(q.value);
+        CAPTURE(gap);
+        CHECK(gap > 1e-9);
+        CHECK(q.F_m_error >= 0.9 * gap);
+        CHECK(q.F_m_error <= 1.1 * gap + 1e-9);
+    }
+    for (const auto& sp : r.special)
+        CHECK(std::isfinite(sp.F_m_error));
+}
+
 TEST_CASE("a branch walked down ends on its end value with no fold there") {
     // The last point, corrected at the end value, had its tangent turned along +f_r: a fold
     // was reported at every downward end (the probe of 2026-11-26: f_r = 2.95002 from 3.0).

@@ -222,6 +222,29 @@ TEST_CASE("Fig 5's orbit: Liouville's product, and the F_m of the long run") {
     CHECK(orbit.F_m == doctest::Approx(r.F_m).epsilon(1e-10));
 }
 
+TEST_CASE("an orbit's F_m_error covers the gap to the same orbit on another scheme") {
+    // Fig 5's row: the orbit on exact (1e-12), and on rk4 at a loose tolerance whose F_m is off
+    // by about 1e-5. Each one's estimate (an independent scheme at 1e-10) must cover its own
+    // distance from the other, and not by orders of magnitude more.
+    const Dynamics dyn = row({5, 100, 0.5, 0.5, 1.0});
+    const PeriodicOrbit exact = find_periodic_orbit_after(dyn, OrbitOptions{}, {}, 5);
+    OrbitOptions loose;
+    loose.scheme = Scheme::rk4;
+    loose.integration_tolerance = 1e-5;
+    loose.tolerance = 1e-9;
+    const PeriodicOrbit coarse = find_periodic_orbit_after(dyn, loose, {}, 5);
+    REQUIRE(exact.status == OrbitStatus::converged);
+    REQUIRE(coarse.status == OrbitStatus::converged);
+    const double gap = std::abs(coarse.F_m - exact.F_m);
+    MESSAGE("exact " << exact.F_m << " +- " << exact.F_m_error << ", rk4 " << coarse.F_m << " +- "
+                     << coarse.F_m_error << ", gap " << gap);
+    REQUIRE(gap > 1e-9);
+    CHECK(exact.F_m_error >= 1e-12 * exact.F_m);
+    CHECK(exact.F_m_error < 1e-9);
+    CHECK(coarse.F_m_error >= 0.9 * gap);
+    CHECK(coarse.F_m_error <= 1.1 * gap + 1e-9);
+}
+
 TEST_CASE("one body between two walls: the orbit is the long run's steady state to 1e-10") {
     const ReducedParameters p{1, 30, 0.3, 0.4, 1.1};
     const Dynamics dyn = row(p);

@@ -126,6 +126,36 @@ TEST_CASE("run: a contact that closes and opens again inside one step is split t
     CHECK(exact.F_m == doctest::Approx(reference.F_m).epsilon(1e-8));
 }
 
+TEST_CASE("run: of two switches inside one exact step, the earlier ends it, wherever the "
+          "interpolant puts them") {
+    // Fig 13's row at f_r = 2.4088, from a state on its unstable period-1 orbit (rk8pd's): in
+    // one step of 0.022, contact 2 closes 1.9e-4 before the left wall opens. The interpolant,
+    // which spans the wall's kink, put the closing after the opening; the step ended at the
+    // opening, contact 2 closed late, and one period of the exact scheme ended 1.4e-5 off
+    // rk8pd and rkf45 (which agree to 1e-11).
+    const Dynamics dyn = Dynamics::paper_row({5, 60.0, 0.5, 0.06, 2.4088});
+    const std::vector<double> start{
+        0.25173929192078737,    0.24529689930592485, 0.21758192004651988, 0.0507164321878801,
+        -0.0025058064125087253, -1.841239893951036,  -1.7495052343264015, -4.740461951186742,
+        -3.7641878452897317,    -1.284527488834453};
+    RunOptions o;
+    o.periods = 1;
+    o.transient_periods = 0;
+    o.stop_at_steady_state = false;
+    o.estimate_error = false;
+    o.multistability_check = false;
+    o.tolerance = 1e-12;
+    o.scheme = Scheme::rk8pd;
+    const std::vector<double> reference = simulate(dyn, o, start).final_state;
+    o.scheme = Scheme::exact;
+    const std::vector<double> exact = simulate(dyn, o, start).final_state;
+    double largest = 0.0;
+    for (std::size_t i = 0; i < exact.size(); ++i)
+        largest = std::max(largest, std::abs(exact[i] - reference[i]));
+    MESSAGE("largest state difference exact - rk8pd after one period: " << largest);
+    CHECK(largest < 1e-10);
+}
+
 TEST_CASE("run: the steady-state stop ends the run early, at a period boundary") {
     const Dynamics dyn = row(10.0, 1.0); // linear, damped: periodic after the transient
     PlannedRun planned(dyn, rk4_options(2000, 0));

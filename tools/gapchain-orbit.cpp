@@ -55,7 +55,8 @@ void print_orbit(const PeriodicOrbit& orbit) {
                 : orbit.max_multiplier <= 1.0 + 1e-9 ? "neutral"
                                                      : "unstable",
                 orbit.max_multiplier, check);
-    std::printf("  F_m over the orbit = %.10g\n  wall time %.3f s\n", orbit.F_m, orbit.wall_time_s);
+    std::printf("  F_m over the orbit = %.10g +- %.2g\n  wall time %.3f s\n", orbit.F_m,
+                orbit.F_m_error, orbit.wall_time_s);
 }
 
 std::string no_orbit_message(const PeriodicOrbit& orbit, const OrbitOptions& o) {

@@ -27,7 +27,8 @@ max_iterations  Newton iterations, 1 .. 1000;  scheme  integration of P^k (defau
 Returns a dict: status ("converged", "not_converged", "singular", "non_finite"), message,
 period, minimal_period, state (2 Nm: u then v at phase 0), residual, iterations,
 residual_history, multipliers (complex128, largest modulus first), max_multiplier, stable,
-liouville_error, F_m (over one orbit), per_contact (dict: force, time, impacts), max_gap,
+liouville_error, F_m (over one orbit), F_m_error (its difference from an independent scheme,
+rk8pd at 1e-10; NaN where not estimated), per_contact (dict: force, time, impacts), max_gap,
 wall_time_s.)";
 
 constexpr const char* continuation_doc =
@@ -47,10 +48,10 @@ transient   periods run before the first Newton search, 0 .. 1e7
 scheme      integration of P^k: "exact" (rows of up to 64 bodies), "rk4", "rkf45" or "rk8pd"
 progress    callable(fraction)
 
-Returns a dict: points (dict of columns value, period, F_m, u1, stable, max_multiplier, branch,
+Returns a dict: points (dict of columns value, period, F_m, F_m_error (as orbit()'s), u1, stable, max_multiplier, branch,
 minimal_period, and state: one row of 2 Nm values per point, the orbit's state at phase 0),
 special (dict of columns type ("fold", "period_doubling", "neimark_sacker", "grazing",
-"branch_point"), value, period, F_m, branch, contact (-1 unless grazing), value_error (the
+"branch_point"), value, period, F_m, F_m_error, branch, contact (-1 unless grazing), value_error (the
 special point lies within it of value), minimal_period),
 branch_end (why each branch ended), shootings, cancelled, wall_time_s.)";
 
@@ -86,6 +87,7 @@ py::dict orbit_py(const py::object& scene_arg, int period, long transient, doubl
     d["stable"] = r.stable;
     d["liouville_error"] = r.liouville_error;
     d["F_m"] = r.F_m;
+    d["F_m_error"] = r.F_m_error;
     d["per_contact"] = per_contact_dict(r.per_contact);
     d["max_gap"] = array(r.max_gap);
     d["wall_time_s"] = r.wall_time_s;
@@ -99,6 +101,7 @@ py::dict continuation_dict(const ContinuationResult& r) {
     points["value"] = column<double>(r.points, [](const P& p) { return p.value; });
     points["period"] = column<int>(r.points, [](const P& p) { return p.period; });
     points["F_m"] = column<double>(r.points, [](const P& p) { return p.F_m; });
+    points["F_m_error"] = column<double>(r.points, [](const P& p) { return p.F_m_error; });
     points["u1"] = column<double>(r.points, [](const P& p) { return p.u1; });
     points["stable"] = column<bool>(r.points, [](const P& p) { return p.stable; });
     points["max_multiplier"] =
@@ -119,6 +122,7 @@ py::dict continuation_dict(const ContinuationResult& r) {
     special["value"] = column<double>(r.special, [](const S& s) { return s.value; });
     special["period"] = column<int>(r.special, [](const S& s) { return s.period; });
     special["F_m"] = column<double>(r.special, [](const S& s) { return s.F_m; });
+    special["F_m_error"] = column<double>(r.special, [](const S& s) { return s.F_m_error; });
     special["branch"] = column<int>(r.special, [](const S& s) { return s.branch; });
     special["contact"] = column<int>(r.special, [](const S& s) { return s.contact; });
     special["value_error"] = column<double>(r.special, [](const S& s) { return s.value_error; });

@@ -468,23 +468,6 @@ bool confirm_non_periodic(const Dynamics& dyn, const StateScale& scale, const At
     return true;
 }
 
-/// The error of a confirmed orbit's F_m (exact propagator): its difference from the same
-/// orbit's F_m on rk8pd at 1e-10, an independent scheme; never below 1e-12 F_m. Nothing where
-/// that shooting exceeds max_work.
-std::optional<double> orbit_force_error(const Dynamics& dyn, const Attractor& a, double max_work) {
-    OrbitOptions check;
-    check.max_work = max_work;
-    check.period = a.period;
-    check.scheme = Scheme::rk8pd;
-    check.integration_tolerance = 1e-10;
-    if (shooting_work(dyn, check) > max_work) return std::nullopt;
-    const ShootingResult s = shoot(dyn, check, a.state);
-    double F_m = 0.0;
-    for (const auto& c : s.per_contact)
-        F_m = std::max(F_m, c.force);
-    return std::max(std::abs(F_m - a.F_m), 1e-12 * a.F_m);
-}
-
 /// Whether the runs of a non-periodic group (run.periods, and as long again in
 /// confirm_non_periodic) last more than four times the contact-free row's decay time to
 /// SteadyStateDetector::far_distance: the rule by which gapchain-sim tells a chaotic transient
@@ -508,7 +491,10 @@ void characterise(const Dynamics& dyn, const ReducedParameters& p, const Attract
             Attractor& a = attractors[static_cast<std::size_t>(k)];
             if (a.period != 0 && a.newton_confirmed) {
                 a.lambda_max = std::log(a.max_multiplier) * p.f_r / a.period;
-                if (const auto error = orbit_force_error(dyn, a, o.run.max_work))
+                OrbitOptions confirmed;
+                confirmed.period = a.period;
+                confirmed.max_work = o.run.max_work;
+                if (const auto error = orbit_force_error(dyn, confirmed, a.state, a.F_m))
                     a.F_m_error = *error;
                 a.regime = a.F_m > 0.0 ? Regime::periodic : Regime::no_contact;
                 return;

@@ -81,6 +81,15 @@ public:
         return std::abs(a.multipliers.front()) < 1.0 &&
                with_value(m_base, m_o.parameter, p).eps > 0.0;
     }
+    /// The error of the F_m of the orbit at a (orbit_force_error()); NaN where not estimated.
+    double force_error(const OrbitPoint& a) {
+        const Eigen::Index n = dimension();
+        const Dynamics dyn = Dynamics::paper_row(with_value(m_base, m_o.parameter, a.z[n]));
+        const auto error = orbit_force_error(
+            dyn, m_orbit.scheme, m_orbit.period, std::vector<double>(a.z.data(), a.z.data() + n),
+            a.shot.monodromy, a.F_m, m_orbit.max_work, m_keep_going);
+        return error ? *error : std::numeric_limits<double>::quiet_NaN();
+    }
     /// Whether p is a value the model accepts for the continued parameter.
     [[nodiscard]] bool admissible(double p) const {
         return !swept_value_error(m_base, m_o.parameter, p);
@@ -353,9 +362,9 @@ private:
         const Eigen::Index n = m_tracer.dimension();
         std::vector<double> x(a.z.data(), a.z.data() + n);
         const int minimal = minimal_period(x, a.shot, m_o.orbit.tolerance);
-        m_result.points.push_back({a.z[n], m_period, a.F_m, a.z[0], m_tracer.stable(a),
-                                   std::abs(a.multipliers.front()), m_branch, minimal,
-                                   std::move(x)});
+        m_result.points.push_back({a.z[n], m_period, a.F_m, m_tracer.force_error(a), a.z[0],
+                                   m_tracer.stable(a), std::abs(a.multipliers.front()), m_branch,
+                                   minimal, std::move(x)});
         return minimal;
     }
 
@@ -511,8 +520,8 @@ private:
         const Eigen::Index n = m_tracer.dimension();
         const int minimal = minimal_period(std::vector<double>(at.z.data(), at.z.data() + n),
                                            at.shot, m_o.orbit.tolerance);
-        m_result.special.push_back(
-            {type, at.z[n], value_error, m_period, minimal, at.F_m, m_branch, contact});
+        m_result.special.push_back({type, at.z[n], value_error, m_period, minimal, at.F_m,
+                                    m_tracer.force_error(at), m_branch, contact});
     }
 
     /// A loss of stability next to -1 that is not smooth (at a grazing corner the multiplier

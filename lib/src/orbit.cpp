@@ -183,6 +183,66 @@ ShootingResult shoot(const Dynamics& dyn, const OrbitOptions& options, const std
 
 namespace {
 
+/// One plain run of options' checking scheme over `period` periods from x: the largest force
+/// and the end state; nothing if it stops early.
+std::optional<std::pair<double, std::vector<double>>>
+check_run(const Dynamics& dyn, const RunOptions& run, const std::vector<double>& x,
+          const ProgressCallback& keep_going) {
+    PlannedRun planned(dyn, run, x);
+    MaxForceTracker forces(dyn);
+    Observer* observers[] = {&forces};
+    if (planned.run(observers, keep_going).status != RunStatus::completed) return std::nullopt;
+    double F_m = 0.0;
+    for (const auto& c : forces.contacts())
+        F_m = std::max(F_m, c.force);
+    return std::make_pair(F_m, planned.state());
+}
+
+} // namespace
+
+std::optional<double> orbit_force_error(const Dynamics& dyn, Scheme scheme, int period,
+                                        const std::vector<double>& x,
+                                        const std::vector<double>& monodromy, double F_m,
+                                        double max_work, const ProgressCallback& keep_going) {
+    RunOptions run;
+    run.periods = period;
+    run.transient_periods = 0;
+    run.scheme = scheme == Scheme::rk8pd ? Scheme::rkf45 : Scheme::rk8pd;
+    run.tolerance = 1e-10;
+    run.stop_at_steady_state = false;
+    run.estimate_error = false;
+    run.max_work = max_work;
+    if (2.0 * dyn.bodies() * plan_run(dyn, run).steps_per_period * period > max_work)
+        return std::nullopt;
+    const auto first = check_run(dyn, run, x, keep_going);
+    if (!first) return std::nullopt;
+    // x is the orbit of `scheme`'s map; the checking scheme's orbit lies off it by about
+    // (I - M)^-1 (P(x) - x), 1 / (1 - |mu|) times its one-period gap, and its F_m with it (rk4
+    // at 1e-5 on Fig 5's row: the gap from x alone was half of the orbits' F_m difference).
+    const auto n = static_cast<Eigen::Index>(x.size());
+    const Matrix m = Eigen::Map<const Matrix>(monodromy.data(), n, n);
+    const Vector shift =
+        (Matrix::Identity(n, n) - m).fullPivLu().solve(as_vector(first->second) - as_vector(x));
+    if (!shift.allFinite()) return std::nullopt;
+    std::vector<double> corrected(x);
+    for (Eigen::Index i = 0; i < n; ++i)
+        corrected[static_cast<std::size_t>(i)] += shift[i];
+    const auto second = check_run(dyn, run, corrected, keep_going);
+    if (!second) return std::nullopt;
+    return std::max(std::abs(second->first - F_m), 1e-12 * F_m);
+}
+
+std::optional<double> orbit_force_error(const Dynamics& dyn, const OrbitOptions& options,
+                                        const std::vector<double>& x, double F_m) {
+    if (shooting_work(dyn, options) > options.max_work) return std::nullopt;
+    const ShootingResult s = shoot(dyn, options, x);
+    if (!s.finite) return std::nullopt;
+    return orbit_force_error(dyn, options.scheme, options.period, x, s.monodromy, F_m,
+                             options.max_work);
+}
+
+namespace {
+
 enum class DampedStep { improved, stalled, cancelled };
 
 /// The Newton step from x, damped: halved (up to 10 times) until the residual decreases (the map
@@ -336,6 +396,12 @@ PeriodicOrbit find_periodic_orbit_after(const Dynamics& dyn, const OrbitOptions&
     PeriodicOrbit orbit = find_periodic_orbit(dyn, options, start, [&](double f) {
         return !progress || progress(newton_from + (1.0 - newton_from) * f);
     });
+    if (orbit.status == OrbitStatus::converged) {
+        OrbitOptions at_period = options;
+        at_period.period = orbit.period;
+        if (const auto error = orbit_force_error(dyn, at_period, orbit.state, orbit.F_m))
+            orbit.F_m_error = *error;
+    }
     orbit.wall_time_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - clock).count();
     return orbit;

@@ -367,21 +367,26 @@ std::string to_json(const LyapunovResult& r, const ReducedParameters& p, int cou
 std::string branch_csv(const ContinuationResult& result) {
     std::ostringstream os;
     os.precision(12);
-    os << "value,period,F_m,u1,stable,max_multiplier,branch,minimal_period\n";
-    for (const auto& p : result.points)
-        os << p.value << ',' << p.period << ',' << p.F_m << ',' << p.u1 << ',' << (p.stable ? 1 : 0)
-           << ',' << p.max_multiplier << ',' << p.branch << ',' << p.minimal_period << '\n';
+    os << "value,period,F_m,F_m_error,u1,stable,max_multiplier,branch,minimal_period\n";
+    for (const auto& p : result.points) {
+        os << p.value << ',' << p.period << ',' << p.F_m << ',';
+        write_if_finite(os, p.F_m_error);
+        os << ',' << p.u1 << ',' << (p.stable ? 1 : 0) << ',' << p.max_multiplier << ',' << p.branch
+           << ',' << p.minimal_period << '\n';
+    }
     return os.str();
 }
 
 std::string special_csv(const ContinuationResult& result) {
     std::ostringstream os;
     os.precision(12);
-    os << "type,value,period,F_m,branch,contact,value_error,minimal_period\n";
-    for (const auto& s : result.special)
-        os << to_string(s.type) << ',' << s.value << ',' << s.period << ',' << s.F_m << ','
-           << s.branch << ',' << s.contact << ',' << s.value_error << ',' << s.minimal_period
+    os << "type,value,period,F_m,F_m_error,branch,contact,value_error,minimal_period\n";
+    for (const auto& s : result.special) {
+        os << to_string(s.type) << ',' << s.value << ',' << s.period << ',' << s.F_m << ',';
+        write_if_finite(os, s.F_m_error);
+        os << ',' << s.branch << ',' << s.contact << ',' << s.value_error << ',' << s.minimal_period
            << '\n';
+    }
     return os.str();
 }
 
@@ -531,6 +536,8 @@ std::string to_json(const PeriodicOrbit& orbit, const Scene& scene) {
     j["stable"] = orbit.stable;
     j["liouville_error"] = orbit.liouville_error;
     j["F_m"] = orbit.F_m;
+    j["F_m_error"] = std::isnan(orbit.F_m_error) ? nlohmann::ordered_json(nullptr)
+                                                 : nlohmann::ordered_json(orbit.F_m_error);
     auto contacts = nlohmann::ordered_json::array();
     for (std::size_t c = 0; c < orbit.per_contact.size(); ++c)
         contacts.push_back({{"contact", c},

@@ -138,3 +138,28 @@ TEST_CASE("auto: the exponent of a stable orbit through stiff contacts is its Fl
     MESSAGE("lambda_1 " << r.exponents[0] << " +- " << r.errors[0] << ", Floquet " << floquet);
     CHECK(std::abs(r.exponents[0] - floquet) < 0.02);
 }
+
+TEST_CASE("a tangent run on rk4 through contacts exact does not take keeps to 1e-6") {
+    // Fig 13's row at fc = 2e8, beyond the exact scheme's reach: auto runs rk4. At the default
+    // tolerance 1e-4 its trajectory's contact times put the stable orbit's largest multiplier
+    // at 26 (rk8pd: 0.351) and lambda_1 at +10.0; the tangent run's tolerance is now at most
+    // 1e-6. The reference is Newton's orbit on rk8pd at 1e-10, an independent scheme (its
+    // largest multiplier is the contact-free decay's, exp(-pi / f_r) to 5 digits).
+    const ReducedParameters p{5, 2e8, 0.5, 0.06, 3.0};
+    const Dynamics dyn = Dynamics::paper_row(p);
+    OrbitOptions orbit;
+    orbit.scheme = Scheme::rk8pd;
+    orbit.integration_tolerance = 1e-10;
+    const PeriodicOrbit found = find_periodic_orbit_after(dyn, orbit, {}, 10);
+    REQUIRE(found.status == OrbitStatus::converged);
+    const double floquet = std::log(found.max_multiplier) * p.f_r / found.period;
+    RunOptions o;
+    o.periods = 30;
+    o.transient_periods = 10;
+    CHECK(tangent_run_options(dyn, o).scheme != Scheme::exact);
+    CHECK(tangent_run_options(dyn, o).tolerance == max_tangent_run_tolerance);
+    const LyapunovResult r = chain_lyapunov(dyn, o, 1);
+    MESSAGE("lambda_1 " << r.exponents[0] << " +- " << r.errors[0] << ", Floquet " << floquet);
+    CHECK(r.exponents[0] < 0.0);
+    CHECK(std::abs(r.exponents[0] - floquet) < 3.0 * r.errors[0] + 0.1);
+}

@@ -122,10 +122,10 @@ RunOptions classify_run_options(const Dynamics& dyn, const ClassifyOptions& o) {
     // is biased (Fig 13's row at fc = 1e5, f_r = 2.5: +1.60 +- 0.07 against 1.13-1.19 from
     // rk8pd at 1e-8, rk4 at 1e-6 and the exact propagator), so the run takes the scheme the
     // Lyapunov spectrum takes.
-    run_options.scheme = tangent_run_scheme(dyn, o.scheme);
+    run_options.scheme = o.scheme;
     run_options.tolerance = o.tolerance;
     run_options.max_work = o.max_work;
-    return run_options;
+    return tangent_run_options(dyn, run_options);
 }
 
 /// Counts the stroboscopic section's points, and its distinct first values, into c.

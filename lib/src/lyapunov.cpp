@@ -250,6 +250,13 @@ Scheme tangent_run_scheme(const Dynamics& dyn, Scheme requested) {
     return requested;
 }
 
+RunOptions tangent_run_options(const Dynamics& dyn, RunOptions requested) {
+    requested.scheme = tangent_run_scheme(dyn, requested.scheme);
+    if (requested.scheme != Scheme::exact && !requested.step)
+        requested.tolerance = std::min(requested.tolerance, max_tangent_run_tolerance);
+    return requested;
+}
+
 LyapunovResult chain_lyapunov(const Dynamics& dyn, const RunOptions& options, int count,
                               const std::vector<double>& initial,
                               const ProgressCallback& progress) {
@@ -257,8 +264,7 @@ LyapunovResult chain_lyapunov(const Dynamics& dyn, const RunOptions& options, in
     validate(options);
     require_harmonic(dyn, "lyapunov");
     detail::require_range("count", count, 1, dyn.dimension());
-    RunOptions run = options;
-    run.scheme = tangent_run_scheme(dyn, options.scheme);
+    const RunOptions run = tangent_run_options(dyn, options);
     PlannedRun planned(dyn, run, initial);
     // Each of the count tangent vectors costs about a step of the row: the run's own
     // affordability check (body-steps) sees only the row.

@@ -120,9 +120,20 @@ private:
 /// any other request, or a row beyond those, is returned as it is.
 Scheme tangent_run_scheme(const Dynamics& dyn, Scheme requested);
 
+/// Tightest tolerance a tangent run on a scheme other than exact keeps: its multipliers and
+/// exponents follow the trajectory's contact times, which need more than F_m does.
+inline constexpr double max_tangent_run_tolerance = 1e-6;
+
+/// The options of a run that carries the tangent flow: requested with tangent_run_scheme(), and,
+/// on any scheme but exact without a user step, the tolerance at most
+/// max_tangent_run_tolerance (Fig 13's row at fc = 2e8 on rk4 at 1e-4: largest multiplier 26
+/// of a stable orbit whose rk8pd multiplier is 0.351, lambda_1 +10 against -3.14; at 1e-6:
+/// 0.368, lambda_1 -3.08 +- 0.13; 5 % off at fc = 1e5 at 1e-4).
+RunOptions tangent_run_options(const Dynamics& dyn, RunOptions requested);
+
 /// Lyapunov spectrum of the row (count exponents, 1 .. 2 Nm) over options.periods, averaged
-/// after options.transient_periods; runs the full length (no steady-state stop), on
-/// tangent_run_scheme().
+/// after options.transient_periods; runs the full length (no steady-state stop), with
+/// tangent_run_options().
 LyapunovResult chain_lyapunov(const Dynamics& dyn, const RunOptions& options, int count,
                               const std::vector<double>& initial = {},
                               const ProgressCallback& progress = {});

@@ -912,3 +912,33 @@ TEST_CASE("accuracy mode: progress rises from 0 to 1 and stays there, through ev
     CHECK(simulate(torus, o, start, hooks).accuracy_mode_used == AccuracyUsed::strict);
     CHECK(std::is_sorted(fractions.begin(), fractions.end()));
 }
+
+TEST_CASE("a run that does not settle says when its window holds the row's start-up") {
+    // The auto transient is capped at half the run: at eps = 1e-3 (f_r = 1) the start-up takes
+    // ceil(ln(1e4) / (2 pi 1e-3)) = 1466 periods to decay to 1e-4, and an undamped row's never
+    // does (1e9 here).
+    RunOptions o;
+    o.periods = 200;
+    o.estimate_error = false;
+    o.multistability_check = false;
+    const SimulationResult weak = simulate(Dynamics::paper_row({3, 100, 1e-3, 0.5, 1.0}), o);
+    REQUIRE_FALSE(weak.steady_state_period);
+    CHECK(weak.start_up_periods ==
+          static_cast<long>(std::ceil(std::log(1e4) / (2 * std::numbers::pi * 1e-3))));
+    CHECK(weak.start_up_in_window);
+    const SimulationResult undamped = simulate(Dynamics::paper_row({3, 100, 0.0, 0.5, 1.3}), o);
+    CHECK(undamped.start_up_periods == 1'000'000'000);
+    CHECK(undamped.start_up_in_window);
+    // Fig 13's chaotic row at f_r = 3.3 decays in ceil(3.3 ln(1e4) / pi) = 10 periods: its 100
+    // discarded suffice.
+    const SimulationResult chaotic = simulate(Dynamics::paper_row({5, 60, 0.5, 0.06, 3.3}), o);
+    REQUIRE_FALSE(chaotic.steady_state_period);
+    CHECK(chaotic.start_up_periods ==
+          static_cast<long>(std::ceil(3.3 * std::log(1e4) / std::numbers::pi)));
+    CHECK_FALSE(chaotic.start_up_in_window);
+    // A run that settles reports none.
+    const SimulationResult periodic = simulate(Dynamics::paper_row({5, 100, 0.5, 0.5, 1.0}), o);
+    REQUIRE(periodic.steady_state_period);
+    CHECK(periodic.start_up_periods == 0);
+    CHECK_FALSE(periodic.start_up_in_window);
+}

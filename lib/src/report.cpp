@@ -95,6 +95,8 @@ json simulation_json(const SimulationResult& r, const Scene& scene) {
     }
     if (r.F_m_orbit) j["F_m_orbit"] = *r.F_m_orbit;
     j["maximum_in_transient"] = r.maximum_in_transient;
+    j["start_up_periods"] = r.start_up_periods;
+    j["start_up_in_window"] = r.start_up_in_window;
     j["accuracy_mode_used"] = to_string(r.accuracy_mode_used);
     if (r.relaxed_from_period >= 0) j["relaxed_from_period"] = r.relaxed_from_period;
     if (scene.physical) {

@@ -105,6 +105,14 @@ struct SimulationResult {
     /// discarded periods assume, or a chaotic transient; the latter is also multistable). F_m_error
     /// covers F_m - F_m_orbit.
     bool maximum_in_transient = false;
+    /// A harmonic run that did not settle: the periods the contact-free row's start-up takes
+    /// to decay to run.tolerance (default_transient_periods() without its cap; 1e9 where
+    /// nothing decays, eps = 0); 0 for a run that settled.
+    long start_up_periods = 0;
+    /// The run did not settle and discarded fewer periods than start_up_periods: its window
+    /// holds the start-up, so F_m may be the start-up's (eps near 0, a run too short for its
+    /// damping; raise run.periods).
+    bool start_up_in_window = false;
     /// Whether the main run kept to the tolerance throughout or finished relaxed.
     AccuracyUsed accuracy_mode_used = AccuracyUsed::strict;
     long relaxed_from_period = -1; ///< period the relaxed plan took over at (-1: strict)

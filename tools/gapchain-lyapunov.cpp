@@ -64,7 +64,7 @@ int main(int argc, char** argv) {
     std::string out = "lyapunov.json";
     bool no_plot = false;
     app.add_option("--count", count, "Exponents wanted (0: all 2 Nm)")
-        ->check(CLI::NonNegativeNumber)
+        ->check(cli::range(0, 2'000'000))
         ->capture_default_str();
     app.add_option("--out", out, "JSON result; the history goes next to it (_history.csv, .png)")
         ->capture_default_str();

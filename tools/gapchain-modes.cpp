@@ -103,7 +103,7 @@ void add_options(CLI::App& app, ModesArguments& a) {
         app.add_option("--fc", a.fc, "Stiffness ratio Kc/K (overrides the scene), > 0")
             ->check(cli::positive_number()),
         app.add_option("--modes", o.count, "Number of modes (0: all)")
-            ->check(CLI::NonNegativeNumber)
+            ->check(cli::range(0, 1'000'000))
             ->capture_default_str(),
         app.add_option("--end", a.end, "lowest or highest modes")
             ->check(CLI::IsMember({"lowest", "highest"}))

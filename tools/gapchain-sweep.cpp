@@ -130,7 +130,7 @@ void add_arguments(CLI::App& app, SweepArguments& a) {
     auto* subset = app.add_option("--subset", a.subset,
                                   "Run only K points, one drawn at random in each of K equal "
                                   "strata of the index range")
-                       ->check(CLI::NonNegativeNumber)
+                       ->check(gapchain::cli::range(0L, 1'000'000'000L))
                        ->capture_default_str();
     // Without --subset nothing is drawn: a --seed alone was silently ignored.
     app.add_option("--seed", a.seed, "Seed of --subset (a non-negative integer)")

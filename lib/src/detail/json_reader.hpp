@@ -173,9 +173,24 @@ Json parse_json_strictly(std::string_view text, const std::string& source) {
     };
     try {
         return Json::parse(text, callback);
+    } catch (const typename Json::out_of_range& e) {
+        // Number overflow (1e999): the lexer throws before the value reaches the callback, so
+        // the key it belongs to is the last one read.
+        std::string what = e.what();
+        const auto quote = what.find('\'');
+        const std::string number = quote == std::string::npos ? what : what.substr(quote);
+        const std::string key =
+            levels.empty() ? std::string() : levels.back().path + levels.back().last_key;
+        throw SceneError(source + ": " + (key.empty() ? std::string() : key + ": ") +
+                         "a number must be finite, |x| <= 1.8e308, got " + number);
     } catch (const typename Json::exception& e) {
-        // Parse errors, and number overflow (1e999), which nlohmann reports as out_of_range.
-        throw SceneError(source + ": malformed JSON: " + e.what());
+        // nlohmann's "[json.exception.parse_error.101] " prefix names its internals, not the
+        // file's fault.
+        std::string what = e.what();
+        if (const auto end = what.find("] ");
+            what.rfind("[json.exception.", 0) == 0 && end != std::string::npos)
+            what.erase(0, end + 2);
+        throw SceneError(source + ": malformed JSON: " + what);
     }
 }
 

@@ -26,6 +26,7 @@
 #include <memory>
 #include <numeric>
 #include <sstream>
+#include <stdexcept>
 #include <utility>
 
 namespace {
@@ -266,6 +267,20 @@ std::pair<double, double> mean_sd(const std::vector<double>& v) {
 /// `starts` starts u_1(0) = k 1.3e-7, as mean +- standard deviation over the starts.
 void bench_plans(const ReducedParameters& p, int starts) {
     const Dynamics dyn = Dynamics::paper_row(p);
+    // Refused up front, as a run is (run.max_work's default, about an hour): Nm = 1e6 ran for
+    // minutes with nothing printed.
+    const double work =
+        static_cast<double>(p.Nm) * 1000.0 * starts *
+        (plan_step(dyn, Scheme::rk4, 1e-4).steps_per_period + relaxed_plan(dyn).steps_per_period);
+    if (work > RunOptions{}.max_work) {
+        char text[320];
+        std::snprintf(text, sizeof text,
+                      "--row: this benchmark takes about %.2g body-steps (Nm x steps per period of "
+                      "both plans x 1000 periods x --starts), above the limit of %.2g (about an "
+                      "hour); take a shorter row or fewer --starts",
+                      work, RunOptions{}.max_work);
+        throw std::invalid_argument(text);
+    }
     for (const bool relaxed : {false, true}) {
         const StepPlan plan = relaxed ? relaxed_plan(dyn) : plan_step(dyn, Scheme::rk4, 1e-4);
         std::vector<double> means, tops, maxima;

@@ -58,6 +58,10 @@ TEST_CASE("bad studies name the key") {
                          doctest::Contains("parameters.fc"), SceneError);
     CHECK_THROWS_WITH_AS(parse_study(R"({"parameters": {}})"), doctest::Contains("parameters"),
                          SceneError);
+    // A range of one value ran only its start, its end silently dropped.
+    CHECK_THROWS_WITH_AS(parse_study(R"({"parameters": {"e_r": {"lin": [0.2, 1, 1]}}})"),
+                         doctest::Contains("count 1 is one value and needs from = to"), SceneError);
+    CHECK(point_count(parse_study(R"({"parameters": {"e_r": {"log": [0.2, 0.2, 1]}}})")) == 1);
     CHECK_THROWS_WITH_AS(parse_study(R"({"parameters": {"fc": [1]}, "keep": ["speed"]})"),
                          doctest::Contains("keep"), SceneError);
     CHECK_THROWS_AS(parse_study("{nope"), SceneError);

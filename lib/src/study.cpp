@@ -32,6 +32,11 @@ std::vector<double> axis_values(const nlohmann::ordered_json& spec, const std::s
             (log && (from <= 0.0 || to <= 0.0)))
             throw SceneError(key + ": range needs count >= 1, finite ends" +
                              std::string(log ? " > 0" : ""));
+        // One value cannot span from..to: the end would be dropped silently.
+        if (count == 1 && from != to)
+            throw SceneError(key + ": a range of count 1 is one value and needs from = to, got [" +
+                             detail::format_number(from) + ", " + detail::format_number(to) +
+                             ", 1]; give count >= 2 or a list");
         // linspace keeps integer ranges exact, so integer keys such as seeds can be swept.
         return log ? logspace(from, to, count) : linspace(from, to, count);
     };

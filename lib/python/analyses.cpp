@@ -285,6 +285,11 @@ py::dict lyapunov_py(const py::object& scene_arg, int count, const py::object& p
                      const py::kwargs& keys) {
     const Scene scene = to_scene(scene_arg, keys);
     const Dynamics dyn = scene.dynamics();
+    // As gapchain-lyapunov --count: 0 means all, which the library's [1, 2 Nm] does not say.
+    if (count < 0 || count > dyn.dimension())
+        throw std::invalid_argument(
+            "count: must be in [0, 2 Nm = " + std::to_string(dyn.dimension()) + "] (0: all), got " +
+            std::to_string(count));
     const int k = count == 0 ? dyn.dimension() : count;
     Call call(progress);
     const LyapunovResult r =

@@ -97,6 +97,12 @@ TEST_CASE("mirror-image orbits are two attractors of equal F_m and equal basin f
     CHECK(std::abs(a.state[1] - b.state[1]) > 1.0);
     CHECK(a.F_m == doctest::Approx(b.F_m).epsilon(1e-8));
     CHECK(a.F_m_error < 1e-9);
+    // The mirror images have one F_m and one spectrum: each pair's difference lies within
+    // twice the two error bars, which are estimates (the exponents read "+- 0" 6e-8 apart; the
+    // F_m differ by 1.2e-10 against bars of 1.2e-10 and 8e-13).
+    CHECK(std::abs(a.F_m - b.F_m) <= 2.0 * (a.F_m_error + b.F_m_error));
+    CHECK(std::abs(a.lambda_max - b.lambda_max) <= 2.0 * (a.lambda_max_error + b.lambda_max_error));
+    CHECK(a.lambda_max_error + b.lambda_max_error < 1e-6);
     CHECK(a.basin_fraction + b.basin_fraction == doctest::Approx(1.0));
     const double sigma = std::hypot(a.basin_fraction_error, b.basin_fraction_error);
     CHECK(std::abs(a.basin_fraction - b.basin_fraction) < 3.0 * sigma);

@@ -81,7 +81,8 @@ TEST_CASE("no contact above the eq (20) boundary") {
         REQUIRE(free.regime == Regime::no_contact);
         CHECK(free.newton_confirmed);
         CHECK(free.lambda_max == doctest::Approx(-2.0 * std::numbers::pi * p.eps).epsilon(1e-8));
-        CHECK(free.lambda_max_error == 0.0);
+        // Round-off: one more Newton step moves the multiplier by an ulp or so.
+        CHECK(free.lambda_max_error < 1e-12);
     }
 }
 

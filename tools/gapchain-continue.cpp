@@ -144,19 +144,28 @@ void print_summary(const ContinuationResult& r, const ContinueArguments& a) {
                 r.shootings, r.wall_time_s);
     double largest_error = 0.0;
     long unestimated = 0;
-    for (const auto& p : r.points) {
-        largest_error = std::max(largest_error, std::isnan(p.F_m_error) ? 0.0 : p.F_m_error);
-        unestimated += std::isnan(p.F_m_error) ? 1 : 0;
-    }
-    std::printf("  F_m errors up to %.2g (against an independent scheme)", largest_error);
-    if (unestimated > 0) std::printf("; %ld orbit(s) too costly to check", unestimated);
+    const auto count = [&](double error) {
+        largest_error = std::max(largest_error, std::isnan(error) ? 0.0 : error);
+        unestimated += std::isnan(error) ? 1 : 0;
+    };
+    for (const auto& p : r.points)
+        count(p.F_m_error);
+    for (const auto& s : r.special)
+        count(s.F_m_error);
+    const auto orbits = static_cast<long>(r.points.size() + r.special.size());
+    if (unestimated == orbits)
+        std::printf("  F_m errors not estimated (the independent scheme's check did not run)");
+    else
+        std::printf("  F_m errors up to %.2g (against an independent scheme)", largest_error);
+    if (unestimated > 0 && unestimated < orbits)
+        std::printf("; %ld of %ld orbits not estimated", unestimated, orbits);
     std::printf("\n");
     for (std::size_t b = 0; b < r.branch_end.size(); ++b)
         std::printf("  branch %zu ended: %s\n", b, r.branch_end[b].c_str());
     for (const auto& s : r.special) {
-        std::printf("  %-16s %s = %.8f +- %.1e  (period %d, F_m %.5g +- %.1g, branch %d",
+        std::printf("  %-16s %s = %.8f +- %.1e  (period %d, F_m %.5g %s, branch %d",
                     std::string(to_string(s.type)).c_str(), a.param.c_str(), s.value, s.value_error,
-                    s.period, s.F_m, s.F_m_error, s.branch);
+                    s.period, s.F_m, cli::plus_minus(s.F_m_error, "%.1g").c_str(), s.branch);
         if (s.contact >= 0) std::printf(", contact %d", s.contact);
         std::printf(")\n");
     }

@@ -49,14 +49,15 @@ void print_orbit(const PeriodicOrbit& orbit) {
     char check[96] = "Liouville check not resolved at this period";
     if (!std::isnan(orbit.liouville_error))
         std::snprintf(check, sizeof check, "Liouville check %.1e", orbit.liouville_error);
-    std::printf("  period %d (minimal %d), %s, largest multiplier |mu| = %.6g (%s)\n", orbit.period,
-                orbit.minimal_period,
+    std::printf("  period %d (minimal %d), %s, largest multiplier |mu| = %.6g %s (%s)\n",
+                orbit.period, orbit.minimal_period,
                 orbit.stable                         ? "stable"
                 : orbit.max_multiplier <= 1.0 + 1e-9 ? "neutral"
                                                      : "unstable",
-                orbit.max_multiplier, check);
-    std::printf("  F_m over the orbit = %.10g +- %.2g\n  wall time %.3f s\n", orbit.F_m,
-                orbit.F_m_error, orbit.wall_time_s);
+                orbit.max_multiplier, cli::plus_minus(orbit.max_multiplier_error, "%.2g").c_str(),
+                check);
+    std::printf("  F_m over the orbit = %.10g %s\n  wall time %.3f s\n", orbit.F_m,
+                cli::plus_minus(orbit.F_m_error, "%.2g").c_str(), orbit.wall_time_s);
 }
 
 std::string no_orbit_message(const PeriodicOrbit& orbit, const OrbitOptions& o) {

@@ -5,6 +5,7 @@
 #include "gapchain/report.hpp"
 #include "gapchain/simulation.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -98,13 +99,18 @@ void print_result(const Scene& scene, const SimulationResult& r, bool searched) 
                         ? " (error: sampling spread: the maxima of the two window halves and the "
                           "tail of the per-period maxima, and of a twin run when one ran)"
                         : "");
-    if (r.start_up_in_window && r.start_up_periods >= 1'000'000'000)
+    const Chain chain = scene.chain();
+    const auto& damping = chain.damping;
+    const bool undamped =
+        std::all_of(damping.begin(), damping.end(), [](double c) { return c == 0.0; });
+    if (r.start_up_in_window && undamped)
         std::printf("note: this row is undamped: its start-up never decays, so F_m depends on "
                     "how long the run is (no steady figure)\n");
     else if (r.start_up_in_window)
-        std::printf("note: this row's start-up takes %ld periods to decay to run.tolerance, more "
-                    "than the %ld discarded: F_m may be the start-up's; raise run.periods\n",
-                    r.start_up_periods, r.transient_periods_used);
+        std::printf("note: this row's start-up takes %s%ld periods to decay to run.tolerance, "
+                    "more than the %ld discarded: F_m may be the start-up's; raise run.periods\n",
+                    r.start_up_periods >= 1'000'000'000 ? "more than " : "", r.start_up_periods,
+                    r.transient_periods_used);
     if (r.accuracy_mode_used == AccuracyUsed::relaxed)
         std::printf("accuracy: relaxed from period %ld on (the run does not settle%s; "
                     "run.accuracy_mode = \"strict\" holds every step to the tolerance)\n",

@@ -13,11 +13,11 @@ set title 'Fig 13 line (Nm=5, fc=60, eps=0.5, e_r=0.06): period 1 (circles), 2 (
 set xrange [2.15:4.5]
 branch(dir) = dir.'/branch.csv'
 special(dir) = dir.'/special.csv'
-# column 2 is the period, 5 stability
+# column 2 is the period, 6 stability (branch.csv: value,period,F_m,F_m_error,u1,stable,...)
 pt_of(k) = k == 1 ? 7 : (k == 2 ? 9 : 5)
 plot bif every ::1 using 1:3 with points pt 7 ps 0.2 lc rgb '#bbbbbb' title 'brute force', \
-     for [d in dirs] branch(d) every ::1 using 1:($5 == 1 ? $3 : 1/0):(pt_of($2)) with points pt variable ps 0.5 lc rgb '#1f4e9c' notitle, \
-     for [d in dirs] branch(d) every ::1 using 1:($5 == 0 ? $3 : 1/0):(pt_of($2)) with points pt variable ps 0.3 lc rgb '#d62728' notitle, \
+     for [d in dirs] branch(d) every ::1 using 1:($6 == 1 ? $3 : 1/0):(pt_of($2)) with points pt variable ps 0.5 lc rgb '#1f4e9c' notitle, \
+     for [d in dirs] branch(d) every ::1 using 1:($6 == 0 ? $3 : 1/0):(pt_of($2)) with points pt variable ps 0.3 lc rgb '#d62728' notitle, \
      for [d in dirs] special(d) every ::1 using 2:(strcol(1) eq 'period_doubling' ? $4 : 1/0) with points pt 4 ps 1.6 lc rgb '#2ca02c' notitle, \
      for [d in dirs] special(d) every ::1 using 2:(strcol(1) eq 'fold' ? $4 : 1/0) with points pt 8 ps 1.6 lc rgb 'black' notitle, \
      NaN with points pt 4 ps 1.6 lc rgb '#2ca02c' title 'period doubling', \

@@ -26,9 +26,11 @@ max_iterations  Newton iterations, 1 .. 1000;  scheme  integration of P^k (defau
 
 Returns a dict: status ("converged", "not_converged", "singular", "non_finite"), message,
 period, minimal_period, state (2 Nm: u then v at phase 0), residual, iterations,
-residual_history, multipliers (complex128, largest modulus first), max_multiplier, stable,
-liouville_error, F_m (over one orbit), F_m_error (its difference from an independent scheme,
-rk8pd at 1e-10; NaN where not estimated), per_contact (dict: force, time, impacts), max_gap,
+residual_history, multipliers (complex128, largest modulus first), max_multiplier,
+max_multiplier_error (its change under one more Newton step; NaN where not estimated), stable,
+liouville_error, F_m (over one orbit), F_m_error (its difference from the same orbit on an
+independent scheme, rk8pd at 1e-10, rkf45 when scheme is "rk8pd"; NaN where not estimated),
+per_contact (dict: force, time, impacts), max_gap,
 wall_time_s.)";
 
 constexpr const char* continuation_doc =
@@ -88,6 +90,7 @@ py::dict orbit_py(const py::object& scene_arg, int period, long transient, doubl
     d["liouville_error"] = r.liouville_error;
     d["F_m"] = r.F_m;
     d["F_m_error"] = r.F_m_error;
+    d["max_multiplier_error"] = r.max_multiplier_error;
     d["per_contact"] = per_contact_dict(r.per_contact);
     d["max_gap"] = array(r.max_gap);
     d["wall_time_s"] = r.wall_time_s;

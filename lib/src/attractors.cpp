@@ -191,6 +191,7 @@ struct StartOutcome {
     int period = 0;
     bool newton = false;
     double max_multiplier = 0.0;
+    double max_multiplier_error = 0.0;
     double F_m = 0.0;     // the orbit's (Newton) or the run's
     double run_F_m = 0.0; // over the run's recorded window
     double spread = 0.0;  // the run's F_m_error
@@ -241,6 +242,7 @@ StartOutcome run_start(const Dynamics& dyn, const AttractorOptions& o,
         s.newton = true;
         s.period = found->minimal_period;
         s.max_multiplier = found->max_multiplier;
+        s.max_multiplier_error = found->max_multiplier_error;
         double size = 0.0; // |x|, the Euclidean norm of the residual's scale
         for (const double x : found->state)
             size += x * x;
@@ -360,6 +362,7 @@ Attractor new_attractor(const StartOutcome& s, const std::vector<double>& start,
     a.period = s.periodic ? s.period : 0;
     a.newton_confirmed = s.newton;
     a.max_multiplier = s.max_multiplier;
+    a.max_multiplier_error = s.max_multiplier_error;
     a.F_m = s.F_m;
     // A confirmed orbit's error is set in characterise(); an unconfirmed one keeps its run's.
     a.F_m_error = s.periodic && s.newton ? std::abs(s.F_m - s.run_F_m) : s.spread;
@@ -491,6 +494,7 @@ void characterise(const Dynamics& dyn, const ReducedParameters& p, const Attract
             Attractor& a = attractors[static_cast<std::size_t>(k)];
             if (a.period != 0 && a.newton_confirmed) {
                 a.lambda_max = std::log(a.max_multiplier) * p.f_r / a.period;
+                a.lambda_max_error = a.max_multiplier_error / a.max_multiplier * p.f_r / a.period;
                 OrbitOptions confirmed;
                 confirmed.period = a.period;
                 confirmed.max_work = o.run.max_work;

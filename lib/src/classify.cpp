@@ -162,7 +162,8 @@ void confirm_periodic(const Dynamics& dyn, const std::vector<double>& state, dou
     // tangent average of the run is biased where rk4 crosses stiff contacts: +0.47 +- 1.1 on
     // Fig 13's row at fc = 3e6, f_r = 3, where the orbit's |mu| = 0.382 gives -2.89.
     c.lambda_max = std::log(orbit.max_multiplier) / (orbit.minimal_period * dyn.period());
-    c.lambda_max_error = 0.0;
+    c.lambda_max_error =
+        orbit.max_multiplier_error / (orbit.max_multiplier * orbit.minimal_period * dyn.period());
     // The record's maximum is the orbit's only once the run has reached it; a run still on its
     // way took a larger one (0.877712 +- 0.00073 against the orbit's 0.874235 at Nm = 3,
     // fc = 1094.253, eps = 0.05, e_r = 0.164487, f_r = 2.47593, on the build of 2026-11-26).
@@ -257,6 +258,7 @@ Classification classify(const ReducedParameters& p, const ClassifyOptions& o,
                                natural_angular_frequency);
     Classification c;
     c.scheme_used = planned.plan().scheme;
+    c.tolerance_used = run_options.tolerance;
     double t = 0.0;
     if (o.transient_periods > 0) {
         Observer* settling[] = {&steady, &tangent};

@@ -221,9 +221,24 @@ std::optional<double> orbit_force_error(const Dynamics& dyn, Scheme scheme, int 
     // at 1e-5 on Fig 5's row: the gap from x alone was half of the orbits' F_m difference).
     const auto n = static_cast<Eigen::Index>(x.size());
     const Matrix m = Eigen::Map<const Matrix>(monodromy.data(), n, n);
-    const Vector shift =
-        (Matrix::Identity(n, n) - m).fullPivLu().solve(as_vector(first->second) - as_vector(x));
-    if (!shift.allFinite()) return std::nullopt;
+    const Eigen::FullPivLU<Matrix> lu(Matrix::Identity(n, n) - m);
+    const Vector gap = as_vector(first->second) - as_vector(x);
+    const Vector shift = lu.solve(gap);
+    // Next to a fold (a multiplier near +1) the linear step overshoots: on Fig 13's line at
+    // f_r 2.7587-2.7621 it gave 4e-11 to 2e-9 where rk8pd's own Newton orbit was 1e-13 away.
+    // There the checking scheme's orbit is found by Newton itself.
+    if (!lu.isInvertible() || !shift.allFinite() || shift.norm() > 1e2 * gap.norm()) {
+        OrbitOptions check;
+        check.period = period;
+        check.scheme = run.scheme;
+        check.integration_tolerance = run.tolerance;
+        check.max_iterations = 8;
+        check.max_work = max_work;
+        if (shooting_work(dyn, check) > max_work) return std::nullopt;
+        const PeriodicOrbit other = find_periodic_orbit(dyn, check, x, keep_going);
+        if (other.status != OrbitStatus::converged) return std::nullopt;
+        return std::max(std::abs(other.F_m - F_m), 1e-12 * F_m);
+    }
     std::vector<double> corrected(x);
     for (Eigen::Index i = 0; i < n; ++i)
         corrected[static_cast<std::size_t>(i)] += shift[i];
@@ -269,6 +284,45 @@ DampedStep damped_step(const Dynamics& dyn, const OrbitOptions& options, const V
     return DampedStep::stalled;
 }
 
+/// The error of an orbit's largest multiplier modulus: its change under one more Newton step,
+/// x + (I - M)^-1 (P(x) - x). The multiplier moves with the state to first order, and the step
+/// takes the state's error to its square: two mirror orbits of Nm = 1 (identical multipliers)
+/// read -0.396456210 and -0.396456152 as exponents, "+- 0". NaN where the step or its shooting
+/// fails, or beyond 1000 dimensions (a second dense eigensolve of a long row costs minutes).
+double largest_multiplier_error(const Dynamics& dyn, const OrbitOptions& options,
+                                const std::vector<double>& x, const ShootingResult& s,
+                                double max_multiplier, const ProgressCallback& keep_going) {
+    constexpr double nan = std::numeric_limits<double>::quiet_NaN();
+    const auto dim = static_cast<Eigen::Index>(x.size());
+    if (dim > 1000) return nan;
+    const Matrix a =
+        Matrix::Identity(dim, dim) - Eigen::Map<const Matrix>(s.monodromy.data(), dim, dim);
+    const Vector step = a.fullPivLu().solve(as_vector(s.end_state) - as_vector(x));
+    if (!step.allFinite()) return nan;
+    std::vector<double> next(x);
+    for (Eigen::Index i = 0; i < dim; ++i)
+        next[static_cast<std::size_t>(i)] += step[i];
+    const ShootingResult t = shoot(dyn, options, next, keep_going);
+    if (!t.finite || t.cancelled) return nan;
+    const Eigen::EigenSolver<Matrix> solver(Eigen::Map<const Matrix>(t.monodromy.data(), dim, dim),
+                                            false);
+    const double moved = solver.eigenvalues().cwiseAbs().maxCoeff();
+    return std::max(std::abs(moved - max_multiplier),
+                    std::numeric_limits<double>::epsilon() * max_multiplier);
+}
+
+/// A converged orbit's max_multiplier_error, and its F_m_error where options ask.
+void estimate_errors(const Dynamics& dyn, const OrbitOptions& options, const std::vector<double>& x,
+                     const ShootingResult& s, const ProgressCallback& keep_going,
+                     PeriodicOrbit& orbit) {
+    orbit.max_multiplier_error =
+        largest_multiplier_error(dyn, options, x, s, orbit.max_multiplier, keep_going);
+    if (!options.estimate_force_error) return;
+    if (const auto error = orbit_force_error(dyn, options.scheme, options.period, x, s.monodromy,
+                                             orbit.F_m, options.max_work, keep_going))
+        orbit.F_m_error = *error;
+}
+
 } // namespace
 
 int minimal_period(const std::vector<double>& x, const ShootingResult& s, double tolerance) {
@@ -304,6 +358,8 @@ PeriodicOrbit find_periodic_orbit(const Dynamics& dyn, const OrbitOptions& optio
         orbit.residual_history.push_back(residual);
         if (status != OrbitStatus::non_finite && status != OrbitStatus::cancelled)
             describe(dyn, options, x, s, orbit);
+        if (status == OrbitStatus::converged)
+            estimate_errors(dyn, options, x, s, keep_going, orbit);
         orbit.wall_time_s =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - clock).count();
         return orbit;
@@ -393,15 +449,11 @@ PeriodicOrbit find_periodic_orbit_after(const Dynamics& dyn, const OrbitOptions&
         start = planned.state();
     }
     const double newton_from = transient_periods > 0 ? 0.5 : 0.0;
-    PeriodicOrbit orbit = find_periodic_orbit(dyn, options, start, [&](double f) {
+    OrbitOptions estimating = options;
+    estimating.estimate_force_error = true;
+    PeriodicOrbit orbit = find_periodic_orbit(dyn, estimating, start, [&](double f) {
         return !progress || progress(newton_from + (1.0 - newton_from) * f);
     });
-    if (orbit.status == OrbitStatus::converged) {
-        OrbitOptions at_period = options;
-        at_period.period = orbit.period;
-        if (const auto error = orbit_force_error(dyn, at_period, orbit.state, orbit.F_m))
-            orbit.F_m_error = *error;
-    }
     orbit.wall_time_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - clock).count();
     return orbit;

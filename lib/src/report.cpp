@@ -535,6 +535,9 @@ std::string to_json(const PeriodicOrbit& orbit, const Scene& scene) {
         multipliers.push_back({mu.real(), mu.imag()});
     j["multipliers"] = multipliers;
     j["max_multiplier"] = orbit.max_multiplier;
+    j["max_multiplier_error"] = std::isnan(orbit.max_multiplier_error)
+                                    ? nlohmann::ordered_json(nullptr)
+                                    : nlohmann::ordered_json(orbit.max_multiplier_error);
     j["stable"] = orbit.stable;
     j["liouville_error"] = orbit.liouville_error;
     j["F_m"] = orbit.F_m;
@@ -589,6 +592,7 @@ json classification_json(const Classification& c) {
     if (c.newton_confirmed) j["max_multiplier"] = c.max_multiplier;
     j["periods_run"] = c.periods_run;
     j["scheme"] = std::string(to_string(c.scheme_used));
+    j["tolerance_used"] = c.tolerance_used;
     j["status"] = std::string(to_string(c.status));
     j["wall_time_s"] = c.wall_time_s;
     return j;

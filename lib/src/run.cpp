@@ -112,6 +112,17 @@ bool rate_turns(double r0, double r1) {
     return r0 * r1 < 0.0;
 }
 
+/// Whether gap j (value g0, rate r0 at the start of a step of length h) is closed just after
+/// the start: its sign, or on the surface the sign of g0 + r0 d + a0 d^2 / 2 at d = h / 1000,
+/// as the exact propagator chooses its configuration (where g = g' = 0, at rest at e_r = 0, the
+/// acceleration decides).
+bool closed_after_start(const Dynamics& dyn, int j, double g0, double r0, double h,
+                        StepEnds& ends) {
+    if (!on_surface(g0, r0, h)) return g0 > 0.0;
+    const double d = 1e-3 * h;
+    return g0 + r0 * d + 0.5 * dyn.gap_acceleration(j, ends.ground0(), ends.y0) * d * d > 0.0;
+}
+
 /// 1 if gap j may cross 0 inside a step, from its values and rates at the ends alone (a cheap
 /// filter before crossing_in_step()), else 0: a sign change, a start on the surface that
 /// leaves and may come back, or a turn whose reach - twice the bound from the end tangents, as
@@ -149,8 +160,7 @@ std::optional<double> crossing_in_step(const Dynamics& dyn, int j, double g0, do
     const bool closed1 = g1 > 0.0;
     const bool turns = rate_turns(r0, r1);
     const double a0 = dyn.gap_acceleration(j, ends.ground0(), ends.y0);
-    const double d = 1e-3 * h;
-    const bool closed0 = surface ? g0 + r0 * d + 0.5 * a0 * d * d > 0.0 : g0 > 0.0;
+    const bool closed0 = closed_after_start(dyn, j, g0, r0, h, ends);
     if (closed0 == closed1 && (surface || !turns)) return std::nullopt;
     const detail::QuinticHermite g(g0, r0, a0, g1, r1,
                                    dyn.gap_acceleration(j, ends.ground1(), ends.y1), h);
@@ -233,10 +243,9 @@ double earliest_switch(const Dynamics& dyn, const Stepper& stepper, Switch s, do
     if (!stepper.dense_state(s.t, scratch.data())) return s.t;
     for (int j = 0; j < dyn.gaps(); ++j) {
         if (j == s.gap) continue;
-        const double g0 = at0.value[j], r0 = at0.rate[j];
-        // A start on the surface leaves it the way its rate points, as the configuration did;
-        // a side change within the noise floor (bodies in lockstep at e_r = 0) is none.
-        const bool closed0 = on_surface(g0, r0, h) ? r0 > 0.0 : g0 > 0.0;
+        // The side the configuration took at the start; a side change within the noise floor
+        // (bodies in lockstep at e_r = 0) is none.
+        const bool closed0 = closed_after_start(dyn, j, at0.value[j], at0.rate[j], h, ends);
         const double g1 = dyn.gap(j, scratch.data());
         if ((g1 > 0.0) == closed0 || std::abs(g1) <= ends.floor()) continue;
         double lo = t0, hi = s.t;
@@ -245,7 +254,11 @@ double earliest_switch(const Dynamics& dyn, const Stepper& stepper, Switch s, do
             stepper.dense_state(mid, scratch.data());
             ((dyn.gap(j, scratch.data()) > 0.0) == closed0 ? lo : hi) = mid;
         }
-        s = {refine_switch(dyn, stepper, {hi, j}, t0, t_end, scratch), j};
+        // Newton from the bracket's end may leave it at a near-tangential crossing: the
+        // bracket's end is then kept.
+        const double refined = refine_switch(dyn, stepper, {hi, j}, t0, t_end, scratch);
+        const double slack = 1e-9 * h;
+        s = {refined >= lo - slack && refined <= hi + slack ? refined : hi, j};
         stepper.dense_state(s.t, scratch.data());
     }
     return s.t;

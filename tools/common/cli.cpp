@@ -439,6 +439,13 @@ std::string row_title(const ReducedParameters& p, const std::string& swept) {
     return title;
 }
 
+std::string plus_minus(double error, const char* format) {
+    if (std::isnan(error)) return "(error not estimated)";
+    char number[64];
+    std::snprintf(number, sizeof number, format, error);
+    return std::string("+- ") + number;
+}
+
 std::pair<CLI::Option*, CLI::Option*> add_start_box(CLI::App& app, long long& seed, double& box) {
     CLI::Option* s = app.add_option("--seed", seed, "Seed of the random starts")
                          ->check(range(0LL, 1LL << 62))

@@ -145,6 +145,9 @@ void require_no_run_set(const SceneArguments& args, const std::string& tool);
 // the swept one (its values are on the x axis).
 std::string row_title(const ReducedParameters& p, const std::string& swept = "");
 
+/// "+- <error>" in printf format (e.g. "%.2g"), or "(error not estimated)" for a NaN error.
+std::string plus_minus(double error, const char* format);
+
 // The library names its own fields in messages ("segment_length: ..."); a tool lists, for
 // each, the flag the user wrote ({"segment_length", "--segment"}) so that messages name it.
 // Fields most tools share ("transient_periods" -> "--transient", "tolerance", "threads", ...)

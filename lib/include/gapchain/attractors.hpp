@@ -97,7 +97,9 @@ struct Attractor {
     bool settled = true;
     bool newton_confirmed = false; ///< periodic: the orbit converged under Newton
     double max_multiplier = 0.0;   ///< periodic: largest Floquet multiplier modulus
-    double F_m = 0.0;              ///< largest reduced impact force on the attractor
+    /// periodic: its error (PeriodicOrbit::max_multiplier_error; NaN where not estimated)
+    double max_multiplier_error = 0.0;
+    double F_m = 0.0; ///< largest reduced impact force on the attractor
     /// A confirmed orbit: |F_m (exact propagator) - F_m (rk8pd at 1e-10)| on the orbit; an
     /// unconfirmed periodic one (F_m the run's orbit maximum, F_m_orbit): the run's F_m_error;
     /// otherwise the window-halves sampling spread of the member whose F_m is the largest.
@@ -105,7 +107,8 @@ struct Attractor {
     /// Largest Lyapunov exponent [1 / reduced time]; NaN for a periodic steady state Newton
     /// did not confirm (not computed: blank in CSV, null in JSON).
     double lambda_max = 0.0;
-    double lambda_max_error = 0.0; ///< its standard error (0 for a Newton-confirmed orbit)
+    double lambda_max_error = 0.0; ///< its standard error (a Newton-confirmed
+                                   ///< orbit: from max_multiplier_error)
     double basin_fraction = 0.0;   ///< share of the random starts that reach it
     /// binomial standard error sqrt(p (1 - p) / N), at least 1 / N (N starts all alike bound
     /// the fraction to about that)

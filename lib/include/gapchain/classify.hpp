@@ -61,7 +61,8 @@ struct Classification {
     /// orbit Newton confirmed, else the tangent vector's average along the run.
     double lambda_max = 0.0;
     double lambda_max_error = 0.0; ///< the average's standard error (inf if the window was too
-                                   ///< short); 0 for a confirmed orbit's exponent
+                                   ///< short); for a confirmed orbit, from its largest
+                                   ///< multiplier's error (max_multiplier_error)
     int distinct_points = 0;       ///< distinct stroboscopic points among those recorded
     int section_points = 0;        ///< stroboscopic points recorded
     double broadband_share = 0.0;  ///< spectral power of u_1 away from m/n f_r (n <= 4)
@@ -81,6 +82,9 @@ struct Classification {
     long periods_run = 0;          ///< periods integrated
     Scheme scheme_used =
         Scheme::rk4; ///< the concrete scheme the run took (options.scheme resolved)
+    /// The tolerance the run kept (options.tolerance, or max_tangent_run_tolerance where that
+    /// is tighter and the scheme is not exact: the tangent vector needs it).
+    double tolerance_used = 0.0;
     RunStatus status = RunStatus::completed;
     double wall_time_s = 0.0; ///< [s]
 };

@@ -51,8 +51,8 @@ struct BranchPoint {
     double value = 0.0; ///< the parameter
     int period = 1;     ///< k of the branch
     double F_m = 0.0;   ///< largest reduced impact force over the orbit
-    /// Error of F_m: orbit_force_error() (the difference from an independent scheme); NaN where
-    /// that check would exceed max_work
+    /// Error of F_m [reduced force, >= 0]: orbit_force_error() (the difference from the same
+    /// orbit on an independent scheme); NaN where that check would exceed max_work or failed
     double F_m_error = 0.0;
     double u1 = 0.0;             ///< u_1 at phase 0
     bool stable = false;         ///< every Floquet multiplier inside the unit circle
@@ -76,7 +76,7 @@ struct SpecialPoint {
     int period = 1;         ///< k of the branch it lies on
     int minimal_period = 1; ///< the orbit's minimal period there (see BranchPoint)
     double F_m = 0.0;       ///< F_m of the orbit there
-    double F_m_error = 0.0; ///< its error, as BranchPoint::F_m_error
+    double F_m_error = 0.0; ///< its error [reduced force], as BranchPoint::F_m_error
     int branch = 0;         ///< branch index
     int contact = -1;       ///< the contact j = 0..Nm of a grazing, else -1
 };

@@ -39,6 +39,9 @@ struct OrbitOptions {
     /// Largest work of one integration (the transient run, one shooting) in body-steps, as
     /// RunOptions::max_work (the scene's run.max_work), 1 .. 1e15.
     double max_work = 3e10;
+    /// find_periodic_orbit(): also estimate a converged orbit's F_m_error (orbit_force_error(),
+    /// on the last shooting's monodromy: two plain runs of k periods more).
+    bool estimate_force_error = false;
 };
 
 /// A periodic orbit and its stability.
@@ -55,6 +58,9 @@ struct PeriodicOrbit {
     /// first.
     std::vector<std::complex<double>> multipliers;
     double max_multiplier = 0.0; ///< largest modulus
+    /// Error of max_multiplier: its change under one more Newton step (the state's error
+    /// moves it to first order); NaN unless converged, or beyond 1000 dimensions.
+    double max_multiplier_error = std::numeric_limits<double>::quiet_NaN();
     /// Every modulus < 1 on a damped row; false on an undamped one (eps = 0: det M = 1, so the
     /// orbit is at best neutral).
     bool stable = false;
@@ -65,9 +71,9 @@ struct PeriodicOrbit {
     /// precision resolves next to the largest (a smaller period resolves them).
     double liouville_error = 0.0;
     double F_m = 0.0; ///< largest reduced impact force over one orbit (located between steps)
-    /// Error of F_m (orbit_force_error(): the difference from the same orbit on an independent
-    /// scheme), set by find_periodic_orbit_after() for a converged orbit; NaN where not
-    /// estimated.
+    /// Error of F_m [reduced force, >= 0] (orbit_force_error(): the difference from the same
+    /// orbit on an independent scheme), set for a converged orbit by find_periodic_orbit_after()
+    /// and where OrbitOptions::estimate_force_error asks; NaN where not estimated.
     double F_m_error = std::numeric_limits<double>::quiet_NaN();
     std::vector<ContactMaximum> per_contact; ///< per contact j = 0..Nm over one orbit
     std::vector<double> max_gap;             ///< per contact: largest g_j over one orbit
@@ -167,9 +173,9 @@ std::optional<double> orbit_force_error(const Dynamics& dyn, const OrbitOptions&
 /// find_periodic_orbit() started from the end of a plain run of transient_periods (0 .. 1e7)
 /// forcing periods from initial (empty: rest), on options.scheme: the usual way to reach an
 /// attracting orbit's neighbourhood, where Newton converges. A converged orbit's F_m_error is
-/// estimated (orbit_force_error()). progress reports the transient
-/// run's fraction done (the first half of the fractions reported), then Newton's; answering
-/// false stops either (status cancelled).
+/// estimated (orbit_force_error(), whatever options.estimate_force_error says). progress reports
+/// the transient run's fraction done (the first half of the fractions reported), then Newton's;
+/// answering false stops either (status cancelled).
 PeriodicOrbit find_periodic_orbit_after(const Dynamics& dyn, const OrbitOptions& options,
                                         const std::vector<double>& initial, long transient_periods,
                                         const ProgressCallback& progress = {});

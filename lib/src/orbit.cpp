@@ -183,7 +183,7 @@ ShootingResult shoot(const Dynamics& dyn, const OrbitOptions& options, const std
 
 namespace {
 
-/// One plain run of options' checking scheme over `period` periods from x: the largest force
+/// One plain run of `run` (the checking scheme, its periods) from x: the largest force
 /// and the end state; nothing if it stops early.
 std::optional<std::pair<double, std::vector<double>>>
 check_run(const Dynamics& dyn, const RunOptions& run, const std::vector<double>& x,

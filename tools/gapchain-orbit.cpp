@@ -49,13 +49,21 @@ void print_orbit(const PeriodicOrbit& orbit) {
     char check[96] = "Liouville check not resolved at this period";
     if (!std::isnan(orbit.liouville_error))
         std::snprintf(check, sizeof check, "Liouville check %.1e", orbit.liouville_error);
-    std::printf("  period %d (minimal %d), %s, largest multiplier |mu| = %.6g %s (%s)\n",
-                orbit.period, orbit.minimal_period,
+    // Over many periods a strongly damped orbit's multipliers underflow (Fig 13's, 0.35^1000).
+    char modulus[96];
+    if (orbit.max_multiplier == 0.0)
+        std::snprintf(modulus, sizeof modulus,
+                      "below 1e-308 (underflows over %d periods: a shorter --period resolves it)",
+                      orbit.period);
+    else
+        std::snprintf(modulus, sizeof modulus, "%.6g %s", orbit.max_multiplier,
+                      cli::plus_minus(orbit.max_multiplier_error, "%.2g").c_str());
+    std::printf("  period %d (minimal %d), %s, largest multiplier |mu| = %s (%s)\n", orbit.period,
+                orbit.minimal_period,
                 orbit.stable                         ? "stable"
                 : orbit.max_multiplier <= 1.0 + 1e-9 ? "neutral"
                                                      : "unstable",
-                orbit.max_multiplier, cli::plus_minus(orbit.max_multiplier_error, "%.2g").c_str(),
-                check);
+                modulus, check);
     std::printf("  F_m over the orbit = %.10g %s\n  wall time %.3f s\n", orbit.F_m,
                 cli::plus_minus(orbit.F_m_error, "%.2g").c_str(), orbit.wall_time_s);
 }

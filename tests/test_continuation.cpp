@@ -145,6 +145,31 @@ TEST_CASE("each continued orbit and special point carries its F_m's error") {
         CHECK(std::isfinite(sp.F_m_error));
 }
 
+TEST_CASE("a pair of multipliers through -1 together is a period doubling") {
+    // Fig 13's period-1 family near its contact-free end: the mirror symmetry makes two equal
+    // real multipliers, and they cross -1 together, so det(M + I) keeps its sign; nothing was
+    // listed. Newton at fixed f_r on either side of the located value is the independent check.
+    const ContinuationResult r = continue_orbits(fig13_row, one_branch(4.15, 4.05, 1));
+    const SpecialPoint* doubling = nullptr;
+    for (const auto& s : r.special)
+        if (s.type == SpecialPointType::period_doubling) doubling = &s;
+    REQUIRE(doubling != nullptr);
+    MESSAGE("period doubling at f_r = " << doubling->value << " +- " << doubling->value_error);
+    auto below_minus_one = [&](double f_r) {
+        ReducedParameters p = fig13_row;
+        p.f_r = f_r;
+        const PeriodicOrbit o =
+            find_periodic_orbit_after(Dynamics::paper_row(p), OrbitOptions{}, {}, 300);
+        REQUIRE(o.status == OrbitStatus::converged);
+        int count = 0;
+        for (const auto& mu : o.multipliers)
+            count += mu.real() < -1.0 ? 1 : 0;
+        return count;
+    };
+    CHECK(below_minus_one(doubling->value - 1e-4) == 2);
+    CHECK(below_minus_one(doubling->value + 1e-4) == 0);
+}
+
 TEST_CASE("a branch walked down ends on its end value with no fold there") {
     // The last point, corrected at the end value, had its tangent turned along +f_r: a fold
     // was reported at every downward end (the probe of 2026-11-26: f_r = 2.95002 from 3.0).

@@ -569,7 +569,7 @@ private:
             doublings.emplace_back(at, side);
         } else if (const int below = multipliers_below_minus_one(a);
                    below != multipliers_below_minus_one(b) && !torus) {
-            // A pair through -1 together: Fig 13's period-1 family at f_r = 4.1211 (-1.102
+            // A pair through -1 together: Fig 13's period-1 family at f_r = 4.12101 (-1.102
             // twice at 4.118, -0.880 twice at 4.124) was listed as nothing. Listed, not offered
             // for switching: the doubled orbits' direction is a plane there, not a line. Where
             // a complex pair crosses the circle in the same interval (a grazing corner of the

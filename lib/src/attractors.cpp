@@ -478,10 +478,7 @@ bool confirm_non_periodic(const Dynamics& dyn, const StateScale& scale, const At
 /// 100-period search called the nearly conservative row's wandering a chaotic attractor
 /// (lambda_max +0.5, basin 1) though it decays to 1e-3 in 1.4e9 periods.
 bool outlasts_decay(const Dynamics& dyn, const RunOptions& run) {
-    RunOptions decay = run;
-    decay.tolerance = SteadyStateDetector::far_distance;
-    decay.periods = 2'000'000'000; // no cap: the decay time itself
-    return 2 * run.periods > 4 * default_transient_periods(dyn, decay);
+    return 2 * run.periods > 4 * start_up_decay_periods(dyn, SteadyStateDetector::far_distance);
 }
 
 /// lambda_max and the regime of each attractor: from the multipliers of a confirmed orbit,

@@ -493,6 +493,13 @@ long default_transient_periods(const Dynamics& dyn, const RunOptions& options) {
     return std::min(cap, std::max(1L, static_cast<long>(std::min(periods, 1e9))));
 }
 
+long start_up_decay_periods(const Dynamics& dyn, double tolerance) {
+    RunOptions uncapped;
+    uncapped.tolerance = tolerance;
+    uncapped.periods = 2'000'000'000; // the cap, periods / 2, is above the 1e9 ceiling
+    return default_transient_periods(dyn, uncapped);
+}
+
 RunOptions with_transient_resolved(const Dynamics& dyn, RunOptions options) {
     if (options.transient_periods == auto_transient)
         options.transient_periods = default_transient_periods(dyn, options);

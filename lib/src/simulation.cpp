@@ -445,9 +445,7 @@ SimulationResult main_run_result(const Dynamics& dyn, const RunOptions& options,
     // near 0: at eps = 1e-3 and f_r = 1 it takes 1466 periods) records it, and an undamped one
     // never loses it (its F_m grew 5.5, 6.8, 12.9, 18.6 over 100 to 3000 periods).
     if (dyn.ground_motion().is_harmonic() && !main.period) {
-        RunOptions uncapped = options;
-        uncapped.periods = 2'000'000'000;
-        result.start_up_periods = default_transient_periods(dyn, uncapped);
+        result.start_up_periods = start_up_decay_periods(dyn, options.tolerance);
         result.start_up_in_window = options.transient_periods < result.start_up_periods;
     }
     return result;

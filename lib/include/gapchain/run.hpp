@@ -135,6 +135,11 @@ void validate(const RunOptions& options);
 /// forcing period: the start is part of the motion).
 long default_transient_periods(const Dynamics& dyn, const RunOptions& options);
 
+/// default_transient_periods() without its cap: the forcing periods in which the contact-free
+/// row's start-up decays to `tolerance` (in (0, 1)), at most 1e9 (also where nothing decays,
+/// eps = 0); 0 for a record.
+long start_up_decay_periods(const Dynamics& dyn, double tolerance);
+
 /// options with transient_periods resolved: auto_transient replaced by
 /// default_transient_periods(), any other value kept.
 RunOptions with_transient_resolved(const Dynamics& dyn, RunOptions options);

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <random>
 #include <sstream>
 #include <string>
 
@@ -428,6 +429,65 @@ TEST_CASE("a chaotic transient that outlasts the runs is not an attractor (issue
     std::sort(lifetimes.begin(), lifetimes.end());
     CHECK(a.settle_median == 0.5 * (lifetimes[99] + lifetimes[100]));
     CHECK(a.settle_max == lifetimes[static_cast<std::size_t>(199 - a.still_settling)]);
+    // The transients end at a constant rate beyond the median (escape from the saddle). An
+    // independent implementation (closed-form pieces, SciPy's DOP853 as its check, 500 starts,
+    // docs/attractors.md) measured the mean excess lifetime beyond 50 periods as 148 +- 7.
+    const TransientLifetime& t = set.transients;
+    CHECK(t.from_period == a.settle_median);
+    CHECK(t.censored == a.still_settling);
+    CHECK(t.exponential);
+    REQUIRE(t.ended >= 50);
+    CHECK(std::abs(t.lifetime - 148.0) < 3.0 * std::hypot(t.lifetime_error, 7.0));
+}
+
+TEST_CASE("transient lifetimes: an exponential tail is measured, censored or not, and a bounded "
+          "one is not called exponential") {
+    // Lengths 30 + an exponential of mean 150 periods (rounded up, as a settling period is).
+    std::mt19937_64 random(7);
+    std::exponential_distribution<double> escape(1.0 / 150.0);
+    std::vector<long> lengths;
+    for (int k = 0; k < 2000; ++k)
+        lengths.push_back(30 + static_cast<long>(std::ceil(escape(random))));
+    const TransientLifetime full = transient_lifetime(lengths, 0, 100'000);
+    CHECK(full.exponential);
+    // Half of the lengths end beyond the median (fewer where some equal it).
+    CHECK(full.ended > 980);
+    CHECK(full.ended <= 1000);
+    CHECK(full.lifetime_error ==
+          doctest::Approx(full.lifetime / std::sqrt(static_cast<double>(full.ended))));
+    // The ceiling adds half a period to the mean excess of the continuous lengths.
+    CHECK(std::abs(full.lifetime - 150.5) < 3.0 * full.lifetime_error);
+    // Runs of 300 periods: the longer transients are still settling at the end. Their time
+    // counts as at least 300, so the estimate stays unbiased; the mean excess of the lengths
+    // that ended alone is far shorter (about 70 periods), and is checked against here.
+    std::vector<long> ended;
+    long still = 0;
+    for (long n : lengths) {
+        if (n > 300)
+            ++still;
+        else
+            ended.push_back(n);
+    }
+    REQUIRE(still > 300);
+    const TransientLifetime censored = transient_lifetime(ended, still, 300);
+    CHECK(censored.censored == still);
+    CHECK(censored.from_period == full.from_period);
+    CHECK(censored.exponential);
+    CHECK(std::abs(censored.lifetime - 150.5) < 3.0 * censored.lifetime_error);
+    const TransientLifetime ended_only = transient_lifetime(ended, 0, 300);
+    CHECK(ended_only.lifetime < 100.0);
+    // Settling by contraction from a bounded box: lengths uniform in [20, 400] end at a rising
+    // rate (no transient outlasts 400), which is no escape from a saddle.
+    std::uniform_int_distribution<long> bounded(20, 400);
+    std::vector<long> uniform;
+    for (int k = 0; k < 2000; ++k)
+        uniform.push_back(bounded(random));
+    CHECK_FALSE(transient_lifetime(uniform, 0, 1000).exponential);
+    // Too few ending beyond the median to tell; most still settling: no median.
+    CHECK(std::isnan(transient_lifetime({17, 17, 18, 40, 50}, 0, 100).lifetime));
+    CHECK(std::isnan(transient_lifetime({17, 20}, 3, 100).from_period));
+    CHECK_THROWS_AS(transient_lifetime({-1, 17}, 0, 100), std::invalid_argument);
+    CHECK_THROWS_AS(transient_lifetime({17}, 0, 0), std::invalid_argument);
 }
 
 TEST_CASE("runs still converging to an orbit are an unsettled group, not a quasi-periodic "

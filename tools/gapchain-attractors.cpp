@@ -112,6 +112,18 @@ void print_settling(const Attractor& a, const AttractorOptions& o) {
                     a.F_m_runs);
 }
 
+/// How long the transients before the periodic attractors last, where enough end late to tell.
+void print_transients(const TransientLifetime& t) {
+    if (std::isnan(t.lifetime)) return;
+    std::printf("transients: half last beyond %.0f periods; beyond, they ", t.from_period);
+    if (t.exponential)
+        std::printf("end at a constant rate (memoryless, an escape from a saddle): lifetime");
+    else
+        std::printf("end at a rate that is not constant (no exponential escape): mean remaining");
+    std::printf(" %.3g +- %.2g periods (%ld ended, %ld still settling)\n", t.lifetime,
+                t.lifetime_error, t.ended, t.censored);
+}
+
 // Why a group is unsettled (Attractor::settled), for the warnings of both modes.
 constexpr const char* unsettled_reason =
     " (their runs ended still converging: lambda_max < 0, no contact, or shorter than four decay "
@@ -134,6 +146,7 @@ void print_set(const AttractorSet& s, const AttractorOptions& o) {
         std::printf("  basin %.3f +- %.3f\n", a.basin_fraction, a.basin_fraction_error);
         print_settling(a, o);
     }
+    print_transients(s.transients);
     if (s.F_m_max_id >= 0)
         std::printf("design value F_m_max = %.6g (attractor #%d)\n", s.F_m_max, s.F_m_max_id);
     if (s.unsettled > 0)

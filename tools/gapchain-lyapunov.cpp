@@ -5,6 +5,7 @@
 #include "gapchain/lyapunov.hpp"
 #include "gapchain/report.hpp"
 
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <numbers>
@@ -18,8 +19,16 @@ void print_exponents(const Scene& scene, const LyapunovResult& r, int k) {
     std::printf(
         "gapchain-lyapunov: Nm=%d fc=%g eps=%g e_r=%g f_r=%g, averaged over %.4g time units\n",
         p.Nm, p.fc, p.eps, p.e_r, p.f_r, r.averaging_time);
-    for (int i = 0; i < k; ++i)
-        std::printf("  lambda_%-3d = %+.6f +- %.2g\n", i + 1, r.exponents[i], r.errors[i]);
+    bool unestimated = false;
+    for (int i = 0; i < k; ++i) {
+        unestimated = unestimated || !std::isfinite(r.errors[i]);
+        std::printf("  lambda_%-3d = %+.6f %s\n", i + 1, r.exponents[i],
+                    std::isfinite(r.errors[i]) ? cli::plus_minus(r.errors[i], "%.2g").c_str()
+                                               : "(error not estimated)");
+    }
+    if (unestimated)
+        std::printf("  fewer than 20 periods averaged: no error estimate, and finite-time "
+                    "exponents need not come out in order (raise run.periods)\n");
     std::printf("  sum = %.10f", r.sum);
     if (k == 2 * p.Nm && scene.uniform())
         std::printf("  (exact: -4 pi eps Nm = %.10f)", -4.0 * std::numbers::pi * p.eps * p.Nm);

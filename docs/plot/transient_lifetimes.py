@@ -3,13 +3,15 @@
 Usage: python3 docs/plot/transient_lifetimes.py OUT.png [--fm F_m] LABEL DIR/starts.csv [LABEL CSV ...]
 
 Left: the share of starts whose transient has not ended after n periods (log scale), with the
-exponential P = exp(-(n - 100) / tau) fitted to the starts that outlast 100 periods (tau: their
-mean excess lifetime, the maximum-likelihood estimate, +- tau / sqrt(count)). Right, for the
-first file: each start's run F_m (over its recorded window) against where its transient ended,
-with the attractor's F_m (--fm) as a line. Prints tau per file.
+exponential that gapchain-attractors measured (the "transients" of attractors.json next to each
+starts.csv): P = P0 exp(-(n - from_period) / lifetime) beyond the median length from_period,
+P0 the share still in the transient there. Right, for the first file: each start's run F_m
+(over its recorded window) against where its transient ended, with the attractor's F_m (--fm)
+as a line. Prints the tool's lifetime per file.
 """
 import csv
-import math
+import json
+import os
 import sys
 
 import matplotlib
@@ -18,7 +20,13 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 
-ONSET = 100  # periods after which the lifetimes are fitted as exponential
+def read_transients(starts_path):
+    path = os.path.join(os.path.dirname(starts_path), "attractors.json")
+    with open(path) as f:
+        transients = json.load(f)["transients"]
+    if transients["lifetime"] is None:
+        sys.exit(f"{path}: no transient lifetime (fewer than 10 transients end beyond the median)")
+    return transients
 
 
 def read_starts(path):
@@ -45,27 +53,27 @@ def main(argv):
             continue
         if not args:
             sys.exit(f"{arg}: a label needs its starts.csv")
-        series.append((arg, *read_starts(args.pop(0))))
+        path = args.pop(0)
+        series.append((arg, *read_starts(path), read_transients(path)))
     fig, (left, right) = plt.subplots(1, 2, figsize=(12, 4.8))
-    for label, settle, _ in series:
+    for label, settle, _, transients in series:
         n = np.sort(settle)
         survival = 1.0 - np.arange(1, len(n) + 1) / len(n)
-        tail = settle[settle > ONSET] - ONSET
-        tau = tail.mean()
-        error = tau / math.sqrt(len(tail))
-        print(f"{label}: {len(settle)} starts, median {np.median(settle):.0f}, "
-              f"{len(tail)} beyond {ONSET} periods, tau = {tau:.1f} +- {error:.1f} periods")
+        onset, tau = transients["from_period"], transients["lifetime"]
+        error = transients["lifetime_error"]
+        beyond = np.count_nonzero(settle > onset) / len(settle)
+        print(f"{label}: {len(settle)} starts, median {onset:.0f}, beyond it tau = {tau:.1f} "
+              f"+- {error:.1f} periods, constant rate: {transients['exponential']}")
         line, = left.step(n, survival, where="post", label=f"{label} (tau = {tau:.0f} +- {error:.0f})")
-        fit = np.linspace(ONSET, n.max(), 50)
-        left.plot(fit, len(tail) / len(settle) * np.exp(-(fit - ONSET) / tau), ls="--",
-                  color=line.get_color(), lw=1)
+        fit = np.linspace(onset, n.max(), 50)
+        left.plot(fit, beyond * np.exp(-(fit - onset) / tau), ls="--", color=line.get_color(), lw=1)
     left.set_yscale("log")
-    left.set_ylim(0.5 / max(len(s) for _, s, _ in series), 1.05)
+    left.set_ylim(0.5 / max(len(s[1]) for s in series), 1.05)
     left.set_xlabel("period n where the transient ended (cycle entry)")
     left.set_ylabel("share of starts still in the transient after n periods")
     left.grid(True, which="both", alpha=0.3)
     left.legend(fontsize=9)
-    label, settle, force = series[0]
+    label, settle, force, _ = series[0]
     right.scatter(settle, force, s=8, alpha=0.6, label=f"{label}: one start each")
     if attractor_fm is not None:
         right.axhline(attractor_fm, color="k", ls="--", lw=1,

@@ -35,7 +35,11 @@ F_m_runs_error (that run's F_m_error), and
 state: one row of 2 Nm values per attractor, a state on it at phase 0), sample_attractor (per
 random start: attractor id, -1 if its run failed), sample_settle_period (per random start: the
 period where its transient ended, -1 if it did not settle on an orbit), sample_F_m (per random
-start: its run's F_m), failed, amplitude (A), and with grid: slice_x, slice_y and slice_attractor
+start: its run's F_m), transients (how long the transients before periodic attractors last:
+from_period, the median length; lifetime, the mean remaining length beyond it, and
+lifetime_error, NaN with fewer than 10 ending beyond it; ended; censored, still settling at the
+end; exponential, whether they end at a constant rate, as escapes from a chaotic saddle do),
+failed, amplitude (A), and with grid: slice_x, slice_y and slice_attractor
 (resolution x resolution, rows along y); wall_time_s, cancelled.)";
 
 constexpr const char* basin_fractions_doc =
@@ -121,6 +125,11 @@ py::dict set_dict(const AttractorSet& s) {
     d["sample_attractor"] = column<int>(s.sample_attractor, [](int id) { return id; });
     d["sample_settle_period"] = column<long>(s.sample_settle_period, [](long n) { return n; });
     d["sample_F_m"] = array(s.sample_F_m);
+    const TransientLifetime& t = s.transients;
+    d["transients"] =
+        py::dict(py::arg("from_period") = t.from_period, py::arg("lifetime") = t.lifetime,
+                 py::arg("lifetime_error") = t.lifetime_error, py::arg("ended") = t.ended,
+                 py::arg("censored") = t.censored, py::arg("exponential") = t.exponential);
     d["failed"] = s.failed;
     d["amplitude"] = s.amplitude;
     if (!s.slice_first.empty()) {

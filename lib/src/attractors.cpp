@@ -564,12 +564,88 @@ void count_members(const std::vector<int>& labels, long random_starts, Attractor
     set.slice_attractor.assign(labels.begin() + random_starts, labels.end());
 }
 
+/// Transients ending at lengths within (from, to], and the periods they and every longer one
+/// (the censored ones lasting at least run_periods) spent in that interval.
+struct EndingRate {
+    long ended = 0;
+    double exposure = 0.0;
+};
+
+EndingRate ending_rate(const std::vector<long>& sorted, long still_settling, long run_periods,
+                       double from, double to) {
+    EndingRate r;
+    for (long n : sorted) {
+        if (n <= from) continue;
+        r.exposure += std::min(static_cast<double>(n), to) - from;
+        if (n <= to) ++r.ended;
+    }
+    if (run_periods > from)
+        r.exposure += static_cast<double>(still_settling) *
+                      (std::min(static_cast<double>(run_periods), to) - from);
+    return r;
+}
+
+} // namespace
+
+TransientLifetime transient_lifetime(std::vector<long> settled, long still_settling,
+                                     long run_periods) {
+    detail::require_count("still_settling", still_settling, 0, std::numeric_limits<long>::max());
+    detail::require_count("run_periods", run_periods, 1, std::numeric_limits<long>::max());
+    for (long n : settled)
+        detail::require_count("transient length", n, 0, std::numeric_limits<long>::max());
+    TransientLifetime t;
+    t.censored = still_settling;
+    const std::size_t total = settled.size() + static_cast<std::size_t>(still_settling);
+    if (settled.empty()) return t;
+    std::sort(settled.begin(), settled.end());
+    // The usual median, the censored starts counted as the longest.
+    const auto length = [&](std::size_t k) {
+        return k < settled.size() ? static_cast<double>(settled[k])
+                                  : std::numeric_limits<double>::infinity();
+    };
+    const std::size_t mid = total / 2;
+    t.from_period = total % 2 == 1 ? length(mid) : 0.5 * (length(mid - 1) + length(mid));
+    if (!std::isfinite(t.from_period)) {
+        t.from_period = std::numeric_limits<double>::quiet_NaN();
+        return t;
+    }
+    constexpr double unbounded = std::numeric_limits<double>::infinity();
+    const EndingRate beyond =
+        ending_rate(settled, still_settling, run_periods, t.from_period, unbounded);
+    t.ended = beyond.ended;
+    if (t.ended < 10) return t;
+    t.lifetime = beyond.exposure / static_cast<double>(t.ended);
+    t.lifetime_error = t.lifetime / std::sqrt(static_cast<double>(t.ended));
+    // Memorylessness: the rate up to the median of the endings beyond from_period against the
+    // rate after it. A contraction onto an orbit from a bounded box ends its transients at a
+    // rising rate (no start is farther than the box), a saddle's at a constant one.
+    std::vector<long> later;
+    std::copy_if(settled.begin(), settled.end(), std::back_inserter(later),
+                 [&](long n) { return n > t.from_period; });
+    const double split = static_cast<double>(later[later.size() / 2]);
+    const EndingRate first =
+        ending_rate(settled, still_settling, run_periods, t.from_period, split);
+    const EndingRate second = ending_rate(settled, still_settling, run_periods, split, unbounded);
+    if (first.ended >= 5 && second.ended >= 5 && first.exposure > 0 && second.exposure > 0) {
+        const double log_ratio =
+            std::log((first.ended / first.exposure) / (second.ended / second.exposure));
+        t.exponential =
+            std::abs(log_ratio) <= 3.0 * std::sqrt(1.0 / first.ended + 1.0 / second.ended);
+    }
+    return t;
+}
+
+namespace {
+
 /// The settling statistics and F_m_runs of each attractor over its random starts (an attractor
 /// only slice starts reach keeps NaN: it has none). A start that joined a periodic attractor
 /// without settling (still converging, or a transient group merged into it) is still settling:
 /// its lifetime is longer than its run.
-void settle_statistics(const std::vector<StartOutcome>& outcomes, AttractorSet& set) {
+void settle_statistics(const std::vector<StartOutcome>& outcomes, long run_periods,
+                       AttractorSet& set) {
     std::vector<std::vector<long>> lifetimes(set.attractors.size());
+    std::vector<long> all_settled;
+    long all_still_settling = 0;
     constexpr long censored = std::numeric_limits<long>::max();
     for (std::size_t k = 0; k < set.sample_attractor.size(); ++k) {
         const StartOutcome& s = outcomes[k];
@@ -582,10 +658,15 @@ void settle_statistics(const std::vector<StartOutcome>& outcomes, AttractorSet& 
             a.F_m_runs = s.run_F_m;
             a.F_m_runs_error = s.spread;
         }
-        if (a.period != 0)
-            lifetimes[static_cast<std::size_t>(id)].push_back(s.settle_period >= 0 ? s.settle_period
-                                                                                   : censored);
+        if (a.period == 0) continue;
+        lifetimes[static_cast<std::size_t>(id)].push_back(s.settle_period >= 0 ? s.settle_period
+                                                                               : censored);
+        if (s.settle_period >= 0)
+            all_settled.push_back(s.settle_period);
+        else
+            ++all_still_settling;
     }
+    set.transients = transient_lifetime(std::move(all_settled), all_still_settling, run_periods);
     for (auto& a : set.attractors) {
         auto& t = lifetimes[static_cast<std::size_t>(a.id)];
         if (t.empty()) continue;
@@ -674,7 +755,7 @@ AttractorSet find_attractors(const ReducedParameters& p, const AttractorOptions&
     }
     characterise(dyn, p, o, set.attractors, set.threads_used);
     count_members(labels, o.samples, set);
-    settle_statistics(outcomes, set);
+    settle_statistics(outcomes, o.run.periods, set);
     if (o.slice) {
         set.slice_first = axis_values(o, scale, o.slice->first);
         set.slice_second = axis_values(o, scale, o.slice->second);

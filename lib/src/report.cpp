@@ -460,6 +460,13 @@ std::string to_json(const AttractorSet& set, const AttractorOptions& o,
                         {"initial_state", a.initial_state},
                         {"state", a.state}});
     j["attractors"] = list;
+    const TransientLifetime& t = set.transients;
+    j["transients"] = {{"from_period", t.from_period},
+                       {"lifetime", t.lifetime},
+                       {"lifetime_error", t.lifetime_error},
+                       {"ended", t.ended},
+                       {"censored", t.censored},
+                       {"exponential", t.exponential}};
     j["samples"] = o.samples;
     j["failed"] = set.failed;
     j["seed"] = o.seed;

@@ -287,6 +287,11 @@ def test_attractors_match_gapchain_attractors(tmp_path):
     assert rows[0] == "start,attractor,settle_period,F_m_run" and len(rows) == 41
     assert [int(r.split(",")[2]) for r in rows[1:]] == a["sample_settle_period"].tolist()
     assert a["sample_F_m"].shape == (40,)
+    # The transients' lifetime, as attractors.json says (NaN there is null).
+    nan_as_none = {k: (None if isinstance(v, float) and np.isnan(v) else v)
+                   for k, v in a["transients"].items()}
+    assert nan_as_none == written["transients"]
+    assert a["transients"]["from_period"] == np.median(a["sample_settle_period"])
     for i in range(2):
         members = a["sample_settle_period"][a["sample_attractor"] == i]
         settled = members[members >= 0]

@@ -140,6 +140,36 @@ struct Attractor {
 /// The attractor's regime as written in results: to_string(regime), or "unsettled".
 std::string_view regime_label(const Attractor& a);
 
+/// How long the transients before the periodic attractors last, over the random starts that
+/// reach one. Escape from a saddle (a chaotic saddle, or an unstable orbit on a basin boundary)
+/// is memoryless: beyond some length the transients end
+/// at a constant rate 1 / lifetime, and the share still in the transient after n periods falls
+/// as exp(-n / lifetime). Measured beyond from_period, the median length, where the start-up's
+/// own relaxation is over: lifetime = (periods spent beyond it) / (transients ending beyond it),
+/// the maximum-likelihood estimate for exponential lengths, which counts the starts still
+/// settling at the end of their runs as lasting at least that long (right-censored).
+struct TransientLifetime {
+    /// The median transient length [forcing periods], starts still settling counted as the
+    /// longest; NaN if that median is one of them, or no start reached a periodic attractor.
+    double from_period = std::numeric_limits<double>::quiet_NaN();
+    /// Mean remaining length beyond from_period [forcing periods]; NaN if fewer than 10
+    /// transients end beyond it.
+    double lifetime = std::numeric_limits<double>::quiet_NaN();
+    double lifetime_error = std::numeric_limits<double>::quiet_NaN(); ///< lifetime / sqrt(ended)
+    long ended = 0;    ///< transients that end beyond from_period
+    long censored = 0; ///< starts still settling when their runs ended
+    /// Whether the rate is constant beyond from_period, as for escape from a saddle: the
+    /// rates before and after the median of the lengths beyond it agree within 3 standard errors
+    /// of their log ratio (Poisson counts). False where either side has fewer than 5 endings.
+    bool exponential = false;
+};
+
+/// The TransientLifetime of transient lengths [forcing periods]: settled lists the lengths of
+/// those that ended (each >= 0), still_settling counts those still going when their runs of
+/// run_periods (>= 1) ended. Throws std::invalid_argument on a negative length or count.
+TransientLifetime transient_lifetime(std::vector<long> settled, long still_settling,
+                                     long run_periods);
+
 /// The attractors found.
 struct AttractorSet {
     std::vector<Attractor> attractors; ///< by id (0-based), in the order first reached
@@ -154,7 +184,9 @@ struct AttractorSet {
     /// Per random start: the period where its transient ended (cycle_entry_period); -1 if its
     /// run did not settle on an orbit (a non-periodic attractor, still approaching, or failed).
     std::vector<long> sample_settle_period;
-    std::vector<double> sample_F_m;   ///< per random start: its run's F_m (0 if its run failed)
+    std::vector<double> sample_F_m; ///< per random start: its run's F_m (0 if its run failed)
+    /// How long the transients of the random starts that reached a periodic attractor lasted
+    TransientLifetime transients;
     long failed = 0;                  ///< starts whose run failed (non-finite)
     std::vector<int> slice_attractor; ///< resolution^2, second axis slowest; -1: failed
     std::vector<double> slice_first;  ///< the slice's x values

@@ -27,7 +27,9 @@ struct LyapunovResult {
     /// direction, largest first up to its error (exponents equal within their errors, as on a
     /// contact-free row, can come out in either order).
     std::vector<double> exponents;
-    std::vector<double> errors;          ///< standard error of each (from 10 time blocks)
+    /// Standard error of each, from 10 time blocks of the averaging window; infinite where
+    /// fewer than 20 periods are averaged (too few samples for the blocks).
+    std::vector<double> errors;
     double sum = 0.0;                    ///< sum of the exponents
     double averaging_time = 0.0;         ///< time the averages cover
     std::vector<LyapunovSample> history; ///< running estimates (at most ~500 samples)

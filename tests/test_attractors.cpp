@@ -582,7 +582,8 @@ TEST_CASE("a non-periodic group of a row its runs are too short to damp is unset
     CHECK(set.unsettled == static_cast<int>(set.attractors.size()));
 }
 
-TEST_CASE("fractions.csv: a label absent at a value has fraction 0 +- 1/N, not 0 +- 0") {
+TEST_CASE("fractions.csv: a label absent at a value has fraction 0 +- 1/N, not 0 +- 0; the "
+          "transients' lifetime where measured") {
     // Two values, 25 starts each: label 1 is reached only at the first.
     FractionContinuation c;
     c.values = {1.0, 2.0};
@@ -597,6 +598,11 @@ TEST_CASE("fractions.csv: a label absent at a value has fraction 0 +- 1/N, not 0
         a.basin_fraction = k == 0 ? 0.6 : 1.0;
         a.basin_fraction_error = 0.1;
         set.attractors.push_back(a);
+        // The transients' lifetime, where it was measured (at the second value only).
+        if (k == 1) {
+            set.transients.lifetime = 150.0;
+            set.transients.lifetime_error = 12.0;
+        }
         if (k == 0) {
             a.id = 1;
             a.basin_fraction = 0.4;
@@ -611,9 +617,10 @@ TEST_CASE("fractions.csv: a label absent at a value has fraction 0 +- 1/N, not 0
     std::getline(csv, first);
     std::getline(csv, second);
     CHECK(header == "value,fraction_0,fraction_error_0,F_m_0,F_m_error_0,period_0,fraction_1,"
-                    "fraction_error_1,F_m_1,F_m_error_1,period_1");
-    CHECK(first == "1,0.6,0.1,1.5,0.002,1,0.4,0.1,1.5,0.002,1");
-    CHECK(second == "2,1,0.1,1.5,0.002,1,0,0.04,,,");
+                    "fraction_error_1,F_m_1,F_m_error_1,period_1,transient_lifetime,"
+                    "transient_lifetime_error");
+    CHECK(first == "1,0.6,0.1,1.5,0.002,1,0.4,0.1,1.5,0.002,1,,");
+    CHECK(second == "2,1,0.1,1.5,0.002,1,0,0.04,,,,150,12");
 }
 
 TEST_CASE("design value: where no group settled, it is the larger of the run's F_m and the "

@@ -52,7 +52,8 @@ by nearest centroid): gapchain-attractors --param in-process.
 Returns a dict: values, and per value x label (label_count columns) arrays fraction,
 fraction_error, F_m, F_m_error, period (NaN where the label is absent; period 0 for a
 non-periodic attractor); unsettled (per value: groups still converging, whose F_m is a
-transient's); label_count, wall_time_s, cancelled.)";
+transient's); transient_lifetime and transient_lifetime_error (per value: the transients'
+lifetime of attractors(), NaN where not measured); label_count, wall_time_s, cancelled.)";
 
 AttractorOptions search_options(const Scene& scene, long samples, std::uint64_t seed, double box,
                                 int section_points, int threads) {
@@ -204,6 +205,10 @@ py::dict basin_fractions_py(const py::object& scene_arg, const std::string& para
     d["period"] = per_label(
         c, [](const Attractor& a) { return double(a.period); }, nan);
     d["unsettled"] = column<int>(c.sets, [](const AttractorSet& set) { return set.unsettled; });
+    d["transient_lifetime"] =
+        column<double>(c.sets, [](const AttractorSet& set) { return set.transients.lifetime; });
+    d["transient_lifetime_error"] = column<double>(
+        c.sets, [](const AttractorSet& set) { return set.transients.lifetime_error; });
     d["label_count"] = c.label_count;
     d["wall_time_s"] = c.wall_time_s;
     d["cancelled"] = c.cancelled;

@@ -503,7 +503,7 @@ std::string fractions_csv(const FractionContinuation& c) {
     for (int label = 0; label < c.label_count; ++label)
         os << ",fraction_" << label << ",fraction_error_" << label << ",F_m_" << label
            << ",F_m_error_" << label << ",period_" << label;
-    os << '\n';
+    os << ",transient_lifetime,transient_lifetime_error\n";
     for (std::size_t k = 0; k < c.sets.size(); ++k) {
         os << c.values[k];
         const auto& labels = c.labels[k];
@@ -522,6 +522,10 @@ std::string fractions_csv(const FractionContinuation& c) {
             write_if_finite(os, a.F_m_error);
             os << ',' << a.period;
         }
+        os << ',';
+        write_if_finite(os, c.sets[k].transients.lifetime);
+        os << ',';
+        write_if_finite(os, c.sets[k].transients.lifetime_error);
         os << '\n';
     }
     return os.str();

@@ -116,17 +116,28 @@ TEST_CASE("MaxForceTracker: the tail spread is read from the maxima of runs reco
 
 namespace {
 // Closings and the largest force at the step ends, per contact: what any scan of the run must
-// at least find, counted without the tracker's bounds and records.
+// at least find, counted without the tracker's bounds and records. A contact's side after a
+// step end is the sign of its gap, or, on the surface to round-off (a step split at a switch),
+// the sign of its rate: a split step that ends where the contact opens and the next that ends
+// where it closes again both end on the surface, where the sign of the gap says nothing.
 class StepEndForces final : public Observer {
 public:
     explicit StepEndForces(const Dynamics& dyn)
-        : m_dyn(dyn), closings(dyn.gaps(), 0), largest(dyn.gaps(), 0.0) {}
+        : m_dyn(dyn), closings(dyn.gaps(), 0), largest(dyn.gaps(), 0.0), m_closed(dyn.gaps()) {}
     void on_step(const StepView& step) override {
-        if (!step.recording) return;
         const int n = m_dyn.bodies();
+        if (!m_started)
+            for (int j = 0; j < m_dyn.gaps(); ++j)
+                m_closed[j] = closed_after(j, step.y0);
+        m_started = true;
+        for (int j = 0; j < m_dyn.gaps(); ++j) {
+            const bool closed = closed_after(j, step.y1);
+            if (step.recording && closed && !m_closed[j]) ++closings[j];
+            m_closed[j] = closed;
+        }
+        if (!step.recording) return;
         for (int j = 0; j < m_dyn.gaps(); ++j) {
             const double g1 = m_dyn.gap(j, step.y1);
-            if (m_dyn.gap(j, step.y0) <= 0.0 && g1 > 0.0) ++closings[j];
             const double rate = m_dyn.gap_rate(j, step.y1 + n);
             const double force = m_dyn.force_at_penetration(j, g1, rate);
             largest[j] = std::max(largest[j], force);
@@ -139,6 +150,15 @@ public:
     std::vector<double> largest;
     long split_period = 20;
     double half_largest[2] = {0.0, 0.0};
+
+private:
+    bool closed_after(int j, const double* y) const {
+        const double g = m_dyn.gap(j, y);
+        if (std::abs(g) > 1e-12) return g > 0.0;
+        return m_dyn.gap_rate(j, y + m_dyn.bodies()) > 0.0;
+    }
+    std::vector<char> m_closed;
+    bool m_started = false;
 };
 } // namespace
 

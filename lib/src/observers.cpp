@@ -49,6 +49,9 @@ private:
     PeakAt gap_peak(int j, const GapEnds& e, double record, long& impacts);
     /// The maximum of g, the gap of contact j, inside the step (its rate turns from > 0 to < 0).
     PeakAt inner_gap_peak(int j, const detail::QuinticHermite& g);
+    /// Whether contact j, closed at both ends of the step, opens inside it (its gap dips below
+    /// 0 between a falling and a rising end): then it closed again, an impact.
+    bool opens_inside(int j, const GapEnds& e);
     /// The largest Hunt-Crossley force of contact j over the step, and when.
     PeakAt dissipative_force_peak(int j, const GapEnds& e);
 
@@ -97,7 +100,23 @@ PeakAt StepScan::gap_peak(int j, const GapEnds& e, double record, long& impacts)
         if (inner.value > peak.value) peak = inner;
         if (open_at_both_ends && inner.value > 0.0) ++impacts; // closed and reopened
     }
+    if (opens_inside(j, e)) ++impacts;
     return peak;
+}
+
+bool StepScan::opens_inside(int j, const GapEnds& e) {
+    // The mirror of gap_peak()'s bound: a convex dip lies above twice the tangent-intersection
+    // bound. A step split at the contact's switches ends on a gap of 0 to round-off, which
+    // falls on either side; only where both ends fell on the closed side does the reclosing
+    // go uncounted by the open-to-closed test of list_contacts_to_scan().
+    if (!(e.g0 > 0.0 && e.g1 > 0.0 && e.r0 < 0.0 && e.r1 > 0.0)) return false;
+    if (std::min(e.g0, e.g1) - 0.5 * m_h * (e.r1 - e.r0) >= 0.0) return false;
+    const detail::QuinticHermite g = gap_interpolant(j, e);
+    const double tau = g.stationary_point(0.0, m_h);
+    // A scheme with dense output gives the gap at the dip to round-off.
+    if (m_step.stepper != nullptr && m_step.stepper->dense_state(m_step.t0 + tau, m_scratch))
+        return m_dyn.gap(j, m_scratch) < 0.0;
+    return g.value(tau) < 0.0;
 }
 
 PeakAt StepScan::inner_gap_peak(int j, const detail::QuinticHermite& g) {
@@ -183,7 +202,12 @@ int MaxForceTracker::list_contacts_to_scan(double h) {
         const double open_at_start = g0[j] <= 0.0 ? 1.0 : 0.0;
         const double open_at_both_ends = open_at_start * (g1[j] <= 0.0 ? 1.0 : 0.0);
         const double open_turning = turning * open_at_both_ends * (reach > 0.0 ? 1.0 : 0.0);
-        const double scan = std::max(reach > threshold[j] ? 1.0 : 0.0, open_turning);
+        // Closed at both ends but dipping below 0 between (opens_inside()): an impact to count.
+        const double dipping =
+            (g0[j] > 0.0 ? 1.0 : 0.0) * (g1[j] > 0.0 ? 1.0 : 0.0) * (r0[j] < 0.0 ? 1.0 : 0.0) *
+            (r1[j] > 0.0 ? 1.0 : 0.0) *
+            (std::min(g0[j], g1[j]) - half_h * (r1[j] - r0[j]) < 0.0 ? 1.0 : 0.0);
+        const double scan = std::max({reach > threshold[j] ? 1.0 : 0.0, open_turning, dipping});
         const double closing = open_at_start * (g1[j] > 0.0 ? 1.0 : 0.0);
         flag[j] = scan + 2.0 * closing;
     }

@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # The 23 defect classes of the reliability probe (../shared/reports/reliability-probe-2026-11-22.md),
 # each reproduced as the report gives it and checked against what the README promises, a
-# 24th and 25th from the probes of 2026-11-24, and a 26th from a later one that day.
+# 24th and 25th from the probes of 2026-11-24, a 26th from a later one that day, and a 27th
+# from that of 2026-11-26.
 # Usage: probe_classes.sh BIN_DIR SOURCE_DIR   (prints "class N: ok" or "class N: FAIL ...")
 set -u
 bin=$(cd "$1" && pwd)
@@ -343,13 +344,13 @@ expect 25 0 "" "$bin/gapchain-bifurcation" nm2.json --steps 2 --transient 5 --re
 expect 25 0 "" "$bin/gapchain-attractors" nm2.json --samples 2 --no-plot --out mix25
 absent 25 mix25/basins.csv
 [ -s mix25/summary.csv ] || { echo "class 25: FAIL: another tool's output was removed"; failed+=(25); }
-# An input kept in the output folder under a name the tool writes is refused, untouched; a run
-# that cannot place one file places none (a folder named like an output is in the way).
+# An input kept in the output folder under a name the tool writes is refused, untouched; so is
+# a folder named like an output, before the run (it failed the run once its work was done).
 mkdir -p in25 && cp nm2.json in25/attractors.json
 expect 25 2 "--out: in25/attractors.json is an input of this run" "$bin/gapchain-attractors" in25/attractors.json --samples 2 --out in25
 cmp -s nm2.json in25/attractors.json || { echo "class 25: FAIL: the input in the folder changed"; failed+=(25); }
 mkdir -p way25/attractors.json && echo old >way25/attractors.csv
-expect 25 1 "way25/attractors.json: cannot write: a folder of that name is in the way" "$bin/gapchain-attractors" nm2.json --samples 2 --no-plot --out way25
+expect 25 2 "way25/attractors.json is a folder where this tool writes a file" "$bin/gapchain-attractors" nm2.json --samples 2 --no-plot --out way25
 [ "$(cat way25/attractors.csv)" = old ] || { echo "class 25: FAIL: a failed run replaced attractors.csv"; failed+=(25); }
 # stdout that cannot be written is a failure.
 expect 25 1 "cannot write to standard output" sh -c "'$bin/gapchain-bounds' nm2.json >/dev/full"
@@ -409,8 +410,28 @@ expect 26 1 "gnuplot could not write the figure" env PATH="$dir/fail26:$PATH" "$
 ls | grep -q "gapchain-old" && { echo "class 26: FAIL: a set-aside file was left"; failed+=(26); }
 verdict 26
 
+# 27 (the probe of 2026-11-26, session 40): input that was silently ignored or cut, and a
+# scene that hung.
+# A --set of a run key the tool does not read changed nothing; it is refused, naming it.
+expect 27 2 "--set run.step: gapchain-classify does not read it" "$bin/gapchain-classify" fig5.json --set run.step=0.001 --out c27.json
+one_line 27
+expect 27 2 "--set run.periods: gapchain-bifurcation does not read it" "$bin/gapchain-bifurcation" fig5.json --param f_r --from 1 --to 1.1 --steps 2 --set run.periods=5 --no-plot --out b27
+expect 27 2 "--set output.trajectory_every: gapchain-lyapunov does not read it" "$bin/gapchain-lyapunov" fig5.json --set output.trajectory_every=7 --out l27.json
+expect 27 2 "--set run.periods: gapchain-modes does not read it" "$bin/gapchain-modes" --set run.periods=3 --out m27.json
+absent 27 c27.json b27 l27.json m27.json
+# A key given twice inside a --set object value, as in a scene file.
+expect 27 2 "model.scatter.seed: duplicate key" "$bin/gapchain-sim" fig5.json --set 'model.scatter={"clearance":0.3,"seed":3,"seed":4}' --out s27.json
+# A NUL byte ended the scene: what followed it was dropped.
+printf '{"model":{"Nm":5},"run":{"periods":50}}\000{"junk":' >nul27.json
+expect 27 2 "nul27.json: a NUL byte at offset 39" "$bin/gapchain-sim" nul27.json --out s27.json
+# A pipe as the scene blocked in open(), and the first interrupt only set a flag.
+mkfifo fifo27.json
+expect 27 2 "fifo27.json: is not a regular file" "$bin/gapchain-sim" fifo27.json --out s27.json
+absent 27 s27.json
+verdict 27
+
 if [ "${#failed[@]}" -eq 0 ]; then
-    echo "all 26 classes checked"
+    echo "all 27 classes checked"
     exit 0
 fi
 exit 1

@@ -92,6 +92,8 @@ int main(int argc, char** argv) {
     app.add_option("--out", out, "Output folder")->capture_default_str();
     app.add_flag("--no-plot", no_plot, "Write the CSV only");
     return cli::run(app, argc, argv, [&] {
+        cli::require_sets_read(scene_args, "gapchain-accuracy", {"run.max_work"},
+                               "its runs are set by --schemes, --tolerances and --periods");
         const Scene scene = cli::load(scene_args);
         require_linear_harmonic(
             scene, "gapchain-accuracy",

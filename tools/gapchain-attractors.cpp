@@ -124,10 +124,14 @@ void print_transients(const TransientLifetime& t) {
                 t.lifetime_error, t.ended, t.censored);
 }
 
-// Why a group is unsettled (Attractor::settled), for the warnings of both modes.
-constexpr const char* unsettled_reason =
-    " (their runs ended still converging: lambda_max < 0, no contact, or shorter than four decay "
-    "times of the row; their F_m is a transient's); raise run.periods";
+// Why a group is unsettled (Attractor::settled), for the warnings of both modes. A group still
+// converging may also be an orbit longer than the steady-state watch looks for.
+std::string unsettled_reason(const AttractorOptions& o) {
+    return " (their runs ended still converging: lambda_max < 0, no contact, or shorter than "
+           "four decay times of the row; their F_m is a transient's); raise run.periods, or "
+           "run.max_steady_period (now " +
+           std::to_string(o.run.max_steady_period) + ") if their orbits may be longer";
+}
 
 void print_set(const AttractorSet& s, const AttractorOptions& o) {
     std::printf("%zu attractor(s) from %ld starts (%ld failed), %.2f s on %d thread(s)\n",
@@ -150,7 +154,7 @@ void print_set(const AttractorSet& s, const AttractorOptions& o) {
     if (s.F_m_max_id >= 0)
         std::printf("design value F_m_max = %.6g (attractor #%d)\n", s.F_m_max, s.F_m_max_id);
     if (s.unsettled > 0)
-        std::printf("warning: %d of them unsettled%s\n", s.unsettled, unsettled_reason);
+        std::printf("warning: %d of them unsettled%s\n", s.unsettled, unsettled_reason(o).c_str());
 }
 
 void run_point(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs) {
@@ -205,7 +209,7 @@ void run_line(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs) 
         unsettled += set.unsettled;
     if (unsettled > 0)
         std::printf("warning: %d attractor(s) along the line unsettled%s\n", unsettled,
-                    unsettled_reason);
+                    unsettled_reason(a.options).c_str());
     std::printf("wrote %s/fractions.csv%s\n", a.out_dir.c_str(),
                 plotted ? ", fractions.gp, fractions.png" : "");
 }
@@ -222,6 +226,8 @@ int main(int argc, char** argv) {
                     [&] {
                         if (!a.param.empty())
                             cli::require_not_set(a.scene, a.param, "gapchain-attractors --param");
+                        cli::require_sets_read(a.scene, "gapchain-attractors", {"run."},
+                                               "it writes no trajectory");
                         const Scene scene = cli::load(a.scene);
                         require_paper_row(scene, "gapchain-attractors");
                         // The search draws its own starts: a scene's start would be ignored.

@@ -130,6 +130,9 @@ int main(int argc, char** argv) {
     return cli::run(app, argc, argv,
                     [&] {
                         cli::require_not_set(a.scene, a.param, "gapchain-bifurcation");
+                        cli::require_sets_read(a.scene, "gapchain-bifurcation",
+                                               {"run.scheme", "run.tolerance", "run.max_work"},
+                                               "its runs are set by --transient and --record");
                         const Scene scene = cli::load(a.scene, fig13_scene);
                         require_paper_row(scene, "gapchain-bifurcation");
                         resolve_options(a, scene);

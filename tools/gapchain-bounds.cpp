@@ -90,6 +90,8 @@ int main(int argc, char** argv) {
     app.get_option("--set")->excludes(table_flag);
     return cli::run(app, argc, argv, [&] {
         if (table) return print_tables();
+        cli::require_sets_read(scene_args, "gapchain-bounds", {},
+                               "its bounds follow from the model and the excitation alone");
         const Scene scene = cli::load(scene_args);
         // The estimates are the paper's formulas for its uniform row: a row with arrays
         // (clearances 0.5 gave "impacts: e_r < 0.117" for a row that never touches) or Hertz

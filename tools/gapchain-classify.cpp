@@ -135,6 +135,9 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_flag("--no-plot", no_plot, "Write the CSV only")->needs(map);
     return cli::run(app, argc, argv, [&] {
+        cli::require_sets_read(scene_args, "gapchain-classify",
+                               {"run.scheme", "run.tolerance", "run.max_work"},
+                               "its runs are set by --transient and --record");
         const Scene scene = cli::load(scene_args);
         require_paper_row(scene, "gapchain-classify");
         take_run_settings(scene, o);

@@ -199,7 +199,8 @@ int main(int argc, char** argv) {
     return cli::run(app, argc, argv,
                     [&] {
                         cli::require_not_set(a.scene, a.param, "gapchain-continue");
-                        cli::require_no_run_set(a.scene, "gapchain-continue");
+                        cli::require_sets_read(a.scene, "gapchain-continue", {"run.max_work"},
+                                               "its shootings integrate with --scheme to 1e-12");
                         const Scene scene = cli::load(a.scene);
                         require_paper_row(scene, "gapchain-continue");
                         a.options.parameter = parse_swept_parameter(a.param);

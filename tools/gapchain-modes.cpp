@@ -145,6 +145,7 @@ void add_options(CLI::App& app, ModesArguments& a) {
 
 // The scene with --Nm and --fc applied as overrides.
 Scene load_row(ModesArguments& a) {
+    cli::require_sets_read(a.scene, "gapchain-modes", {}, "its modes follow from the model alone");
     if (a.fc != 0.0 && cli::load(a.scene).units == Units::physical)
         throw std::invalid_argument("--fc: not for a physical scene (its fc is model.Kc / "
                                     "model.K); change those with --set");

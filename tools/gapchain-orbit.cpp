@@ -90,7 +90,8 @@ int main(int argc, char** argv) {
     add_options(app, a);
     return cli::run(app, argc, argv,
                     [&] {
-                        cli::require_no_run_set(a.scene, "gapchain-orbit");
+                        cli::require_sets_read(a.scene, "gapchain-orbit", {"run.max_work"},
+                                               "its shootings integrate with --scheme to 1e-12");
                         const Scene scene = cli::load(a.scene);
                         require_linear_harmonic(
                             scene, "gapchain-orbit",

@@ -195,8 +195,9 @@ void print_design(const Scene& scene, const SimulationResult& r, const DesignVal
     }
     if (set.unsettled > 0)
         std::printf("  %d group(s) were still converging when their runs ended: their F_m is a "
-                    "transient's; raise run.periods\n",
-                    set.unsettled);
+                    "transient's; raise run.periods, or run.max_steady_period (now %d) if their "
+                    "orbits may be longer\n",
+                    set.unsettled, scene.run.max_steady_period);
 }
 
 // --attractors N with its --seed, --box and --threads: the design value's search.

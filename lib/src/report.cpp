@@ -368,7 +368,7 @@ std::string to_json(const LyapunovResult& r, const ReducedParameters& p, int cou
 
 std::string branch_csv(const ContinuationResult& result) {
     std::ostringstream os;
-    os.precision(12);
+    os.precision(15); // F_m errors reach 1e-13 F_m: the digits must show them
     os << "value,period,F_m,F_m_error,u1,stable,max_multiplier,branch,minimal_period\n";
     for (const auto& p : result.points) {
         os << p.value << ',' << p.period << ',' << p.F_m << ',';
@@ -381,7 +381,7 @@ std::string branch_csv(const ContinuationResult& result) {
 
 std::string special_csv(const ContinuationResult& result) {
     std::ostringstream os;
-    os.precision(12);
+    os.precision(15); // F_m errors reach 1e-13 F_m: the digits must show them
     os << "type,value,period,F_m,F_m_error,branch,contact,value_error,minimal_period\n";
     for (const auto& s : result.special) {
         os << to_string(s.type) << ',' << s.value << ',' << s.period << ',' << s.F_m << ',';
@@ -410,7 +410,7 @@ void attractor_row(std::ostream& os, const Attractor& a) {
 
 std::string attractors_csv(const AttractorSet& set) {
     std::ostringstream os;
-    os.precision(12);
+    os.precision(15); // F_m errors reach 1e-13 F_m: the digits must show them
     os << "id,regime,period,F_m,F_m_error,lambda_max,lambda_max_error,basin_fraction,"
           "basin_fraction_error,samples,slice_points,settle_median,settle_max,still_settling,"
           "F_m_runs,F_m_runs_error\n";
@@ -498,7 +498,7 @@ std::string basin_slice_csv(const AttractorSet& set) {
 
 std::string fractions_csv(const FractionContinuation& c) {
     std::ostringstream os;
-    os.precision(12);
+    os.precision(15); // F_m errors reach 1e-13 F_m: the digits must show them
     os << "value";
     for (int label = 0; label < c.label_count; ++label)
         os << ",fraction_" << label << ",fraction_error_" << label << ",F_m_" << label

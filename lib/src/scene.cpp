@@ -29,14 +29,25 @@ using nlohmann::json;
 namespace {
 
 /// json value of an override's text: JSON, else the text as a string; nan/inf are numbers.
-json override_value(const std::string& text) {
+/// key names the overridden key in the message on a duplicate key inside an object value.
+json override_value(const std::string& key, const std::string& text) {
     if (text == "nan" || text == "NaN" || text == "-nan")
         return std::numeric_limits<double>::quiet_NaN();
     if (text == "inf" || text == "Inf" || text == "infinity")
         return std::numeric_limits<double>::infinity();
     if (text == "-inf" || text == "-Inf") return -std::numeric_limits<double>::infinity();
     json value = json::parse(text, nullptr, false);
-    return value.is_discarded() ? json(text) : value;
+    if (value.is_discarded()) return json(text);
+    // An object value is held to the scene file's rule: a key given twice is refused, not
+    // silently the last one.
+    if (value.is_structured()) {
+        try {
+            detail::parse_json_strictly<json>(text, "--set " + key);
+        } catch (const SceneError& e) {
+            throw SceneError(key + "." + e.what());
+        }
+    }
+    return value;
 }
 
 /// "section.key=value" -> json[section][key] = value; deeper paths ("model.scatter.seed=3")
@@ -47,7 +58,8 @@ void apply_override(json& root, const std::string& assignment) {
     if (eq == std::string::npos || dot == std::string::npos || dot > eq || dot == 0 ||
         dot + 1 == eq)
         throw SceneError("--set: expected section.key=value, got \"" + assignment + "\"");
-    detail::set_scene_key(root, assignment.substr(0, eq), override_value(assignment.substr(eq + 1)),
+    const std::string key = assignment.substr(0, eq);
+    detail::set_scene_key(root, key, override_value(key, assignment.substr(eq + 1)),
                           "--set \"" + assignment + "\"");
 }
 
@@ -556,6 +568,13 @@ std::string read_text_file(const std::string& path, const std::string& what) {
     if (path.empty()) throw SceneError(what + " file: empty path");
     if (std::filesystem::is_directory(path, ec))
         throw SceneError(path + ": is a directory, not a " + what + " file");
+    // Opening a FIFO blocks until a writer comes, and the first Ctrl-C only sets the tools'
+    // interrupt flag: a scene named by mistake as a pipe would hang the tool.
+    const auto type = std::filesystem::status(path, ec).type();
+    if (type == std::filesystem::file_type::fifo || type == std::filesystem::file_type::socket ||
+        type == std::filesystem::file_type::character || type == std::filesystem::file_type::block)
+        throw SceneError(path + ": is not a regular file (a pipe, socket or device); give a " +
+                         what + " file");
     errno = 0;
     const std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"),
                                                                &std::fclose);
@@ -572,6 +591,10 @@ std::string read_text_file(const std::string& path, const std::string& what) {
     if (std::ferror(file.get()))
         throw SceneError(path + ": cannot read the " + what +
                          " file: " + (errno ? std::strerror(errno) : "read error"));
+    // The JSON reader stops at a NUL: what follows it would be dropped without a word.
+    if (const auto nul = text.find('\0'); nul != std::string::npos)
+        throw SceneError(path + ": a NUL byte at offset " + std::to_string(nul) + ": not a text " +
+                         what + " file");
     return text;
 }
 

@@ -190,6 +190,12 @@ void Outputs::folder(const std::string& path, const std::string& flag,
                 throw std::invalid_argument(flag + ": " + (fs::path(path) / name).string() +
                                             " is an input of this run and a file this tool "
                                             "writes there; choose another output folder");
+    // A folder where the tool writes a file would fail the run only once its work is done.
+    for (const auto& name : owned)
+        if (fs::is_directory(fs::symlink_status(fs::path(path) / name, ec)))
+            throw std::invalid_argument(flag + ": " + (fs::path(path) / name).string() +
+                                        " is a folder where this tool writes a file; move it "
+                                        "or choose another output folder");
     // An existing folder must take new files itself: a file in it is checked.
     check_writable_parent(fs::is_directory(path, ec) ? (fs::path(path) / "x").string() : path, flag,
                           path);
@@ -469,12 +475,26 @@ void require_not_set(const SceneArguments& args, const std::string& param,
                                  " itself, from --from to --to; drop the --set");
 }
 
-void require_no_run_set(const SceneArguments& args, const std::string& tool) {
-    for (const std::string& set : args.sets)
-        if (set.rfind("run.", 0) == 0 && set.rfind("run.max_work=", 0) != 0)
-            throw SceneError("--set " + set.substr(0, set.find('=')) + ": " + tool +
-                             " does not read the scene's run section (its shootings integrate "
-                             "with --scheme to 1e-12) but for run.max_work; drop the --set");
+void require_sets_read(const SceneArguments& args, const std::string& tool,
+                       const std::vector<std::string>& read, const std::string& instead) {
+    for (const std::string& set : args.sets) {
+        const std::string key = set.substr(0, set.find('='));
+        if (key.rfind("run.", 0) != 0 && key.rfind("output.", 0) != 0) continue;
+        const bool is_read = std::any_of(read.begin(), read.end(), [&](const std::string& r) {
+            return r.back() == '.' ? key.rfind(r, 0) == 0 : key == r;
+        });
+        if (is_read) continue;
+        std::string reads;
+        for (std::size_t k = 0; k < read.size(); ++k)
+            reads += (k == 0                 ? ""
+                      : k + 1 == read.size() ? " and "
+                                             : ", ") +
+                     (read[k] == "run." ? std::string("the run section") : read[k]);
+        throw SceneError(
+            "--set " + key + ": " + tool + " does not read it (" +
+            (reads.empty() ? std::string("it reads no run or output key") : "it reads " + reads) +
+            "; " + instead + "); drop the --set");
+    }
 }
 
 namespace {

@@ -137,9 +137,11 @@ std::pair<CLI::Option*, CLI::Option*> add_start_box(CLI::App& app, long long& se
 // refuse a --set of it, or of the physical key behind it alone (excitation.f, model.e, model.Kc,
 // model.C), which their --from ... --to would silently replace. param: f_r, e_r, fc or eps.
 void require_not_set(const SceneArguments& args, const std::string& param, const std::string& tool);
-// Tools that integrate with their own --scheme (orbit, continue) refuse a --set of a run.* key
-// but run.max_work, which they would silently ignore.
-void require_no_run_set(const SceneArguments& args, const std::string& tool);
+// Refuses a --set of a run.* or output.* key that the tool does not read, which it would
+// silently ignore: read lists the keys it does read ("run." for every run key), instead says
+// how the tool runs ("its runs are set by --transient and --record").
+void require_sets_read(const SceneArguments& args, const std::string& tool,
+                       const std::vector<std::string>& read, const std::string& instead);
 
 // The row's reduced numbers for a figure's title ("Nm=5 fc=60 eps=0.5 e_r=0.06 f_r=3"), without
 // the swept one (its values are on the x axis).

@@ -129,7 +129,8 @@ struct Attractor {
     /// their transients included. Above F_m when transients outlast the discarded periods; NaN
     /// if no random start reached it.
     double F_m_runs = std::numeric_limits<double>::quiet_NaN();
-    double F_m_runs_error = 0.0;       ///< that run's F_m_error
+    /// that run's F_m_error; NaN with F_m_runs
+    double F_m_runs_error = std::numeric_limits<double>::quiet_NaN();
     long slice_points = 0;             ///< slice starts that reach it
     std::vector<double> initial_state; ///< the first start that reached it (2 Nm)
     std::vector<double> state;         ///< a state on it at phase 0 (the orbit's, if periodic)

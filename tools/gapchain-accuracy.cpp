@@ -110,10 +110,8 @@ int main(int argc, char** argv) {
         outputs.create_folders();
         const std::string staged = outputs.staged(out);
         write_file_atomically(staged + "/work_precision.csv", work_precision_csv(study));
-        const ReducedParameters& p = scene.reduced;
-        char title[200];
-        std::snprintf(title, sizeof title, "Nm=%d fc=%g eps=%g e_r=%g f_r=%g, %ld periods", p.Nm,
-                      p.fc, p.eps, p.e_r, p.f_r, o.periods);
+        const std::string title =
+            cli::row_title(scene.reduced) + ", " + std::to_string(o.periods) + " periods";
         if (!no_plot) cli::plot_template(staged, "work_precision", {{"TITLE", title}});
         outputs.keep();
         print_study(study, title, target);

@@ -203,11 +203,12 @@ int MaxForceTracker::list_contacts_to_scan(double h) {
         const double open_at_both_ends = open_at_start * (g1[j] <= 0.0 ? 1.0 : 0.0);
         const double open_turning = turning * open_at_both_ends * (reach > 0.0 ? 1.0 : 0.0);
         // Closed at both ends but dipping below 0 between (opens_inside()): an impact to count.
-        const double dipping =
-            (g0[j] > 0.0 ? 1.0 : 0.0) * (g1[j] > 0.0 ? 1.0 : 0.0) * (r0[j] < 0.0 ? 1.0 : 0.0) *
-            (r1[j] > 0.0 ? 1.0 : 0.0) *
-            (std::min(g0[j], g1[j]) - half_h * (r1[j] - r0[j]) < 0.0 ? 1.0 : 0.0);
-        const double scan = std::max({reach > threshold[j] ? 1.0 : 0.0, open_turning, dipping});
+        const double closed_at_both_ends = (1.0 - open_at_start) * (g1[j] > 0.0 ? 1.0 : 0.0);
+        const double dip = std::min(g0[j], g1[j]) - half_h * (r1[j] - r0[j]);
+        const double dipping = closed_at_both_ends * (r0[j] < 0.0 ? 1.0 : 0.0) *
+                               (r1[j] > 0.0 ? 1.0 : 0.0) * (dip < 0.0 ? 1.0 : 0.0);
+        const double scan =
+            std::max(std::max(reach > threshold[j] ? 1.0 : 0.0, open_turning), dipping);
         const double closing = open_at_start * (g1[j] > 0.0 ? 1.0 : 0.0);
         flag[j] = scan + 2.0 * closing;
     }

@@ -350,7 +350,7 @@ mkdir -p in25 && cp nm2.json in25/attractors.json
 expect 25 2 "--out: in25/attractors.json is an input of this run" "$bin/gapchain-attractors" in25/attractors.json --samples 2 --out in25
 cmp -s nm2.json in25/attractors.json || { echo "class 25: FAIL: the input in the folder changed"; failed+=(25); }
 mkdir -p way25/attractors.json && echo old >way25/attractors.csv
-expect 25 2 "way25/attractors.json is a folder where this tool writes a file" "$bin/gapchain-attractors" nm2.json --samples 2 --no-plot --out way25
+expect 25 2 "way25/attractors.json is a folder named like a file this tool may write" "$bin/gapchain-attractors" nm2.json --samples 2 --no-plot --out way25
 [ "$(cat way25/attractors.csv)" = old ] || { echo "class 25: FAIL: a failed run replaced attractors.csv"; failed+=(25); }
 # stdout that cannot be written is a failure.
 expect 25 1 "cannot write to standard output" sh -c "'$bin/gapchain-bounds' nm2.json >/dev/full"
@@ -424,10 +424,14 @@ expect 27 2 "model.scatter.seed: duplicate key" "$bin/gapchain-sim" fig5.json --
 # A NUL byte ended the scene: what followed it was dropped.
 printf '{"model":{"Nm":5},"run":{"periods":50}}\000{"junk":' >nul27.json
 expect 27 2 "nul27.json: a NUL byte at offset 39" "$bin/gapchain-sim" nul27.json --out s27.json
-# A pipe as the scene blocked in open(), and the first interrupt only set a flag.
+# A named pipe no one writes to blocked in open(), and the first interrupt only set a flag;
+# a pipe with a writer is read.
 mkfifo fifo27.json
-expect 27 2 "fifo27.json: is not a regular file" "$bin/gapchain-sim" fifo27.json --out s27.json
+expect 27 2 "fifo27.json: a pipe with nothing written to it" "$bin/gapchain-sim" fifo27.json --out s27.json
 absent 27 s27.json
+expect 27 0 "" sh -c "cat fig5.json | '$bin/gapchain-sim' /dev/stdin --set run.periods=20 -q --out s27.json"
+expect 27 2 "/dev/zero: is a socket or device" "$bin/gapchain-sim" /dev/zero --out z27.json
+absent 27 z27.json
 verdict 27
 
 if [ "${#failed[@]}" -eq 0 ]; then

@@ -216,6 +216,36 @@ TEST_CASE("MaxForceTracker: every contact's closings and step-end forces are cou
     }
 }
 
+TEST_CASE("MaxForceTracker: a contact that opens between two switches and closes again is one "
+          "impact, whichever side of the surface round-off puts the switches on") {
+    // Nm = 1, the left wall: steps end where the contact opens (gap s1) and where it closes
+    // again (gap s2), both 0 but for round-off, as a run split at switches gives them (a few
+    // ulps of the clearance, 0.5: 1e-17 would round to 0 in u + e). The
+    // contact starts closed (no impact counted for the start), so each run has one impact: the
+    // reclosing. With both switches on the closed side, no step started open, and it was lost.
+    const Dynamics dyn = Dynamics::paper_row({1, 100, 0.5, 0.5, 1.0});
+    const double e = dyn.chain().clearance[0];
+    // The state whose left-wall gap -u - e is g, closing at the rate -v.
+    auto at = [&](double g, double rate) { return std::array<double, 2>{-(g + e), -rate}; };
+    for (const double s1 : {1e-15, -1e-15})
+        for (const double s2 : {1e-15, -1e-15}) {
+            CAPTURE(s1);
+            CAPTURE(s2);
+            const std::array<std::array<double, 2>, 4> y{at(2e-3, -1.0), at(s1, -0.5), at(s2, 0.5),
+                                                         at(2e-3, 1.0)};
+            MaxForceTracker tracker(dyn);
+            for (int k = 0; k < 3; ++k)
+                tracker.on_step({0.01 * k, 0.01 * (k + 1), y[k].data(), y[k + 1].data(), 0, true});
+            CHECK(tracker.contacts()[0].impacts == 1);
+            CHECK(tracker.contacts()[1].impacts == 0);
+        }
+    // A dip that stays closed (the gap falls to 1e-3 and rises again) is no impact.
+    MaxForceTracker closed(dyn);
+    const auto a = at(2e-3, -0.05), b = at(2e-3, 0.05);
+    closed.on_step({0.0, 0.01, a.data(), b.data(), 0, true});
+    CHECK(closed.contacts()[0].impacts == 0);
+}
+
 TEST_CASE("SteadyStateDetector: a cycle approached along a negative multiplier is reported with "
           "its minimal period") {
     // y_n = c_(n mod 3) + (-0.85)^n: a period-3 cycle, deviation multiplied by -0.614 every three

@@ -115,13 +115,17 @@ void print_settling(const Attractor& a, const AttractorOptions& o) {
 /// How long the transients before the periodic attractors last, where enough end late to tell.
 void print_transients(const TransientLifetime& t) {
     if (std::isnan(t.lifetime)) return;
-    std::printf("transients: half last beyond %.0f periods; beyond, they ", t.from_period);
-    if (t.exponential)
-        std::printf("end at a constant rate (memoryless, an escape from a saddle): lifetime");
+    std::printf("transients: half last beyond %.0f periods; beyond, lifetime %.3g +- %.2g periods "
+                "(%ld ended, %ld still going); ",
+                t.from_period, t.lifetime, t.lifetime_error, t.ended, t.censored);
+    if (t.constant_rate == ConstantRate::untested)
+        std::printf("too few endings to test whether their rate is constant\n");
     else
-        std::printf("end at a rate that is not constant (no exponential escape): mean remaining");
-    std::printf(" %.3g +- %.2g periods (%ld ended, %ld still settling)\n", t.lifetime,
-                t.lifetime_error, t.ended, t.censored);
+        std::printf("their rate %s (later half over earlier %.2f +- %.2f)\n",
+                    t.constant_rate == ConstantRate::consistent
+                        ? "is consistent with a constant one, as for an escape from a saddle"
+                        : "is not constant: no single exponential escape",
+                    t.rate_ratio, t.rate_ratio_error);
 }
 
 // Why a group is unsettled (Attractor::settled), for the warnings of both modes. A group still

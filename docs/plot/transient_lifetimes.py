@@ -63,7 +63,7 @@ def main(argv):
         error = transients["lifetime_error"]
         beyond = np.count_nonzero(settle > onset) / len(settle)
         print(f"{label}: {len(settle)} starts, median {onset:.0f}, beyond it tau = {tau:.1f} "
-              f"+- {error:.1f} periods, constant rate: {transients['exponential']}")
+              f"+- {error:.1f} periods, constant rate: {transients['constant_rate']}")
         line, = left.step(n, survival, where="post", label=f"{label} (tau = {tau:.0f} +- {error:.0f})")
         fit = np.linspace(onset, n.max(), 50)
         left.plot(fit, beyond * np.exp(-(fit - onset) / tau), ls="--", color=line.get_color(), lw=1)

@@ -36,9 +36,10 @@ state: one row of 2 Nm values per attractor, a state on it at phase 0), sample_a
 random start: attractor id, -1 if its run failed), sample_settle_period (per random start: the
 period where its transient ended, -1 if it did not settle on an orbit), sample_F_m (per random
 start: its run's F_m), transients (how long the transients before periodic attractors last:
-from_period, the median length; lifetime, the mean remaining length beyond it, and
-lifetime_error, NaN with fewer than 10 ending beyond it; ended; censored, still settling at the
-end; exponential, whether they end at a constant rate, as escapes from a chaotic saddle do),
+from_period, the median length; lifetime beyond it and lifetime_error, NaN with fewer than 10
+ending beyond it; ended; censored, still going when their runs ended; rate_ratio and its error,
+the later half's ending rate over the earlier's; constant_rate, "untested", "consistent" or
+"rejected"),
 failed, amplitude (A), and with grid: slice_x, slice_y and slice_attractor
 (resolution x resolution, rows along y); wall_time_s, cancelled.)";
 
@@ -130,7 +131,9 @@ py::dict set_dict(const AttractorSet& s) {
     d["transients"] =
         py::dict(py::arg("from_period") = t.from_period, py::arg("lifetime") = t.lifetime,
                  py::arg("lifetime_error") = t.lifetime_error, py::arg("ended") = t.ended,
-                 py::arg("censored") = t.censored, py::arg("exponential") = t.exponential);
+                 py::arg("censored") = t.censored, py::arg("rate_ratio") = t.rate_ratio,
+                 py::arg("rate_ratio_error") = t.rate_ratio_error,
+                 py::arg("constant_rate") = std::string(to_string(t.constant_rate)));
     d["failed"] = s.failed;
     d["amplitude"] = s.amplitude;
     if (!s.slice_first.empty()) {

@@ -466,7 +466,9 @@ std::string to_json(const AttractorSet& set, const AttractorOptions& o,
                        {"lifetime_error", t.lifetime_error},
                        {"ended", t.ended},
                        {"censored", t.censored},
-                       {"exponential", t.exponential}};
+                       {"rate_ratio", t.rate_ratio},
+                       {"rate_ratio_error", t.rate_ratio_error},
+                       {"constant_rate", to_string(t.constant_rate)}};
     j["samples"] = o.samples;
     j["failed"] = set.failed;
     j["seed"] = o.seed;

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <fcntl.h>
 #include <filesystem>
 #include <fstream>
 #include <limits>
@@ -568,29 +569,44 @@ std::string read_text_file(const std::string& path, const std::string& what) {
     if (path.empty()) throw SceneError(what + " file: empty path");
     if (std::filesystem::is_directory(path, ec))
         throw SceneError(path + ": is a directory, not a " + what + " file");
-    // Opening a FIFO blocks until a writer comes, and the first Ctrl-C only sets the tools'
-    // interrupt flag: a scene named by mistake as a pipe would hang the tool.
+    // A device (a terminal, /dev/zero) would block or never end.
     const auto type = std::filesystem::status(path, ec).type();
-    if (type == std::filesystem::file_type::fifo || type == std::filesystem::file_type::socket ||
+    if (type == std::filesystem::file_type::socket ||
         type == std::filesystem::file_type::character || type == std::filesystem::file_type::block)
-        throw SceneError(path + ": is not a regular file (a pipe, socket or device); give a " +
-                         what + " file");
+        throw SceneError(path + ": is a socket or device, not a " + what + " file");
+    // A pipe is read (`gapchain-sim <(jq ... scene.json)`), but opened without waiting: a named
+    // pipe no one writes to blocked open() until a writer came, and the first Ctrl-C only sets
+    // the tools' interrupt flag. Once open, reads wait as usual; with no writer they end at once.
     errno = 0;
-    const std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(std::fopen(path.c_str(), "rb"),
-                                                               &std::fclose);
-    if (!file)
+    const int fd = ::open(path.c_str(), O_RDONLY | O_NONBLOCK | O_CLOEXEC);
+    if (fd < 0 || ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK) < 0) {
+        const int reason = errno;
+        if (fd >= 0) ::close(fd);
         throw SceneError(path + ": cannot read the " + what +
-                         " file: " + (errno ? std::strerror(errno) : "unreadable"));
+                         " file: " + (reason ? std::strerror(reason) : "unreadable"));
+    }
+    const std::unique_ptr<std::FILE, int (*)(std::FILE*)> file(::fdopen(fd, "rb"), &std::fclose);
+    if (!file) {
+        ::close(fd);
+        throw SceneError(path + ": cannot read the " + what + " file: " + std::strerror(errno));
+    }
     // stdio, not a stream's rdbuf(): a read error there only failed the copy, which an empty
-    // file fails too, so /proc/self/mem was reported as malformed JSON.
+    // file fails too, so /proc/self/mem was reported as malformed JSON. A scene is kilobytes:
+    // 64 MiB bounds what an endless pipe can take.
+    constexpr std::size_t largest = std::size_t{64} << 20;
     std::string text;
     char buffer[1 << 16];
     std::size_t n = 0;
-    while ((n = std::fread(buffer, 1, sizeof buffer, file.get())) > 0)
+    while ((n = std::fread(buffer, 1, sizeof buffer, file.get())) > 0) {
         text.append(buffer, n);
+        if (text.size() > largest)
+            throw SceneError(path + ": longer than 64 MiB: not a " + what + " file");
+    }
     if (std::ferror(file.get()))
         throw SceneError(path + ": cannot read the " + what +
                          " file: " + (errno ? std::strerror(errno) : "read error"));
+    if (text.empty() && type == std::filesystem::file_type::fifo)
+        throw SceneError(path + ": a pipe with nothing written to it; give a " + what + " file");
     // The JSON reader stops at a NUL: what follows it would be dropped without a word.
     if (const auto nul = text.find('\0'); nul != std::string::npos)
         throw SceneError(path + ": a NUL byte at offset " + std::to_string(nul) + ": not a text " +

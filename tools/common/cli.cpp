@@ -194,8 +194,8 @@ void Outputs::folder(const std::string& path, const std::string& flag,
     for (const auto& name : owned)
         if (fs::is_directory(fs::symlink_status(fs::path(path) / name, ec)))
             throw std::invalid_argument(flag + ": " + (fs::path(path) / name).string() +
-                                        " is a folder where this tool writes a file; move it "
-                                        "or choose another output folder");
+                                        " is a folder named like a file this tool may write "
+                                        "there; move it or choose another output folder");
     // An existing folder must take new files itself: a file in it is checked.
     check_writable_parent(fs::is_directory(path, ec) ? (fs::path(path) / "x").string() : path, flag,
                           path);

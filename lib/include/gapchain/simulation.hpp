@@ -65,6 +65,12 @@ struct SimulationResult {
     /// max_steady_period + 1, or the period its steady state was found at if that is earlier.
     /// -1 without a steady state.
     long cycle_entry_period = -1;
+    /// The last period whose state was more than SteadyStateDetector::far_distance (1e-3,
+    /// relative) from repeating with every period up to run.max_steady_period, with or without
+    /// a steady state [forcing periods]; -1 if none was (the first max_steady_period periods are
+    /// not tested). A run without a steady state whose last_far_period is well before its end
+    /// had ended its transient and was still approaching its cycle.
+    long last_far_period = -1;
     RunStatus status = RunStatus::completed; ///< how the main run ended
     std::string message;                     ///< failure explanation, empty on success
     Scheme scheme = Scheme::rk4;             ///< concrete scheme used

@@ -494,6 +494,16 @@ TEST_CASE("transient lifetimes: an exponential tail is measured, censored or not
     const TransientLifetime rising = transient_lifetime(uniform, {});
     CHECK(rising.constant_rate == ConstantRate::rejected);
     CHECK(rising.rate_ratio > 2.0);
+    // Where 1 % are still going: the exponential tail extended, for a constant rate only. The
+    // lengths themselves say it too: 1 % of 2000 is the 20th longest.
+    std::vector<long> sorted(lengths);
+    std::sort(sorted.begin(), sorted.end());
+    const double one_percent = full.periods_until(0.01);
+    CHECK(one_percent == doctest::Approx(full.from_period + full.lifetime * std::log(50.0)));
+    CHECK(std::abs(one_percent - static_cast<double>(sorted[2000 - 20])) <
+          3.0 * full.lifetime_error * std::log(50.0));
+    CHECK(std::isnan(rising.periods_until(0.01)));
+    CHECK_THROWS_AS((void)full.periods_until(0.5), std::invalid_argument);
     // 21 lengths: 10 end beyond the median, 5 in each half at most: a lifetime, but no test.
     const std::vector<long> few(lengths.begin(), lengths.begin() + 21);
     const TransientLifetime small = transient_lifetime(few, {});

@@ -112,22 +112,6 @@ void print_settling(const Attractor& a, const AttractorOptions& o) {
                     a.F_m_runs);
 }
 
-/// How long the transients before the periodic attractors last, where enough end late to tell.
-void print_transients(const TransientLifetime& t) {
-    if (std::isnan(t.lifetime)) return;
-    std::printf("transients: half last beyond %.0f periods; beyond, lifetime %.3g +- %.2g periods "
-                "(%ld ended, %ld still going); ",
-                t.from_period, t.lifetime, t.lifetime_error, t.ended, t.censored);
-    if (t.constant_rate == ConstantRate::untested)
-        std::printf("too few endings to test whether their rate is constant\n");
-    else
-        std::printf("their rate %s (later half over earlier %.2f +- %.2f)\n",
-                    t.constant_rate == ConstantRate::consistent
-                        ? "is consistent with a constant one, as for an escape from a saddle"
-                        : "is not constant: no single exponential escape",
-                    t.rate_ratio, t.rate_ratio_error);
-}
-
 // Why a group is unsettled (Attractor::settled), for the warnings of both modes. A group still
 // converging may also be an orbit longer than the steady-state watch looks for.
 std::string unsettled_reason(const AttractorOptions& o) {
@@ -154,7 +138,7 @@ void print_set(const AttractorSet& s, const AttractorOptions& o) {
         std::printf("  basin %.3f +- %.3f\n", a.basin_fraction, a.basin_fraction_error);
         print_settling(a, o);
     }
-    print_transients(s.transients);
+    cli::print_transients(s.transients);
     if (s.F_m_max_id >= 0)
         std::printf("design value F_m_max = %.6g (attractor #%d)\n", s.F_m_max, s.F_m_max_id);
     if (s.unsettled > 0)

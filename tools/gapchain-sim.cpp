@@ -193,6 +193,7 @@ void print_design(const Scene& scene, const SimulationResult& r, const DesignVal
         else
             std::printf("), this run's F_m within the errors\n");
     }
+    cli::print_transients(set.transients);
     if (set.unsettled > 0)
         std::printf("  %d group(s) were still converging when their runs ended: their F_m is a "
                     "transient's; raise run.periods, or run.max_steady_period (now %d) if their "

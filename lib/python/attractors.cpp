@@ -39,7 +39,7 @@ start: its run's F_m), transients (how long the transients before periodic attra
 from_period, the median length; lifetime beyond it and lifetime_error, NaN with fewer than 10
 ending beyond it; ended; censored, still going when their runs ended; rate_ratio and its error,
 the later half's ending rate over the earlier's; constant_rate, "untested", "consistent" or
-"rejected"),
+"rejected"; periods_until_1_percent, NaN unless consistent),
 failed, amplitude (A), and with grid: slice_x, slice_y and slice_attractor
 (resolution x resolution, rows along y); wall_time_s, cancelled.)";
 
@@ -133,7 +133,8 @@ py::dict set_dict(const AttractorSet& s) {
                  py::arg("lifetime_error") = t.lifetime_error, py::arg("ended") = t.ended,
                  py::arg("censored") = t.censored, py::arg("rate_ratio") = t.rate_ratio,
                  py::arg("rate_ratio_error") = t.rate_ratio_error,
-                 py::arg("constant_rate") = std::string(to_string(t.constant_rate)));
+                 py::arg("constant_rate") = std::string(to_string(t.constant_rate)),
+                 py::arg("periods_until_1_percent") = t.periods_until(0.01));
     d["failed"] = s.failed;
     d["amplitude"] = s.amplitude;
     if (!s.slice_first.empty()) {

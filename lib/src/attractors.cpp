@@ -621,6 +621,14 @@ std::string_view to_string(ConstantRate r) {
     return "untested";
 }
 
+double TransientLifetime::periods_until(double share) const {
+    if (!(share > 0.0 && share < 0.5))
+        throw std::invalid_argument("share: must be in (0, 0.5), got " +
+                                    detail::format_number(share));
+    if (constant_rate != ConstantRate::consistent) return std::numeric_limits<double>::quiet_NaN();
+    return from_period + lifetime * std::log(0.5 / share);
+}
+
 TransientLifetime transient_lifetime(std::vector<long> ended, std::vector<long> censored) {
     for (const auto* lengths : {&ended, &censored})
         for (long n : *lengths)

@@ -130,6 +130,19 @@ json simulation_json(const SimulationResult& r, const Scene& scene) {
     return j;
 }
 
+/// The transients' lifetime as attractors.json and gapchain-sim's design value give it.
+nlohmann::ordered_json transients_json(const TransientLifetime& t) {
+    return {{"from_period", t.from_period},
+            {"lifetime", t.lifetime},
+            {"lifetime_error", t.lifetime_error},
+            {"ended", t.ended},
+            {"censored", t.censored},
+            {"rate_ratio", t.rate_ratio},
+            {"rate_ratio_error", t.rate_ratio_error},
+            {"constant_rate", to_string(t.constant_rate)},
+            {"periods_until_1_percent", t.periods_until(0.01)}};
+}
+
 } // namespace
 
 std::string to_json(const SimulationResult& r, const Scene& scene) {
@@ -155,6 +168,7 @@ std::string to_json(const SimulationResult& r, const Scene& scene, const DesignV
               {"run_above", design.run_above},
               {"attractors_F_m_max", set.F_m_max},
               {"attractors_F_m_max_error", set.F_m_max_error},
+              {"transients", transients_json(set.transients)},
               {"wall_time_s", set.wall_time_s}};
     if (set.F_m_max_id >= 0) {
         const Attractor& a = set.attractors[static_cast<std::size_t>(set.F_m_max_id)];
@@ -460,15 +474,7 @@ std::string to_json(const AttractorSet& set, const AttractorOptions& o,
                         {"initial_state", a.initial_state},
                         {"state", a.state}});
     j["attractors"] = list;
-    const TransientLifetime& t = set.transients;
-    j["transients"] = {{"from_period", t.from_period},
-                       {"lifetime", t.lifetime},
-                       {"lifetime_error", t.lifetime_error},
-                       {"ended", t.ended},
-                       {"censored", t.censored},
-                       {"rate_ratio", t.rate_ratio},
-                       {"rate_ratio_error", t.rate_ratio_error},
-                       {"constant_rate", to_string(t.constant_rate)}};
+    j["transients"] = transients_json(set.transients);
     j["samples"] = o.samples;
     j["failed"] = set.failed;
     j["seed"] = o.seed;

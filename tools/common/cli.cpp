@@ -445,6 +445,26 @@ std::string row_title(const ReducedParameters& p, const std::string& swept) {
     return title;
 }
 
+void print_transients(const TransientLifetime& t) {
+    if (std::isnan(t.lifetime)) return;
+    std::printf("transients: half last beyond %.0f periods; beyond, lifetime %.3g +- %.2g periods "
+                "(%ld ended, %ld still going); ",
+                t.from_period, t.lifetime, t.lifetime_error, t.ended, t.censored);
+    if (t.constant_rate == ConstantRate::untested) {
+        std::printf("too few endings to test whether their rate is constant\n");
+        return;
+    }
+    std::printf("their rate %s (later half over earlier %.2f +- %.2f)\n",
+                t.constant_rate == ConstantRate::consistent
+                    ? "is consistent with a constant one, as for an escape from a saddle"
+                    : "is not constant: no single exponential escape",
+                t.rate_ratio, t.rate_ratio_error);
+    if (t.constant_rate == ConstantRate::consistent)
+        std::printf("  1 %% of starts are still in their transient after about %.0f periods: a run "
+                    "discarding that many (run.transient_periods) reports an attractor's F_m\n",
+                    t.periods_until(0.01));
+}
+
 std::string plus_minus(double error, const char* format) {
     if (std::isnan(error)) return "(error not estimated)";
     char number[64];

@@ -2,6 +2,7 @@
 // What every gapchain tool shares: the scene options, the mapping of errors to exit codes,
 // and progress on stderr. Exit codes: 0 success, 2 bad input, 1 numerical or internal failure.
 
+#include "gapchain/attractors.hpp"
 #include "gapchain/scene.hpp"
 
 #include <CLI/CLI.hpp>
@@ -142,6 +143,11 @@ void require_not_set(const SceneArguments& args, const std::string& param, const
 // how the tool runs ("its runs are set by --transient and --record").
 void require_sets_read(const SceneArguments& args, const std::string& tool,
                        const std::vector<std::string>& read, const std::string& instead);
+
+// How long the transients before the periodic attractors last (gapchain-attractors and
+// gapchain-sim --attractors), and what a run must discard for the attractors' F_m; nothing
+// where fewer than 10 end beyond the median.
+void print_transients(const TransientLifetime& t);
 
 // The row's reduced numbers for a figure's title ("Nm=5 fc=60 eps=0.5 e_r=0.06 f_r=3"), without
 // the swept one (its values are on the x axis).

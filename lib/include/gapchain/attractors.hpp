@@ -179,6 +179,12 @@ struct TransientLifetime {
     /// (two lifetimes 20 and 80 in equal shares, 400 starts: rejected about 1 time in 3), so
     /// consistent means "no evidence against", not proof of a single saddle.
     ConstantRate constant_rate = ConstantRate::untested;
+    /// How long until only `share` (in (0, 1/2)) of the starts are still in their transient
+    /// [forcing periods]: from_period + lifetime ln(1 / (2 share)), the exponential tail
+    /// extended; what a run must discard (run.transient_periods) to record the attractor's F_m
+    /// from all but that share of starts. NaN unless the rate is consistent with a constant
+    /// one. Throws std::invalid_argument for a share outside (0, 1/2).
+    [[nodiscard]] double periods_until(double share) const;
 };
 
 /// The TransientLifetime of transient lengths [forcing periods]: ended lists the lengths of

@@ -1,5 +1,6 @@
 #include "gapchain/attractors.hpp"
 
+#include "gapchain/bounds.hpp"
 #include "gapchain/report.hpp"
 #include "gapchain/simulation.hpp"
 
@@ -7,6 +8,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <random>
 #include <sstream>
@@ -108,6 +110,71 @@ TEST_CASE("mirror-image orbits are two attractors of equal F_m and equal basin f
     const double sigma = std::hypot(a.basin_fraction_error, b.basin_fraction_error);
     CHECK(std::abs(a.basin_fraction - b.basin_fraction) < 3.0 * sigma);
     CHECK(set.F_m_max == std::max(a.F_m, b.F_m));
+}
+
+TEST_CASE("a small box around one of the mirror orbits reaches that orbit alone") {
+    // Around rest the two orbits share the starts about evenly (above); a box of 1e-4 A around
+    // a state on either must find that one, at the same stroboscopic point, with basin 1. A
+    // search that ignored the center would find both again. (With 0.01 A, 5 of 16 starts
+    // around the orbit whose phase-0 point is inside the left wall reach the other: where a
+    // start penetrates a wall the basins interleave finely, as the slice in docs shows.)
+    const AttractorSet both = find_attractors(mirror_pair, short_runs(60, 3));
+    REQUIRE(both.attractors.size() == 2);
+    for (const Attractor& target : both.attractors) {
+        AttractorOptions o = short_runs(16, 4);
+        o.box = 1e-4;
+        o.center = target.state;
+        const AttractorSet near = find_attractors(mirror_pair, o);
+        REQUIRE(near.attractors.size() == 1);
+        const Attractor& found = near.attractors[0];
+        CHECK(found.period == 1);
+        CHECK(found.samples == 16);
+        for (std::size_t i = 0; i < target.state.size(); ++i)
+            CHECK(found.state[i] == doctest::Approx(target.state[i]).epsilon(1e-6));
+    }
+}
+
+TEST_CASE("the starts fill the box around its center, and the slice holds the others there") {
+    const ReducedParameters p{2, 200, 0.1, 0.351, 0.626};
+    const double A = single_body_amplitude(p.f_r, p.eps);
+    const double scale[] = {A, A, 2.0 * std::numbers::pi * p.f_r * A,
+                            2.0 * std::numbers::pi * p.f_r * A};
+    AttractorOptions o;
+    o.samples = 4000;
+    o.box = 0.5;
+    o.center = {-0.41, -0.47, 2.44, 0.46};
+    o.slice = BasinSlice{0, 3, 5};
+    const auto starts = attractor_starts(p, o);
+    REQUIRE(starts.size() == 4000u + 25u);
+    std::vector<double> lowest(4, 1e300), highest(4, -1e300), mean(4, 0.0);
+    for (long k = 0; k < o.samples; ++k)
+        for (std::size_t i = 0; i < 4; ++i) {
+            const double x = starts[static_cast<std::size_t>(k)][i];
+            lowest[i] = std::min(lowest[i], x);
+            highest[i] = std::max(highest[i], x);
+            mean[i] += x / static_cast<double>(o.samples);
+        }
+    for (std::size_t i = 0; i < 4; ++i) {
+        const double half = o.box * scale[i];
+        CHECK(lowest[i] >= o.center[i] - half);
+        CHECK(highest[i] <= o.center[i] + half);
+        // 4000 uniform draws reach within 1e-2 of each edge, and their mean lies within 4
+        // standard errors (half / sqrt(3 N)) of the center.
+        CHECK(lowest[i] < o.center[i] - 0.99 * half);
+        CHECK(highest[i] > o.center[i] + 0.99 * half);
+        CHECK(std::abs(mean[i] - o.center[i]) < 4.0 * half / std::sqrt(3.0 * 4000.0));
+    }
+    // The slice: its two variables span the box around their center, u2 and v1 stay there.
+    const auto& corner = starts[4000];
+    const auto& last = starts.back();
+    CHECK(corner[0] == doctest::Approx(o.center[0] - o.box * scale[0]));
+    CHECK(corner[3] == doctest::Approx(o.center[3] - o.box * scale[3]));
+    CHECK(last[0] == doctest::Approx(o.center[0] + o.box * scale[0]));
+    CHECK(last[3] == doctest::Approx(o.center[3] + o.box * scale[3]));
+    for (std::size_t k = 4000; k < starts.size(); ++k) {
+        CHECK(starts[k][1] == o.center[1]);
+        CHECK(starts[k][2] == o.center[2]);
+    }
 }
 
 TEST_CASE("basin fractions scatter over seeds as their reported error, which falls as 1/sqrt(N)") {
@@ -357,6 +424,18 @@ TEST_CASE("bad options are refused naming the option") {
     CHECK(fraction_line_values(mirror_pair, SweptParameter::eps, 0.1, 0.3, 3).size() == 3);
     // u01 is not a second name for u1.
     CHECK_THROWS_WITH_AS(basin_slice("u1", "u01", 1, 10), doctest::Contains("grid"),
+                         std::invalid_argument);
+    // The center: 2 Nm entries or none, each finite within a scene's initial-state range.
+    o = AttractorOptions{};
+    o.center = {0.1};
+    CHECK_THROWS_WITH_AS(find_attractors(mirror_pair, o),
+                         doctest::Contains("center: must have 2 Nm = 2 entries"),
+                         std::invalid_argument);
+    o.center = {0.1, std::numeric_limits<double>::quiet_NaN()};
+    CHECK_THROWS_WITH_AS(find_attractors(mirror_pair, o), doctest::Contains("center[1]"),
+                         std::invalid_argument);
+    o.center = {2e9, 0.0};
+    CHECK_THROWS_WITH_AS(find_attractors(mirror_pair, o), doctest::Contains("center[0]"),
                          std::invalid_argument);
     o = AttractorOptions{};
     o.slice = BasinSlice{0, 0, 10};

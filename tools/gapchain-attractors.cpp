@@ -36,9 +36,10 @@ void add_options(CLI::App& app, AttractorArguments& a) {
     app.add_option("--samples", o.samples, "Random starts (basin fractions)")
         ->check(cli::range(1L, 10'000'000L))
         ->capture_default_str();
-    cli::add_start_box(app, a.seed, o.box);
+    cli::add_start_box(app, a.seed, o.box, "the scene's initial state (rest if it gives none)");
     app.add_option("--grid", a.grid,
-                   "Basin slice over two state variables, e.g. u1,v1 (the others at rest)");
+                   "Basin slice over two state variables, e.g. u1,v1 (the others at the scene's "
+                   "initial state, rest if it gives none)");
     app.add_option("--resolution", a.resolution, "Slice grid points per axis")
         ->check(cli::range(2, 2000))
         ->capture_default_str();
@@ -218,13 +219,9 @@ int main(int argc, char** argv) {
                                                "it writes no trajectory");
                         const Scene scene = cli::load(a.scene);
                         require_paper_row(scene, "gapchain-attractors");
-                        // The search draws its own starts: a scene's start would be ignored.
-                        if (!scene.initial.empty())
-                            throw SceneError("initial: gapchain-attractors draws its own starts "
-                                             "(--samples, --seed, --box, --grid); drop the "
-                                             "scene's initial state (gapchain-sim runs it)");
                         check_line(app, a);
                         a.options.run = scene.run;
+                        a.options.center = scene.initial;
                         a.options.seed = static_cast<std::uint64_t>(a.seed);
                         a.options.slice = parse_slice(a, scene.reduced.Nm);
                         validate(a.options, scene.reduced.Nm);

@@ -219,7 +219,7 @@ struct DesignSearch {
                        "them and this run (0: no search)")
             ->check(cli::range(0L, 10'000'000L))
             ->capture_default_str();
-        const auto [seed_option, box_option] = cli::add_start_box(app, seed, options.box);
+        const auto [seed_option, box_option] = cli::add_start_box(app, seed, options.box, "rest");
         start_options = {seed_option, box_option,
                          app.add_option("--threads", options.threads,
                                         "OpenMP threads of the attractor search (0: all)")

@@ -15,13 +15,15 @@ constexpr const char* attractors_doc =
 
 The coexisting attractors of the paper's uniform row (harmonic forcing, linear law) from many
 starts: gapchain-attractors in-process (docs/attractors.md). Each start, drawn uniformly in a
-box of half-width box x A (A: eq (20)'s contact-free amplitude; velocities box x 2 pi f_r A),
-runs the scene's run section; the runs are grouped into attractors.
+box of half-width box x A (A: eq (20)'s contact-free amplitude; velocities box x 2 pi f_r A)
+around the scene's initial state (initial.u, initial.v; rest if it gives none), runs the
+scene's run section; the runs are grouped into attractors.
 
 samples         random starts, 1 .. 1e7;  seed  their seed, >= 0;  box  [1e-9, 100]
 section_points  stroboscopic points kept of a run that does not settle, 20 .. 100000
 grid            two state variables ("u1", "v1", ... "uNm", "vNm") for a basin slice of
-                resolution x resolution starts (2 .. 2000), the others at rest; or None
+                resolution x resolution starts (2 .. 2000), the others at the box's center;
+                or None
 threads         OpenMP threads (0: all); the results do not depend on it
 progress        callable(fraction)
 
@@ -65,6 +67,7 @@ AttractorOptions search_options(const Scene& scene, long samples, std::uint64_t 
     o.section_points = section_points;
     o.threads = threads;
     o.run = scene.run;
+    o.center = scene.initial;
     return o;
 }
 
@@ -153,7 +156,7 @@ py::dict attractors_py(const py::object& scene_arg, long samples, std::uint64_t 
                        int section_points, const py::object& grid, int resolution, int threads,
                        const py::object& progress, const py::kwargs& keys) {
     const Scene scene = to_scene(scene_arg, keys);
-    const ReducedParameters& p = searched_row(scene, "attractors");
+    const ReducedParameters& p = paper_row(scene, "attractors");
     AttractorOptions o = search_options(scene, samples, seed, box, section_points, threads);
     if (!grid.is_none()) {
         const auto names = grid_names(grid);
@@ -186,7 +189,7 @@ py::dict basin_fractions_py(const py::object& scene_arg, const std::string& para
                             int section_points, int threads, const py::object& progress,
                             const py::kwargs& keys) {
     const Scene scene = to_swept_scene(scene_arg, param, keys, "basin_fractions");
-    const ReducedParameters& p = searched_row(scene, "basin_fractions");
+    const ReducedParameters& p = paper_row(scene, "basin_fractions");
     const std::vector<double> values =
         fraction_line_values(p, parse_swept_parameter(param), from, to, steps);
     const AttractorOptions o = search_options(scene, samples, seed, box, section_points, threads);

@@ -94,14 +94,6 @@ void refuse_run_keys(const py::kwargs& keys, const std::string& function,
     }
 }
 
-const ReducedParameters& searched_row(const Scene& scene, const std::string& function) {
-    if (!scene.initial.empty())
-        throw std::invalid_argument("initial: the attractor search draws its own starts "
-                                    "(samples, seed, box, grid); drop the scene's initial state "
-                                    "(simulate() runs it)");
-    return paper_row(scene, function);
-}
-
 const ReducedParameters& paper_row(const Scene& scene, const std::string& function) {
     require_paper_row(scene, function + "()");
     return scene.reduced;

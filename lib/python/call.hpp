@@ -46,9 +46,6 @@ inline const std::vector<std::string> run_settings_keys{"run.scheme", "run.toler
 // The paper's row at one point, as the analyses of the five reduced numbers need it
 // (require_paper_row(), naming function()); SceneError otherwise.
 const ReducedParameters& paper_row(const Scene& scene, const std::string& function);
-// paper_row() of a scene whose attractors are searched from drawn starts: one that gives an
-// initial state (which the search would ignore) throws std::invalid_argument naming "initial".
-const ReducedParameters& searched_row(const Scene& scene, const std::string& function);
 
 // A study: a dict (the study as JSON) or a path to a study file. Bad input throws SceneError.
 Study to_study(const py::object& study);

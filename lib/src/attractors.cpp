@@ -39,6 +39,14 @@ void validate(const AttractorOptions& o, int Nm) {
     detail::require_range("chaos_threshold", o.chaos_threshold, 0.0, 1e3);
     detail::require_range("threads", o.threads, 0, 4096);
     validate(o.run);
+    if (!o.center.empty()) {
+        if (o.center.size() != static_cast<std::size_t>(2 * Nm))
+            throw std::invalid_argument("center: must have 2 Nm = " + std::to_string(2 * Nm) +
+                                        " entries (u then v) or none (rest), got " +
+                                        std::to_string(o.center.size()));
+        for (std::size_t i = 0; i < o.center.size(); ++i)
+            detail::require_range("center[" + std::to_string(i) + "]", o.center[i], -1e9, 1e9);
+    }
     if (o.slice) {
         detail::require_range("slice.first", o.slice->first, 0, 2 * Nm - 1);
         detail::require_range("slice.second", o.slice->second, 0, 2 * Nm - 1);
@@ -739,12 +747,18 @@ StateScale state_scale(const ReducedParameters& p) {
     return {A, 2.0 * std::numbers::pi * p.f_r * A, p.Nm};
 }
 
+/// The box's center, rest where none is given: dim entries.
+std::vector<double> box_center(const AttractorOptions& o, int dim) {
+    return o.center.empty() ? std::vector<double>(static_cast<std::size_t>(dim), 0.0) : o.center;
+}
+
 std::vector<double> axis_values(const AttractorOptions& o, const StateScale& scale, int index) {
     const int r = o.slice->resolution;
     const double half = o.box * scale.of(index);
+    const double middle = o.center.empty() ? 0.0 : o.center[static_cast<std::size_t>(index)];
     std::vector<double> v(static_cast<std::size_t>(r));
     for (int i = 0; i < r; ++i)
-        v[static_cast<std::size_t>(i)] = -half + 2.0 * half * i / (r - 1);
+        v[static_cast<std::size_t>(i)] = middle - half + 2.0 * half * i / (r - 1);
     return v;
 }
 
@@ -755,12 +769,13 @@ std::vector<std::vector<double>> attractor_starts(const ReducedParameters& p,
     validate(p, o);
     const StateScale scale = state_scale(p);
     const int dim = 2 * p.Nm;
+    const std::vector<double> center = box_center(o, dim);
     std::vector<std::vector<double>> starts;
     for (long k = 0; k < o.samples; ++k) {
-        std::vector<double> x(static_cast<std::size_t>(dim));
+        std::vector<double> x = center;
         for (int i = 0; i < dim; ++i) {
             const double u = detail::unit_interval(detail::hash3(o.seed, k, i));
-            x[static_cast<std::size_t>(i)] = o.box * scale.of(i) * (2.0 * u - 1.0);
+            x[static_cast<std::size_t>(i)] += o.box * scale.of(i) * (2.0 * u - 1.0);
         }
         starts.push_back(std::move(x));
     }
@@ -769,7 +784,7 @@ std::vector<std::vector<double>> attractor_starts(const ReducedParameters& p,
     const auto ys = axis_values(o, scale, o.slice->second);
     for (double y : ys)
         for (double x : xs) {
-            std::vector<double> s(static_cast<std::size_t>(dim), 0.0);
+            std::vector<double> s = center;
             s[static_cast<std::size_t>(o.slice->first)] = x;
             s[static_cast<std::size_t>(o.slice->second)] = y;
             starts.push_back(std::move(s));

@@ -428,9 +428,10 @@ def test_a_keyword_of_the_swept_parameter_is_refused():
                              **{"model.e": 0.004})
 
 
-def test_a_start_is_honoured_where_a_run_starts_and_refused_where_starts_are_drawn():
+def test_a_start_is_honoured_where_a_run_starts_and_centers_the_box_where_starts_are_drawn():
     # Issue 19's Fig 13 point: chaotic from rest, a torus (F_m 0.385) from this start. classify()
-    # and bifurcation() ignored a scene's initial state; the attractor search draws its own.
+    # and bifurcation() ignored a scene's initial state; the attractor search refused it, and
+    # now draws its starts around it: a small box there finds the torus alone.
     row = dict(Nm=5, fc=60, eps=0.5, e_r=0.06, f_r=3.2)
     start = {"initial": {"u": [0.5, -0.5, 0.5, -0.5, 0.5]}}
     scene = {"model": {k: row[k] for k in ("Nm", "fc", "eps", "e_r")},
@@ -440,11 +441,14 @@ def test_a_start_is_honoured_where_a_run_starts_and_refused_where_starts_are_dra
     diagram = gapchain.bifurcation(scene, param="e_r", from_=0.06, to=0.06, steps=1,
                                    transient=300, record=300)
     assert abs(diagram["F_m"][0] - 0.385) < 1e-3
-    for search in (lambda: gapchain.attractors(scene, samples=2),
-                   lambda: gapchain.basin_fractions(scene, param="f_r", from_=3.1, to=3.2,
-                                                    steps=2, samples=2)):
-        with pytest.raises(ValueError, match="^initial: the attractor search draws its own"):
-            search()
+    run = dict(periods=600, transient_periods=300)
+    near = gapchain.attractors(scene, samples=4, box=1e-3, **run)
+    assert list(near["attractors"]["regime"]) == ["quasi-periodic"]
+    assert list(near["attractors"]["samples"]) == [4]
+    assert abs(near["F_m_max"] - 0.3853) < 1e-3
+    line = gapchain.basin_fractions(scene, param="f_r", from_=3.15, to=3.2, steps=2, samples=4,
+                                    box=1e-3, **run)
+    assert abs(line["F_m"][1][0] - 0.3853) < 1e-3 and line["fraction"][1][0] == 1.0
 
 
 def test_a_seed_out_of_range_is_a_value_error_with_the_library_limit_and_long_doubles_pass():

@@ -472,17 +472,17 @@ std::string plus_minus(double error, const char* format) {
     return std::string("+- ") + number;
 }
 
-std::pair<CLI::Option*, CLI::Option*> add_start_box(CLI::App& app, long long& seed, double& box) {
+std::pair<CLI::Option*, CLI::Option*> add_start_box(CLI::App& app, long long& seed, double& box,
+                                                    const std::string& center) {
     CLI::Option* s = app.add_option("--seed", seed, "Seed of the random starts")
                          ->check(range(0LL, 1LL << 62))
                          ->capture_default_str();
-    CLI::Option* b =
-        app.add_option(
-               "--box", box,
-               "Half-width of the box of starts, in units of the contact-free amplitude "
-               "A of eq (20) (u in [-box A, box A], v in [-box 2 pi f_r A, box 2 pi f_r A])")
-            ->check(range(1e-9, 100.0))
-            ->capture_default_str();
+    CLI::Option* b = app.add_option("--box", box,
+                                    "Half-width of the box of starts around " + center +
+                                        ", in units of the contact-free amplitude A of eq (20) "
+                                        "(u within box A of it, v within box 2 pi f_r A)")
+                         ->check(range(1e-9, 100.0))
+                         ->capture_default_str();
     return {s, b};
 }
 

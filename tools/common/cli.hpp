@@ -131,8 +131,10 @@ CLI::Validator range(T lo, T hi) {
 }
 
 // --seed and --box of an attractor search's random starts (gapchain-attractors, and
-// gapchain-sim --attractors); returns the two options.
-std::pair<CLI::Option*, CLI::Option*> add_start_box(CLI::App& app, long long& seed, double& box);
+// gapchain-sim --attractors), the box around `center` (what its help calls the center);
+// returns the two options.
+std::pair<CLI::Option*, CLI::Option*> add_start_box(CLI::App& app, long long& seed, double& box,
+                                                    const std::string& center);
 
 // Tools that vary one reduced number themselves (bifurcation, continue, attractors --param)
 // refuse a --set of it, or of the physical key behind it alone (excitation.f, model.e, model.Kc,

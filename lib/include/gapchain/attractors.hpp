@@ -4,9 +4,11 @@
 /// the end of its run), grouped into attractors, with the F_m of each, its regime and period,
 /// its basin fraction with a sampling error, and the design value F_m_max over them.
 ///
-/// Starts are drawn uniformly in a box scaled by the contact-free amplitude A of eq (20):
-/// u_i in [-box A, box A], v_i in [-box 2 pi f_r A, box 2 pi f_r A] (reduced units: A is the
-/// amplitude a free body would have, the natural scale of the motion).
+/// Starts are drawn uniformly in a box scaled by the contact-free amplitude A of eq (20) around
+/// a center c (rest unless AttractorOptions::center says otherwise): u_i in [c - box A,
+/// c + box A], v_i in [c - box 2 pi f_r A, c + box 2 pi f_r A] (reduced units: A is the
+/// amplitude a free body would have, the natural scale of the motion). A small box around a
+/// state of interest (an unstable orbit, a suspected small basin) searches its neighbourhood.
 ///
 /// Grouping. A start whose run reaches a periodic steady state is Newton-confirmed
 /// (orbit.hpp); two periodic starts share an attractor when their orbits have the same minimal
@@ -43,7 +45,7 @@
 namespace gapchain {
 
 /// A two-variable slice of the basins: a resolution x resolution grid of starts over two state
-/// variables, the others at rest.
+/// variables, the others at the box's center (AttractorOptions::center; rest by default).
 struct BasinSlice {
     int first = 0;       ///< state index of the x axis, 0 .. 2 Nm - 1 (u_1..u_Nm, v_1..v_Nm)
     int second = 1;      ///< state index of the y axis, 0 .. 2 Nm - 1, not first
@@ -55,6 +57,9 @@ struct AttractorOptions {
     long samples = 200;     ///< random starts for the basin fractions, 1 .. 1e7
     std::uint64_t seed = 1; ///< seed of the starts, 0 .. 2^62
     double box = 1.0;       ///< half-width of the box of starts, in units of A, [1e-9, 100]
+    /// Centre of the box of starts and of the slice (2 Nm entries: u_1..u_Nm then v_1..v_Nm,
+    /// reduced units, each in [-1e9, 1e9] as a scene's initial state); empty: rest.
+    std::vector<double> center;
     /// Each start's run (steady-state stop on to finish early). Its estimate_error is taken as
     /// true and its multistability_check as false whatever they say: each start needs its
     /// F_m_error to be grouped, and the search itself replaces the twin.

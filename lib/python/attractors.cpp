@@ -50,7 +50,8 @@ constexpr const char* basin_fractions_doc =
 
 attractors() at `steps` values of `param` ("f_r", "e_r", "fc" or "eps") from from_ to to, with
 each attractor labelled across the line (seeded from the previous value's attractors, then
-by nearest centroid): gapchain-attractors --param in-process.
+by nearest centroid): gapchain-attractors --param in-process. The starts at every value are
+drawn in the box around the scene's initial state (rest if it gives none), as in attractors().
 
 Returns a dict: values, and per value x label (label_count columns) arrays fraction,
 fraction_error, F_m, F_m_error, period (NaN where the label is absent; period 0 for a

@@ -36,8 +36,9 @@ scene     None (the paper's defaults), a scene dict, or the path of a scene file
 trajectory  also return the (decimated) trajectory of the main run.
 attractors  also search the row's attractors from this many random starts, 0 .. 1e7 (as
             attractors(samples=...); seed, box and threads as there, by default 1, 1.0 and
-            0 (all cores), refused without attractors; the paper's uniform row only) and
-            return the design value over them and this run as "design_value".
+            0 (all cores), refused without attractors; the box around rest, whatever the
+            scene's initial state; the paper's uniform row only) and return the design value
+            over them and this run as "design_value".
 progress    callable(fraction in [0, 1]), called as the run advances.
 
 Returns a dict: F_m and F_m_error (reduced force; physically F = F_m M a0 sqrt(fc); F_m_error

@@ -499,7 +499,9 @@ std::string to_json(const AttractorSet& set, const AttractorOptions& o,
 
 std::string basin_slice_csv(const AttractorSet& set) {
     std::ostringstream os;
-    os.precision(12);
+    // Round-trip digits: a tiny box around a center far from 0 has grid steps near 1e-12 of
+    // the values.
+    os.precision(17);
     os << "x,y,attractor\n";
     const std::size_t nx = set.slice_first.size();
     for (std::size_t k = 0; k < set.slice_attractor.size(); ++k)

@@ -5,9 +5,9 @@
 /// its basin fraction with a sampling error, and the design value F_m_max over them.
 ///
 /// Starts are drawn uniformly in a box scaled by the contact-free amplitude A of eq (20) around
-/// a center c (rest unless AttractorOptions::center says otherwise): u_i in [c - box A,
-/// c + box A], v_i in [c - box 2 pi f_r A, c + box 2 pi f_r A] (reduced units: A is the
-/// amplitude a free body would have, the natural scale of the motion). A small box around a
+/// a center c (2 Nm entries; rest unless AttractorOptions::center says otherwise): u_i in
+/// [c_i - box A, c_i + box A], v_i in [c_{Nm+i} - box 2 pi f_r A, c_{Nm+i} + box 2 pi f_r A]
+/// (reduced units: A is the amplitude a free body would have, the natural scale of the motion). A small box around a
 /// state of interest (an unstable orbit, a suspected small basin) searches its neighbourhood.
 ///
 /// Grouping. A start whose run reaches a periodic steady state is Newton-confirmed
@@ -57,7 +57,7 @@ struct AttractorOptions {
     long samples = 200;     ///< random starts for the basin fractions, 1 .. 1e7
     std::uint64_t seed = 1; ///< seed of the starts, 0 .. 2^62
     double box = 1.0;       ///< half-width of the box of starts, in units of A, [1e-9, 100]
-    /// Centre of the box of starts and of the slice (2 Nm entries: u_1..u_Nm then v_1..v_Nm,
+    /// Center of the box of starts and of the slice (2 Nm entries: u_1..u_Nm then v_1..v_Nm,
     /// reduced units, each in [-1e9, 1e9] as a scene's initial state); empty: rest.
     std::vector<double> center;
     /// Each start's run (steady-state stop on to finish early). Its estimate_error is taken as

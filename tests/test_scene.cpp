@@ -106,6 +106,17 @@ TEST_CASE("a physical scene's initial state is in metres and metres per second")
     CHECK(error_of(R"({"initial": {"v": [0, 0]}})")
               .find("initial.v: must have model.Nm = 5 "
                     "entries, got 2") != std::string::npos);
+    // The entry and the value are named: "[NaN,0]" is no JSON array (JSON has no NaN), and a
+    // --set of one entry would have been refused as an unknown key "u[0]" next to a list
+    // naming u.
+    CHECK(error_of(R"({"model": {"Nm": 2}})", {"initial.u=[NaN,0]"})
+              .find("initial.u: must be an array of finite numbers, got \"[NaN,0]\"") !=
+          std::string::npos);
+    CHECK(error_of(R"({"model": {"Nm": 2}, "initial": {"u": [0, "a"]}})")
+              .find("initial.u[1]: must be a finite number, got \"a\"") != std::string::npos);
+    CHECK(error_of(R"({"model": {"Nm": 2}})", {"initial.u[0]=5"})
+              .find("a key cannot index into an array; give the whole array (initial.u=[...])") !=
+          std::string::npos);
 }
 
 TEST_CASE("bad input: every class gives one line naming the key") {

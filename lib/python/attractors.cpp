@@ -42,7 +42,7 @@ from_period, the median length; lifetime beyond it and lifetime_error, NaN with 
 ending beyond it; ended; censored, still going when their runs ended; rate_ratio and its error,
 the later half's ending rate over the earlier's; constant_rate, "untested", "consistent" or
 "rejected"; periods_until_1_percent, NaN unless consistent),
-failed, amplitude (A), and with grid: slice_x, slice_y and slice_attractor
+failed, amplitude (A), center (the box's center: 2 Nm reduced values), and with grid: slice_x, slice_y and slice_attractor
 (resolution x resolution, rows along y); wall_time_s, cancelled.)";
 
 constexpr const char* basin_fractions_doc =
@@ -57,7 +57,8 @@ Returns a dict: values, and per value x label (label_count columns) arrays fract
 fraction_error, F_m, F_m_error, period (NaN where the label is absent; period 0 for a
 non-periodic attractor); unsettled (per value: groups still converging, whose F_m is a
 transient's); transient_lifetime and transient_lifetime_error (per value: the transients'
-lifetime of attractors(), NaN where not measured); label_count, wall_time_s, cancelled.)";
+lifetime of attractors(), NaN where not measured); center (the box's center, 2 Nm reduced
+values); label_count, wall_time_s, cancelled.)";
 
 AttractorOptions search_options(const Scene& scene, long samples, std::uint64_t seed, double box,
                                 int section_points, int threads) {
@@ -70,6 +71,12 @@ AttractorOptions search_options(const Scene& scene, long samples, std::uint64_t 
     o.run = scene.run;
     o.center = scene.initial;
     return o;
+}
+
+// The box's center as the search used it, rest written out (2 Nm reduced values).
+py::array_t<double> center_array(const AttractorOptions& o, int Nm) {
+    return array(o.center.empty() ? std::vector<double>(static_cast<std::size_t>(2 * Nm), 0.0)
+                                  : o.center);
 }
 
 // grid as ("u1", "v1") or "u1,v1" (the CLI's form).
@@ -167,7 +174,9 @@ py::dict attractors_py(const py::object& scene_arg, long samples, std::uint64_t 
     }
     Call call(progress);
     const AttractorSet s = call.run([&] { return find_attractors(p, o, call.callback()); });
-    return set_dict(s);
+    py::dict d = set_dict(s);
+    d["center"] = center_array(o, p.Nm);
+    return d;
 }
 
 // values x labels, NaN (or `absent`) where a label is absent at a value.
@@ -217,6 +226,7 @@ py::dict basin_fractions_py(const py::object& scene_arg, const std::string& para
         column<double>(c.sets, [](const AttractorSet& set) { return set.transients.lifetime; });
     d["transient_lifetime_error"] = column<double>(
         c.sets, [](const AttractorSet& set) { return set.transients.lifetime_error; });
+    d["center"] = center_array(o, p.Nm);
     d["label_count"] = c.label_count;
     d["wall_time_s"] = c.wall_time_s;
     d["cancelled"] = c.cancelled;

@@ -135,6 +135,20 @@ void validate(const ReducedParameters& p, const AttractorOptions& options) {
                          work.breakdown,
                          "fewer starts, a coarser slice, a shorter run.periods, or raise "
                          "run.max_work");
+    // A box narrower than 1e-12 of its center's entry draws starts a few doubles apart (around
+    // 1e9, 1e-9 A is below one double's spacing): the fractions would count the same start
+    // many times.
+    const double A = single_body_amplitude(p.f_r, p.eps);
+    for (std::size_t i = 0; i < options.center.size(); ++i) {
+        const double half =
+            options.box * A * (static_cast<int>(i) < p.Nm ? 1.0 : 2.0 * std::numbers::pi * p.f_r);
+        if (half < 1e-12 * std::abs(options.center[i]))
+            throw std::invalid_argument(
+                "box: half-width " + detail::format_number(half) + " is below 1e-12 of center[" +
+                std::to_string(i) + "] = " + detail::format_number(options.center[i]) +
+                ": the starts would not differ; raise box to at least " +
+                detail::format_number(1e-12 * std::abs(options.center[i]) / half * options.box));
+    }
     const RunOptions run = with_transient_resolved(dyn, options.run);
     const long window = run.periods - run.transient_periods;
     if (window < 20)
@@ -442,13 +456,16 @@ int reached(const StartOutcome& s, const std::vector<Attractor>& attractors,
 
 /// A non-settling group may be a chaotic transient that outlasted its runs (issue 19's Nm = 2
 /// row: 1 start in 200 still wandering after 1000 periods, F_m 1.176 against the one
-/// attractor's 1.070). Its first member's run is continued as long again: a group whose
-/// continuation reaches another attractor merges into it; one whose continuation settles on an
-/// orbit no start reached becomes that orbit; one that still does not settle stands. Ids are
-/// renumbered in order. False if progress cancelled a continuation.
+/// attractor's 1.070). Its first member's run is continued for `periods` more
+/// (confirmation_periods()): a group whose continuation reaches another attractor merges into
+/// it; one whose continuation settles on an orbit no start reached becomes that orbit; one that
+/// still does not settle stands. Ids are renumbered in order. False if progress cancelled a
+/// continuation.
 bool confirm_non_periodic(const Dynamics& dyn, const StateScale& scale, const AttractorOptions& o,
-                          std::vector<Attractor>& attractors, std::vector<int>& labels,
-                          const ProgressCallback& keep_going) {
+                          long periods, std::vector<Attractor>& attractors,
+                          std::vector<int>& labels, const ProgressCallback& keep_going) {
+    AttractorOptions continued = o;
+    continued.run.periods = periods;
     std::vector<int> merged_into(attractors.size(), -1);
     const auto root = [&](int id) {
         while (merged_into[static_cast<std::size_t>(id)] >= 0)
@@ -457,7 +474,7 @@ bool confirm_non_periodic(const Dynamics& dyn, const StateScale& scale, const At
     };
     for (auto& a : attractors) {
         if (a.period != 0) continue;
-        const StartOutcome more = run_start(dyn, o, a.state, keep_going);
+        const StartOutcome more = run_start(dyn, continued, a.state, keep_going);
         if (keep_going && !keep_going(1.0)) return false;
         if (more.failed) continue;
         const int other = reached(more, attractors, scale, o, a.id);
@@ -481,7 +498,7 @@ bool confirm_non_periodic(const Dynamics& dyn, const StateScale& scale, const At
     return true;
 }
 
-/// Whether the runs of a non-periodic group (run.periods, and as long again in
+/// Whether the runs of a non-periodic group (run.periods, and at least as long again in
 /// confirm_non_periodic) last more than four times the contact-free row's decay time to
 /// SteadyStateDetector::far_distance: the rule by which gapchain-sim tells a chaotic transient
 /// from a start-up. Shorter runs have not let the row's damping act: at eps = 1e-9 a
@@ -700,6 +717,46 @@ void add_transient(const StartOutcome& s, long run_periods, int max_steady_perio
         going.push_back(std::min(entry, run_periods));
 }
 
+/// The transients of the random starts (the first random_starts of labels) whose label is a
+/// periodic attractor.
+TransientLifetime periodic_transients(const std::vector<StartOutcome>& outcomes,
+                                      const std::vector<int>& labels, long random_starts,
+                                      const std::vector<Attractor>& attractors, long run_periods,
+                                      int max_steady_period) {
+    std::vector<long> ended, going;
+    for (std::size_t k = 0; static_cast<long>(k) < random_starts && k < labels.size(); ++k)
+        if (labels[k] >= 0 && attractors[static_cast<std::size_t>(labels[k])].period != 0)
+            add_transient(outcomes[k], run_periods, max_steady_period, ended, going);
+    return transient_lifetime(std::move(ended), std::move(going));
+}
+
+/// How long confirm_non_periodic() continues a non-periodic group's first member: ten
+/// lifetimes beyond the median of the transients that ended on periodic attractors, where
+/// those were measured (a saddle's transient survives that with odds e^-10 / 2); four times
+/// run.periods where periodic attractors were reached but too few transients ended to measure
+/// it (Nm = 2 row, 40 starts of 200 periods: 15 still wandered, and continued 200 more, one
+/// group stood in one seed of 16); else as long again (no orbit was reached: the group is
+/// likely the row's chaos). At least run.periods, at most ten times that and what
+/// run.max_work allows one run.
+/// As long again was too short where the transients are long: at Fig 13's f_r = 3.2, around
+/// the period-15 orbit, 4 of 100 starts of 5000 periods still wandered, and the first, continued
+/// 5000 more, too; it was listed as a chaotic attractor (F_m 0.262, above the orbit's 0.214,
+/// so the design value) though it lands on the orbit at period 10,901. The search measured
+/// lifetime 997 periods beyond a median of 2576 there.
+long confirmation_periods(const Dynamics& dyn, const RunOptions& run,
+                          const TransientLifetime& transients, bool orbit_reached) {
+    double periods = static_cast<double>(run.periods);
+    if (std::isfinite(transients.lifetime) && std::isfinite(transients.from_period))
+        periods = std::max(periods, transients.from_period + 10.0 * transients.lifetime);
+    else if (orbit_reached)
+        periods = 4.0 * static_cast<double>(run.periods);
+    const StepPlan plan = plan_run(dyn, run);
+    const double affordable =
+        run.max_work / (static_cast<double>(dyn.bodies()) * plan.steps_per_period);
+    periods = std::min({periods, 10.0 * static_cast<double>(run.periods), affordable});
+    return std::max(run.periods, static_cast<long>(std::ceil(periods)));
+}
+
 /// The settling statistics and F_m_runs of each attractor over its random starts (an attractor
 /// only slice starts reach keeps NaN: it has none). A start that joined a periodic attractor
 /// without settling (still converging, or a transient group merged into it) is still settling:
@@ -707,7 +764,6 @@ void add_transient(const StartOutcome& s, long run_periods, int max_steady_perio
 void settle_statistics(const std::vector<StartOutcome>& outcomes, long run_periods,
                        int max_steady_period, AttractorSet& set) {
     std::vector<std::vector<long>> lifetimes(set.attractors.size());
-    std::vector<long> ended, going;
     constexpr long censored = std::numeric_limits<long>::max();
     for (std::size_t k = 0; k < set.sample_attractor.size(); ++k) {
         const StartOutcome& s = outcomes[k];
@@ -723,9 +779,10 @@ void settle_statistics(const std::vector<StartOutcome>& outcomes, long run_perio
         if (a.period == 0) continue;
         lifetimes[static_cast<std::size_t>(id)].push_back(s.settle_period >= 0 ? s.settle_period
                                                                                : censored);
-        add_transient(s, run_periods, max_steady_period, ended, going);
     }
-    set.transients = transient_lifetime(std::move(ended), std::move(going));
+    set.transients = periodic_transients(outcomes, set.sample_attractor,
+                                         static_cast<long>(set.sample_attractor.size()),
+                                         set.attractors, run_periods, max_steady_period);
     for (auto& a : set.attractors) {
         auto& t = lifetimes[static_cast<std::size_t>(a.id)];
         if (t.empty()) continue;
@@ -814,7 +871,14 @@ AttractorSet find_attractors(const ReducedParameters& p, const AttractorOptions&
     auto labels = group_outcomes(outcomes, starts, scale, o, set.attractors);
     // The extra runs come after every start: they report the search as done, and may cancel it.
     const ProgressCallback at_end = [&](double) { return !progress || progress(1.0); };
-    if (!confirm_non_periodic(dyn, scale, o, set.attractors, labels, at_end)) {
+    const bool orbit_reached = std::any_of(set.attractors.begin(), set.attractors.end(),
+                                           [](const Attractor& a) { return a.period != 0; });
+    const long continued =
+        confirmation_periods(dyn, o.run,
+                             periodic_transients(outcomes, labels, o.samples, set.attractors,
+                                                 o.run.periods, o.run.max_steady_period),
+                             orbit_reached);
+    if (!confirm_non_periodic(dyn, scale, o, continued, set.attractors, labels, at_end)) {
         set.attractors.clear();
         set.cancelled = true;
         return set;

@@ -64,13 +64,27 @@ void apply_override(json& root, const std::string& assignment) {
                           "--set \"" + assignment + "\"");
 }
 
+/// A JSON value as a message shows it: its text, cut after 60 characters.
+std::string shown_value(const json& j) {
+    std::string text = j.dump();
+    if (text.size() > 60) text = text.substr(0, 57) + "...";
+    return text;
+}
+
 std::vector<double> number_array(const json& j, const std::string& key) {
-    if (!j.is_array()) throw SceneError(key + ": must be an array of numbers");
+    // A --set value that is not JSON arrives as a string: "[NaN,0]" names a number JSON lacks.
+    if (!j.is_array())
+        throw SceneError(key + ": must be an array of finite numbers, got " + shown_value(j));
     std::vector<double> out;
-    for (const auto& x : j) {
-        if (!x.is_number()) throw SceneError(key + ": must be an array of numbers");
+    for (std::size_t i = 0; i < j.size(); ++i) {
+        const json& x = j[i];
+        const std::string entry = key + "[" + std::to_string(i) + "]";
+        if (!x.is_number())
+            throw SceneError(entry + ": must be a finite number, got " + shown_value(x));
         const double v = x.get<double>();
-        if (!std::isfinite(v)) throw SceneError(key + ": every entry must be finite");
+        if (!std::isfinite(v))
+            throw SceneError(entry + ": must be a finite number, got " +
+                             std::string(std::isnan(v) ? "nan" : "inf"));
         out.push_back(v);
     }
     return out;
@@ -626,6 +640,10 @@ void set_scene_key(json& root, const std::string& path, json value, const std::s
         throw SceneError(context + ": unknown key; a scene key is section.key (model.fc, "
                                    "excitation.f_r, run.periods, ...)");
     if (key.empty()) throw SceneError(context + ": expected section.key, got \"" + path + "\"");
+    // "initial.u[0]" would be read as an unknown key named "u[0]", next to a list naming u.
+    if (const auto bracket = path.find('['); bracket != std::string::npos)
+        throw SceneError(context + ": a key cannot index into an array; give the whole array (" +
+                         path.substr(0, bracket) + "=[...])");
     json* parent = &root;
     for (std::size_t start = 0; start <= last_dot;) {
         const auto end = path.find('.', start);

@@ -446,9 +446,11 @@ def test_a_start_is_honoured_where_a_run_starts_and_centers_the_box_where_starts
     assert list(near["attractors"]["regime"]) == ["quasi-periodic"]
     assert list(near["attractors"]["samples"]) == [4]
     assert abs(near["F_m_max"] - 0.3853) < 1e-3
+    assert list(near["center"]) == [0.5, -0.5, 0.5, -0.5, 0.5] + [0.0] * 5
     line = gapchain.basin_fractions(scene, param="f_r", from_=3.15, to=3.2, steps=2, samples=4,
                                     box=1e-3, **run)
     assert abs(line["F_m"][1][0] - 0.3853) < 1e-3 and line["fraction"][1][0] == 1.0
+    assert list(line["center"]) == list(near["center"])
 
 
 def test_a_seed_out_of_range_is_a_value_error_with_the_library_limit_and_long_doubles_pass():

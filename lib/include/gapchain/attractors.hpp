@@ -7,8 +7,9 @@
 /// Starts are drawn uniformly in a box scaled by the contact-free amplitude A of eq (20) around
 /// a center c (2 Nm entries; rest unless AttractorOptions::center says otherwise): u_i in
 /// [c_i - box A, c_i + box A], v_i in [c_{Nm+i} - box 2 pi f_r A, c_{Nm+i} + box 2 pi f_r A]
-/// (reduced units: A is the amplitude a free body would have, the natural scale of the motion). A small box around a
-/// state of interest (an unstable orbit, a suspected small basin) searches its neighbourhood.
+/// (reduced units: A is the amplitude a free body would have, the natural scale of the motion). A
+/// small box around a state of interest (an unstable orbit, a suspected small basin) searches its
+/// neighbourhood.
 ///
 /// Grouping. A start whose run reaches a periodic steady state is Newton-confirmed
 /// (orbit.hpp); two periodic starts share an attractor when their orbits have the same minimal
@@ -21,8 +22,10 @@
 /// disjoint attractors are separated by a distance that does not shrink as points are added.
 /// A run that ends within 1e-2 (scaled) of a stable periodic attractor's points is still
 /// converging to it and joins it. Each non-periodic group is confirmed by continuing its first
-/// member's run as long again: if that reaches another attractor, or settles on an orbit, the
-/// group was a transient that outlasted its runs and joins it (or becomes that orbit).
+/// member's run (ten lifetimes of the search's measured transients beyond their median, or four
+/// run lengths where orbits were reached but no lifetime measured, or one; between one and ten
+/// run lengths, within run.max_work): if that reaches another attractor, or settles on an orbit,
+/// the group was a transient that outlasted its runs and joins it (or becomes that orbit).
 ///
 /// Settling. Each start that settles on a periodic attractor reports where its transient ended:
 /// the period from which on its state stayed within 1e-3 (relative) of repeating

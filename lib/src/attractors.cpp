@@ -500,18 +500,31 @@ bool confirm_non_periodic(const Dynamics& dyn, const StateScale& scale, const At
 
 /// Whether the runs of a non-periodic group (run.periods, and at least as long again in
 /// confirm_non_periodic) last more than four times the contact-free row's decay time to
-/// SteadyStateDetector::far_distance: the rule by which gapchain-sim tells a chaotic transient
-/// from a start-up. Shorter runs have not let the row's damping act: at eps = 1e-9 a
+/// SteadyStateDetector::far_distance of the motion's scale, from the farthest start (reach:
+/// in units of that scale, at least 1): the rule by which gapchain-sim tells a chaotic
+/// transient from a start-up. Shorter runs have not let the row's damping act: at eps = 1e-9 a
 /// 100-period search called the nearly conservative row's wandering a chaotic attractor
-/// (lambda_max +0.5, basin 1) though it decays to 1e-3 in 1.4e9 periods.
-bool outlasts_decay(const Dynamics& dyn, const RunOptions& run) {
-    return 2 * run.periods > 4 * start_up_decay_periods(dyn, SteadyStateDetector::far_distance);
+/// (lambda_max +0.5, basin 1) though it decays to 1e-3 in 1.4e9 periods; and a box centered
+/// 9.4e8 A from rest (40-period runs of a physical scene) called the ring-down a chaotic
+/// attractor of F_m 9.4e5 and made it the design value.
+bool outlasts_decay(const Dynamics& dyn, const RunOptions& run, double reach) {
+    const double tolerance = SteadyStateDetector::far_distance / std::max(1.0, reach);
+    return 2 * run.periods > 4 * start_up_decay_periods(dyn, tolerance);
+}
+
+/// How far the box's farthest start lies from rest, in units of the motion's scale (A for u,
+/// 2 pi f_r A for v).
+double box_reach(const AttractorOptions& o, const StateScale& scale) {
+    double center = 0.0;
+    for (std::size_t i = 0; i < o.center.size(); ++i)
+        center = std::max(center, std::abs(o.center[i]) / scale.of(static_cast<int>(i)));
+    return center + o.box;
 }
 
 /// lambda_max and the regime of each attractor: from the multipliers of a confirmed orbit,
 /// else from a tangent run on the attractor.
 void characterise(const Dynamics& dyn, const ReducedParameters& p, const AttractorOptions& o,
-                  std::vector<Attractor>& attractors, int threads) {
+                  double reach, std::vector<Attractor>& attractors, int threads) {
     detail::parallel_for(
         static_cast<long>(attractors.size()), threads,
         [&](long k) {
@@ -553,7 +566,7 @@ void characterise(const Dynamics& dyn, const ReducedParameters& p, const Attract
             // pi / eps = 0.031 per unit time; at f_r = 1e4, 60 periods span 0.006 time units
             // and a 300-period tangent run measured +0.24). Nor is one whose runs the row's
             // damping has not had time to act on (outlasts_decay).
-            a.settled = a.F_m > 0.0 && a.lambda_max >= -margin && outlasts_decay(dyn, o.run);
+            a.settled = a.F_m > 0.0 && a.lambda_max >= -margin && outlasts_decay(dyn, o.run, reach);
         },
         [](long) { return true; });
 }
@@ -883,7 +896,7 @@ AttractorSet find_attractors(const ReducedParameters& p, const AttractorOptions&
         set.cancelled = true;
         return set;
     }
-    characterise(dyn, p, o, set.attractors, set.threads_used);
+    characterise(dyn, p, o, box_reach(o, scale), set.attractors, set.threads_used);
     count_members(labels, o.samples, set);
     settle_statistics(outcomes, o.run.periods, o.run.max_steady_period, set);
     if (o.slice) {

@@ -100,8 +100,9 @@ struct Attractor {
     /// False for a non-periodic group whose lambda_max is negative beyond max(chaos_threshold,
     /// 3 errors) (its runs were still converging to a stable orbit when they ended), that never
     /// touched (the damped linear row has one attractor, a periodic one), or whose runs last
-    /// less than four decay times of the contact-free row (eps near 0): its F_m is a
-    /// transient's (raise run.periods). Shown as the regime "unsettled".
+    /// less than four decay times of the contact-free row from the box's farthest start (eps
+    /// near 0, or a center far from rest): its F_m is a transient's (raise run.periods). Shown
+    /// as the regime "unsettled".
     bool settled = true;
     bool newton_confirmed = false; ///< periodic: the orbit converged under Newton
     double max_multiplier = 0.0;   ///< periodic: largest Floquet multiplier modulus

@@ -489,8 +489,8 @@ TEST_CASE("bad options are refused naming the option") {
 TEST_CASE("a chaotic transient that outlasts the runs is not an attractor (issue 19's Nm = 2 "
           "row)") {
     // With the default 1000 periods one start of these 200 is still in the transient at the
-    // end (F_m 1.176, lambda_max +0.05); run on as long again it reaches the period-3 orbit,
-    // the row's one attractor (700 starts with 3000 periods, docs/attractors.md).
+    // end (F_m 1.176, lambda_max +0.05); run on (confirm_non_periodic) it reaches the period-3
+    // orbit, the row's one attractor (700 starts with 3000 periods, docs/attractors.md).
     AttractorOptions o;
     o.samples = 200;
     const AttractorSet set = find_attractors({2, 200, 0.1, 0.351, 0.626}, o);
@@ -562,6 +562,16 @@ TEST_CASE("a transient that outlasts its runs and as long again is still no attr
         CHECK(set.attractors.front().samples == 40);
         CHECK(set.unsettled == 0);
         CHECK(set.F_m_max == doctest::Approx(1.0703507).epsilon(1e-6));
+    }
+    // The continuation is held to run.max_work in whole periods: with room for 450.5 periods
+    // it was rounded up to 451, refused after every start had run.
+    AttractorOptions tight;
+    tight.samples = 2;
+    tight.run.periods = 200;
+    tight.run.max_work = 453203;
+    for (std::uint64_t seed : {1, 2}) {
+        tight.seed = seed;
+        CHECK_NOTHROW(find_attractors({2, 200, 0.1, 0.351, 0.626}, tight));
     }
 }
 

@@ -112,6 +112,10 @@ TEST_CASE("a physical scene's initial state is in metres and metres per second")
     CHECK(error_of(R"({"model": {"Nm": 2}})", {"initial.u=[NaN,0]"})
               .find("initial.u: must be an array of finite numbers, got \"[NaN,0]\"") !=
           std::string::npos);
+    // A value that is neither JSON nor UTF-8 is named too (showing it threw nlohmann's
+    // type_error, exit 1 from the tools).
+    CHECK(error_of(R"({"model": {"Nm": 2}})", {"initial.u=\xff"})
+              .find("initial.u: must be an array of finite numbers, got") != std::string::npos);
     CHECK(error_of(R"({"model": {"Nm": 2}, "initial": {"u": [0, "a"]}})")
               .find("initial.u[1]: must be a finite number, got \"a\"") != std::string::npos);
     CHECK(error_of(R"({"model": {"Nm": 2}})", {"initial.u[0]=5"})

@@ -122,9 +122,16 @@ std::string unsettled_reason(const AttractorOptions& o) {
            std::to_string(o.run.max_steady_period) + ") if their orbits may be longer";
 }
 
+// Where the starts were drawn, when not around rest: fractions.csv has no place for it.
+void print_center(const AttractorOptions& o) {
+    if (!o.center.empty())
+        std::printf("starts in a box of %g A around the scene's initial state\n", o.box);
+}
+
 void print_set(const AttractorSet& s, const AttractorOptions& o) {
     std::printf("%zu attractor(s) from %ld starts (%ld failed), %.2f s on %d thread(s)\n",
                 s.attractors.size(), o.samples, s.failed, s.wall_time_s, s.threads_used);
+    print_center(o);
     for (const auto& a : s.attractors) {
         std::printf("  #%d %-14s", a.id, std::string(regime_label(a)).c_str());
         if (a.period > 0)
@@ -193,6 +200,7 @@ void run_line(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs) 
     outputs.keep();
     std::printf("gapchain-attractors: %s from %g to %g (%d values): %d attractor labels, %.2f s\n",
                 a.param.c_str(), a.from, a.to, a.steps, c.label_count, c.wall_time_s);
+    print_center(a.options);
     int unsettled = 0;
     for (const auto& set : c.sets)
         unsettled += set.unsettled;

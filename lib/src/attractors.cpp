@@ -103,8 +103,10 @@ struct SearchWork {
 };
 
 SearchWork search_work(const Dynamics& dyn, const StepPlan& plan, const AttractorOptions& options) {
-    // run.max_work bounds the whole search, as it bounds a Lyapunov run with its tangent
-    // vectors: 1e7 starts of 20,000 periods were accepted and ran for years.
+    // run.max_work bounds the starts of the search, as it bounds a Lyapunov run with its tangent
+    // vectors: 1e7 starts of 20,000 periods were accepted and ran for years. The confirmation
+    // runs (one per non-periodic group, up to ten run lengths) are held to it one by one
+    // (confirmation_periods()), not counted here: their number is not known before the starts.
     const double starts =
         static_cast<double>(options.samples) +
         (options.slice ? std::pow(static_cast<double>(options.slice->resolution), 2.0) : 0.0);
@@ -146,7 +148,8 @@ void validate(const ReducedParameters& p, const AttractorOptions& options) {
             throw std::invalid_argument(
                 "box: half-width " + detail::format_number(half) + " is below 1e-12 of center[" +
                 std::to_string(i) + "] = " + detail::format_number(options.center[i]) +
-                ": the starts would not differ; raise box to at least " +
+                ": the starts would not differ; move the center nearer rest, or raise box to at "
+                "least " +
                 detail::format_number(1e-12 * std::abs(options.center[i]) / half * options.box));
     }
     const RunOptions run = with_transient_resolved(dyn, options.run);
@@ -731,7 +734,9 @@ void add_transient(const StartOutcome& s, long run_periods, int max_steady_perio
 }
 
 /// The transients of the random starts (the first random_starts of labels) whose label is a
-/// periodic attractor.
+/// periodic attractor. Before confirm_non_periodic() the members of a group that will merge
+/// into an orbit are not among them: the lifetime leaves out the longest transients, and comes
+/// out somewhat short.
 TransientLifetime periodic_transients(const std::vector<StartOutcome>& outcomes,
                                       const std::vector<int>& labels, long random_starts,
                                       const std::vector<Attractor>& attractors, long run_periods,
@@ -766,8 +771,11 @@ long confirmation_periods(const Dynamics& dyn, const RunOptions& run,
     const StepPlan plan = plan_run(dyn, run);
     const double affordable =
         run.max_work / (static_cast<double>(dyn.bodies()) * plan.steps_per_period);
-    periods = std::min({periods, 10.0 * static_cast<double>(run.periods), affordable});
-    return std::max(run.periods, static_cast<long>(std::ceil(periods)));
+    // Whole periods within the budget (rounding up made the run refused after every start had
+    // run), and within validate(RunOptions)'s 1e9.
+    periods = std::min(
+        {std::ceil(periods), 10.0 * static_cast<double>(run.periods), std::floor(affordable), 1e9});
+    return std::max(run.periods, static_cast<long>(periods));
 }
 
 /// The settling statistics and F_m_runs of each attractor over its random starts (an attractor

@@ -66,7 +66,8 @@ void apply_override(json& root, const std::string& assignment) {
 
 /// A JSON value as a message shows it: its text, cut after 60 characters.
 std::string shown_value(const json& j) {
-    std::string text = j.dump();
+    // A --set value that is no JSON arrives as a string, maybe not UTF-8: dump() would throw.
+    std::string text = j.dump(-1, ' ', false, json::error_handler_t::replace);
     if (text.size() > 60) text = text.substr(0, 57) + "...";
     return text;
 }

@@ -73,12 +73,6 @@ AttractorOptions search_options(const Scene& scene, long samples, std::uint64_t 
     return o;
 }
 
-// The box's center as the search used it, rest written out (2 Nm reduced values).
-py::array_t<double> center_array(const AttractorOptions& o, int Nm) {
-    return array(o.center.empty() ? std::vector<double>(static_cast<std::size_t>(2 * Nm), 0.0)
-                                  : o.center);
-}
-
 // grid as ("u1", "v1") or "u1,v1" (the CLI's form).
 std::vector<std::string> grid_names(const py::object& grid) {
     std::vector<std::string> names;
@@ -175,7 +169,7 @@ py::dict attractors_py(const py::object& scene_arg, long samples, std::uint64_t 
     Call call(progress);
     const AttractorSet s = call.run([&] { return find_attractors(p, o, call.callback()); });
     py::dict d = set_dict(s);
-    d["center"] = center_array(o, p.Nm);
+    d["center"] = array(box_center(o, p.Nm));
     return d;
 }
 
@@ -226,7 +220,7 @@ py::dict basin_fractions_py(const py::object& scene_arg, const std::string& para
         column<double>(c.sets, [](const AttractorSet& set) { return set.transients.lifetime; });
     d["transient_lifetime_error"] = column<double>(
         c.sets, [](const AttractorSet& set) { return set.transients.lifetime_error; });
-    d["center"] = center_array(o, p.Nm);
+    d["center"] = array(box_center(o, p.Nm));
     d["label_count"] = c.label_count;
     d["wall_time_s"] = c.wall_time_s;
     d["cancelled"] = c.cancelled;

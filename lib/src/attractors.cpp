@@ -57,6 +57,11 @@ void validate(const AttractorOptions& o, int Nm) {
     }
 }
 
+std::vector<double> box_center(const AttractorOptions& options, int Nm) {
+    return options.center.empty() ? std::vector<double>(static_cast<std::size_t>(2 * Nm), 0.0)
+                                  : options.center;
+}
+
 BasinSlice basin_slice(std::string_view first, std::string_view second, int Nm, int resolution) {
     const auto index = [Nm](std::string_view name) {
         const std::invalid_argument bad("grid: expected u1..u" + std::to_string(Nm) + " or v1..v" +
@@ -525,7 +530,7 @@ double box_reach(const AttractorOptions& o, const StateScale& scale) {
 }
 
 /// lambda_max and the regime of each attractor: from the multipliers of a confirmed orbit,
-/// else from a tangent run on the attractor.
+/// else from a tangent run on the attractor; reach is box_reach() (outlasts_decay()).
 void characterise(const Dynamics& dyn, const ReducedParameters& p, const AttractorOptions& o,
                   double reach, std::vector<Attractor>& attractors, int threads) {
     detail::parallel_for(
@@ -825,11 +830,6 @@ StateScale state_scale(const ReducedParameters& p) {
     return {A, 2.0 * std::numbers::pi * p.f_r * A, p.Nm};
 }
 
-/// The box's center, rest where none is given: dim entries.
-std::vector<double> box_center(const AttractorOptions& o, int dim) {
-    return o.center.empty() ? std::vector<double>(static_cast<std::size_t>(dim), 0.0) : o.center;
-}
-
 std::vector<double> axis_values(const AttractorOptions& o, const StateScale& scale, int index) {
     const int r = o.slice->resolution;
     const double half = o.box * scale.of(index);
@@ -847,7 +847,7 @@ std::vector<std::vector<double>> attractor_starts(const ReducedParameters& p,
     validate(p, o);
     const StateScale scale = state_scale(p);
     const int dim = 2 * p.Nm;
-    const std::vector<double> center = box_center(o, dim);
+    const std::vector<double> center = box_center(o, p.Nm);
     std::vector<std::vector<double>> starts;
     for (long k = 0; k < o.samples; ++k) {
         std::vector<double> x = center;

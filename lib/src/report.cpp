@@ -479,10 +479,8 @@ std::string to_json(const AttractorSet& set, const AttractorOptions& o,
     j["failed"] = set.failed;
     j["seed"] = o.seed;
     j["box"] = o.box;
-    // The box's center as the search used it: rest written out, so a reader need not know
-    // the default.
-    j["center"] =
-        o.center.empty() ? std::vector<double>(static_cast<std::size_t>(2 * p.Nm), 0.0) : o.center;
+    // Rest written out, so a reader need not know the default.
+    j["center"] = box_center(o, p.Nm);
     j["amplitude"] = set.amplitude;
     j["section_points"] = o.section_points;
     j["run"] = {{"periods", o.run.periods},

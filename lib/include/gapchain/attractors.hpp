@@ -81,6 +81,10 @@ struct AttractorOptions {
 /// Throws std::invalid_argument naming the first option outside its range (Nm: the row's).
 void validate(const AttractorOptions& options, int Nm);
 
+/// The center of the box of starts as a search of a row of Nm bodies uses it: options.center,
+/// or rest (2 Nm zeros) where it is empty. Reduced units.
+std::vector<double> box_center(const AttractorOptions& options, int Nm);
+
 /// The basin slice over the state variables named first and second ("u1".."uNm",
 /// "v1".."vNm"), resolution points per axis. Throws std::invalid_argument naming "grid" for any
 /// other name or the same name twice.

@@ -148,8 +148,10 @@ void print_result(const Scene& scene, const SimulationResult& r, bool searched) 
 void print_design(const Scene& scene, const SimulationResult& r, const DesignValue& d,
                   const AttractorOptions& o) {
     const AttractorSet& set = d.search;
-    std::printf("design value over %zu attractor(s) from %ld starts (%.2f s): ",
-                set.attractors.size(), o.samples, set.wall_time_s);
+    // The run starts at the scene's initial state; the search's box stays around rest.
+    std::printf("design value over %zu attractor(s) from %ld starts%s (%.2f s): ",
+                set.attractors.size(), o.samples, scene.initial.empty() ? "" : " around rest",
+                set.wall_time_s);
     if (set.F_m_max_id < 0) {
         std::printf("no attractor found (every start failed)\n");
         return;

@@ -89,6 +89,19 @@ std::string_view regime_label(const Attractor& a) {
 
 namespace {
 
+/// The row's natural scales: u in units of A, v in units of 2 pi f_r A.
+struct StateScale {
+    double u = 1.0;
+    double v = 1.0;
+    int Nm = 1;
+    [[nodiscard]] double of(int i) const { return i < Nm ? u : v; }
+};
+
+StateScale state_scale(const ReducedParameters& p) {
+    const double A = single_body_amplitude(p.f_r, p.eps);
+    return {A, 2.0 * std::numbers::pi * p.f_r * A, p.Nm};
+}
+
 /// The row p is one an attractor search takes (beyond the model's own ranges), or why not.
 std::optional<std::string> search_row_error(const ReducedParameters& p) {
     // Without damping the flow keeps phase-space volume: nothing attracts, and every start
@@ -145,10 +158,9 @@ void validate(const ReducedParameters& p, const AttractorOptions& options) {
     // A box narrower than 1e-12 of its center's entry draws starts a few doubles apart (around
     // 1e9, 1e-9 A is below one double's spacing): the fractions would count the same start
     // many times.
-    const double A = single_body_amplitude(p.f_r, p.eps);
+    const StateScale scale = state_scale(p);
     for (std::size_t i = 0; i < options.center.size(); ++i) {
-        const double half =
-            options.box * A * (static_cast<int>(i) < p.Nm ? 1.0 : 2.0 * std::numbers::pi * p.f_r);
+        const double half = options.box * scale.of(static_cast<int>(i));
         if (half < 1e-12 * std::abs(options.center[i]))
             throw std::invalid_argument(
                 "box: half-width " + detail::format_number(half) + " is below 1e-12 of center[" +
@@ -195,14 +207,6 @@ private:
     int m_dimension = 0;
     bool m_recording = false;
     std::deque<std::vector<double>> m_points;
-};
-
-/// The row's natural scales: u in units of A, v in units of 2 pi f_r A.
-struct StateScale {
-    double u = 1.0;
-    double v = 1.0;
-    int Nm = 1;
-    [[nodiscard]] double of(int i) const { return i < Nm ? u : v; }
 };
 
 /// max_i |a_i - b_i| / scale_i.
@@ -823,11 +827,6 @@ void settle_statistics(const std::vector<StartOutcome>& outcomes, long run_perio
             a.settle_max =
                 static_cast<double>(*std::prev(std::lower_bound(t.begin(), t.end(), censored)));
     }
-}
-
-StateScale state_scale(const ReducedParameters& p) {
-    const double A = single_body_amplitude(p.f_r, p.eps);
-    return {A, 2.0 * std::numbers::pi * p.f_r * A, p.Nm};
 }
 
 std::vector<double> axis_values(const AttractorOptions& o, const StateScale& scale, int index) {

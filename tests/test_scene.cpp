@@ -179,6 +179,34 @@ TEST_CASE("bad input: every class gives one line naming the key") {
     CHECK_THROWS_AS((void)load_scene("/nonexistent/scene.json"), SceneError);
 }
 
+TEST_CASE("numbers JSON cannot hold are named by key, not read as 0 or as malformed text") {
+    // 1e-999 reads as 0: eps = 0 ran an undamped row, and fc = 1e-999 said "got 0".
+    CHECK(error_of(R"({"model": {"eps": 1e-999}})")
+              .find("model.eps: a number must be 0 or |x| >= 4.9e-324, got '1e-999'") !=
+          std::string::npos);
+    CHECK(error_of("{}", {"model.eps=-2e-400"}).find("model.eps: a number must be 0") !=
+          std::string::npos);
+    CHECK(error_of(R"({"model": {"Nm": 2}})", {"initial.u=[1,1e-999]"})
+              .find("initial.u: a number must be 0") != std::string::npos);
+    // The numbers before it are counted, so the key is the underflowing one's, also in an array.
+    CHECK(error_of(
+              R"({"note": "1e-999", "model": {"Nm": 2, "fc": 50}, "initial": {"u": [1, 3e-500]}})")
+              .find("initial.u: a number must be 0") != std::string::npos);
+    // Zero written with an exponent, and a subnormal, are numbers like any other.
+    CHECK(parse_scene(R"({"model": {"eps": 0e-999}})").reduced.eps == 0.0);
+    CHECK(parse_scene(R"({"model": {"eps": 1e-320}})").reduced.eps > 0.0);
+    // NaN and Infinity as other languages write them: JSON has neither; say so, with the key.
+    CHECK(error_of(R"({"model": {"fc": NaN}})")
+              .find("model.fc: must be a finite number (JSON has no NaN or Infinity), got NaN") !=
+          std::string::npos);
+    CHECK(error_of(R"({"model": {"Nm": 2}, "initial": {"u": [1, -Infinity]}})")
+              .find("initial.u: must be a finite number (JSON has no NaN or Infinity), got "
+                    "-Infinity") != std::string::npos);
+    // Where a key is due, a NaN is a malformed object, not a value of the key before it.
+    CHECK(error_of(R"({"model": {"fc": 1, NaN}})").find("malformed JSON") != std::string::npos);
+    CHECK(error_of("NaN").find("malformed JSON") != std::string::npos);
+}
+
 TEST_CASE("OutputFile leaves nothing behind unless committed") {
     const std::string path =
         (std::filesystem::temp_directory_path() / "gapchain_outfile.txt").string();

@@ -7,6 +7,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -17,6 +18,7 @@
 #include <limits>
 #include <memory>
 #include <numbers>
+#include <optional>
 #include <sstream>
 #include <unistd.h>
 #include <utility>
@@ -39,6 +41,8 @@ json override_value(const std::string& key, const std::string& text) {
     if (text == "-inf" || text == "-Inf") return -std::numeric_limits<double>::infinity();
     json value = json::parse(text, nullptr, false);
     if (value.is_discarded()) return json(text);
+    if (const auto underflow = detail::first_underflowing_number(text))
+        throw SceneError(key + ": " + underflow->rule());
     // An object value is held to the scene file's rule: a key given twice is refused, not
     // silently the last one.
     if (value.is_structured()) {
@@ -578,6 +582,55 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
 }
 
 namespace detail {
+
+std::optional<UnderflowingNumber> first_underflowing_number(std::string_view text) {
+    std::size_t ordinal = 0;
+    for (std::size_t i = 0; i < text.size(); ++i) {
+        const char c = text[i];
+        if (c == '"') {
+            // A string: skip to its closing quote, past escaped ones.
+            for (++i; i < text.size() && text[i] != '"'; ++i)
+                if (text[i] == '\\') ++i;
+            continue;
+        }
+        if (c != '-' && (c < '0' || c > '9')) continue;
+        std::size_t end = i;
+        while (end < text.size() && std::strchr("+-0123456789.eE", text[end]) && text[end] != 0)
+            ++end;
+        const std::string number(text.substr(i, end - i));
+        ++ordinal;
+        i = end - 1;
+        const auto exponent = number.find_first_of("eE");
+        if (exponent == std::string::npos) continue;
+        const bool written_nonzero =
+            number.substr(0, exponent).find_first_of("123456789") != std::string::npos;
+        if (written_nonzero && std::strtod(number.c_str(), nullptr) == 0.0)
+            return UnderflowingNumber{ordinal, number};
+    }
+    return std::nullopt;
+}
+
+std::string non_finite_literal_at(std::string_view text, std::size_t last_read, bool in_object) {
+    if (last_read == 0 || last_read > text.size()) return {};
+    const auto is_letter = [](char c) { return std::isalpha(static_cast<unsigned char>(c)) != 0; };
+    std::size_t begin = last_read - 1;
+    while (begin > 0 && is_letter(text[begin - 1]))
+        --begin;
+    if (begin > 0 && text[begin - 1] == '-') --begin;
+    std::size_t end = begin + (text[begin] == '-' ? 1 : 0);
+    while (end < text.size() && is_letter(text[end]))
+        ++end;
+    std::string literal(text.substr(begin, end - begin));
+    std::string lower;
+    for (const char c : literal.substr(literal[0] == '-' ? 1 : 0))
+        lower += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (lower != "nan" && lower != "inf" && lower != "infinity") return {};
+    std::size_t before = begin;
+    while (before > 0 && std::isspace(static_cast<unsigned char>(text[before - 1])))
+        --before;
+    if (before == 0 || std::strchr(in_object ? ":" : "[,", text[before - 1]) == nullptr) return {};
+    return literal;
+}
 
 std::string read_text_file(const std::string& path, const std::string& what) {
     std::error_code ec;

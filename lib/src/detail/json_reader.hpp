@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <set>
 #include <string>
 #include <string_view>
@@ -142,19 +143,62 @@ private:
 
 namespace gapchain::detail {
 
+/// The first number of JSON text that is written nonzero but reads as 0 (1e-999 underflows):
+/// its ordinal among the text's numbers (1 for the first) and its text. Strings are skipped.
+struct UnderflowingNumber {
+    std::size_t ordinal = 0;
+    std::string text;
+    /// The rule it breaks, with the number as written.
+    [[nodiscard]] std::string rule() const {
+        return "a number must be 0 or |x| >= 4.9e-324, got '" + text + "' (it reads as 0)";
+    }
+};
+std::optional<UnderflowingNumber> first_underflowing_number(std::string_view text);
+
+/// The NaN or Infinity literal (as other languages write them; JSON has neither) that a parse
+/// error at byte offset `last_read` (1-based, nlohmann's parse_error::byte) stopped in, where it
+/// stands as a value: after ':' in an object (in_object), after '[' or ',' in an array. Empty
+/// otherwise.
+std::string non_finite_literal_at(std::string_view text, std::size_t last_read, bool in_object);
+
+/// An nlohmann exception's message without its "[json.exception.parse_error.101] " prefix,
+/// which names nlohmann's internals, not the file's fault.
+inline std::string plain_what(const std::exception& e) {
+    std::string what = e.what();
+    if (const auto end = what.find("] ");
+        what.rfind("[json.exception.", 0) == 0 && end != std::string::npos)
+        what.erase(0, end + 2);
+    return what;
+}
+
 /// Parses JSON text (nlohmann::json or ordered_json) and refuses a key given twice in one
 /// object, at any depth, naming its path ("model.Nm: duplicate key"): nlohmann would keep the
-/// last silently. Malformed text throws SceneError naming source.
+/// last silently. Malformed text throws SceneError naming source; so do a number that
+/// overflows or underflows and a NaN or Infinity literal, naming the key they belong to.
 template <class Json>
 Json parse_json_strictly(std::string_view text, const std::string& source) {
+    // Rare, so found by a scan first; the callback then counts numbers up to it to name its key.
+    const auto underflow = first_underflowing_number(text);
+    std::size_t numbers_read = 0;
     struct Level {
         std::set<std::string> keys;
         std::string path;
         std::string last_key;
     };
     std::vector<Level> levels;
+    std::vector<bool> in_object; // the open containers, innermost last
+    // A value's fault, named by the key it belongs to (in an array, the array's key).
+    auto value_error = [&](const std::string& rule) {
+        const std::string key =
+            levels.empty() ? std::string() : levels.back().path + levels.back().last_key;
+        return SceneError(source + ": " + (key.empty() ? std::string() : key + ": ") + rule);
+    };
     auto callback = [&](int, typename Json::parse_event_t event, Json& parsed) {
         using Event = typename Json::parse_event_t;
+        if (event == Event::object_start || event == Event::array_start)
+            in_object.push_back(event == Event::object_start);
+        if ((event == Event::object_end || event == Event::array_end) && !in_object.empty())
+            in_object.pop_back();
         if (event == Event::object_start) {
             const std::string parent =
                 levels.empty() ? std::string() : levels.back().path + levels.back().last_key + ".";
@@ -168,6 +212,9 @@ Json parse_json_strictly(std::string_view text, const std::string& source) {
                                  ": duplicate key (given twice in one object; JSON keeps only "
                                  "one, so the scene is ambiguous)");
             levels.back().last_key = key;
+        } else if (event == Event::value && underflow && parsed.is_number() &&
+                   ++numbers_read == underflow->ordinal) {
+            throw value_error(underflow->rule());
         }
         return true;
     };
@@ -176,21 +223,17 @@ Json parse_json_strictly(std::string_view text, const std::string& source) {
     } catch (const typename Json::out_of_range& e) {
         // Number overflow (1e999): the lexer throws before the value reaches the callback, so
         // the key it belongs to is the last one read.
-        std::string what = e.what();
+        const std::string what = e.what();
         const auto quote = what.find('\'');
-        const std::string number = quote == std::string::npos ? what : what.substr(quote);
-        const std::string key =
-            levels.empty() ? std::string() : levels.back().path + levels.back().last_key;
-        throw SceneError(source + ": " + (key.empty() ? std::string() : key + ": ") +
-                         "a number must be finite, |x| <= 1.8e308, got " + number);
+        throw value_error("a number must be finite, |x| <= 1.8e308, got " +
+                          (quote == std::string::npos ? what : what.substr(quote)));
+    } catch (const typename Json::parse_error& e) {
+        const std::string literal =
+            non_finite_literal_at(text, e.byte, !in_object.empty() && in_object.back());
+        if (literal.empty()) throw SceneError(source + ": malformed JSON: " + plain_what(e));
+        throw value_error("must be a finite number (JSON has no NaN or Infinity), got " + literal);
     } catch (const typename Json::exception& e) {
-        // nlohmann's "[json.exception.parse_error.101] " prefix names its internals, not the
-        // file's fault.
-        std::string what = e.what();
-        if (const auto end = what.find("] ");
-            what.rfind("[json.exception.", 0) == 0 && end != std::string::npos)
-            what.erase(0, end + 2);
-        throw SceneError(source + ": malformed JSON: " + what);
+        throw SceneError(source + ": malformed JSON: " + plain_what(e));
     }
 }
 

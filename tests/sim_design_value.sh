@@ -20,7 +20,8 @@ import json, sys
 d = json.load(open(sys.argv[1]))
 v = d["design_value"]
 ok = d["multistable"] and v["start_below"] and not v["run_above"] and v["attractors"] >= 2 \
-    and abs(v["F_m_max"] - 0.3853) < 2e-3 and v["F_m_max"] > d["F_m"] and v["samples"] == 60
+    and abs(v["F_m_max"] - 0.3853) < 2e-3 and v["F_m_max"] > d["F_m"] and v["samples"] == 60 \
+    and v["center"] == [0.0] * 10
 if not ok:
     print("FAIL fig13 JSON:", v, d["F_m"], d["multistable"])
 sys.exit(0 if ok else 1)

@@ -5,6 +5,7 @@
 #include "gapchain/simulation.hpp"
 
 #include <doctest/doctest.h>
+#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -797,6 +798,28 @@ TEST_CASE("fractions.csv: a label absent at a value has fraction 0 +- 1/N, not 0
                     "transient_lifetime_error");
     CHECK(first == "1,0.6,0.1,1.5,0.002,1,0.4,0.1,1.5,0.002,1,,");
     CHECK(second == "2,1,0.1,1.5,0.002,1,0,0.04,,,,150,12");
+
+    // fractions.json keeps what the CSV cannot: each value's own row, where the starts were
+    // drawn, and the run time.
+    const ReducedParameters base{2, 200, 0.1, 0.351, 1.0};
+    AttractorOptions o;
+    o.center = {0.1, 0.0, 0.0, 0.0};
+    c.wall_time_s = 3.5;
+    const auto j = nlohmann::json::parse(to_json(c, o, base));
+    CHECK(j.at("parameter") == "f_r");
+    CHECK(j.at("wall_time_s") == 3.5);
+    REQUIRE(j.at("points").size() == 2);
+    for (int k = 0; k < 2; ++k) {
+        const auto& point = j.at("points")[static_cast<std::size_t>(k)];
+        CHECK(point.at("value") == c.values[static_cast<std::size_t>(k)]);
+        CHECK(point.at("labels") == c.labels[static_cast<std::size_t>(k)]);
+        CHECK(point.at("search").at("parameters").at("f_r") ==
+              c.values[static_cast<std::size_t>(k)]);
+        CHECK(point.at("search").at("parameters").at("Nm") == 2);
+        CHECK(point.at("search").at("center") == o.center);
+    }
+    CHECK(j.at("points")[0].at("search").at("attractors")[1].at("basin_fraction") == 0.4);
+    CHECK(j.at("points")[1].at("search").at("transients").at("lifetime") == 150.0);
 }
 
 TEST_CASE("design value: where no group settled, it is the larger of the run's F_m and the "

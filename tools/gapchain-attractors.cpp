@@ -1,7 +1,7 @@
 // gapchain-attractors: the coexisting attractors of a row from many starts, with F_m, regime and
 // basin fraction of each and the design value F_m_max: DIR/attractors.csv, attractors.json,
 // and optionally a basin slice (basins.csv, basins.png) or basin fractions along a parameter
-// (fractions.csv, fractions.png).
+// (fractions.csv, fractions.json, fractions.png).
 #include "common/cli.hpp"
 #include "common/plot.hpp"
 
@@ -122,7 +122,8 @@ std::string unsettled_reason(const AttractorOptions& o) {
            std::to_string(o.run.max_steady_period) + ") if their orbits may be longer";
 }
 
-// Where the starts were drawn, when not around rest: fractions.csv has no place for it.
+// Where the starts were drawn, when not around rest (fractions.json's center; the CSV has no
+// place for it).
 void print_center(const AttractorOptions& o) {
     if (!o.center.empty())
         std::printf("starts in a box of %g A around the scene's initial state\n", o.box);
@@ -191,6 +192,7 @@ void run_line(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs) 
     outputs.create_folders();
     const std::string dir = outputs.staged(a.out_dir);
     write_file_atomically(dir + "/fractions.csv", fractions_csv(c));
+    write_file_atomically(dir + "/fractions.json", to_json(c, a.options, scene.reduced));
     const bool plotted =
         !a.no_plot &&
         cli::plot_template(dir, "fractions",
@@ -207,7 +209,7 @@ void run_line(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs) 
     if (unsettled > 0)
         std::printf("warning: %d attractor(s) along the line unsettled%s\n", unsettled,
                     unsettled_reason(a.options).c_str());
-    std::printf("wrote %s/fractions.csv%s\n", a.out_dir.c_str(),
+    std::printf("wrote %s/fractions.csv, fractions.json%s\n", a.out_dir.c_str(),
                 plotted ? ", fractions.gp, fractions.png" : "");
 }
 
@@ -237,7 +239,7 @@ int main(int argc, char** argv) {
                         outputs.folder(a.out_dir, "--out",
                                        {"attractors.csv", "attractors.json", "starts.csv",
                                         "basins.csv", "basins.gp", "basins.png", "fractions.csv",
-                                        "fractions.gp", "fractions.png"});
+                                        "fractions.json", "fractions.gp", "fractions.png"});
                         if (a.param.empty())
                             run_point(scene, a, outputs);
                         else

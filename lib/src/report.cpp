@@ -157,6 +157,7 @@ std::string to_json(const SimulationResult& r, const Scene& scene, const DesignV
     json d = {{"samples", options.samples},
               {"seed", options.seed},
               {"box", options.box},
+              {"center", box_center(options, scene.reduced.Nm)},
               {"attractors", set.attractors.size()},
               {"unsettled", set.unsettled},
               {"failed", set.failed},
@@ -443,8 +444,12 @@ std::string attractor_starts_csv(const AttractorSet& set) {
     return os.str();
 }
 
-std::string to_json(const AttractorSet& set, const AttractorOptions& o,
-                    const ReducedParameters& p) {
+namespace {
+
+/// The attractors of one search, with its options and row: attractors.json, and each value of
+/// fractions.json.
+nlohmann::ordered_json attractor_set_json(const AttractorSet& set, const AttractorOptions& o,
+                                          const ReducedParameters& p) {
     nlohmann::ordered_json j;
     j["F_m_max"] = set.F_m_max;
     j["F_m_max_error"] = set.F_m_max_error;
@@ -492,6 +497,35 @@ std::string to_json(const AttractorSet& set, const AttractorOptions& o,
     j["parameters"] = parameters_json(p);
     j["threads"] = set.threads_used;
     j["wall_time_s"] = set.wall_time_s;
+    return j;
+}
+
+} // namespace
+
+std::string to_json(const AttractorSet& set, const AttractorOptions& o,
+                    const ReducedParameters& p) {
+    return attractor_set_json(set, o, p).dump(2) + "\n";
+}
+
+std::string to_json(const FractionContinuation& c, const AttractorOptions& o,
+                    const ReducedParameters& base) {
+    nlohmann::ordered_json j;
+    j["parameter"] = to_string(c.parameter);
+    j["values"] = c.values;
+    j["label_count"] = c.label_count;
+    j["base"] = parameters_json(base);
+    auto points = nlohmann::ordered_json::array();
+    for (std::size_t k = 0; k < c.sets.size(); ++k) {
+        nlohmann::ordered_json point;
+        point["value"] = c.values[k];
+        point["labels"] = c.labels[k];
+        point["search"] =
+            attractor_set_json(c.sets[k], o, with_value(base, c.parameter, c.values[k]));
+        points.push_back(std::move(point));
+    }
+    j["points"] = points;
+    j["cancelled"] = c.cancelled;
+    j["wall_time_s"] = c.wall_time_s;
     return j.dump(2) + "\n";
 }
 

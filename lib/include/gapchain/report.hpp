@@ -129,6 +129,13 @@ std::string to_json(const AttractorSet& set, const AttractorOptions& options,
 /// The basin slice: x,y,attractor (-1: the run failed), one row per start.
 std::string basin_slice_csv(const AttractorSet& set);
 
+/// Basin fractions along a line as JSON: parameter, values, label_count, the base row, and per
+/// value its labels (the global label of each of its attractors, in their order) and its whole
+/// search as to_json(AttractorSet) writes it (the options, the center of the starts, the
+/// attractors with their errors, wall_time_s); the line's wall_time_s [s].
+std::string to_json(const FractionContinuation& continuation, const AttractorOptions& options,
+                    const ReducedParameters& base);
+
 /// Basin fractions along a line, one row per value: value, then for every label L the columns
 /// fraction_L, fraction_error_L, F_m_L, period_L (period 0 for a non-periodic attractor; where
 /// L is absent, fraction 0, so that a plot can stack them, with the error 1/N of N starts none

@@ -96,7 +96,7 @@ verdict 3
 # 4. Duplicate JSON keys are refused, naming the key, at every level.
 echo '{"model":{"Nm":5,"fc":60,"e_r":0.06},"run":{"periods":20},"model":{"Nm":7}}' >dup1.json
 echo '{"model":{"Nm":5,"fc":60,"fc":100},"run":{"periods":20}}' >dup2.json
-expect 4 2 "^gapchain-sim: model: duplicate key" "$bin/gapchain-sim" dup1.json --out d.json
+expect 4 2 "^gapchain-sim: dup1.json: model: duplicate key" "$bin/gapchain-sim" dup1.json --out d.json
 expect 4 2 "model.fc: duplicate key" "$bin/gapchain-sim" dup2.json --out d.json
 verdict 4
 

@@ -207,6 +207,35 @@ TEST_CASE("numbers JSON cannot hold are named by key, not read as 0 or as malfor
     CHECK(error_of("NaN").find("malformed JSON") != std::string::npos);
 }
 
+TEST_CASE("hostile shapes: deep nesting, huge values and overlapping --set keys are refused by "
+          "key") {
+    // 100,000 nested arrays under a typed key overflowed the stack where the message printed
+    // the value (a segfault).
+    const std::string deep = std::string(100000, '[') + std::string(100000, ']');
+    CHECK(error_of(R"({"model": {"fc": )" + deep + "}}")
+              .find("model.fc: nested deeper than 64 levels") != std::string::npos);
+    CHECK(error_of("{}", {"model.scatter=" + deep})
+              .find("model.scatter: nested deeper than 64 levels") != std::string::npos);
+    // A value in a message is cut: a million-entry array was printed whole.
+    std::string many = "[1";
+    for (int k = 0; k < 1000000; ++k)
+        many += ",1";
+    many += "]";
+    const std::string message = error_of(R"({"model": {"fc": )" + many + "}}");
+    CHECK(message.find("model.fc: must be a number") != std::string::npos);
+    CHECK(message.size() < 200);
+    // A duplicate inside a --set value names the full key, once.
+    CHECK(error_of("{}", {R"(model.scatter={"seed": 1, "seed": 2})"})
+              .rfind("model.scatter.seed: duplicate key", 0) == 0);
+    // A key and a part of it: the whole replaced the earlier part, silently.
+    CHECK(error_of(R"({"model": {"Nm": 2}})",
+                   {"model.scatter.seed=2", R"(model.scatter={"clearance": 0.1})"})
+              .find("--set model.scatter: overlaps --set model.scatter.seed") != std::string::npos);
+    CHECK(error_of(R"({"model": {"Nm": 2}})",
+                   {R"(model.scatter={"clearance": 0.1})", "model.scatter.seed=2"})
+              .find("overlaps") != std::string::npos);
+}
+
 TEST_CASE("OutputFile leaves nothing behind unless committed") {
     const std::string path =
         (std::filesystem::temp_directory_path() / "gapchain_outfile.txt").string();

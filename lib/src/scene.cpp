@@ -41,17 +41,11 @@ json override_value(const std::string& key, const std::string& text) {
     if (text == "-inf" || text == "-Inf") return -std::numeric_limits<double>::infinity();
     json value = json::parse(text, nullptr, false);
     if (value.is_discarded()) return json(text);
+    // An array or object is held to the scene file's rules: a key given twice is refused, not
+    // silently the last one; so are a number that underflows and nesting beyond its depth.
+    if (value.is_structured()) return detail::parse_json_strictly<json>(text, "", key);
     if (const auto underflow = detail::first_underflowing_number(text))
         throw SceneError(key + ": " + underflow->rule());
-    // An object value is held to the scene file's rule: a key given twice is refused, not
-    // silently the last one.
-    if (value.is_structured()) {
-        try {
-            detail::parse_json_strictly<json>(text, "--set " + key);
-        } catch (const SceneError& e) {
-            throw SceneError(key + "." + e.what());
-        }
-    }
     return value;
 }
 
@@ -68,24 +62,17 @@ void apply_override(json& root, const std::string& assignment) {
                           "--set \"" + assignment + "\"");
 }
 
-/// A JSON value as a message shows it: its text, cut after 60 characters.
-std::string shown_value(const json& j) {
-    // A --set value that is no JSON arrives as a string, maybe not UTF-8: dump() would throw.
-    std::string text = j.dump(-1, ' ', false, json::error_handler_t::replace);
-    if (text.size() > 60) text = text.substr(0, 57) + "...";
-    return text;
-}
-
 std::vector<double> number_array(const json& j, const std::string& key) {
     // A --set value that is not JSON arrives as a string: "[NaN,0]" names a number JSON lacks.
     if (!j.is_array())
-        throw SceneError(key + ": must be an array of finite numbers, got " + shown_value(j));
+        throw SceneError(key + ": must be an array of finite numbers, got " +
+                         detail::shown_json(j));
     std::vector<double> out;
     for (std::size_t i = 0; i < j.size(); ++i) {
         const json& x = j[i];
         const std::string entry = key + "[" + std::to_string(i) + "]";
         if (!x.is_number())
-            throw SceneError(entry + ": must be a finite number, got " + shown_value(x));
+            throw SceneError(entry + ": must be a finite number, got " + detail::shown_json(x));
         const double v = x.get<double>();
         if (!std::isfinite(v))
             throw SceneError(entry + ": must be a finite number, got " +
@@ -459,13 +446,23 @@ Scene scene_from_json(json root, const std::vector<std::string>& overrides,
     if (root.contains("scene") && root.contains("F_m"))
         throw SceneError("scene: this file is a gapchain result (F_m, scene, ...), not a scene; "
                          "its \"scene\" key holds the scene it was computed from");
-    // The same key set twice would leave its value to the order of the arguments.
+    // The same key set twice would leave its value to the order of the arguments; so would a
+    // key and a part of it (model.scatter={...} replaced an earlier model.scatter.seed=2).
     for (std::size_t i = 0; i < overrides.size(); ++i)
         for (std::size_t k = 0; k < i; ++k) {
             const std::string key = overrides[i].substr(0, overrides[i].find('='));
-            if (key == overrides[k].substr(0, overrides[k].find('=')))
+            const std::string other = overrides[k].substr(0, overrides[k].find('='));
+            const auto within = [](const std::string& part, const std::string& whole) {
+                return part.size() > whole.size() && part.compare(0, whole.size(), whole) == 0 &&
+                       part[whole.size()] == '.';
+            };
+            if (key == other)
                 throw SceneError("--set " + key + ": given twice (\"" + overrides[k] + "\" and \"" +
                                  overrides[i] + "\")");
+            if (within(key, other) || within(other, key))
+                throw SceneError("--set " + key + ": overlaps --set " + other + " (\"" +
+                                 overrides[k] + "\" and \"" + overrides[i] +
+                                 "\"): set the part inside the whole, or the parts alone");
         }
     for (const auto& o : overrides)
         apply_override(root, o);
@@ -582,6 +579,40 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
 }
 
 namespace detail {
+
+void JsonKeyTrail::open(bool object) {
+    m_containers.push_back(object);
+    if (!object) return;
+    const std::string parent =
+        m_levels.empty() ? std::string() : m_levels.back().path + m_levels.back().last_key + ".";
+    m_levels.push_back({{}, parent, {}});
+}
+
+void JsonKeyTrail::close(bool object) {
+    if (!m_containers.empty()) m_containers.pop_back();
+    if (object && !m_levels.empty()) m_levels.pop_back();
+}
+
+void JsonKeyTrail::key(const std::string& name) {
+    if (m_levels.empty()) return;
+    if (!m_levels.back().keys.insert(name).second)
+        throw error_at(m_levels.back().path + name, "duplicate key (given twice in one object; "
+                                                    "JSON keeps only one, so the scene is "
+                                                    "ambiguous)");
+    m_levels.back().last_key = name;
+}
+
+SceneError JsonKeyTrail::error_at(const std::string& key, const std::string& rule) const {
+    const std::string path =
+        m_within.empty() || key.empty() ? m_within + key : m_within + "." + key;
+    return SceneError((m_source.empty() ? std::string() : m_source + ": ") +
+                      (path.empty() ? std::string() : path + ": ") + rule);
+}
+
+SceneError JsonKeyTrail::value_error(const std::string& rule) const {
+    return error_at(
+        m_levels.empty() ? std::string() : m_levels.back().path + m_levels.back().last_key, rule);
+}
 
 std::optional<UnderflowingNumber> first_underflowing_number(std::string_view text) {
     std::size_t ordinal = 0;

@@ -82,7 +82,7 @@ void read_sampling(const ojson& sample, Study& s) {
     require_keys(sample, "sample.", {"method", "samples", "seed"}, "method, samples, seed");
     if (sample.contains("method") && !sample["method"].is_string())
         throw SceneError("sample.method: must be grid, random or latin_hypercube, got " +
-                         sample["method"].dump());
+                         detail::shown_json(sample["method"]));
     const std::string method = sample.value("method", std::string("grid"));
     if (method == "random")
         s.sampling = Sampling::random;
@@ -121,7 +121,7 @@ long read_attractor_starts(const ojson& value) {
     const double starts = value.is_number() ? value.get<double>() : -1.0;
     if (!(starts >= 0.0 && starts <= 10000.0 && starts == std::floor(starts)))
         throw SceneError("attractors: starts per point, an integer in [0, 10000], got " +
-                         value.dump());
+                         detail::shown_json(value));
     return static_cast<long>(starts);
 }
 
@@ -148,7 +148,7 @@ KeptResults read_kept(const ojson& keep) {
         else
             throw SceneError("keep: entries must be F_m, multistable, per_body, regime, "
                              "steady_state_period, wall_time or F_m_orbit, got " +
-                             k.dump());
+                             detail::shown_json(k));
     }
     return kept;
 }

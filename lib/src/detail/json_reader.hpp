@@ -17,6 +17,20 @@
 
 namespace gapchain::detail {
 
+/// A JSON value as a message shows it: as the user wrote it (JSON writes NaN and infinities as
+/// null), bytes that are not UTF-8 replaced, cut after 60 characters (a 3-million-entry array
+/// was printed whole).
+template <class Json>
+std::string shown_json(const Json& v) {
+    if (v.is_number_float() && !std::isfinite(v.template get<double>()))
+        return std::isnan(v.template get<double>())
+                   ? "nan"
+                   : (v.template get<double>() > 0 ? "inf" : "-inf");
+    std::string text = v.dump(-1, ' ', false, Json::error_handler_t::replace);
+    if (text.size() > 60) text = text.substr(0, 57) + "...";
+    return text;
+}
+
 class SectionReader {
 public:
     SectionReader(const nlohmann::json& object, std::string path,
@@ -49,7 +63,7 @@ public:
         const auto& v = m_object.at(key);
         if (!v.is_number())
             throw SceneError(full(key) + ": must be a number" + range(lo, hi, bound) + ", got " +
-                             shown(v));
+                             shown_json(v));
         const double x = v.get<double>();
         try {
             require_range(full(key), x, lo, hi, bound);
@@ -70,11 +84,11 @@ public:
             x = v.get<double>();
         } else {
             throw SceneError(full(key) + ": must be an integer in [" + std::to_string(lo) + ", " +
-                             std::to_string(hi) + "], got " + shown(v));
+                             std::to_string(hi) + "], got " + shown_json(v));
         }
         if (x < static_cast<double>(lo) || x > static_cast<double>(hi))
             throw SceneError(full(key) + ": must be an integer in [" + std::to_string(lo) + ", " +
-                             std::to_string(hi) + "], got " + shown(v));
+                             std::to_string(hi) + "], got " + shown_json(v));
         return static_cast<long>(x);
     }
 
@@ -82,7 +96,7 @@ public:
         if (!has(key)) return fallback;
         const auto& v = m_object.at(key);
         if (!v.is_boolean())
-            throw SceneError(full(key) + ": must be true or false, got " + v.dump());
+            throw SceneError(full(key) + ": must be true or false, got " + shown_json(v));
         return v.get<bool>();
     }
 
@@ -94,10 +108,11 @@ public:
         if (!v.is_string())
             throw SceneError(full(key) + ": must be a string" +
                              (choices.empty() ? "" : ", one of " + join(choices)) + ", got " +
-                             v.dump());
+                             shown_json(v));
         // Empty choices: the caller validates the value itself.
         if (!choices.empty() && std::find(choices.begin(), choices.end(), s) == choices.end())
-            throw SceneError(full(key) + ": must be one of " + join(choices) + ", got " + v.dump());
+            throw SceneError(full(key) + ": must be one of " + join(choices) + ", got " +
+                             shown_json(v));
         return s;
     }
 
@@ -122,12 +137,6 @@ private:
         for (const auto& i : items)
             s += (s.empty() ? "" : ", ") + i;
         return s;
-    }
-    // A value as the user wrote it: JSON writes NaN and infinities as null.
-    static std::string shown(const nlohmann::json& v) {
-        if (v.is_number_float() && !std::isfinite(v.get<double>()))
-            return std::isnan(v.get<double>()) ? "nan" : (v.get<double>() > 0 ? "inf" : "-inf");
-        return v.dump();
     }
     static std::string range(double lo, double hi, Bound bound) {
         return std::string(" in ") + (bound == Bound::open_low ? "(" : "[") + format_number(lo) +
@@ -171,51 +180,69 @@ inline std::string plain_what(const std::exception& e) {
     return what;
 }
 
-/// Parses JSON text (nlohmann::json or ordered_json) and refuses a key given twice in one
-/// object, at any depth, naming its path ("model.Nm: duplicate key"): nlohmann would keep the
-/// last silently. Malformed text throws SceneError naming source; so do a number that
-/// overflows or underflows and a NaN or Infinity literal, naming the key they belong to.
-template <class Json>
-Json parse_json_strictly(std::string_view text, const std::string& source) {
-    // Rare, so found by a scan first; the callback then counts numbers up to it to name its key.
-    const auto underflow = first_underflowing_number(text);
-    std::size_t numbers_read = 0;
+/// The deepest nesting of arrays and objects a scene or study file may have.
+constexpr int max_json_depth = 64;
+
+/// Where a strict parse stands in the text's objects and arrays: the path of the key being
+/// read ("model.fc"), the keys each open object has had, and messages named by them.
+class JsonKeyTrail {
+public:
+    /// Messages start "source: " (none when source is empty) and name keys under `within` (a
+    /// --set value's key: "model.scatter").
+    JsonKeyTrail(std::string source, std::string within)
+        : m_source(std::move(source)), m_within(std::move(within)) {}
+    /// An object (or array) opens / closes.
+    void open(bool object);
+    void close(bool object);
+    /// A key of the innermost object; throws SceneError if that object had it already.
+    void key(const std::string& name);
+    /// Whether the innermost open container is an object.
+    [[nodiscard]] bool in_object() const { return !m_containers.empty() && m_containers.back(); }
+    /// A fault at key (a path within the text), named with its source and full path.
+    [[nodiscard]] SceneError error_at(const std::string& key, const std::string& rule) const;
+    /// A value's fault, named by the key it belongs to (in an array, the array's key).
+    [[nodiscard]] SceneError value_error(const std::string& rule) const;
+
+private:
     struct Level {
         std::set<std::string> keys;
         std::string path;
         std::string last_key;
     };
-    std::vector<Level> levels;
-    std::vector<bool> in_object; // the open containers, innermost last
-    // A value's fault, named by the key it belongs to (in an array, the array's key).
-    auto value_error = [&](const std::string& rule) {
-        const std::string key =
-            levels.empty() ? std::string() : levels.back().path + levels.back().last_key;
-        return SceneError(source + ": " + (key.empty() ? std::string() : key + ": ") + rule);
-    };
-    auto callback = [&](int, typename Json::parse_event_t event, Json& parsed) {
+    std::string m_source;
+    std::string m_within;
+    std::vector<Level> m_levels;    // the open objects
+    std::vector<bool> m_containers; // the open objects and arrays, innermost last
+};
+
+/// Parses JSON text (nlohmann::json or ordered_json) and refuses a key given twice in one
+/// object, at any depth, naming its path ("model.Nm: duplicate key"): nlohmann would keep the
+/// last silently. Malformed text throws SceneError naming source; so do a number that
+/// overflows or underflows, a NaN or Infinity literal and nesting beyond max_json_depth, named
+/// by the key they belong to. source and within as JsonKeyTrail takes them.
+template <class Json>
+Json parse_json_strictly(std::string_view text, const std::string& source,
+                         const std::string& within = {}) {
+    // Rare, so found by a scan first; the callback then counts numbers up to it to name its key.
+    const auto underflow = first_underflowing_number(text);
+    std::size_t numbers_read = 0;
+    JsonKeyTrail trail(source, within);
+    auto callback = [&](int depth, typename Json::parse_event_t event, Json& parsed) {
         using Event = typename Json::parse_event_t;
+        // A scene is a few levels deep; a value nested 100,000 deep overflowed the stack where
+        // a message printed it.
+        if (depth > max_json_depth)
+            throw trail.value_error("nested deeper than " + std::to_string(max_json_depth) +
+                                    " levels of arrays and objects");
         if (event == Event::object_start || event == Event::array_start)
-            in_object.push_back(event == Event::object_start);
-        if ((event == Event::object_end || event == Event::array_end) && !in_object.empty())
-            in_object.pop_back();
-        if (event == Event::object_start) {
-            const std::string parent =
-                levels.empty() ? std::string() : levels.back().path + levels.back().last_key + ".";
-            levels.push_back({{}, levels.empty() ? std::string() : parent, {}});
-        } else if (event == Event::object_end) {
-            if (!levels.empty()) levels.pop_back();
-        } else if (event == Event::key && !levels.empty()) {
-            const std::string key = parsed.template get<std::string>();
-            if (!levels.back().keys.insert(key).second)
-                throw SceneError(levels.back().path + key +
-                                 ": duplicate key (given twice in one object; JSON keeps only "
-                                 "one, so the scene is ambiguous)");
-            levels.back().last_key = key;
-        } else if (event == Event::value && underflow && parsed.is_number() &&
-                   ++numbers_read == underflow->ordinal) {
-            throw value_error(underflow->rule());
-        }
+            trail.open(event == Event::object_start);
+        else if (event == Event::object_end || event == Event::array_end)
+            trail.close(event == Event::object_end);
+        else if (event == Event::key)
+            trail.key(parsed.template get<std::string>());
+        else if (event == Event::value && underflow && parsed.is_number() &&
+                 ++numbers_read == underflow->ordinal)
+            throw trail.value_error(underflow->rule());
         return true;
     };
     try {
@@ -225,15 +252,15 @@ Json parse_json_strictly(std::string_view text, const std::string& source) {
         // the key it belongs to is the last one read.
         const std::string what = e.what();
         const auto quote = what.find('\'');
-        throw value_error("a number must be finite, |x| <= 1.8e308, got " +
-                          (quote == std::string::npos ? what : what.substr(quote)));
+        throw trail.value_error("a number must be finite, |x| <= 1.8e308, got " +
+                                (quote == std::string::npos ? what : what.substr(quote)));
     } catch (const typename Json::parse_error& e) {
-        const std::string literal =
-            non_finite_literal_at(text, e.byte, !in_object.empty() && in_object.back());
-        if (literal.empty()) throw SceneError(source + ": malformed JSON: " + plain_what(e));
-        throw value_error("must be a finite number (JSON has no NaN or Infinity), got " + literal);
+        const std::string literal = non_finite_literal_at(text, e.byte, trail.in_object());
+        if (literal.empty()) throw trail.error_at("", "malformed JSON: " + plain_what(e));
+        throw trail.value_error("must be a finite number (JSON has no NaN or Infinity), got " +
+                                literal);
     } catch (const typename Json::exception& e) {
-        throw SceneError(source + ": malformed JSON: " + plain_what(e));
+        throw trail.error_at("", "malformed JSON: " + plain_what(e));
     }
 }
 

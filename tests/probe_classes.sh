@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # The 23 defect classes of the reliability probe (../shared/reports/reliability-probe-2026-11-22.md),
 # each reproduced as the report gives it and checked against what the README promises, a
-# 24th and 25th from the probes of 2026-11-24, a 26th from a later one that day, and a 27th
-# from that of 2026-11-26.
+# 24th and 25th from the probes of 2026-11-24, a 26th from a later one that day, a 27th
+# from that of 2026-11-26, and a 28th from that of 2026-11-27.
 # Usage: probe_classes.sh BIN_DIR SOURCE_DIR   (prints "class N: ok" or "class N: FAIL ...")
 set -u
 bin=$(cd "$1" && pwd)
@@ -434,8 +434,35 @@ expect 27 2 "/dev/zero: is a socket or device" "$bin/gapchain-sim" /dev/zero --o
 absent 27 z27.json
 verdict 27
 
+# 28 (the probe of 2026-11-27, session 42): a crash, numbers read as something else, and
+# keys silently dropped or ignored.
+python3 -c "n=100000; print('{\"model\":{\"fc\":' + '['*n + ']'*n + '}}')" >deep28.json
+expect 28 2 "deep28.json: model.fc: nested deeper than 64 levels" "$bin/gapchain-sim" deep28.json --out s28.json
+one_line 28
+echo '{"model": {"eps": 1e-999}}' >under28.json
+expect 28 2 "model.eps: a number must be 0 or \|x\| >= 4.9e-324, got '1e-999'" "$bin/gapchain-sim" under28.json --out s28.json
+echo '{"model": {"fc": NaN}}' >nan28.json
+expect 28 2 "model.fc: must be a finite number \(JSON has no NaN or Infinity\), got NaN" "$bin/gapchain-sim" nan28.json --out s28.json
+expect 28 2 "--set model.scatter: overlaps --set model.scatter.seed" "$bin/gapchain-sim" fig5.json --set model.scatter.seed=2 --set 'model.scatter={"clearance":0.1}' --out s28.json
+# Integers in base 0, hex floats and an empty text were numbers to CLI11.
+expect 28 2 "--samples: must be a decimal integer, got \"0100\" \(a leading 0 would make it octal\)" "$bin/gapchain-attractors" fig5.json --samples 0100 --out a28
+expect 28 2 "--from: must be a finite decimal number, got \"0x10\" \(hex is not read\)" "$bin/gapchain-continue" fig5.json --param f_r --from 0x10 --to 3 --out c28
+expect 28 2 "--from: must be a finite decimal number, got \"\"" "$bin/gapchain-bifurcation" fig5.json --param f_r --from '' --to 3 --steps 2 --out b28
+expect 28 2 "--Nm: must be a decimal integer" "$bin/gapchain-modes" --Nm 010 --out m28.json
+expect 28 2 "--e_r: must be from:to:count" "$bin/gapchain-classify" fig5.json --map --e_r 0:0.1:4294967298 --f_r 3:3:1 --out k28
+expect 28 2 "--e_r: must be from:to:count" "$bin/gapchain-classify" fig5.json --map --e_r 1e-999:0.1:2 --f_r 3:3:1 --out k28
+# Keys a tool sets itself, or reads only with a flag, changed nothing.
+expect 28 2 "--set run.estimate_error: gapchain-attractors does not read it" "$bin/gapchain-attractors" fig5.json --samples 2 --set run.estimate_error=false --out a28
+expect 28 2 "--set output.trajectory_every: gapchain-sim without --trajectory does not read it" "$bin/gapchain-sim" fig5.json --set output.trajectory_every=5 --out s28.json
+printf 'Nm,fc,eps,e_r,f_r,F_m,status\n2.9xyz,60,0.5,0.1,1,0.5,steady_state\n' >rows28.csv
+expect 28 2 "rows28.csv line 2, Nm: must be a decimal integer" "$bin/gapchain-bench" relaxed rows28.csv
+absent 28 s28.json a28 c28 b28 m28.json k28
+# K M below the doubles' range: eps is still C / (2 sqrt(K M)) = 5.
+expect 28 0 "" "$bin/gapchain-sim" "$scenes/table4-experiment-harmonic.json" --set model.K=1e-200 --set model.Kc=1e-195 --set model.C=1e-199 --set model.M=1e-200 --set excitation.f=1e-3 --set run.periods=20 -q --out s28.json
+verdict 28
+
 if [ "${#failed[@]}" -eq 0 ]; then
-    echo "all 27 classes checked"
+    echo "all 28 classes checked"
     exit 0
 fi
 exit 1

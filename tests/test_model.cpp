@@ -27,6 +27,14 @@ TEST_CASE("physical -> reduced -> physical round trip") {
     CHECK(force_in_newtons(2.0, q) == doctest::Approx(2.0 * 2.5 * 9.81 * std::sqrt(400.0)));
 }
 
+TEST_CASE("eps where K M leaves the doubles: tiny and huge K and M") {
+    // K M = 1e-400 underflowed to 0 and eps came out inf (refused) for a row whose eps is 5.
+    const PhysicalParameters tiny{3, 1e-200, 1e-200, 1e-199, 1e-195, 3.5e-3, 10.0, 1e-3};
+    CHECK(to_reduced(tiny).eps == doctest::Approx(5.0).epsilon(1e-14));
+    CHECK(to_physical(to_reduced(tiny), tiny.M, tiny.K, tiny.a0).C ==
+          doctest::Approx(tiny.C).epsilon(1e-13));
+}
+
 TEST_CASE("Table 4 experiment: e_r from the physical clearance") {
     // e_r = 4 pi^2 f0^2 e / a0 = 0.22 with e = 3.5 mm and a0 = 10 m/s^2 means f0 = 3.99 Hz.
     const double f0 = std::sqrt(0.22 * 10.0 / 3.5e-3) / (2 * std::numbers::pi);

@@ -225,8 +225,13 @@ int main(int argc, char** argv) {
                     [&] {
                         if (!a.param.empty())
                             cli::require_not_set(a.scene, a.param, "gapchain-attractors --param");
-                        cli::require_sets_read(a.scene, "gapchain-attractors", {"run."},
-                                               "it writes no trajectory");
+                        // Every start estimates its error and runs no twin, whatever
+                        // the scene says (a --set of them changed nothing).
+                        cli::require_sets_read(
+                            a.scene, "gapchain-attractors", {"run."},
+                            "every start estimates its error and runs no twin; it writes no "
+                            "trajectory",
+                            {"run.estimate_error", "run.multistability_check"});
                         const Scene scene = cli::load(a.scene);
                         require_paper_row(scene, "gapchain-attractors");
                         check_line(app, a);

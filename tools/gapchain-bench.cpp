@@ -187,14 +187,28 @@ std::vector<ReducedParameters> periodic_rows(const std::string& path, int count)
         if (!column.count(name))
             throw std::invalid_argument("relaxed: " + path + " has no column " + name);
     std::vector<ReducedParameters> rows;
+    long line_number = 1;
     while (static_cast<int>(rows.size()) < count && std::getline(in, line)) {
+        ++line_number;
         const std::vector<std::string> cell = fields(line);
-        if (cell.size() < column.size() || cell[column["status"]] != "steady_state" ||
-            std::stod(cell[column["F_m"]]) <= 1e-3)
-            continue;
-        rows.push_back({std::stoi(cell[column["Nm"]]), std::stod(cell[column["fc"]]),
-                        std::stod(cell[column["eps"]]), std::stod(cell[column["e_r"]]),
-                        std::stod(cell[column["f_r"]])});
+        const std::string where = "relaxed: " + path + " line " + std::to_string(line_number);
+        if (cell.size() < header.size())
+            throw std::invalid_argument(where + ": " + std::to_string(cell.size()) +
+                                        " fields, the header has " + std::to_string(header.size()));
+        // A malformed number is named, not skipped or read up to its junk ("2.9xyz" was Nm 2).
+        const auto number = [&](const char* name) {
+            const std::string& text = cell[column[name]];
+            const std::string error = cli::decimal_number_error(text, name == std::string("Nm"));
+            if (!error.empty()) throw std::invalid_argument(where + ", " + name + ": " + error);
+            return std::strtod(text.c_str(), nullptr);
+        };
+        if (cell[column["status"]] != "steady_state" || number("F_m") <= 1e-3) continue;
+        const double Nm = number("Nm");
+        if (Nm < 1 || Nm > 1'000'000)
+            throw std::invalid_argument(where + ", Nm: must be in 1 to 1000000, got " +
+                                        cell[column["Nm"]]);
+        rows.push_back(
+            {static_cast<int>(Nm), number("fc"), number("eps"), number("e_r"), number("f_r")});
     }
     return rows;
 }

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
 
 namespace {
@@ -19,11 +20,21 @@ using namespace gapchain;
 // the parameter (refused under the flag that gave it).
 std::vector<double> parse_range(const std::string& text, const std::string& flag,
                                 const ReducedParameters& base, SweptParameter parameter) {
-    double from = 0, to = 0;
-    int count = 0;
-    char extra = 0;
-    if (std::sscanf(text.c_str(), "%lf:%lf:%d%c", &from, &to, &count, &extra) != 3 || count < 1 ||
-        count > 100000 || !std::isfinite(from) || !std::isfinite(to))
+    // Each part a plain decimal (sscanf's %d wrapped 4294967298 to 2, and %lf read 1e-999 as 0).
+    const auto first = text.find(':');
+    const auto second = first == std::string::npos ? first : text.find(':', first + 1);
+    const std::string parts[3] = {
+        text.substr(0, first),
+        first == std::string::npos ? "" : text.substr(first + 1, second - first - 1),
+        second == std::string::npos ? "" : text.substr(second + 1)};
+    const bool numbers = second != std::string::npos &&
+                         cli::decimal_number_error(parts[0], false).empty() &&
+                         cli::decimal_number_error(parts[1], false).empty() &&
+                         cli::decimal_number_error(parts[2], true).empty() && parts[2].size() <= 6;
+    const double from = numbers ? std::strtod(parts[0].c_str(), nullptr) : 0.0;
+    const double to = numbers ? std::strtod(parts[1].c_str(), nullptr) : 0.0;
+    const int count = numbers ? std::stoi(parts[2]) : 0;
+    if (!numbers || count < 1 || count > 100000)
         throw std::invalid_argument(
             flag + ": must be from:to:count with 1 <= count <= 100000, got \"" + text + "\"");
     for (double end : {from, to})

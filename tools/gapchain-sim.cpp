@@ -149,9 +149,9 @@ void print_design(const Scene& scene, const SimulationResult& r, const DesignVal
                   const AttractorOptions& o) {
     const AttractorSet& set = d.search;
     // The run starts at the scene's initial state; the search's box stays around rest.
-    std::printf("design value over %zu attractor(s) from %ld starts%s (%.2f s): ",
-                set.attractors.size(), o.samples, scene.initial.empty() ? "" : " around rest",
-                set.wall_time_s);
+    std::printf(
+        "design value over %zu attractor(s) from %ld starts%s (%.2f s): ", set.attractors.size(),
+        o.samples, scene.initial.empty() ? "" : " around rest", set.wall_time_s);
     if (set.F_m_max_id < 0) {
         std::printf("no attractor found (every start failed)\n");
         return;
@@ -246,6 +246,15 @@ struct DesignSearch {
     }
 };
 
+// The scene; a --set of output.trajectory_every is refused without --trajectory, which alone
+// reads it (it changed nothing, without a word).
+Scene load_scene_for(const cli::SceneArguments& args, const std::string& trajectory_path) {
+    if (trajectory_path.empty())
+        cli::require_sets_read(args, "gapchain-sim without --trajectory", {"run."},
+                               "give --trajectory to write one");
+    return cli::load(args);
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -268,7 +277,7 @@ int main(int argc, char** argv) {
     return cli::run(
         app, argc, argv,
         [&] {
-            const Scene scene = cli::load(scene_args);
+            const Scene scene = load_scene_for(scene_args, trajectory_path);
             search.check(scene);
             cli::Outputs outputs({scene_args.path});
             outputs.file(out_path, "--out");

@@ -34,6 +34,19 @@ double natural_frequency(const PhysicalParameters& p) {
     return std::sqrt(p.K / p.M) / (2.0 * std::numbers::pi);
 }
 
+namespace {
+
+/// sqrt(K M), also where the product leaves the doubles (K = M = 1e-200 gave eps = inf for a
+/// row whose eps is 5); the product's root where it is a normal double, so that ordinary rows
+/// keep their last bits.
+double root_of_product(double K, double M) {
+    const double product = K * M;
+    if (std::isnormal(product)) return std::sqrt(product);
+    return std::sqrt(K) * std::sqrt(M);
+}
+
+} // namespace
+
 ReducedParameters to_reduced(const PhysicalParameters& p) {
     validate(p);
     const double f0 = natural_frequency(p);
@@ -41,7 +54,7 @@ ReducedParameters to_reduced(const PhysicalParameters& p) {
     ReducedParameters r;
     r.Nm = p.Nm;
     r.fc = p.Kc / p.K;
-    r.eps = p.C / (2.0 * std::sqrt(p.K * p.M));
+    r.eps = p.C / (2.0 * root_of_product(p.K, p.M));
     r.e_r = two_pi_f0 * two_pi_f0 * p.e / p.a0;
     r.f_r = p.f / f0;
     // The reduced numbers are derived: a value out of range names the keys the user wrote.
@@ -72,7 +85,7 @@ PhysicalParameters to_physical(const ReducedParameters& p, double M, double K, d
     q.K = K;
     q.a0 = a0;
     q.Kc = p.fc * K;
-    q.C = 2.0 * p.eps * std::sqrt(K * M);
+    q.C = 2.0 * p.eps * root_of_product(K, M);
     const double f0 = natural_frequency(q);
     const double two_pi_f0 = 2.0 * std::numbers::pi * f0;
     q.e = p.e_r * a0 / (two_pi_f0 * two_pi_f0);

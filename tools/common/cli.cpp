@@ -496,13 +496,15 @@ void require_not_set(const SceneArguments& args, const std::string& param,
 }
 
 void require_sets_read(const SceneArguments& args, const std::string& tool,
-                       const std::vector<std::string>& read, const std::string& instead) {
+                       const std::vector<std::string>& read, const std::string& instead,
+                       const std::vector<std::string>& unread) {
     for (const std::string& set : args.sets) {
         const std::string key = set.substr(0, set.find('='));
         if (key.rfind("run.", 0) != 0 && key.rfind("output.", 0) != 0) continue;
-        const bool is_read = std::any_of(read.begin(), read.end(), [&](const std::string& r) {
-            return r.back() == '.' ? key.rfind(r, 0) == 0 : key == r;
-        });
+        const bool is_read = std::find(unread.begin(), unread.end(), key) == unread.end() &&
+                             std::any_of(read.begin(), read.end(), [&](const std::string& r) {
+                                 return r.back() == '.' ? key.rfind(r, 0) == 0 : key == r;
+                             });
         if (is_read) continue;
         std::string reads;
         for (std::size_t k = 0; k < read.size(); ++k)
@@ -550,9 +552,57 @@ std::string with_flag_names(std::string message, const FlagNames& names) {
 
 } // namespace
 
+std::string decimal_number_error(const std::string& text, bool integer) {
+    static const std::regex whole(R"([+-]?(0|[1-9][0-9]*))");
+    static const std::regex real(R"([+-]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?)");
+    if (std::regex_match(text, integer ? whole : real)) {
+        errno = 0;
+        const double x = std::strtod(text.c_str(), nullptr);
+        const bool written_nonzero =
+            text.substr(0, text.find_first_of("eE")).find_first_of("123456789") !=
+            std::string::npos;
+        if (std::isfinite(x) && (x != 0.0 || !written_nonzero)) return {};
+        return "must be a finite number, |x| in [4.9e-324, 1.8e308] or 0, got \"" + text + "\"";
+    }
+    static const std::regex octal("[+-]?0[0-9]+"), hex("[+-]?0[xX].*");
+    const char* why = std::regex_match(text, hex) ? " (hex is not read)"
+                      : integer && std::regex_match(text, octal)
+                          ? " (a leading 0 would make it octal)"
+                          : "";
+    return std::string(integer ? "must be a decimal integer" : "must be a finite decimal number") +
+           ", got \"" + text + "\"" + why;
+}
+
+namespace {
+
+/// Every number option of app and its subcommands must be written in plain decimal. CLI11 reads
+/// integers in base 0 (--samples 0100 ran 64 starts, --seed 010 was seed 8), floats in hex
+/// (--from 0x10 was 16), an empty text as 0 (--from '' started a line at 0), and 1e-999 as 0.
+void require_decimal_numbers(CLI::App& app) {
+    for (CLI::Option* option : app.get_options()) {
+        const std::string type = option->get_type_name();
+        const bool integer = type.rfind("INT", 0) == 0 || type.rfind("UINT", 0) == 0;
+        if (!integer && type.rfind("FLOAT", 0) != 0) continue;
+        // nan and inf pass as CLI11 reads them: the range checks name the accepted range.
+        static const std::regex non_finite("[+-]?(nan|inf|infinity)", std::regex::icase);
+        option->check(CLI::Validator(
+            [integer](std::string& text) {
+                return !integer && std::regex_match(text, non_finite)
+                           ? std::string()
+                           : decimal_number_error(text, integer);
+            },
+            ""));
+    }
+    for (CLI::App* sub : app.get_subcommands({}))
+        require_decimal_numbers(*sub);
+}
+
+} // namespace
+
 int run(CLI::App& app, int argc, char** argv, const std::function<void()>& body,
         const FlagNames& flag_names) {
     app.set_version_flag("--version", std::string(GAPCHAIN_VERSION));
+    require_decimal_numbers(app);
     std::signal(SIGINT, on_signal);
     std::signal(SIGTERM, on_signal);
     try {

@@ -120,6 +120,11 @@ CLI::Validator positive_number();
 // An output path that is not empty: "" would write nothing, and say so nowhere.
 CLI::Validator non_empty_path();
 
+// Why text is not a plain decimal number (an integer when `integer`: no exponent, no leading
+// zeros), finite and not underflowing to 0; empty when it is one. Every number option of a tool
+// is held to it (run() adds the check), and so are numbers tools read out of their own formats.
+std::string decimal_number_error(const std::string& text, bool integer);
+
 // CLI11 check: a number (an integer when `integer`) in [lo, hi], the bounds written as %g
 // (CLI::Range writes 1e-9 as 0.000000) and a non-number called one.
 CLI::Validator number_range(double lo, double hi, bool integer);
@@ -141,10 +146,12 @@ std::pair<CLI::Option*, CLI::Option*> add_start_box(CLI::App& app, long long& se
 // model.C), which their --from ... --to would silently replace. param: f_r, e_r, fc or eps.
 void require_not_set(const SceneArguments& args, const std::string& param, const std::string& tool);
 // Refuses a --set of a run.* or output.* key that the tool does not read, which it would
-// silently ignore: read lists the keys it does read ("run." for every run key), instead says
-// how the tool runs ("its runs are set by --transient and --record").
+// silently ignore: read lists the keys it does read ("run." for every run key), unread the
+// keys under such a prefix that it sets itself, instead says how the tool runs ("its runs are
+// set by --transient and --record").
 void require_sets_read(const SceneArguments& args, const std::string& tool,
-                       const std::vector<std::string>& read, const std::string& instead);
+                       const std::vector<std::string>& read, const std::string& instead,
+                       const std::vector<std::string>& unread = {});
 
 // How long the transients before the periodic attractors last (gapchain-attractors and
 // gapchain-sim --attractors), and what a run must discard for the attractors' F_m; nothing

@@ -564,12 +564,18 @@ TEST_CASE("a transient that outlasts its runs and as long again is still no attr
         CHECK(set.unsettled == 0);
         CHECK(set.F_m_max == doctest::Approx(1.0703507).epsilon(1e-6));
     }
-    // The continuation is held to run.max_work in whole periods: with room for 450.5 periods
-    // it was rounded up to 451, refused after every start had run.
+    // The search is held to run.max_work up front with what one non-periodic group adds (its
+    // confirmation, its lambda_max run): 453,203 body-steps passed for the two starts alone and
+    // the continuation was refused after every start had run (it was rounded up to a whole
+    // period; it is now rounded down, and within the budget checked up front).
     AttractorOptions tight;
     tight.samples = 2;
     tight.run.periods = 200;
     tight.run.max_work = 453203;
+    CHECK_THROWS_WITH_AS(validate(ReducedParameters{2, 200, 0.1, 0.351, 0.626}, tight),
+                         doctest::Contains("to confirm a non-periodic group"),
+                         std::invalid_argument);
+    tight.run.max_work = 3e6; // above the estimate, 2.6e6
     for (std::uint64_t seed : {1, 2}) {
         tight.seed = seed;
         CHECK_NOTHROW(find_attractors({2, 200, 0.1, 0.351, 0.626}, tight));

@@ -293,7 +293,7 @@ stopped() {
 }
 stopped 24 143 "$bin/gapchain-orbit" "$scenes/fig13.json" --from-transient 3000000 --out o24.json
 stopped 24 143 "$bin/gapchain-continue" "$scenes/fig13.json" --from 2.8 --to 3 --transient 3000000 --no-plot --out c24
-stopped 24 143 "$bin/gapchain-attractors" "$scenes/fig13.json" --samples 4 --no-plot --set model.Nm=100000 --out a24
+stopped 24 143 "$bin/gapchain-attractors" "$scenes/fig13.json" --samples 4 --no-plot --set model.Nm=100000 --set run.max_work=1e15 --out a24
 absent 24 o24.json c24 a24
 printf 'a,b,c\n1,2,3\n' > overlay.csv
 expect 24 2 "--overlay" "$bin/gapchain-continue" "$scenes/fig13.json" --from 2.8 --to 3 --overlay overlay.csv --out c24
@@ -457,6 +457,12 @@ expect 28 2 "--set output.trajectory_every: gapchain-sim without --trajectory do
 printf 'Nm,fc,eps,e_r,f_r,F_m,status\n2.9xyz,60,0.5,0.1,1,0.5,steady_state\n' >rows28.csv
 expect 28 2 "rows28.csv line 2, Nm: must be a decimal integer" "$bin/gapchain-bench" relaxed rows28.csv
 absent 28 s28.json a28 c28 b28 m28.json k28
+# A full disk was "cannot write the output file: Success" (the stream kept no errno).
+if mount -t tmpfs -o size=12k tmpfs full 2>/dev/null; then
+    dd if=/dev/zero of=full/fill bs=1k count=4 2>/dev/null
+    expect 28 1 "full/a28/starts.csv: cannot write the output file: No space left on device" "$bin/gapchain-attractors" fig5.json --samples 40 --set run.periods=40 --no-plot --out full/a28
+    umount full
+fi
 # K M below the doubles' range: eps is still C / (2 sqrt(K M)) = 5.
 expect 28 0 "" "$bin/gapchain-sim" "$scenes/table4-experiment-harmonic.json" --set model.K=1e-200 --set model.Kc=1e-195 --set model.C=1e-199 --set model.M=1e-200 --set excitation.f=1e-3 --set run.periods=20 -q --out s28.json
 verdict 28

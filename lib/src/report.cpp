@@ -14,6 +14,7 @@
 #include <numbers>
 #include <sstream>
 #include <sys/file.h>
+#include <sys/statvfs.h>
 #include <unistd.h>
 
 namespace gapchain {
@@ -215,6 +216,15 @@ std::string reason() {
     return std::strerror(errno);
 }
 
+/// Why writing path failed, given the errno saved at the failure (0 if none was): a stream that
+/// failed in an earlier write keeps no errno, and a full disk was reported as "Success".
+std::string write_failure_reason(const std::string& path, int saved) {
+    if (saved != 0) return std::strerror(saved);
+    struct statvfs fs {};
+    if (::statvfs(path.c_str(), &fs) == 0 && fs.f_bavail == 0) return std::strerror(ENOSPC);
+    return "a write failed (the file system gave no reason)";
+}
+
 } // namespace
 
 void remove_temporary_files() noexcept {
@@ -228,8 +238,10 @@ OutputFile::OutputFile(std::string path) : m_path(std::move(path)) {
     errno = 0;
     m_stream.open(m_temp, std::ios::out | std::ios::trunc);
     if (!m_stream) {
+        const int saved = errno;
         release_temporary(m_slot);
-        throw SceneError(m_path + ": cannot open for writing: " + reason());
+        throw SceneError(m_path +
+                         ": cannot open for writing: " + write_failure_reason(m_path, saved));
     }
     m_stream.precision(17);
 }
@@ -250,7 +262,7 @@ void OutputFile::commit() {
     m_stream.close();
     const bool closed = static_cast<bool>(m_stream) || ok;
     if (!ok || !closed || std::rename(m_temp.c_str(), m_path.c_str()) != 0) {
-        const std::string why = flush_errno ? std::strerror(flush_errno) : reason();
+        const std::string why = write_failure_reason(m_temp, flush_errno);
         std::remove(m_temp.c_str());
         m_committed = true;
         throw OutputError(m_path + ": cannot write the output file: " + why);

@@ -440,7 +440,11 @@ python3 -c "n=100000; print('{\"model\":{\"fc\":' + '['*n + ']'*n + '}}')" >deep
 expect 28 2 "deep28.json: model.fc: nested deeper than 64 levels" "$bin/gapchain-sim" deep28.json --out s28.json
 one_line 28
 echo '{"model": {"eps": 1e-999}}' >under28.json
-expect 28 2 "model.eps: a number must be 0 or \|x\| >= 4.9e-324, got '1e-999'" "$bin/gapchain-sim" under28.json --out s28.json
+expect 28 2 "model.eps: a number must be 0 or \|x\| >= 2.2e-308, got '1e-999'" "$bin/gapchain-sim" under28.json --out s28.json
+echo '{"model": {"fc": 4.9e-324}}' >sub28.json
+expect 28 2 "model.fc: a number must be 0 or \|x\| >= 2.2e-308, got '4.9e-324'" "$bin/gapchain-sim" sub28.json --out s28.json
+expect 28 2 "excitation.f_r: .*got 10000.000000000002" "$bin/gapchain-sim" fig5.json --set excitation.f_r=10000.000000000002 --out s28.json
+expect 28 2 "--steps: from 3 to 3.0000000000000004 holds too few doubles for 5 distinct values" "$bin/gapchain-attractors" fig5.json --param f_r --from 3 --to 3.0000000000000004 --steps 5 --out a28
 echo '{"model": {"fc": NaN}}' >nan28.json
 expect 28 2 "model.fc: must be a finite number \(JSON has no NaN or Infinity\), got NaN" "$bin/gapchain-sim" nan28.json --out s28.json
 expect 28 2 "--set model.scatter: overlaps --set model.scatter.seed" "$bin/gapchain-sim" fig5.json --set model.scatter.seed=2 --set 'model.scatter={"clearance":0.1}' --out s28.json

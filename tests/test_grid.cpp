@@ -2,6 +2,8 @@
 
 #include <doctest/doctest.h>
 
+#include <cmath>
+
 #include <stdexcept>
 
 using namespace gapchain;
@@ -41,4 +43,12 @@ TEST_CASE("require_line: one value needs equal ends, several need distinct ones"
                          std::invalid_argument);
     CHECK_THROWS_WITH_AS(require_line(3.0, 3.0, 5), doctest::Contains("got 5"),
                          std::invalid_argument);
+    // Two doubles apart: five steps would run 3 four times (and the message shows the ends).
+    const double next = std::nextafter(std::nextafter(3.0, 4.0), 4.0);
+    CHECK_THROWS_WITH_AS(require_line(3.0, next, 5),
+                         doctest::Contains("steps: from 3 to 3.0000000000000009 holds too few"),
+                         std::invalid_argument);
+    // Where each value is its own double, the line stands.
+    CHECK_NOTHROW(require_line(3.0, 3.0 + 1e-12, 5));
+    CHECK_NOTHROW(require_line(0.0, 1e-300, 10000));
 }

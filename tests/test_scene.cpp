@@ -182,7 +182,7 @@ TEST_CASE("bad input: every class gives one line naming the key") {
 TEST_CASE("numbers JSON cannot hold are named by key, not read as 0 or as malformed text") {
     // 1e-999 reads as 0: eps = 0 ran an undamped row, and fc = 1e-999 said "got 0".
     CHECK(error_of(R"({"model": {"eps": 1e-999}})")
-              .find("model.eps: a number must be 0 or |x| >= 4.9e-324, got '1e-999'") !=
+              .find("model.eps: a number must be 0 or |x| >= 2.2e-308, got '1e-999'") !=
           std::string::npos);
     CHECK(error_of("{}", {"model.eps=-2e-400"}).find("model.eps: a number must be 0") !=
           std::string::npos);
@@ -192,9 +192,12 @@ TEST_CASE("numbers JSON cannot hold are named by key, not read as 0 or as malfor
     CHECK(error_of(
               R"({"note": "1e-999", "model": {"Nm": 2, "fc": 50}, "initial": {"u": [1, 3e-500]}})")
               .find("initial.u: a number must be 0") != std::string::npos);
-    // Zero written with an exponent, and a subnormal, are numbers like any other.
+    // Zero written with an exponent is a number like any other; a subnormal is refused (fc =
+    // 4.9e-324 passed its range, and the contacts fc / 2 came out 0, named as model.contact).
     CHECK(parse_scene(R"({"model": {"eps": 0e-999}})").reduced.eps == 0.0);
-    CHECK(parse_scene(R"({"model": {"eps": 1e-320}})").reduced.eps > 0.0);
+    CHECK(parse_scene(R"({"model": {"eps": 2.3e-308}})").reduced.eps > 0.0);
+    CHECK(error_of(R"({"model": {"fc": 4.9e-324}})").find("model.fc: a number must be 0 or") !=
+          std::string::npos);
     // NaN and Infinity as other languages write them: JSON has neither; say so, with the key.
     CHECK(error_of(R"({"model": {"fc": NaN}})")
               .find("model.fc: must be a finite number (JSON has no NaN or Infinity), got NaN") !=

@@ -2,7 +2,9 @@
 
 #include "detail/check.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 
@@ -46,6 +48,17 @@ void require_line(double from, double to, long steps) {
     if (steps > 1 && from == to)
         throw std::invalid_argument("steps: from = to (" + detail::format_number(from) +
                                     ") is one value, steps = 1, got " + std::to_string(steps));
+    // Ends a few doubles apart: 3 to 3.0000000000000004 in 5 steps ran 3 four times over.
+    const double largest = std::max(std::abs(from), std::abs(to));
+    const double spacing = std::nextafter(largest, HUGE_VAL) - largest;
+    if (!(steps > 1 && std::abs(to - from) / static_cast<double>(steps - 1) < 2.0 * spacing))
+        return;
+    char shown_spacing[32];
+    std::snprintf(shown_spacing, sizeof shown_spacing, "%.2g", spacing);
+    throw std::invalid_argument(
+        "steps: from " + detail::format_number(from) + " to " + detail::format_number(to) +
+        " holds too few doubles for " + std::to_string(steps) + " distinct values (they are " +
+        shown_spacing + " apart there); widen the line or take fewer " + "steps");
 }
 
 } // namespace gapchain

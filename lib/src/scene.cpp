@@ -9,6 +9,7 @@
 
 #include <cctype>
 #include <cerrno>
+#include <cfloat>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -635,7 +636,7 @@ std::optional<UnderflowingNumber> first_underflowing_number(std::string_view tex
         if (exponent == std::string::npos) continue;
         const bool written_nonzero =
             number.substr(0, exponent).find_first_of("123456789") != std::string::npos;
-        if (written_nonzero && std::strtod(number.c_str(), nullptr) == 0.0)
+        if (written_nonzero && std::abs(std::strtod(number.c_str(), nullptr)) < DBL_MIN)
             return UnderflowingNumber{ordinal, number};
     }
     return std::nullopt;

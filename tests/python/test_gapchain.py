@@ -350,6 +350,8 @@ def test_an_argument_of_the_wrong_type_is_named_in_one_line():
              (gapchain.attractors, {"samples": True}, "samples: must be an integer, got True"),
              (gapchain.attractors, {"samples": np.float32(3.7)}, "samples: must be an integer"),
              (gapchain.attractors, {"box": True}, "box: must be a number, got True"),
+             # An array of one entry has __float__: it ran as box=1.
+             (gapchain.attractors, {"box": np.array([1.0])}, r"box: must be a number, got array"),
              (gapchain.simulate, {"trajectory": 0.5}, "trajectory: must be True or False"),
              (gapchain.regime_map, {"e_r": np.zeros((20, 20)), "f_r": [1.0]},
               r"e_r: must be a list of numbers, got array\(\[\[0\."),
@@ -364,6 +366,10 @@ def test_an_argument_of_the_wrong_type_is_named_in_one_line():
         assert "\n" not in str(raised.value)
     with pytest.raises(TypeError, match=r"attractors\(\): takes 1 positional argument"):
         gapchain.attractors(MIRROR_PAIR, True)
+    # An integer beyond the doubles is a value out of range, named (it was "arguments of the
+    # wrong type").
+    with pytest.raises(ValueError, match=r"^from_: must be a finite number"):
+        gapchain.basin_fractions(MIRROR_PAIR, from_=10 ** 400, to=1.1, steps=2)
     # Errors name the Python argument, not the library's option behind it.
     with pytest.raises(ValueError, match=r"^record: must be"):
         gapchain.classify(MIRROR_PAIR, record=0)

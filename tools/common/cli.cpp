@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cerrno>
+#include <cfloat>
 #include <cmath>
 #include <csignal>
 #include <cstdio>
@@ -561,8 +562,8 @@ std::string decimal_number_error(const std::string& text, bool integer) {
         const bool written_nonzero =
             text.substr(0, text.find_first_of("eE")).find_first_of("123456789") !=
             std::string::npos;
-        if (std::isfinite(x) && (x != 0.0 || !written_nonzero)) return {};
-        return "must be a finite number, |x| in [4.9e-324, 1.8e308] or 0, got \"" + text + "\"";
+        if (std::isfinite(x) && (std::abs(x) >= DBL_MIN || !written_nonzero)) return {};
+        return "must be 0 or a finite number with |x| in [2.2e-308, 1.8e308], got \"" + text + "\"";
     }
     static const std::regex octal("[+-]?0[0-9]+"), hex("[+-]?0[xX].*");
     const char* why = std::regex_match(text, hex) ? " (hex is not read)"

@@ -18,7 +18,8 @@ std::vector<double> logspace(double from, double to, long count);
 
 /// Refuses ends and a count that do not make a line of distinct values: steps = 1 with
 /// from != to (only `from` would run) and steps > 1 with from = to (one value run again and
-/// again). Throws std::invalid_argument naming "steps" and the values; the range of steps
+/// again), and ends too few doubles apart for steps distinct values. Throws
+/// std::invalid_argument naming "steps" and the values; the range of steps
 /// itself is the caller's to check.
 void require_line(double from, double to, long steps);
 

@@ -96,6 +96,9 @@ def _fits(kind, value):
     if kind == "int":
         return isinstance(value, _numbers.Integral) and not _is_bool(value)
     if kind == "float":
+        # An array of one entry has __float__ too: box=np.array([1.0]) ran as box=1.
+        if getattr(value, "ndim", 0) != 0:
+            return False
         return (isinstance(value, _numbers.Real) or
                 (hasattr(value, "__float__") and not isinstance(value, (str, bytes)))) \
             and not _is_bool(value)
@@ -158,6 +161,13 @@ def _out_of_range(name, parameters, args, kwargs):
         value = given.get(parameter)
         if kind.startswith("Optional[") and kind.endswith("]"):
             kind = kind[9:-1]
+        # An integer too large for a double (from_=10**400) is a value out of range.
+        if kind == "float" and isinstance(value, _numbers.Integral) and _fits(kind, value):
+            try:
+                float(value)
+            except OverflowError:
+                return ValueError, "%s: must be a finite number, |x| <= 1.8e308, got %s" % (
+                    parameter, _shown(value))
         if kind == "int" and _fits(kind, value):
             # The library's own limit (attractors.cpp), so that -1 and 2**63 read alike.
             if parameter == "seed" and not 0 <= value <= 2 ** 62:

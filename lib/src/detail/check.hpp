@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <cstdlib>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -16,6 +17,12 @@ inline std::string format_number(double x) {
     std::ostringstream s;
     s.precision(10);
     s << x;
+    // Ten digits unless they lose the value: f_r = 10000.000000000002 was refused as "got 10000".
+    if (std::isfinite(x) && std::strtod(s.str().c_str(), nullptr) != x) {
+        s.str("");
+        s.precision(17);
+        s << x;
+    }
     return s.str();
 }
 

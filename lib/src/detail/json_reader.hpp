@@ -152,14 +152,16 @@ private:
 
 namespace gapchain::detail {
 
-/// The first number of JSON text that is written nonzero but reads as 0 (1e-999 underflows):
+/// The first number of JSON text that is written nonzero but reads as 0 or as a subnormal double
+/// (1e-999 underflows to 0; fc = 4.9e-324 passed its range and made the contacts 0):
 /// its ordinal among the text's numbers (1 for the first) and its text. Strings are skipped.
 struct UnderflowingNumber {
     std::size_t ordinal = 0;
     std::string text;
     /// The rule it breaks, with the number as written.
     [[nodiscard]] std::string rule() const {
-        return "a number must be 0 or |x| >= 4.9e-324, got '" + text + "' (it reads as 0)";
+        return "a number must be 0 or |x| >= 2.2e-308, got '" + text +
+               "' (below the normal doubles)";
     }
 };
 std::optional<UnderflowingNumber> first_underflowing_number(std::string_view text);

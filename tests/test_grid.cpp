@@ -46,8 +46,12 @@ TEST_CASE("require_line: one value needs equal ends, several need distinct ones"
     // Two doubles apart: five steps would run 3 four times (and the message shows the ends).
     const double next = std::nextafter(std::nextafter(3.0, 4.0), 4.0);
     CHECK_THROWS_WITH_AS(require_line(3.0, next, 5),
-                         doctest::Contains("steps: from 3 to 3.0000000000000009 holds too few"),
+                         doctest::Contains("steps: from 3 to 3.000000000000001 in 5 steps repeats"),
                          std::invalid_argument);
+    // As many steps as doubles from end to end: every value its own (an estimate of the
+    // spacing refused these).
+    CHECK_NOTHROW(require_line(3.0, std::nextafter(3.0, 4.0), 2));
+    CHECK_NOTHROW(require_line(3.0, next, 3));
     // Where each value is its own double, the line stands.
     CHECK_NOTHROW(require_line(3.0, 3.0 + 1e-12, 5));
     CHECK_NOTHROW(require_line(0.0, 1e-300, 10000));

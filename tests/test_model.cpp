@@ -27,7 +27,7 @@ TEST_CASE("physical -> reduced -> physical round trip") {
     CHECK(force_in_newtons(2.0, q) == doctest::Approx(2.0 * 2.5 * 9.81 * std::sqrt(400.0)));
 }
 
-TEST_CASE("eps where K M leaves the doubles: tiny and huge K and M") {
+TEST_CASE("eps where K M underflows: tiny K and M (their ranges keep K M below 1e27)") {
     // K M = 1e-400 underflowed to 0 and eps came out inf (refused) for a row whose eps is 5.
     const PhysicalParameters tiny{3, 1e-200, 1e-200, 1e-199, 1e-195, 3.5e-3, 10.0, 1e-3};
     CHECK(to_reduced(tiny).eps == doctest::Approx(5.0).epsilon(1e-14));

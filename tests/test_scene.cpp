@@ -144,8 +144,9 @@ TEST_CASE("bad input: every class gives one line naming the key") {
     CHECK(error_of(R"({"excitation": {"f_r": 0}})").find("excitation.f_r") != std::string::npos);
     CHECK(error_of(R"({"run": {"periods": 0}})").find("run.periods") != std::string::npos);
     // An overflowing number names its key (the lexer throws before the value is read).
-    CHECK(error_of(R"({"model": {"fc": 1e999}})").find("model.fc: a number must be finite") !=
-          std::string::npos);
+    CHECK(error_of(R"({"model": {"fc": 1e999}})")
+              .find("model.fc: a number must be 0 or finite with |x| in [2.2e-308, 1.8e308], got "
+                    "\"1e999\"") != std::string::npos);
     CHECK(error_of(R"({"model": {"fc": 1e999}})").find("1e999") != std::string::npos);
     CHECK(error_of("{not json").find("json.exception") == std::string::npos);
     CHECK(error_of("{}", {"model.eps=nan"}).find("model.eps: must be a finite number") !=
@@ -182,9 +183,18 @@ TEST_CASE("bad input: every class gives one line naming the key") {
 TEST_CASE("numbers JSON cannot hold are named by key, not read as 0 or as malformed text") {
     // 1e-999 reads as 0: eps = 0 ran an undamped row, and fc = 1e-999 said "got 0".
     CHECK(error_of(R"({"model": {"eps": 1e-999}})")
-              .find("model.eps: a number must be 0 or |x| >= 2.2e-308, got '1e-999'") !=
-          std::string::npos);
+              .find("model.eps: a number must be 0 or finite with |x| in [2.2e-308, 1.8e308], got "
+                    "\"1e-999\"") != std::string::npos);
     CHECK(error_of("{}", {"model.eps=-2e-400"}).find("model.eps: a number must be 0") !=
+          std::string::npos);
+    // Without an exponent too: 331 zeros after the point read as 0 (an undamped row).
+    const std::string tiny = "0." + std::string(330, '0') + "1";
+    CHECK(error_of("{}", {"model.eps=" + tiny}).find("model.eps: a number must be 0") !=
+          std::string::npos);
+    CHECK(error_of(R"({"model": {"eps": )" + tiny + "}}").find("model.eps: a number must be 0") !=
+          std::string::npos);
+    // And beyond the doubles, as in a file (--set took 1e999 for the string "1e999").
+    CHECK(error_of("{}", {"model.fc=1e999"}).find("model.fc: a number must be 0 or finite") !=
           std::string::npos);
     CHECK(error_of(R"({"model": {"Nm": 2}})", {"initial.u=[1,1e-999]"})
               .find("initial.u: a number must be 0") != std::string::npos);
@@ -216,9 +226,9 @@ TEST_CASE("hostile shapes: deep nesting, huge values and overlapping --set keys 
     // the value (a segfault).
     const std::string deep = std::string(100000, '[') + std::string(100000, ']');
     CHECK(error_of(R"({"model": {"fc": )" + deep + "}}")
-              .find("model.fc: nested deeper than 64 levels") != std::string::npos);
+              .find("model.fc: nested more than 64 levels deep") != std::string::npos);
     CHECK(error_of("{}", {"model.scatter=" + deep})
-              .find("model.scatter: nested deeper than 64 levels") != std::string::npos);
+              .find("model.scatter: nested more than 64 levels deep") != std::string::npos);
     // A value in a message is cut: a million-entry array was printed whole.
     std::string many = "[1";
     for (int k = 0; k < 1000000; ++k)
@@ -254,6 +264,13 @@ TEST_CASE("OutputFile leaves nothing behind unless committed") {
     std::getline(in, line);
     CHECK(line == "whole");
     std::remove(path.c_str());
+    // A directory in the way: the rename's reason, not "a write failed" (its errno was lost).
+    const auto folder = std::filesystem::temp_directory_path() / "gapchain_outfile_folder";
+    std::filesystem::create_directories(folder);
+    CHECK_THROWS_WITH_AS(write_file_atomically(folder.string(), "x\n"),
+                         doctest::Contains("cannot write the output file: Is a directory"),
+                         OutputError);
+    std::filesystem::remove_all(folder);
 }
 
 TEST_CASE("non-uniform rows: arrays equal to the nominal values give the homogeneous run exactly") {

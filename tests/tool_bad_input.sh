@@ -28,7 +28,7 @@ check() { # name, expected key fragment, args...
 check malformed "malformed JSON" "$dir/malformed.json"
 check unknown "model.springiness: unknown key" "$dir/unknown.json"
 check range "model.Nm" "$dir/range.json"
-check inf "model.fc: a number must be finite" "$dir/inf.json"
+check inf "model.fc: a number must be 0 or finite" "$dir/inf.json"
 check type "model.Nm" "$dir/type.json"
 check nan "model.eps" "$dir/good.json" --set model.eps=nan
 check negative "model.fc" "$dir/good.json" --set model.fc=-3

@@ -175,6 +175,9 @@ std::vector<ReducedParameters> periodic_rows(const std::string& path, int count)
         std::stringstream in_line(line);
         for (std::string f; std::getline(in_line, f, ',');)
             cell.push_back(f);
+        // getline drops an empty last field (an empty steady_state_period of a row that did
+        // not settle).
+        if (!line.empty() && line.back() == ',') cell.emplace_back();
         return cell;
     };
     std::string line;
@@ -198,7 +201,7 @@ std::vector<ReducedParameters> periodic_rows(const std::string& path, int count)
         // A malformed number is named, not skipped or read up to its junk ("2.9xyz" was Nm 2).
         const auto number = [&](const char* name) {
             const std::string& text = cell[column[name]];
-            const std::string error = cli::decimal_number_error(text, name == std::string("Nm"));
+            const std::string error = number_text_error(text, name == std::string("Nm"));
             if (!error.empty()) throw std::invalid_argument(where + ", " + name + ": " + error);
             return std::strtod(text.c_str(), nullptr);
         };

@@ -27,24 +27,35 @@ std::vector<double> parse_range(const std::string& text, const std::string& flag
         text.substr(0, first),
         first == std::string::npos ? "" : text.substr(first + 1, second - first - 1),
         second == std::string::npos ? "" : text.substr(second + 1)};
-    const bool numbers = second != std::string::npos &&
-                         cli::decimal_number_error(parts[0], false).empty() &&
-                         cli::decimal_number_error(parts[1], false).empty() &&
-                         cli::decimal_number_error(parts[2], true).empty() && parts[2].size() <= 6;
-    const double from = numbers ? std::strtod(parts[0].c_str(), nullptr) : 0.0;
-    const double to = numbers ? std::strtod(parts[1].c_str(), nullptr) : 0.0;
-    const int count = numbers ? std::stoi(parts[2]) : 0;
-    if (!numbers || count < 1 || count > 100000)
-        throw std::invalid_argument(
-            flag + ": must be from:to:count with 1 <= count <= 100000, got \"" + text + "\"");
+    const std::string form =
+        flag + ": must be from:to:count with 1 <= count <= 100000, got \"" + text + "\"";
+    if (second == std::string::npos) throw std::invalid_argument(form);
+    for (int k = 0; k < 3; ++k)
+        if (const std::string error = number_text_error(parts[k], k == 2); !error.empty())
+            throw std::invalid_argument(form + ": its " +
+                                        (k == 0   ? "from"
+                                         : k == 1 ? "to"
+                                                  : "count") +
+                                        " " + error);
+    const double from = std::strtod(parts[0].c_str(), nullptr);
+    const double to = std::strtod(parts[1].c_str(), nullptr);
+    const int count = parts[2].size() <= 6 ? std::stoi(parts[2]) : 0;
+    if (count < 1 || count > 100000) throw std::invalid_argument(form);
     for (double end : {from, to})
         if (const auto error = swept_value_error(base, parameter, end))
             throw std::invalid_argument(flag + ": " + *error);
-    // A map axis of several equal values had gnuplot fail after the whole map had run.
+    // A map axis of several equal values had gnuplot fail after the whole map had run; one of
+    // ends a few doubles apart repeated a value.
     if ((count > 1) == (from == to))
         throw std::invalid_argument(flag +
                                     ": count 1 goes with from = to and count > 1 with from " +
                                     "!= to, got \"" + text + "\"");
+    try {
+        require_line(from, to, count);
+    } catch (const std::invalid_argument& e) {
+        throw std::invalid_argument(flag + ": " + std::string(e.what()).substr(7) + " (from \"" +
+                                    text + "\")");
+    }
     return linspace(from, to, count);
 }
 

@@ -48,17 +48,25 @@ void require_line(double from, double to, long steps) {
     if (steps > 1 && from == to)
         throw std::invalid_argument("steps: from = to (" + detail::format_number(from) +
                                     ") is one value, steps = 1, got " + std::to_string(steps));
-    // Ends a few doubles apart: 3 to 3.0000000000000004 in 5 steps ran 3 four times over.
-    const double largest = std::max(std::abs(from), std::abs(to));
-    const double spacing = std::nextafter(largest, HUGE_VAL) - largest;
-    if (!(steps > 1 && std::abs(to - from) / static_cast<double>(steps - 1) < 2.0 * spacing))
-        return;
-    char shown_spacing[32];
-    std::snprintf(shown_spacing, sizeof shown_spacing, "%.2g", spacing);
-    throw std::invalid_argument(
-        "steps: from " + detail::format_number(from) + " to " + detail::format_number(to) +
-        " holds too few doubles for " + std::to_string(steps) + " distinct values (they are " +
-        shown_spacing + " apart there); widen the line or take fewer " + "steps");
+    // Ends a few doubles apart: 3 to 3.0000000000000004 in 5 steps ran 3 four times over. The
+    // values themselves are compared (as the lines make them), not a spacing estimate.
+    // Non-finite ends are the callers' range checks to name.
+    if (steps < 2 || !std::isfinite(from) || !std::isfinite(to)) return;
+    const std::vector<double> values = linspace(from, to, steps);
+    for (std::size_t k = 1; k < values.size(); ++k) {
+        const double between =
+            from + (to - from) * static_cast<double>(k) / static_cast<double>(steps - 1);
+        const double before =
+            from + (to - from) * static_cast<double>(k - 1) / static_cast<double>(steps - 1);
+        if (values[k] != values[k - 1] && between != before) continue;
+        char spacing[32];
+        const double largest = std::max(std::abs(from), std::abs(to));
+        std::snprintf(spacing, sizeof spacing, "%.2g", std::nextafter(largest, HUGE_VAL) - largest);
+        throw std::invalid_argument("steps: from " + detail::format_number(from) + " to " +
+                                    detail::format_number(to) + " in " + std::to_string(steps) +
+                                    " steps repeats a value (the doubles there are " + spacing +
+                                    " apart); widen the line or take fewer steps");
+    }
 }
 
 } // namespace gapchain

@@ -36,9 +36,9 @@ double natural_frequency(const PhysicalParameters& p) {
 
 namespace {
 
-/// sqrt(K M), also where the product leaves the doubles (K = M = 1e-200 gave eps = inf for a
-/// row whose eps is 5); the product's root where it is a normal double, so that ordinary rows
-/// keep their last bits.
+/// sqrt(K M), also where the product underflows (K = M = 1e-200 gave eps = inf for a row whose
+/// eps is 5); the product's root where it is a normal double, so that ordinary rows keep their
+/// last bits.
 double root_of_product(double K, double M) {
     const double product = K * M;
     if (std::isnormal(product)) return std::sqrt(product);

@@ -109,9 +109,10 @@ bool StepScan::opens_inside(int j, const GapEnds& e) {
     // bound. Like that bound it assumes the gap's curvature has one sign over the step; a
     // closed contact's ends are concave (its spring pushes back), and at h omega <= 0.4 the
     // curvature term is about 0.5 % of the gap. A step split at a switch starts or ends on the
-    // surface, where the bound is negative and the interpolant is always read. A step split at the contact's switches ends on a gap of 0 to round-off, which
-    // falls on either side; only where both ends fell on the closed side does the reclosing
-    // go uncounted by the open-to-closed test of list_contacts_to_scan().
+    // surface, where the bound is negative and the interpolant is always read. A step split at the
+    // contact's switches ends on a gap of 0 to round-off, which falls on either side; only where
+    // both ends fell on the closed side does the reclosing go uncounted by the open-to-closed test
+    // of list_contacts_to_scan().
     if (!(e.g0 > 0.0 && e.g1 > 0.0 && e.r0 < 0.0 && e.r1 > 0.0)) return false;
     if (std::min(e.g0, e.g1) - 0.5 * m_h * (e.r1 - e.r0) >= 0.0) return false;
     const detail::QuinticHermite g = gap_interpolant(j, e);

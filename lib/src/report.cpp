@@ -259,10 +259,20 @@ void OutputFile::commit() {
     m_stream.flush();
     const bool ok = static_cast<bool>(m_stream);
     const int flush_errno = errno;
+    errno = 0;
     m_stream.close();
     const bool closed = static_cast<bool>(m_stream) || ok;
-    if (!ok || !closed || std::rename(m_temp.c_str(), m_path.c_str()) != 0) {
-        const std::string why = write_failure_reason(m_temp, flush_errno);
+    int failure_errno = flush_errno ? flush_errno : errno;
+    bool renamed = false;
+    if (ok && closed) {
+        errno = 0;
+        renamed = std::rename(m_temp.c_str(), m_path.c_str()) == 0;
+        if (!renamed) failure_errno = errno;
+    }
+    if (!renamed) {
+        // The errno of the step that failed (a directory in the way of the rename said "a write
+        // failed"); none when an earlier buffered write failed.
+        const std::string why = write_failure_reason(m_temp, failure_errno);
         std::remove(m_temp.c_str());
         m_committed = true;
         throw OutputError(m_path + ": cannot write the output file: " + why);

@@ -35,18 +35,22 @@ namespace {
 /// json value of an override's text: JSON, else the text as a string; nan/inf are numbers.
 /// key names the overridden key in the message on a duplicate key inside an object value.
 json override_value(const std::string& key, const std::string& text) {
-    if (text == "nan" || text == "NaN" || text == "-nan")
-        return std::numeric_limits<double>::quiet_NaN();
-    if (text == "inf" || text == "Inf" || text == "infinity")
-        return std::numeric_limits<double>::infinity();
-    if (text == "-inf" || text == "-Inf") return -std::numeric_limits<double>::infinity();
+    if (spells_non_finite(text)) {
+        // Only "nan" of the spellings has an a.
+        if (text.find_first_of("aA") != std::string::npos)
+            return std::numeric_limits<double>::quiet_NaN();
+        return (text[0] == '-' ? -1.0 : 1.0) * std::numeric_limits<double>::infinity();
+    }
+    // A decimal number out of the doubles' range is held to the scene file's rule (1e999 was
+    // taken as the string "1e999", 1e-999 as 0): the same message for the same fault.
+    if (const std::string error = number_text_error(text);
+        error.rfind("must be 0 or finite", 0) == 0)
+        throw SceneError(key + ": a number " + error);
     json value = json::parse(text, nullptr, false);
     if (value.is_discarded()) return json(text);
     // An array or object is held to the scene file's rules: a key given twice is refused, not
-    // silently the last one; so are a number that underflows and nesting beyond its depth.
+    // silently the last one; so are a number out of the doubles' range and deep nesting.
     if (value.is_structured()) return detail::parse_json_strictly<json>(text, "", key);
-    if (const auto underflow = detail::first_underflowing_number(text))
-        throw SceneError(key + ": " + underflow->rule());
     return value;
 }
 
@@ -615,7 +619,7 @@ SceneError JsonKeyTrail::value_error(const std::string& rule) const {
         m_levels.empty() ? std::string() : m_levels.back().path + m_levels.back().last_key, rule);
 }
 
-std::optional<UnderflowingNumber> first_underflowing_number(std::string_view text) {
+std::optional<UnreadableNumber> first_unreadable_number(std::string_view text) {
     std::size_t ordinal = 0;
     for (std::size_t i = 0; i < text.size(); ++i) {
         const char c = text[i];
@@ -632,12 +636,8 @@ std::optional<UnderflowingNumber> first_underflowing_number(std::string_view tex
         const std::string number(text.substr(i, end - i));
         ++ordinal;
         i = end - 1;
-        const auto exponent = number.find_first_of("eE");
-        if (exponent == std::string::npos) continue;
-        const bool written_nonzero =
-            number.substr(0, exponent).find_first_of("123456789") != std::string::npos;
-        if (written_nonzero && std::abs(std::strtod(number.c_str(), nullptr)) < DBL_MIN)
-            return UnderflowingNumber{ordinal, number};
+        if (const std::string error = number_text_error(number); !error.empty())
+            return UnreadableNumber{ordinal, "a number " + error};
     }
     return std::nullopt;
 }
@@ -653,10 +653,7 @@ std::string non_finite_literal_at(std::string_view text, std::size_t last_read, 
     while (end < text.size() && is_letter(text[end]))
         ++end;
     std::string literal(text.substr(begin, end - begin));
-    std::string lower;
-    for (const char c : literal.substr(literal[0] == '-' ? 1 : 0))
-        lower += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
-    if (lower != "nan" && lower != "inf" && lower != "infinity") return {};
+    if (!spells_non_finite(literal)) return {};
     std::size_t before = begin;
     while (before > 0 && std::isspace(static_cast<unsigned char>(text[before - 1])))
         --before;
@@ -773,6 +770,66 @@ void require_paper_row(const Scene& scene, const std::string& user) {
                               : "non-uniform rows work in gapchain-sim, -poincare, -spectrum, "
                                 "-modes, -orbit and -accuracy"));
     }
+}
+
+std::string number_text_error(std::string_view text, bool integer) {
+    // A scanner, not std::regex: libstdc++'s regex recurses once per character, and a flag of
+    // 50,000 digits overflowed the stack.
+    std::size_t i = text.empty() || (text[0] != '+' && text[0] != '-') ? 0 : 1;
+    const auto digits = [&] {
+        const std::size_t first = i;
+        while (i < text.size() && text[i] >= '0' && text[i] <= '9')
+            ++i;
+        return i - first;
+    };
+    const std::size_t whole_from = i;
+    std::size_t mantissa = digits();
+    bool plain = true;
+    if (integer) {
+        plain = mantissa > 0 && !(mantissa > 1 && text[whole_from] == '0');
+    } else {
+        if (i < text.size() && text[i] == '.') {
+            ++i;
+            mantissa += digits();
+        }
+        plain = mantissa > 0;
+        if (plain && i < text.size() && (text[i] == 'e' || text[i] == 'E')) {
+            ++i;
+            if (i < text.size() && (text[i] == '+' || text[i] == '-')) ++i;
+            plain = digits() > 0;
+        }
+    }
+    const std::string shown =
+        "\"" + std::string(text.size() > 60 ? std::string(text.substr(0, 57)) + "..." : text) +
+        "\"";
+    if (!plain || i != text.size()) {
+        const std::string_view unsigned_text = text.substr(whole_from);
+        const bool hex = unsigned_text.size() > 1 && unsigned_text[0] == '0' &&
+                         (unsigned_text[1] == 'x' || unsigned_text[1] == 'X');
+        const bool octal = integer && mantissa > 1 && i == text.size() && text[whole_from] == '0';
+        return std::string(integer ? "must be a decimal integer"
+                                   : "must be a finite decimal number") +
+               ", got " + shown +
+               (hex     ? " (hex is not read)"
+                : octal ? " (a leading 0 would make it octal)"
+                        : "");
+    }
+    const std::string number(text);
+    const double x = std::strtod(number.c_str(), nullptr);
+    const bool written_nonzero =
+        number.substr(0, number.find_first_of("eE")).find_first_of("123456789") !=
+        std::string::npos;
+    if (!std::isfinite(x) || (written_nonzero && std::abs(x) < DBL_MIN))
+        return "must be 0 or finite with |x| in [2.2e-308, 1.8e308], got " + shown;
+    return {};
+}
+
+bool spells_non_finite(std::string_view text) {
+    if (!text.empty() && (text[0] == '+' || text[0] == '-')) text.remove_prefix(1);
+    std::string lower;
+    for (const char c : text)
+        lower += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    return lower == "nan" || lower == "inf" || lower == "infinity";
 }
 
 void require_linear_harmonic(const Scene& scene, const std::string& user, const std::string& why) {

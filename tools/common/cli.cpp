@@ -496,6 +496,18 @@ void require_not_set(const SceneArguments& args, const std::string& param,
                                  " itself, from --from to --to; drop the --set");
 }
 
+namespace {
+
+// "a", "a and b", "a, b and c".
+std::string join_words(const std::vector<std::string>& words) {
+    std::string joined;
+    for (std::size_t k = 0; k < words.size(); ++k)
+        joined += (k == 0 ? "" : k + 1 == words.size() ? " and " : ", ") + words[k];
+    return joined;
+}
+
+} // namespace
+
 void require_sets_read(const SceneArguments& args, const std::string& tool,
                        const std::vector<std::string>& read, const std::string& instead,
                        const std::vector<std::string>& unread) {
@@ -507,12 +519,12 @@ void require_sets_read(const SceneArguments& args, const std::string& tool,
                                  return r.back() == '.' ? key.rfind(r, 0) == 0 : key == r;
                              });
         if (is_read) continue;
-        std::string reads;
-        for (std::size_t k = 0; k < read.size(); ++k)
-            reads += (k == 0                 ? ""
-                      : k + 1 == read.size() ? " and "
-                                             : ", ") +
-                     (read[k] == "run." ? std::string("the run section") : read[k]);
+        std::vector<std::string> named;
+        for (const std::string& r : read)
+            named.push_back(r != "run."      ? r
+                            : unread.empty() ? std::string("the run section")
+                                             : "the run section except " + join_words(unread));
+        const std::string reads = join_words(named);
         throw SceneError(
             "--set " + key + ": " + tool + " does not read it (" +
             (reads.empty() ? std::string("it reads no run or output key") : "it reads " + reads) +
@@ -553,27 +565,6 @@ std::string with_flag_names(std::string message, const FlagNames& names) {
 
 } // namespace
 
-std::string decimal_number_error(const std::string& text, bool integer) {
-    static const std::regex whole(R"([+-]?(0|[1-9][0-9]*))");
-    static const std::regex real(R"([+-]?([0-9]+\.?[0-9]*|\.[0-9]+)([eE][+-]?[0-9]+)?)");
-    if (std::regex_match(text, integer ? whole : real)) {
-        errno = 0;
-        const double x = std::strtod(text.c_str(), nullptr);
-        const bool written_nonzero =
-            text.substr(0, text.find_first_of("eE")).find_first_of("123456789") !=
-            std::string::npos;
-        if (std::isfinite(x) && (std::abs(x) >= DBL_MIN || !written_nonzero)) return {};
-        return "must be 0 or a finite number with |x| in [2.2e-308, 1.8e308], got \"" + text + "\"";
-    }
-    static const std::regex octal("[+-]?0[0-9]+"), hex("[+-]?0[xX].*");
-    const char* why = std::regex_match(text, hex) ? " (hex is not read)"
-                      : integer && std::regex_match(text, octal)
-                          ? " (a leading 0 would make it octal)"
-                          : "";
-    return std::string(integer ? "must be a decimal integer" : "must be a finite decimal number") +
-           ", got \"" + text + "\"" + why;
-}
-
 namespace {
 
 /// Every number option of app and its subcommands must be written in plain decimal. CLI11 reads
@@ -585,12 +576,10 @@ void require_decimal_numbers(CLI::App& app) {
         const bool integer = type.rfind("INT", 0) == 0 || type.rfind("UINT", 0) == 0;
         if (!integer && type.rfind("FLOAT", 0) != 0) continue;
         // nan and inf pass as CLI11 reads them: the range checks name the accepted range.
-        static const std::regex non_finite("[+-]?(nan|inf|infinity)", std::regex::icase);
         option->check(CLI::Validator(
             [integer](std::string& text) {
-                return !integer && std::regex_match(text, non_finite)
-                           ? std::string()
-                           : decimal_number_error(text, integer);
+                return !integer && spells_non_finite(text) ? std::string()
+                                                           : number_text_error(text, integer);
             },
             ""));
     }

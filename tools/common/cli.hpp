@@ -120,11 +120,6 @@ CLI::Validator positive_number();
 // An output path that is not empty: "" would write nothing, and say so nowhere.
 CLI::Validator non_empty_path();
 
-// Why text is not a plain decimal number (an integer when `integer`: no exponent, no leading
-// zeros), finite and not underflowing to 0; empty when it is one. Every number option of a tool
-// is held to it (run() adds the check), and so are numbers tools read out of their own formats.
-std::string decimal_number_error(const std::string& text, bool integer);
-
 // CLI11 check: a number (an integer when `integer`) in [lo, hi], the bounds written as %g
 // (CLI::Range writes 1e-9 as 0.000000) and a non-number called one.
 CLI::Validator number_range(double lo, double hi, bool integer);

@@ -129,7 +129,8 @@ std::string to_json(const AttractorSet& set, const AttractorOptions& options,
 /// The basin slice: x,y,attractor (-1: the run failed), one row per start.
 std::string basin_slice_csv(const AttractorSet& set);
 
-/// Basin fractions along a line as JSON: parameter, values, label_count, the base row, and per
+/// Basin fractions along a line as JSON: parameter, values, label_count, the base row (its value
+/// of the varied parameter is the scene's, which the line replaces; never run), and per
 /// value its labels (the global label of each of its attractors, in their order) and its whole
 /// search as to_json(AttractorSet) writes it (the options, the center of the starts, the
 /// attractors with their errors, wall_time_s); the line's wall_time_s [s].

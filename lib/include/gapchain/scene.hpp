@@ -123,6 +123,17 @@ void take_run_settings(const Scene& scene, AnalysisOptions& o) {
     o.initial = scene.initial;
 }
 
+/// Why `text` is not a number as gapchain reads the numbers it is given (scene values, --set
+/// values, command-line flags): plain decimal (an integer when `integer`: digits alone, no
+/// leading zeros; CLI11 read 010 as octal 8, 0x10 as hex 16 and an empty text as 0), finite,
+/// and 0 or at least 2.2e-308 in magnitude (1e-999 reads as 0; a subnormal loses digits).
+/// Empty when it is one. The message starts "must be" and ends with the text.
+std::string number_text_error(std::string_view text, bool integer = false);
+
+/// Whether text spells NaN or an infinity (nan, inf or infinity, any case, with a sign): what
+/// --set and the command-line flags read as those values, and JSON lacks.
+bool spells_non_finite(std::string_view text);
+
 /// Parses and validates scene text (see load_scene). Throws SceneError.
 Scene parse_scene(std::string_view text, const std::vector<std::string>& overrides = {},
                   const std::string& source = "<string>");

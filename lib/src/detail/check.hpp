@@ -17,10 +17,12 @@ inline std::string format_number(double x) {
     std::ostringstream s;
     s.precision(10);
     s << x;
-    // Ten digits unless they lose the value: f_r = 10000.000000000002 was refused as "got 10000".
-    if (std::isfinite(x) && std::strtod(s.str().c_str(), nullptr) != x) {
+    // Ten digits unless they lose the value (f_r = 10000.000000000002 was refused as "got
+    // 10000"); then the fewest that keep it, as the user likely wrote it.
+    for (int digits = 15;
+         digits <= 17 && std::isfinite(x) && std::strtod(s.str().c_str(), nullptr) != x; ++digits) {
         s.str("");
-        s.precision(17);
+        s.precision(digits);
         s << x;
     }
     return s.str();

@@ -152,19 +152,14 @@ private:
 
 namespace gapchain::detail {
 
-/// The first number of JSON text that is written nonzero but reads as 0 or as a subnormal double
-/// (1e-999 underflows to 0; fc = 4.9e-324 passed its range and made the contacts 0):
-/// its ordinal among the text's numbers (1 for the first) and its text. Strings are skipped.
-struct UnderflowingNumber {
+/// The first number of JSON text that gapchain cannot read as written (number_text_error():
+/// 1e-999 reads as 0, a subnormal loses digits, 1e999 overflows): its ordinal among the text's
+/// numbers (1 for the first) and the message. Strings are skipped.
+struct UnreadableNumber {
     std::size_t ordinal = 0;
-    std::string text;
-    /// The rule it breaks, with the number as written.
-    [[nodiscard]] std::string rule() const {
-        return "a number must be 0 or |x| >= 2.2e-308, got '" + text +
-               "' (below the normal doubles)";
-    }
+    std::string message;
 };
-std::optional<UnderflowingNumber> first_underflowing_number(std::string_view text);
+std::optional<UnreadableNumber> first_unreadable_number(std::string_view text);
 
 /// The NaN or Infinity literal (as other languages write them; JSON has neither) that a parse
 /// error at byte offset `last_read` (1-based, nlohmann's parse_error::byte) stopped in, where it
@@ -226,36 +221,35 @@ template <class Json>
 Json parse_json_strictly(std::string_view text, const std::string& source,
                          const std::string& within = {}) {
     // Rare, so found by a scan first; the callback then counts numbers up to it to name its key.
-    const auto underflow = first_underflowing_number(text);
+    const auto unreadable = first_unreadable_number(text);
     std::size_t numbers_read = 0;
     JsonKeyTrail trail(source, within);
     auto callback = [&](int depth, typename Json::parse_event_t event, Json& parsed) {
         using Event = typename Json::parse_event_t;
         // A scene is a few levels deep; a value nested 100,000 deep overflowed the stack where
         // a message printed it.
-        if (depth > max_json_depth)
-            throw trail.value_error("nested deeper than " + std::to_string(max_json_depth) +
-                                    " levels of arrays and objects");
+        if (depth >= max_json_depth)
+            throw trail.value_error("nested more than " + std::to_string(max_json_depth) +
+                                    " levels deep (arrays and objects, counted from the top of "
+                                    "the text)");
         if (event == Event::object_start || event == Event::array_start)
             trail.open(event == Event::object_start);
         else if (event == Event::object_end || event == Event::array_end)
             trail.close(event == Event::object_end);
         else if (event == Event::key)
             trail.key(parsed.template get<std::string>());
-        else if (event == Event::value && underflow && parsed.is_number() &&
-                 ++numbers_read == underflow->ordinal)
-            throw trail.value_error(underflow->rule());
+        else if (event == Event::value && unreadable && parsed.is_number() &&
+                 ++numbers_read == unreadable->ordinal)
+            throw trail.value_error(unreadable->message);
         return true;
     };
     try {
         return Json::parse(text, callback);
     } catch (const typename Json::out_of_range& e) {
         // Number overflow (1e999): the lexer throws before the value reaches the callback, so
-        // the key it belongs to is the last one read.
-        const std::string what = e.what();
-        const auto quote = what.find('\'');
-        throw trail.value_error("a number must be finite, |x| <= 1.8e308, got " +
-                                (quote == std::string::npos ? what : what.substr(quote)));
+        // the key it belongs to is the last one read; the scan found the number first.
+        if (unreadable) throw trail.value_error(unreadable->message);
+        throw trail.error_at("", "malformed JSON: " + plain_what(e));
     } catch (const typename Json::parse_error& e) {
         const std::string literal = non_finite_literal_at(text, e.byte, trail.in_object());
         if (literal.empty()) throw trail.error_at("", "malformed JSON: " + plain_what(e));

@@ -440,9 +440,9 @@ python3 -c "n=100000; print('{\"model\":{\"fc\":' + '['*n + ']'*n + '}}')" >deep
 expect 28 2 "deep28.json: model.fc: nested more than 64 levels deep" "$bin/gapchain-sim" deep28.json --out s28.json
 one_line 28
 echo '{"model": {"eps": 1e-999}}' >under28.json
-expect 28 2 "model.eps: a number must be 0 or finite with \|x\| in \[2.2e-308, 1.8e308\], got \"1e-999\"" "$bin/gapchain-sim" under28.json --out s28.json
+expect 28 2 "model.eps: a number must be 0 or finite with \|x\| in \[2.2250738585072014e-308, 1.7976931348623157e308\] \(the normal doubles\), got \"1e-999\"" "$bin/gapchain-sim" under28.json --out s28.json
 echo '{"model": {"fc": 4.9e-324}}' >sub28.json
-expect 28 2 "model.fc: a number must be 0 or finite with \|x\| in \[2.2e-308, 1.8e308\], got \"4.9e-324\"" "$bin/gapchain-sim" sub28.json --out s28.json
+expect 28 2 "model.fc: a number must be 0 or finite with .*got \"4.9e-324\"" "$bin/gapchain-sim" sub28.json --out s28.json
 expect 28 2 "excitation.f_r: .*got 10000.000000000002" "$bin/gapchain-sim" fig5.json --set excitation.f_r=10000.000000000002 --out s28.json
 expect 28 2 "--steps: from 3 to 3.0000000000000004 in 5 steps repeats a value" "$bin/gapchain-attractors" fig5.json --param f_r --from 3 --to 3.0000000000000004 --steps 5 --out a28
 echo '{"model": {"fc": NaN}}' >nan28.json
@@ -461,6 +461,14 @@ expect 28 2 "--set output.trajectory_every: gapchain-sim without --trajectory do
 printf 'Nm,fc,eps,e_r,f_r,F_m,status\n2.9xyz,60,0.5,0.1,1,0.5,steady_state\n' >rows28.csv
 expect 28 2 "rows28.csv line 2, Nm: must be a decimal integer" "$bin/gapchain-bench" relaxed rows28.csv
 absent 28 s28.json a28 c28 b28 m28.json k28
+# Decimals JSON does not spell are numbers in --set as on the command line (+0.5 was "not a
+# number"); a study range that repeats a value is refused; a huge flag is not echoed whole.
+expect 28 0 "" "$bin/gapchain-sim" fig5.json --set run.periods=20 --set model.eps=+0.5 -q --out s28.json
+echo '{"scene": {"run": {"periods": 20}}, "parameters": {"e_r": {"lin": [0, 0, 2]}}}' >rep28.json
+expect 28 2 "parameters.e_r: the range \[0, 0, 2\] repeats the value 0" "$bin/gapchain-sweep" rep28.json --out rep28.csv
+absent 28 rep28.csv
+"$bin/gapchain-sim" fig5.json --attractors 2 --seed "$(printf '1%.0s' $(seq 50000))" --out s28b.json 2>"$dir/long28" >/dev/null
+[ "$(wc -c <"$dir/long28")" -lt 1000 ] || { echo "class 28: FAIL: a 50,000-digit --seed was echoed whole"; failed+=(28); }
 # A full disk was "cannot write the output file: Success" (the stream kept no errno).
 if mount -t tmpfs -o size=12k tmpfs full 2>/dev/null; then
     dd if=/dev/zero of=full/fill bs=1k count=4 2>/dev/null

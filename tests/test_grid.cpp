@@ -28,6 +28,9 @@ TEST_CASE("logspace: decades") {
     CHECK(v[1] == doctest::Approx(10.0).epsilon(1e-15));
     CHECK(v[2] == doctest::Approx(100.0).epsilon(1e-15));
     CHECK(v[3] == doctest::Approx(1000.0).epsilon(1e-15));
+    // Ends whose ratio overflows: every inner value came out inf.
+    const auto wide = logspace(1e-303, 1e6, 3);
+    CHECK(wide[1] == doctest::Approx(std::pow(10.0, -148.5)).epsilon(1e-12));
 }
 
 TEST_CASE("linspace and logspace refuse empty or non-finite ranges") {

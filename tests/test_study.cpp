@@ -62,6 +62,11 @@ TEST_CASE("bad studies name the key") {
     CHECK_THROWS_WITH_AS(parse_study(R"({"parameters": {"e_r": {"lin": [0.2, 1, 1]}}})"),
                          doctest::Contains("count 1 is one value and needs from = to"), SceneError);
     CHECK(point_count(parse_study(R"({"parameters": {"e_r": {"log": [0.2, 0.2, 1]}}})")) == 1);
+    // A range that repeats a value ran the same points again.
+    for (const char* range : {R"({"lin": [0, 0, 2]})", R"({"lin": [1, 1.0000000000000002, 3]})",
+                              R"({"log": [1, 1, 2]})"})
+        CHECK_THROWS_WITH_AS(parse_study(std::string(R"({"parameters": {"e_r": )") + range + "}}"),
+                             doctest::Contains("parameters.e_r: the range"), SceneError);
     CHECK_THROWS_WITH_AS(parse_study(R"({"parameters": {"fc": [1]}, "keep": ["speed"]})"),
                          doctest::Contains("keep"), SceneError);
     CHECK_THROWS_AS(parse_study("{nope"), SceneError);

@@ -20,10 +20,16 @@ std::vector<double> spaced(double from, double to, long count, bool log) {
                                     (log ? " and > 0" : ""));
     std::vector<double> v(static_cast<std::size_t>(count), from);
     const double intervals = static_cast<double>(count - 1);
+    // to / from overflows for ends like 1e-303 and 1e6 (every inner value came out inf); there
+    // the logs are spaced, elsewhere the ratio, as the documented studies were made.
+    const double ratio = to / from;
+    const bool ratio_finite = std::isfinite(ratio) && ratio > 0.0;
     for (long k = 1; k + 1 < count; ++k) {
         const double x = static_cast<double>(k);
-        v[k] = log ? from * std::pow(to / from, x / intervals)
-                   : (from * (intervals - x) + to * x) / intervals;
+        v[k] = !log ? (from * (intervals - x) + to * x) / intervals
+               : ratio_finite
+                   ? from * std::pow(ratio, x / intervals)
+                   : std::exp(std::log(from) + (std::log(to) - std::log(from)) * x / intervals);
     }
     // (x (count - 1)) / (count - 1) may round off x: the ends are the ends.
     if (count > 1) v.back() = to;
@@ -50,8 +56,9 @@ void require_line(double from, double to, long steps) {
                                     ") is one value, steps = 1, got " + std::to_string(steps));
     // Ends a few doubles apart: 3 to 3.0000000000000004 in 5 steps ran 3 four times over. The
     // values themselves are compared (as the lines make them), not a spacing estimate.
-    // Non-finite ends are the callers' range checks to name.
-    if (steps < 2 || !std::isfinite(from) || !std::isfinite(to)) return;
+    // Non-finite ends, or a span beyond the doubles, are the callers' range checks to name.
+    if (steps < 2 || !std::isfinite(from) || !std::isfinite(to) || !std::isfinite(to - from))
+        return;
     const std::vector<double> values = linspace(from, to, steps);
     for (std::size_t k = 1; k < values.size(); ++k) {
         const double between =

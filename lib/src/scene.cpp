@@ -47,6 +47,10 @@ json override_value(const std::string& key, const std::string& text) {
         error.rfind("must be 0 or finite", 0) == 0)
         throw SceneError(key + ": a number " + error);
     json value = json::parse(text, nullptr, false);
+    // A decimal that JSON does not spell (+5, .5, 5., 00.5) is a number all the same, as on the
+    // command line.
+    if (value.is_discarded() && number_text_error(text).empty())
+        return json(std::strtod(text.c_str(), nullptr));
     if (value.is_discarded()) return json(text);
     // An array or object is held to the scene file's rules: a key given twice is refused, not
     // silently the last one; so are a number out of the doubles' range and deep nesting.
@@ -820,7 +824,9 @@ std::string number_text_error(std::string_view text, bool integer) {
         number.substr(0, number.find_first_of("eE")).find_first_of("123456789") !=
         std::string::npos;
     if (!std::isfinite(x) || (written_nonzero && std::abs(x) < DBL_MIN))
-        return "must be 0 or finite with |x| in [2.2e-308, 1.8e308], got " + shown;
+        return "must be 0 or finite with |x| in [2.2250738585072014e-308, "
+               "1.7976931348623157e308] (the normal doubles), got " +
+               shown;
     return {};
 }
 

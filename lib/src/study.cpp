@@ -30,7 +30,7 @@ std::vector<double> axis_values(const nlohmann::ordered_json& spec, const std::s
         const long count = r[2].get<long>();
         if (count < 1 || count > 10'000'000 || !std::isfinite(from) || !std::isfinite(to) ||
             (log && (from <= 0.0 || to <= 0.0)))
-            throw SceneError(key + ": range needs count >= 1, finite ends" +
+            throw SceneError(key + ": a range needs a count in [1, 10000000] and finite ends" +
                              std::string(log ? " > 0" : ""));
         // One value cannot span from..to: the end would be dropped silently.
         if (count == 1 && from != to)
@@ -38,7 +38,16 @@ std::vector<double> axis_values(const nlohmann::ordered_json& spec, const std::s
                              detail::format_number(from) + ", " + detail::format_number(to) +
                              ", 1]; give count >= 2 or a list");
         // linspace keeps integer ranges exact, so integer keys such as seeds can be swept.
-        return log ? logspace(from, to, count) : linspace(from, to, count);
+        const std::vector<double> values =
+            log ? logspace(from, to, count) : linspace(from, to, count);
+        // [0, 0, 2] or ends a double apart ran the same point again and again.
+        for (std::size_t k = 1; k < values.size(); ++k)
+            if (values[k] == values[k - 1])
+                throw SceneError(key + ": the range [" + detail::format_number(from) + ", " +
+                                 detail::format_number(to) + ", " + std::to_string(count) +
+                                 "] repeats the value " + detail::format_number(values[k]) +
+                                 "; widen it or give a smaller count");
+        return values;
     };
     if (spec.is_array()) {
         std::vector<double> v;

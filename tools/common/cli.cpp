@@ -567,6 +567,12 @@ std::string with_flag_names(std::string message, const FlagNames& names) {
 
 namespace {
 
+/// A message as one readable line: a 50,000-digit --seed was echoed whole (50 KB of stderr).
+std::string readable(const std::string& message) {
+    if (message.size() <= 400) return message;
+    return message.substr(0, 300) + " ... " + message.substr(message.size() - 80);
+}
+
 /// Every number option of app and its subcommands must be written in plain decimal. CLI11 reads
 /// integers in base 0 (--samples 0100 ran 64 starts, --seed 010 was seed 8), floats in hex
 /// (--from 0x10 was 16), an empty text as 0 (--from '' started a line at 0), and 1e-999 as 0.
@@ -600,7 +606,7 @@ int run(CLI::App& app, int argc, char** argv, const std::function<void()>& body,
     } catch (const CLI::Success& e) {
         return app.exit(e);
     } catch (const CLI::ParseError& e) {
-        std::cerr << app.get_name() << ": " << e.what() << " (see --help)\n";
+        std::cerr << app.get_name() << ": " << readable(e.what()) << " (see --help)\n";
         return static_cast<int>(ExitCode::bad_input);
     }
     try {
@@ -621,11 +627,12 @@ int run(CLI::App& app, int argc, char** argv, const std::function<void()>& body,
         std::cerr << app.get_name() << ": out of memory: the run is too large for this machine\n";
         return static_cast<int>(ExitCode::failure);
     } catch (const std::invalid_argument& e) {
-        std::cerr << app.get_name() << ": " << with_flag_names(e.what(), flag_names) << "\n";
+        std::cerr << app.get_name() << ": " << readable(with_flag_names(e.what(), flag_names))
+                  << "\n";
         return static_cast<int>(ExitCode::bad_input);
     } catch (const std::exception& e) {
         // A write that failed in a staging folder is named by the folder the user gave.
-        std::cerr << app.get_name() << ": " << shown_path(e.what()) << "\n";
+        std::cerr << app.get_name() << ": " << readable(shown_path(e.what())) << "\n";
         return static_cast<int>(ExitCode::failure);
     }
 }

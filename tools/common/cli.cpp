@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <atomic>
 #include <cerrno>
-#include <cfloat>
 #include <cmath>
 #include <csignal>
 #include <cstdio>

@@ -43,13 +43,13 @@ json override_value(const std::string& key, const std::string& text) {
     }
     // A decimal number out of the doubles' range is held to the scene file's rule (1e999 was
     // taken as the string "1e999", 1e-999 as 0): the same message for the same fault.
-    if (const std::string error = number_text_error(text);
-        error.rfind("must be 0 or finite", 0) == 0)
-        throw SceneError(key + ": a number " + error);
+    const std::string number_error = number_text_error(text);
+    if (number_error.rfind("must be 0 or finite", 0) == 0)
+        throw SceneError(key + ": a number " + number_error);
     json value = json::parse(text, nullptr, false);
     // A decimal that JSON does not spell (+5, .5, 5., 00.5) is a number all the same, as on the
     // command line.
-    if (value.is_discarded() && number_text_error(text).empty())
+    if (value.is_discarded() && number_error.empty())
         return json(std::strtod(text.c_str(), nullptr));
     if (value.is_discarded()) return json(text);
     // An array or object is held to the scene file's rules: a key given twice is refused, not

@@ -277,18 +277,13 @@ verdict 23
 #     inside gapchain-attractors (one period of a 1e5-body row takes seconds); a malformed
 #     --overlay and a continuation that finds no orbit fail cleanly.
 # stopped CLASS RC CMD...: started, sent SIGTERM after 1 s, it exits with RC within 20 s.
+# (timeout does the signalling: a backgrounded guard subshell, killed, ran this script's EXIT
+# trap and removed $dir under every later class.)
 stopped() {
     local class=$1 rc=$2
     shift 2
-    "$@" >/dev/null 2>&1 &
-    local pid=$!
-    sleep 1
-    kill -TERM "$pid"
-    (sleep 20; kill -KILL "$pid" 2>/dev/null) &
-    local guard=$!
-    wait "$pid"
+    timeout --preserve-status -s TERM -k 20 1 "$@" >/dev/null 2>&1
     local got=$?
-    kill "$guard" 2>/dev/null
     [ "$got" -eq "$rc" ] || { echo "class $class: FAIL: $* -> exit $got after SIGTERM, expected $rc"; failed+=("$class"); }
 }
 stopped 24 143 "$bin/gapchain-orbit" "$scenes/fig13.json" --from-transient 3000000 --out o24.json

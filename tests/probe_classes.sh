@@ -455,6 +455,11 @@ expect 28 2 "--set run.estimate_error: gapchain-attractors does not read it" "$b
 expect 28 2 "--set output.trajectory_every: gapchain-sim without --trajectory does not read it" "$bin/gapchain-sim" fig5.json --set output.trajectory_every=5 --out s28.json
 printf 'Nm,fc,eps,e_r,f_r,F_m,status\n2.9xyz,60,0.5,0.1,1,0.5,steady_state\n' >rows28.csv
 expect 28 2 "rows28.csv line 2, Nm: must be a decimal integer" "$bin/gapchain-bench" relaxed rows28.csv
+# A row out of the model's range names its file and line too; a line's end its option.
+printf 'Nm,fc,eps,e_r,f_r,F_m,status\n5,-60,0.5,0.06,3,0.3,steady_state\n' >rows28c.csv
+expect 28 2 "rows28c.csv line 2, model.fc: must be" "$bin/gapchain-bench" relaxed rows28c.csv
+expect 28 2 "--from: excitation.f_r: one forcing period" "$bin/gapchain-continue" fig5.json --from 1e-300 --to 3 --out c28
+expect 28 2 "--to: excitation.f_r: one forcing period" "$bin/gapchain-attractors" fig5.json --param f_r --from 3 --to 1e-300 --steps 3 --out a28
 absent 28 s28.json a28 c28 b28 m28.json k28
 # Decimals JSON does not spell are numbers in --set as on the command line (+0.5 was "not a
 # number"); a study range that repeats a value is refused; a huge flag is not echoed whole.

@@ -423,6 +423,15 @@ TEST_CASE("bad options are refused naming the option") {
                          doctest::Contains("to: model.eps: an attractor search needs damping"),
                          std::invalid_argument);
     CHECK(fraction_line_values(mirror_pair, SweptParameter::eps, 0.1, 0.3, 3).size() == 3);
+    // The last value is `to` as written: 3 + (1e-300 - 3) 2 / 2 rounds to 0.
+    CHECK(fraction_line_values(fig13, SweptParameter::f_r, 3.0, 1e-300, 3).back() == 1e-300);
+    // ... and a row its search refuses at an end (too many steps per forcing period) names it.
+    CHECK_THROWS_WITH_AS(
+        continue_basin_fractions(fig13, SweptParameter::f_r, {1e-300, 3.0}, AttractorOptions{}),
+        doctest::Contains("from: excitation.f_r: one forcing period"), std::invalid_argument);
+    CHECK_THROWS_WITH_AS(
+        continue_basin_fractions(fig13, SweptParameter::f_r, {3.0, 1e-300}, AttractorOptions{}),
+        doctest::Contains("to: excitation.f_r: one forcing period"), std::invalid_argument);
     // u01 is not a second name for u1.
     CHECK_THROWS_WITH_AS(basin_slice("u1", "u01", 1, 10), doctest::Contains("grid"),
                          std::invalid_argument);

@@ -385,6 +385,15 @@ TEST_CASE("a start or end value outside the model's range names the option that 
     o = one_branch(2.0, std::numeric_limits<double>::infinity(), 1);
     CHECK_THROWS_WITH_AS(continue_orbits(fig13_row, o), doctest::Contains("to: excitation.f_r"),
                          std::invalid_argument);
+    // In the model's range, but one forcing period would take 4e301 steps.
+    o = one_branch(1e-300, 3.0, 1);
+    CHECK_THROWS_WITH_AS(continue_orbits(fig13_row, o),
+                         doctest::Contains("from: excitation.f_r: one forcing period"),
+                         std::invalid_argument);
+    o = one_branch(3.0, 1e-300, 1);
+    CHECK_THROWS_WITH_AS(continue_orbits(fig13_row, o),
+                         doctest::Contains("to: excitation.f_r: one forcing period"),
+                         std::invalid_argument);
 }
 
 TEST_CASE("a branch that comes back onto itself ends there, traced once") {

@@ -210,8 +210,15 @@ std::vector<ReducedParameters> periodic_rows(const std::string& path, int count)
         if (Nm < 1 || Nm > 1'000'000)
             throw std::invalid_argument(where + ", Nm: must be in 1 to 1000000, got " +
                                         cell[column["Nm"]]);
-        rows.push_back(
-            {static_cast<int>(Nm), number("fc"), number("eps"), number("e_r"), number("f_r")});
+        const ReducedParameters row{static_cast<int>(Nm), number("fc"), number("eps"),
+                                    number("e_r"), number("f_r")};
+        // Checked here, where the file and line are known (fc = -60 was refused without them).
+        try {
+            validate(row);
+        } catch (const std::invalid_argument& e) {
+            throw std::invalid_argument(where + ", " + e.what());
+        }
+        rows.push_back(row);
     }
     return rows;
 }

@@ -732,9 +732,15 @@ ReducedParameters checked_start(const ReducedParameters& base, const Continuatio
     // that crossed it was refused only where it got there, its output lost.
     OrbitOptions shooting = options.orbit;
     shooting.period = options.period;
-    for (const ReducedParameters& row : {start, end}) {
-        require_orbit_size(Dynamics::paper_row(row), shooting.scheme);
-        require_shooting_affordable(Dynamics::paper_row(row), shooting);
+    // Named by the option that carried the value: "excitation.f_r: one forcing period would
+    // take 4.4e301 steps" did not say it was --from's 1e-300.
+    for (const auto& [row, option] : {std::pair{start, "from"}, std::pair{end, "to"}}) {
+        try {
+            require_orbit_size(Dynamics::paper_row(row), shooting.scheme);
+            require_shooting_affordable(Dynamics::paper_row(row), shooting);
+        } catch (const std::invalid_argument& e) {
+            throw std::invalid_argument(std::string(option) + ": " + e.what());
+        }
     }
     return start;
 }

@@ -178,6 +178,9 @@ TEST_CASE("bad input: every class gives one line naming the key") {
               .find("run.transient_periods") != std::string::npos);
     CHECK(error_of(R"({"initial": {"u": [1, 2]}})").find("initial.u") != std::string::npos);
     CHECK(error_of("{}", {"nodot=3"}).find("--set") != std::string::npos);
+    // A number in the way of a nested key is named whole (it said "eps: ...").
+    CHECK(error_of(R"({"model": {"eps": 0.5}})", {"model.eps.x=0.4"})
+              .find("model.eps: must be an object to set x") != std::string::npos);
     CHECK_THROWS_AS((void)load_scene("/nonexistent/scene.json"), SceneError);
 }
 

@@ -738,7 +738,8 @@ void set_scene_key(json& root, const std::string& path, json value, const std::s
         if (part.empty()) throw SceneError(context + ": empty key in \"" + path + "\"");
         if (!parent->contains(part)) (*parent)[part] = json::object();
         if (!(*parent)[part].is_object())
-            throw SceneError(part + ": must be an object to set " + path.substr(end + 1));
+            throw SceneError(path.substr(0, end) + ": must be an object to set " +
+                             path.substr(end + 1));
         parent = &(*parent)[part];
         start = end + 1;
     }

@@ -71,6 +71,41 @@ TEST_CASE("no contact: every exponent is -2 pi eps") {
     CHECK(r.sum == doctest::Approx(-4 * pi * p.eps * 3).epsilon(1e-9));
 }
 
+TEST_CASE("no contact, overdamped: exponents -2 pi (eps +- sqrt(eps^2 - 1)), however far apart") {
+    // The fast and slow roots of each body are 2 pi (eps + sqrt(eps^2 - 1)) and its reciprocal
+    // apart: at eps = 5, 62 per unit time, beyond the doubles' 36 over one forcing period, and
+    // more at f_r = 0.3. Re-orthonormalised once a period, lambda_6..10 came out -37 +- 0.2
+    // (eps = 5, f_r = 1), and eps = 5 on the mirror pair failed as "non-finite".
+    for (const double f_r : {1.0, 0.3}) {
+        const ReducedParameters p{5, 100, 5.0, 100.0, f_r};
+        const Dynamics dyn = Dynamics::paper_row(p);
+        RunOptions o;
+        o.periods = 60;
+        o.transient_periods = 15;
+        const LyapunovResult r = chain_lyapunov(dyn, o, 10);
+        REQUIRE(r.status == RunStatus::completed);
+        const double root = std::sqrt(p.eps * p.eps - 1.0);
+        for (int k = 0; k < 5; ++k) {
+            CHECK(r.exponents[k] == doctest::Approx(-2 * pi * (p.eps - root)).epsilon(1e-6));
+            CHECK(r.exponents[k + 5] == doctest::Approx(-2 * pi * (p.eps + root)).epsilon(1e-6));
+        }
+        CHECK(r.sum == doctest::Approx(-4 * pi * p.eps * 5).epsilon(1e-9));
+    }
+}
+
+TEST_CASE("a row of unequal damping: the sum is the trace, -sum of the damping rates") {
+    // The expected sum was -4 pi eps Nm from the scene's eps, whatever the damping array.
+    Chain chain = Chain::homogeneous({3, 60, 0.5, 0.06, 3.3});
+    chain.damping = {0.5, 2.0, 4.0};
+    const Dynamics dyn(chain, HarmonicForcing{3.3, 1.0});
+    RunOptions o;
+    o.periods = 200;
+    const LyapunovResult r = chain_lyapunov(dyn, o, 6);
+    CHECK(r.expected_sum == -6.5);
+    CHECK(r.sum == doctest::Approx(-6.5).epsilon(1e-9));
+    CHECK(std::isnan(chain_lyapunov(dyn, o, 2).expected_sum));
+}
+
 TEST_CASE("the time-series estimate is within 10 % of the tangent-space exponent") {
     const Dynamics dyn = Dynamics::paper_row(fig13_chaotic);
     RunOptions o;

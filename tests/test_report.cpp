@@ -56,3 +56,19 @@ TEST_CASE("simulation JSON: multistable is null where the check did not run, nev
     r.multistable = true;
     CHECK(to_json(r, scene).find("\"multistable\": true") != std::string::npos);
 }
+
+TEST_CASE("Lyapunov and orbit JSON name the row that ran: its chain, where arrays give one") {
+    // They wrote the five numbers alone: eps = 0.5 of a row damped by [0.1, 0.2, 0.3].
+    const Scene arrays = parse_scene(R"({"model": {"Nm": 3, "damping": [0.1, 0.2, 0.3]}})");
+    const Scene uniform = parse_scene(R"({"model": {"Nm": 3}})");
+    LyapunovResult l;
+    l.expected_sum = -7.5;
+    CHECK(to_json(l, arrays).find("\"chain\"") != std::string::npos);
+    CHECK(to_json(l, arrays).find("\"expected_sum\": -7.5") != std::string::npos);
+    CHECK(to_json(l, uniform).find("\"chain\"") == std::string::npos);
+    l.expected_sum = std::numeric_limits<double>::quiet_NaN();
+    CHECK(to_json(l, uniform).find("expected_sum") == std::string::npos);
+    PeriodicOrbit o;
+    CHECK(to_json(o, arrays).find("\"chain\"") != std::string::npos);
+    CHECK(to_json(o, uniform).find("\"chain\"") == std::string::npos);
+}

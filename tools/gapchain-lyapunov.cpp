@@ -30,8 +30,10 @@ void print_exponents(const Scene& scene, const LyapunovResult& r, int k) {
         std::printf("  fewer than 20 periods averaged: no error estimate, and finite-time "
                     "exponents need not come out in order (raise run.periods)\n");
     std::printf("  sum = %.10f", r.sum);
-    if (k == 2 * p.Nm && scene.uniform())
-        std::printf("  (exact: -4 pi eps Nm = %.10f)", -4.0 * std::numbers::pi * p.eps * p.Nm);
+    if (!std::isnan(r.expected_sum))
+        std::printf(scene.uniform() ? "  (exact: -4 pi eps Nm = %.10f)"
+                                    : "  (exact: the trace, -sum of the damping rates = %.10f)",
+                    r.expected_sum);
     std::printf("\n  wall time %.3f s\n", r.wall_time_s);
 }
 
@@ -47,7 +49,7 @@ void write_results(cli::Outputs& outputs, const LyapunovResult& r, const Scene& 
         outputs.replacing(stem + "_convergence.gp");
         outputs.replacing(stem + "_convergence.png");
     }
-    write_file_atomically(out, to_json(r, scene.reduced, k));
+    write_file_atomically(out, to_json(r, scene));
     write_file_atomically(stem + "_history.csv", history_csv(r));
     if (!no_plot) {
         auto name = [](const std::string& path) {

@@ -97,7 +97,8 @@ count  exponents wanted, 0 .. 2 Nm (0: all 2 Nm)
 
 Returns a dict: exponents (largest first up to their errors: Benettin's order, equal ones in
 either order; per unit reduced time), errors (standard errors),
-sum (-4 pi eps Nm for the paper's row when count = 2 Nm), averaging_time, history (dict: t, and
+sum, expected_sum (what the sum of all 2 Nm must be: the trace, -sum of the damping rates,
+-4 pi eps Nm on the paper's row; NaN when count < 2 Nm), averaging_time, history (dict: t, and
 exponents (n x count) running estimates), status, message, wall_time_s.)";
 
 py::dict modes_py(const py::object& Nm, const py::object& fc, int count, const std::string& end,
@@ -298,6 +299,7 @@ py::dict lyapunov_py(const py::object& scene_arg, int count, const py::object& p
     d["exponents"] = array(r.exponents);
     d["errors"] = array(r.errors);
     d["sum"] = r.sum;
+    d["expected_sum"] = r.expected_sum;
     d["averaging_time"] = r.averaging_time;
     std::vector<double> running;
     for (const auto& s : r.history)

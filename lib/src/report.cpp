@@ -49,10 +49,21 @@ json per_body_json(const SimulationResult& r, const Scene& scene) {
     return bodies;
 }
 
+/// The row that ran, in its own units (Chain, model.hpp), not the scene's: after the scatter.
+/// Needs scene.row.
+json chain_json(const Scene& scene) {
+    return {{"mass", scene.row->mass},
+            {"spring", scene.row->spring},
+            {"damping", scene.row->damping},
+            {"clearance", scene.row->clearance},
+            {"contact", scene.row->contact},
+            {"contact_law", to_string(scene.row->law)},
+            {"contact_damping", scene.row->contact_damping}};
+}
+
 /// What ran: the reduced parameters and run options, and what the five numbers do not say, so
 /// that a result read alone (after --set on arrays, a scatter, a start) names the row and the
-/// start it ran. The chain is written in its own units (Chain, model.hpp), not the scene's: it
-/// is what ran, after the scatter.
+/// start it ran.
 void add_provenance(json& j, const Scene& scene) {
     j["parameters"] = parameters_json(scene.reduced);
     j["parameters"].update({{"periods", scene.run.periods},
@@ -63,14 +74,7 @@ void add_provenance(json& j, const Scene& scene) {
                             {"accuracy_mode", to_string(scene.run.accuracy_mode)},
                             {"estimate_error", scene.run.estimate_error},
                             {"multistability_check", scene.run.multistability_check}});
-    if (scene.row)
-        j["chain"] = {{"mass", scene.row->mass},
-                      {"spring", scene.row->spring},
-                      {"damping", scene.row->damping},
-                      {"clearance", scene.row->clearance},
-                      {"contact", scene.row->contact},
-                      {"contact_law", to_string(scene.row->law)},
-                      {"contact_damping", scene.row->contact_damping}};
+    if (scene.row) j["chain"] = chain_json(scene);
     if (std::any_of(scene.initial.begin(), scene.initial.end(), [](double x) { return x != 0.0; }))
         j["initial"] = scene.initial;
 }
@@ -389,17 +393,17 @@ std::string grid_csv(const ApproximationGrid& grid) {
     return os.str();
 }
 
-std::string to_json(const LyapunovResult& r, const ReducedParameters& p, int count) {
+std::string to_json(const LyapunovResult& r, const Scene& scene) {
     json j;
     j["exponents"] = r.exponents;
     j["error"] = r.errors;
     j["sum"] = r.sum;
-    if (count == 2 * p.Nm) j["expected_sum"] = -4.0 * std::numbers::pi * p.eps * p.Nm;
+    if (!std::isnan(r.expected_sum)) j["expected_sum"] = r.expected_sum;
     j["averaging_time"] = r.averaging_time;
     j["units"] = "1 / reduced time";
     j["status"] = std::string(to_string(r.status));
     j["wall_time_s"] = r.wall_time_s;
-    j["parameters"] = parameters_json(p);
+    add_provenance(j, scene);
     return j.dump(2) + "\n";
 }
 
@@ -633,6 +637,8 @@ std::string to_json(const PeriodicOrbit& orbit, const Scene& scene) {
     j["wall_time_s"] = orbit.wall_time_s;
     const ReducedParameters& p = scene.reduced;
     j["parameters"] = parameters_json(p);
+    // The five numbers do not name a row of arrays or a scatter (its eps was not what ran).
+    if (scene.row) j["chain"] = chain_json(scene);
     j["scene"] = scene.source;
     return j.dump(2) + "\n";
 }

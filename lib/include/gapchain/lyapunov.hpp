@@ -11,6 +11,7 @@
 #include "gapchain/run.hpp"
 #include "gapchain/tangent_flow.hpp"
 
+#include <limits>
 #include <vector>
 
 namespace gapchain {
@@ -30,7 +31,11 @@ struct LyapunovResult {
     /// Standard error of each, from 10 time blocks of the averaging window; infinite where
     /// fewer than 20 periods are averaged (too few samples for the blocks).
     std::vector<double> errors;
-    double sum = 0.0;                    ///< sum of the exponents
+    double sum = 0.0; ///< sum of the exponents
+    /// What the sum of all 2 Nm exponents must be: the Jacobian's trace, -sum of the bodies'
+    /// damping rates (-4 pi eps Nm on the paper's row; contacts add no damping). NaN when fewer
+    /// exponents were asked for, or outside chain_lyapunov().
+    double expected_sum = std::numeric_limits<double>::quiet_NaN();
     double averaging_time = 0.0;         ///< time the averages cover
     std::vector<LyapunovSample> history; ///< running estimates (at most ~500 samples)
     RunStatus status = RunStatus::completed;
@@ -110,9 +115,16 @@ public:
 
 private:
     void copy_basis_to_flow();
+    /// QRs the flow's basis at time t (accumulating once past start_period); false if it
+    /// collapsed.
+    void orthonormalize(double t, bool accumulate);
     TangentFlow m_flow; ///< carries the basis between re-orthonormalisations
     LyapunovAccumulator m_accumulator;
     long m_start_period;
+    /// Longest reduced time between re-orthonormalisations: max_qr_log_ratio over the
+    /// exponents' spread bound (the row's largest damping rate, plus 2 pi for growth).
+    double m_qr_interval;
+    double m_next_qr;
     bool m_healthy = true;
 };
 

@@ -100,8 +100,10 @@ std::string to_json(const ModalResult& result, int Nm, double fc);
 std::string grid_csv(const ApproximationGrid& grid);
 
 /// Lyapunov exponents as JSON: exponents, error, sum, expected_sum (-sum of the damping
-/// rates, MODEL.md §5), averaging_time, status, wall_time_s and the parameters.
-std::string to_json(const LyapunovResult& result, const ReducedParameters& p, int count);
+/// rates, MODEL.md §5; when all 2 Nm were computed), averaging_time, status, wall_time_s, the
+/// parameters and run options, and the chain that ran where the scene gives one (arrays,
+/// scatter, physical units).
+std::string to_json(const LyapunovResult& result, const Scene& scene);
 
 /// Continued orbits, one row per point: value,period,F_m,u1,stable,max_multiplier,branch,
 /// minimal_period.

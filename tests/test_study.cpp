@@ -83,6 +83,18 @@ TEST_CASE("bad studies name the key") {
     CHECK(kept.attractor_starts == 2);
     CHECK_THROWS_WITH_AS(parse_study(R"({"parameters": {"fc": [1]}, "attractors": 2.5})"),
                          doctest::Contains("attractors: starts per point"), SceneError);
+    // An axis over a number a model array replaces: one row ran under four labels of e_r.
+    CHECK_THROWS_WITH_AS(
+        parse_study(R"({"scene": {"model": {"Nm": 2, "clearance": [0.2, 0.2, 0.2]}},
+                        "parameters": {"e_r": [0.1, 0.5]}})"),
+        doctest::Contains("parameters.e_r: not read where the scene's model.clearance"),
+        SceneError);
+    CHECK_THROWS_WITH_AS(parse_study(R"({"scene": {"model": {"Nm": 2, "damping": [0.2, 0.2]}},
+                                         "parameters": {"model.eps": [0.1, 0.5]}})"),
+                         doctest::Contains("parameters.model.eps: not read"), SceneError);
+    // A scatter varies about the number: both are read.
+    CHECK(point_count(parse_study(R"({"scene": {"model": {"Nm": 2, "scatter": {"clearance": 0.1}}},
+                                      "parameters": {"e_r": [0.1, 0.5]}})")) == 2);
 }
 
 TEST_CASE("a study point above run.max_work is refused when the study is read") {

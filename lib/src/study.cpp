@@ -187,8 +187,28 @@ void check_attractor_window(const Scene& scene, long starts) {
     }
 }
 
+/// An axis over the number a model array replaces (e_r or a physical e under model.clearance,
+/// eps under model.damping) would label one row with many values: a sweep of e_r over a
+/// clearance array wrote four values and ran one row four times.
+void check_axes_read(const Study& s) {
+    const json root = json::parse(s.scene_json, nullptr, false);
+    if (!root.is_object() || !root.contains("model") || !root["model"].is_object()) return;
+    const json& model = root["model"];
+    for (const auto& axis : s.axes) {
+        const std::string key = full_key(axis.key);
+        const char* array = key == "model.e_r" || key == "model.e" ? "clearance"
+                            : key == "model.eps"                   ? "damping"
+                                                                   : nullptr;
+        if (array && model.contains(array))
+            throw SceneError("parameters." + axis.key + ": not read where the scene's model." +
+                             array + " gives every entry (the array replaces it); vary the " +
+                             "array's entries, or its scatter (model.scatter.seed), instead");
+    }
+}
+
 /// Every axis value must make a valid scene on its own: fail before any point runs.
 void check_axis_values(const Study& s) {
+    check_axes_read(s);
     for (const auto& axis : s.axes)
         for (double v : axis.values) {
             Study one = s;

@@ -455,6 +455,12 @@ expect 28 2 "--set run.estimate_error: gapchain-attractors does not read it" "$b
 expect 28 2 "--set output.trajectory_every: gapchain-sim without --trajectory does not read it" "$bin/gapchain-sim" fig5.json --set output.trajectory_every=5 --out s28.json
 printf 'Nm,fc,eps,e_r,f_r,F_m,status\n2.9xyz,60,0.5,0.1,1,0.5,steady_state\n' >rows28.csv
 expect 28 2 "rows28.csv line 2, Nm: must be a decimal integer" "$bin/gapchain-bench" relaxed rows28.csv
+# classify --map's axes replace the scene's e_r and f_r: a --set of them changed nothing.
+expect 28 2 "--set model.e_r: gapchain-classify --map varies e_r itself" "$bin/gapchain-classify" fig5.json --map --e_r 0.1:0.3:2 --f_r 0.5:1:2 --set model.e_r=0.7 --out k28
+# A sweep axis over the number a model array replaces ran one row under each label.
+echo '{"scene": {"model": {"Nm": 3, "clearance": [0.2, 0.2, 0.2, 0.2]}, "run": {"periods": 20}}, "parameters": {"e_r": [0.1, 3]}}' >arr28.json
+expect 28 2 "parameters.e_r: not read where the scene's model.clearance" "$bin/gapchain-sweep" arr28.json --out arr28.csv
+absent 28 arr28.csv k28
 # A row out of the model's range names its file and line too; a line's end its option.
 printf 'Nm,fc,eps,e_r,f_r,F_m,status\n5,-60,0.5,0.06,3,0.3,steady_state\n' >rows28c.csv
 expect 28 2 "rows28c.csv line 2, model.fc: must be" "$bin/gapchain-bench" relaxed rows28c.csv

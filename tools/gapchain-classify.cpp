@@ -160,6 +160,11 @@ int main(int argc, char** argv) {
         cli::require_sets_read(scene_args, "gapchain-classify",
                                {"run.scheme", "run.tolerance", "run.max_work"},
                                "its runs are set by --transient and --record");
+        // The map's axes replace the scene's e_r and f_r (a --set of them changed nothing).
+        if (map_flag)
+            for (const char* axis : {"e_r", "f_r"})
+                cli::require_not_set(scene_args, axis, "gapchain-classify --map",
+                                     std::string("over --") + axis);
         const Scene scene = cli::load(scene_args);
         require_paper_row(scene, "gapchain-classify");
         take_run_settings(scene, o);

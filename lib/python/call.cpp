@@ -65,16 +65,21 @@ Scene to_scene(const py::object& scene, const py::kwargs& keys) {
                      type_name(scene));
 }
 
-Scene to_swept_scene(const py::object& scene, const std::string& param, const py::kwargs& keys,
-                     const std::string& function) {
+void refuse_swept_keys(const py::kwargs& keys, const std::string& param,
+                       const std::string& function, const std::string& over) {
     const auto replaced = keys_replaced_by(parse_swept_parameter(param));
     for (const auto& [key, value] : keys) {
         const std::string name = key.cast<std::string>();
         const std::string dotted = scene_key(name);
         if (dotted == replaced[0] || dotted == replaced[1])
             throw std::invalid_argument(name + ": " + function + "() varies " + param +
-                                        " itself, from from_ to to; drop the " + name + " keyword");
+                                        " itself, " + over + "; drop the " + name + " keyword");
     }
+}
+
+Scene to_swept_scene(const py::object& scene, const std::string& param, const py::kwargs& keys,
+                     const std::string& function) {
+    refuse_swept_keys(keys, param, function, "from from_ to to");
     return to_scene(scene, keys);
 }
 

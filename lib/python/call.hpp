@@ -31,6 +31,11 @@ Scene to_scene(const py::object& scene, const py::kwargs& keys);
 Scene to_swept_scene(const py::object& scene, const std::string& param, const py::kwargs& keys,
                      const std::string& function);
 
+// Refuses a keyword for a scene key that function replaces by varying param itself (over: how,
+// "from from_ to to" or "over e_r"): std::invalid_argument naming it.
+void refuse_swept_keys(const py::kwargs& keys, const std::string& param,
+                       const std::string& function, const std::string& over);
+
 // Functions that run the row their own way (orbit and continuation shoot with their scheme,
 // classify and bifurcation run transient + record periods) refuse a run.* keyword they would
 // silently ignore, every one but those in `read`: std::invalid_argument naming it, with

@@ -132,6 +132,8 @@ py::dict regime_map_py(const py::object& scene_arg, const std::vector<double>& e
                        const std::vector<double>& f_r, long transient, long record, bool confirm,
                        int threads, const py::object& progress, const py::kwargs& keys) {
     refuse_run_keys(keys, "regime_map", run_settings_keys, classify_runs);
+    for (const char* axis : {"e_r", "f_r"})
+        refuse_swept_keys(keys, axis, "regime_map", std::string("over its ") + axis + " argument");
     const Scene scene = to_scene(scene_arg, keys);
     const ClassifyOptions o = classify_options(scene, transient, record, confirm);
     Call call(progress);

@@ -432,6 +432,11 @@ def test_a_keyword_of_the_swept_parameter_is_refused():
     with pytest.raises(ValueError, match="^model.e: bifurcation\\(\\) varies e_r itself"):
         gapchain.bifurcation(physical, param="e_r", from_=0.1, to=0.2, steps=2,
                              **{"model.e": 0.004})
+    # regime_map's axes too (the map ignored them).
+    with pytest.raises(ValueError, match="^model.e_r: regime_map\\(\\) varies e_r itself"):
+        gapchain.regime_map(e_r=[0.3], f_r=[0.6], **{"model.e_r": 0.9})
+    with pytest.raises(ValueError, match="^excitation.f_r: regime_map\\(\\) varies f_r"):
+        gapchain.regime_map(e_r=[0.3], f_r=[0.6], **{"excitation.f_r": 2.0})
 
 
 def test_a_start_is_honoured_where_a_run_starts_and_centers_the_box_where_starts_are_drawn():

@@ -486,13 +486,13 @@ std::pair<CLI::Option*, CLI::Option*> add_start_box(CLI::App& app, long long& se
     return {s, b};
 }
 
-void require_not_set(const SceneArguments& args, const std::string& param,
-                     const std::string& tool) {
+void require_not_set(const SceneArguments& args, const std::string& param, const std::string& tool,
+                     const std::string& over) {
     for (const std::string& key : keys_replaced_by(parse_swept_parameter(param)))
         for (const std::string& set : args.sets)
             if (set.rfind(key + "=", 0) == 0)
-                throw SceneError("--set " + key + ": " + tool + " varies " + param +
-                                 " itself, from --from to --to; drop the --set");
+                throw SceneError("--set " + key + ": " + tool + " varies " + param + " itself, " +
+                                 over + "; drop the --set");
 }
 
 namespace {

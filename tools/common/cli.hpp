@@ -138,8 +138,10 @@ std::pair<CLI::Option*, CLI::Option*> add_start_box(CLI::App& app, long long& se
 
 // Tools that vary one reduced number themselves (bifurcation, continue, attractors --param)
 // refuse a --set of it, or of the physical key behind it alone (excitation.f, model.e, model.Kc,
-// model.C), which their --from ... --to would silently replace. param: f_r, e_r, fc or eps.
-void require_not_set(const SceneArguments& args, const std::string& param, const std::string& tool);
+// model.C), which their --from ... --to would silently replace. param: f_r, e_r, fc or eps;
+// over: how the tool varies it (classify --map: "over --e_r").
+void require_not_set(const SceneArguments& args, const std::string& param, const std::string& tool,
+                     const std::string& over = "from --from to --to");
 // Refuses a --set of a run.* or output.* key that the tool does not read, which it would
 // silently ignore: read lists the keys it does read ("run." for every run key), unread the
 // keys under such a prefix that it sets itself, instead says how the tool runs ("its runs are

@@ -154,9 +154,15 @@ py::dict set_dict(const AttractorSet& s) {
     return d;
 }
 
+// What the searches set themselves (a keyword for them changed nothing), as the tool refuses.
+constexpr const char* search_runs =
+    "every start estimates its error and runs no twin; it returns no trajectory";
+const std::vector<std::string> search_sets_itself{"run.estimate_error", "run.multistability_check"};
+
 py::dict attractors_py(const py::object& scene_arg, long samples, std::uint64_t seed, double box,
                        int section_points, const py::object& grid, int resolution, int threads,
                        const py::object& progress, const py::kwargs& keys) {
+    refuse_run_keys(keys, "attractors", {"run."}, search_runs, search_sets_itself);
     const Scene scene = to_scene(scene_arg, keys);
     const ReducedParameters& p = paper_row(scene, "attractors");
     AttractorOptions o = search_options(scene, samples, seed, box, section_points, threads);
@@ -192,6 +198,7 @@ py::dict basin_fractions_py(const py::object& scene_arg, const std::string& para
                             double to, int steps, long samples, std::uint64_t seed, double box,
                             int section_points, int threads, const py::object& progress,
                             const py::kwargs& keys) {
+    refuse_run_keys(keys, "basin_fractions", {"run."}, search_runs, search_sets_itself);
     const Scene scene = to_swept_scene(scene_arg, param, keys, "basin_fractions");
     const ReducedParameters& p = paper_row(scene, "basin_fractions");
     const std::vector<double> values =

@@ -84,18 +84,25 @@ Scene to_swept_scene(const py::object& scene, const std::string& param, const py
 }
 
 void refuse_run_keys(const py::kwargs& keys, const std::string& function,
-                     const std::vector<std::string>& read, const std::string& instead) {
+                     const std::vector<std::string>& read, const std::string& instead,
+                     const std::vector<std::string>& unread) {
     std::string listed;
     for (const auto& key : read)
-        listed += (listed.empty() ? "" : ", ") + key;
+        listed += (listed.empty() ? "" : ", ") + (key == "run." ? "the run section" : key);
+    for (const auto& key : unread)
+        listed += (key == unread.front() ? " except " : ", ") + key;
     for (const auto& [key, value] : keys) {
         const std::string name = key.cast<std::string>();
         const std::string dotted = scene_key(name);
-        if (dotted.rfind("run.", 0) == 0 &&
-            std::find(read.begin(), read.end(), dotted) == read.end())
-            throw std::invalid_argument(name + ": " + function +
-                                        "() does not read the scene's run section (" + instead +
-                                        ") but for " + listed + "; drop the " + name + " keyword");
+        if (dotted.rfind("run.", 0) != 0 && dotted.rfind("output.", 0) != 0) continue;
+        const bool is_read = std::find(unread.begin(), unread.end(), dotted) == unread.end() &&
+                             std::any_of(read.begin(), read.end(), [&](const std::string& r) {
+                                 return r.back() == '.' ? dotted.rfind(r, 0) == 0 : dotted == r;
+                             });
+        if (!is_read)
+            throw std::invalid_argument(name + ": " + function + "() does not read it (" + instead +
+                                        ")" + (listed.empty() ? "" : "; it reads " + listed) +
+                                        "; drop the " + name + " keyword");
     }
 }
 

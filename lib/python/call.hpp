@@ -37,16 +37,26 @@ void refuse_swept_keys(const py::kwargs& keys, const std::string& param,
                        const std::string& function, const std::string& over);
 
 // Functions that run the row their own way (orbit and continuation shoot with their scheme,
-// classify and bifurcation run transient + record periods) refuse a run.* keyword they would
-// silently ignore, every one but those in `read`: std::invalid_argument naming it, with
-// `instead` saying how the function runs.
+// classify and bifurcation run transient + record periods) refuse a run.* or output.* keyword
+// they would silently ignore, every one but those in `read` ("run." for every run key):
+// std::invalid_argument naming it, with `instead` saying how the function runs.
 void refuse_run_keys(const py::kwargs& keys, const std::string& function,
-                     const std::vector<std::string>& read, const std::string& instead);
+                     const std::vector<std::string>& read, const std::string& instead,
+                     const std::vector<std::string>& unread = {});
 
 // The run keys take_run_settings() reads (scene.hpp): all that classify(), regime_map() and
 // bifurcation() read of the run section.
 inline const std::vector<std::string> run_settings_keys{"run.scheme", "run.tolerance",
                                                         "run.max_work"};
+
+// The run keys of a function that runs the row once over its whole length (poincare, spectrum,
+// lyapunov: no steady-state stop, error estimate or start check, every step strict), as the
+// tools' cli::plain_run_keys.
+inline const std::vector<std::string> plain_run_keys{"run.periods", "run.transient_periods",
+                                                     "run.scheme",  "run.tolerance",
+                                                     "run.step",    "run.max_work"};
+inline const char* plain_run_reason = "it runs every period strict, with no steady-state stop, "
+                                      "error estimate or start check, and returns no trajectory";
 
 // The paper's row at one point, as the analyses of the five reduced numbers need it
 // (require_paper_row(), naming function()); SceneError otherwise.

@@ -116,6 +116,9 @@ py::dict simulate_py(const py::object& scene_arg, bool trajectory, long attracto
                      std::optional<std::uint64_t> seed, std::optional<double> box,
                      std::optional<int> threads, const py::object& progress,
                      const py::kwargs& keys) {
+    // As gapchain-sim refuses --set output.trajectory_every without --trajectory.
+    if (!trajectory)
+        refuse_run_keys(keys, "simulate", {"run."}, "it returns a trajectory with trajectory=True");
     const Scene scene = to_scene(scene_arg, keys);
     AttractorOptions search;
     // 0 is no search; the search's own range starts at 1.

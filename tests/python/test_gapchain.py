@@ -493,6 +493,19 @@ def test_orbit_and_continuation_refuse_run_keywords_they_would_ignore():
     with pytest.raises(ValueError, match="^transient_periods: bifurcation\\(\\) does not read"):
         gapchain.bifurcation(MIRROR_PAIR, from_=1.2, to=1.3, steps=2, transient_periods=5)
     assert gapchain.classify(MIRROR_PAIR, scheme="rk4", transient=10, record=20)["scheme"] == "rk4"
+    # So do the once-through runs, the searches and a simulate() without its trajectory, as
+    # the tools refuse the --set (each of these ran, its result unchanged).
+    with pytest.raises(ValueError, match="^steady_state: lyapunov\\(\\) does not read"):
+        gapchain.lyapunov(MIRROR_PAIR, periods=30, steady_state=False)
+    with pytest.raises(ValueError, match="^accuracy_mode: spectrum\\(\\) does not read"):
+        gapchain.spectrum(MIRROR_PAIR, accuracy_mode="strict")
+    with pytest.raises(ValueError, match="^trajectory_every: poincare\\(\\) does not read"):
+        gapchain.poincare(MIRROR_PAIR, trajectory_every=3)
+    with pytest.raises(ValueError, match="^estimate_error: attractors\\(\\) does not read"):
+        gapchain.attractors(MIRROR_PAIR, samples=2, estimate_error=False)
+    with pytest.raises(ValueError, match="^trajectory_every: simulate\\(\\) does not read"):
+        gapchain.simulate(MIRROR_PAIR, periods=20, trajectory_every=5)
+    assert gapchain.lyapunov(MIRROR_PAIR, periods=30, tolerance=1e-5)["status"] == "completed"
     # run.max_work is read: the refusal names it and the value given.
     with pytest.raises(ValueError, match="^run.max_work: .* above run.max_work = 10:"):
         gapchain.orbit(MIRROR_PAIR, max_work=10)

@@ -146,6 +146,14 @@ void require_not_set(const SceneArguments& args, const std::string& param, const
 // silently ignore: read lists the keys it does read ("run." for every run key), unread the
 // keys under such a prefix that it sets itself, instead says how the tool runs ("its runs are
 // set by --transient and --record").
+// The run keys of a tool that runs the row once over its whole length (PlannedRun: no
+// steady-state stop, no error estimate, no multistability twin, every step strict), and why.
+inline const std::vector<std::string> plain_run_keys = {"run.periods", "run.transient_periods",
+                                                        "run.scheme",  "run.tolerance",
+                                                        "run.step",    "run.max_work"};
+inline const std::string plain_run_reason =
+    "it runs every period strict, with no steady-state stop, error estimate or start check, "
+    "and writes no trajectory";
 void require_sets_read(const SceneArguments& args, const std::string& tool,
                        const std::vector<std::string>& read, const std::string& instead,
                        const std::vector<std::string>& unread = {});

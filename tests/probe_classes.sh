@@ -457,6 +457,11 @@ printf 'Nm,fc,eps,e_r,f_r,F_m,status\n2.9xyz,60,0.5,0.1,1,0.5,steady_state\n' >r
 expect 28 2 "rows28.csv line 2, Nm: must be a decimal integer" "$bin/gapchain-bench" relaxed rows28.csv
 # classify --map's axes replace the scene's e_r and f_r: a --set of them changed nothing.
 expect 28 2 "--set model.e_r: gapchain-classify --map varies e_r itself" "$bin/gapchain-classify" fig5.json --map --e_r 0.1:0.3:2 --f_r 0.5:1:2 --set model.e_r=0.7 --out k28
+# The once-through tools ran the same with run keys they do not read.
+expect 28 2 "--set run.steady_state: gapchain-lyapunov does not read it" "$bin/gapchain-lyapunov" fig5.json --set run.steady_state=false --out l28.json
+expect 28 2 "--set run.accuracy_mode: gapchain-spectrum does not read it" "$bin/gapchain-spectrum" fig5.json --set run.accuracy_mode=strict --out p28
+expect 28 2 "--set run.estimate_error: gapchain-poincare does not read it" "$bin/gapchain-poincare" fig5.json --set run.estimate_error=false --out q28
+absent 28 l28.json p28 q28
 # A sweep axis over the number a model array replaces ran one row under each label.
 echo '{"scene": {"model": {"Nm": 3, "clearance": [0.2, 0.2, 0.2, 0.2]}, "run": {"periods": 20}}, "parameters": {"e_r": [0.1, 3]}}' >arr28.json
 expect 28 2 "parameters.e_r: not read where the scene's model.clearance" "$bin/gapchain-sweep" arr28.json --out arr28.csv

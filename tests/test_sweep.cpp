@@ -151,6 +151,21 @@ TEST_CASE("an F_m_error nothing estimated is written empty, never as an exact 0"
     CHECK(std::stod(field(results[1], "F_m")) == doctest::Approx(results[0].simulation.F_m));
 }
 
+TEST_CASE("a record study's fingerprint covers the record's content, not only its name") {
+    // A resumed sweep over a record overwritten in between mixed rows of two records.
+    const std::string record = "test_sweep_fingerprint_record.csv";
+    const std::string text =
+        R"({"scene": {"units": "physical", "model": {"Nm": 2, "M": 100, "K": 1e5, "C": 500,
+            "Kc": 5e7, "e": 0.003}, "excitation": {"type": "record", "file": ")" +
+        record + R"("}}, "parameters": {"model.e": [0.002, 0.003]}})";
+    std::ofstream(record) << "0,0\n0.01,1\n0.02,-1\n0.03,0\n";
+    const std::string first = study_fingerprint(parse_study(text, "study.json"));
+    CHECK(first == study_fingerprint(parse_study(text, "study.json")));
+    std::ofstream(record) << "0,0\n0.01,2\n0.02,-1\n0.03,0\n";
+    CHECK(study_fingerprint(parse_study(text, "study.json")) != first);
+    std::remove(record.c_str());
+}
+
 TEST_CASE("a results CSV is resumed only by the same study and results version") {
     const Study s = parse_study(R"({"scene": {"model": {"Nm": 2}}, "parameters": {"fc": [1, 2]}})");
     const Study other =

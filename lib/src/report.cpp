@@ -1,5 +1,7 @@
 #include "gapchain/report.hpp"
 
+#include "detail/json_reader.hpp"
+
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
@@ -822,24 +824,53 @@ std::string sweep_csv_row(const Study& study, const SweepPointResult& r) {
     return os.str();
 }
 
+namespace {
+
+/// FNV-1a of text, as 16 hex digits: stable across runs and builds.
+std::string fnv1a_hex(const std::string& text) {
+    std::uint64_t h = 1469598103934665603ULL;
+    for (const unsigned char c : text) {
+        h ^= c;
+        h *= 1099511628211ULL;
+    }
+    char hex[17];
+    std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
+    return hex;
+}
+
+/// The bytes of a record scene's excitation.file (resolved as the scene reader resolves it,
+/// from the study's folder), or empty: the scene names the file, not what it holds, and a
+/// resumed sweep over a changed record mixed rows of two records.
+std::string record_text(const nlohmann::ordered_json& scene, const std::string& source) {
+    const auto excitation = scene.find("excitation");
+    if (excitation == scene.end() || !excitation->is_object() ||
+        excitation->value("type", nlohmann::ordered_json("harmonic")) != "record" ||
+        !excitation->contains("file") || !(*excitation)["file"].is_string())
+        return {};
+    std::filesystem::path file = (*excitation)["file"].get<std::string>();
+    if (file.is_relative() && !source.empty() && source.front() != '<')
+        file = std::filesystem::path(source).parent_path() / file;
+    try {
+        return detail::read_text_file(file.string(), "excitation.file");
+    } catch (const std::exception&) {
+        return {}; // the scene reader refuses it, by name
+    }
+}
+
+} // namespace
+
 std::string study_fingerprint(const Study& study, int results_version) {
     nlohmann::ordered_json j;
     j["scene"] = nlohmann::ordered_json::parse(study.scene_json);
+    if (const std::string record = record_text(j["scene"], study.source); !record.empty())
+        j["record"] = fnv1a_hex(record);
     for (const auto& a : study.axes)
         j["parameters"].push_back({a.key, a.values});
     j["sampling"] = {static_cast<int>(study.sampling), study.samples, study.seed};
     j["columns"] = sweep_csv_header(study);
     j["attractors"] = study.attractor_starts;
     j["results_version"] = results_version;
-    // FNV-1a over the canonical text: stable across runs and builds.
-    std::uint64_t h = 1469598103934665603ULL;
-    for (const unsigned char c : j.dump()) {
-        h ^= c;
-        h *= 1099511628211ULL;
-    }
-    char text[17];
-    std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(h));
-    return text;
+    return fnv1a_hex(j.dump());
 }
 
 void check_resume(const std::string& results_csv, const Study& study) {

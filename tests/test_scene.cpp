@@ -178,6 +178,14 @@ TEST_CASE("bad input: every class gives one line naming the key") {
               .find("run.transient_periods") != std::string::npos);
     CHECK(error_of(R"({"initial": {"u": [1, 2]}})").find("initial.u") != std::string::npos);
     CHECK(error_of("{}", {"nodot=3"}).find("--set") != std::string::npos);
+    // A NUL or other control character is shown escaped, not cut at ("gapchain-sim: model"),
+    // and a path holding one is refused (open() read "fig5.json\0junk" as fig5.json).
+    CHECK(error_of(R"({"model\u0000junk": {"Nm": 2}})").find("model\\u0000junk: unknown key") !=
+          std::string::npos);
+    CHECK(error_of(R"({"run": {"scheme": "rk4\u0000x"}})")
+              .find("run.scheme: must hold no control characters") != std::string::npos);
+    CHECK_THROWS_WITH_AS((void)load_scene(std::string("data/scenes/fig5.json") + '\0' + "junk"),
+                         doctest::Contains("the path holds a NUL byte"), SceneError);
     // A number in the way of a nested key is named whole (it said "eps: ...").
     CHECK(error_of(R"({"model": {"eps": 0.5}})", {"model.eps.x=0.4"})
               .find("model.eps: must be an object to set x") != std::string::npos);

@@ -668,6 +668,9 @@ std::string non_finite_literal_at(std::string_view text, std::size_t last_read, 
 std::string read_text_file(const std::string& path, const std::string& what) {
     std::error_code ec;
     if (path.empty()) throw SceneError(what + " file: empty path");
+    // open() would read the path up to the NUL: Python's "fig5.json\0junk" ran fig5.json.
+    if (path.find('\0') != std::string::npos)
+        throw SceneError(what + " file: the path holds a NUL byte, got \"" + visible(path) + "\"");
     if (std::filesystem::is_directory(path, ec))
         throw SceneError(path + ": is a directory, not a " + what + " file");
     // A device (a terminal, /dev/zero) would block or never end.

@@ -75,7 +75,9 @@ void require_keys(const ojson& object, const std::string& prefix,
         bool known = false;
         for (const char* a : accepted)
             known = known || key == a;
-        if (!known) throw SceneError(prefix + key + ": unknown key; accepted keys here: " + list);
+        if (!known)
+            throw SceneError(prefix + detail::visible(key) +
+                             ": unknown key; accepted keys here: " + list);
     }
 }
 

@@ -31,6 +31,17 @@ std::string shown_json(const Json& v) {
     return text;
 }
 
+/// A key or text as a message shows it: as written, or JSON-escaped where it holds a control
+/// character (a NUL in a key cut the message there: "gapchain-sim: model").
+inline std::string visible(const std::string& text) {
+    if (std::none_of(text.begin(), text.end(),
+                     [](char c) { return static_cast<unsigned char>(c) < 0x20; }))
+        return text;
+    const std::string quoted =
+        nlohmann::json(text).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+    return quoted.substr(1, quoted.size() - 2);
+}
+
 class SectionReader {
 public:
     SectionReader(const nlohmann::json& object, std::string path,
@@ -109,6 +120,9 @@ public:
             throw SceneError(full(key) + ": must be a string" +
                              (choices.empty() ? "" : ", one of " + join(choices)) + ", got " +
                              shown_json(v));
+        // A control character cut the caller's message at it ("rk4\u0000x" named as "rk4").
+        if (visible(s) != s)
+            throw SceneError(full(key) + ": must hold no control characters, got " + shown_json(v));
         // Empty choices: the caller validates the value itself.
         if (!choices.empty() && std::find(choices.begin(), choices.end(), s) == choices.end())
             throw SceneError(full(key) + ": must be one of " + join(choices) + ", got " +
@@ -128,7 +142,7 @@ public:
 
     // The dotted name of key in this section ("run.periods").
     [[nodiscard]] std::string full(const std::string& key) const {
-        return m_path.empty() ? key : m_path + "." + key;
+        return m_path.empty() ? visible(key) : m_path + "." + visible(key);
     }
 
 private:

@@ -338,6 +338,12 @@ TEST_CASE("non-uniform rows: per-gap values reach the chain, and a scatter is se
     CHECK(s1.chain().clearance == s2.chain().clearance);
     CHECK(s1.chain().clearance != s3.chain().clearance);
     CHECK(s1.chain().clearance[0] != 0.1);
+    // A factor 1 + s z below zero is refused, not clipped (s = 5 set half the clearances to 0).
+    CHECK(error_of(base, {R"(model.scatter={"clearance": 5})"})
+              .find("model.scatter.clearance: s = 5 draws the factor") != std::string::npos);
+    CHECK(
+        error_of(base, {R"(model.scatter={"mass": 10, "seed": 4})"}).find("which must stay > 0") !=
+        std::string::npos);
 }
 
 TEST_CASE("bad arrays fail with a message naming the key") {

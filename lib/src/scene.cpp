@@ -118,16 +118,29 @@ void apply_scatter(const json& scatter_json, RowArrays& a) {
                           {"clearance", "contact", "mass", "stiffness", "seed"});
     scatter.finish();
     const auto seed = static_cast<std::uint64_t>(scatter.integer("seed", 1, 0, 2'000'000'000));
-    auto spread = [&](const char* key, std::vector<double>& v, std::uint64_t stream, double floor) {
+    // A factor 1 + s z below its floor is refused, not clipped: at s = 5 half the draws were
+    // set to the floor (clearances of exactly 0, masses of 0.001), which is no longer the
+    // scatter the scene asks for.
+    auto spread = [&](const char* key, std::vector<double>& v, std::uint64_t stream,
+                      bool zero_allowed) {
         const double s = scatter.number(key, 0.0, 0.0, 10.0);
-        for (std::size_t i = 0; i < v.size(); ++i)
-            v[i] *= std::max(floor, 1.0 + s * detail::standard_normal(seed, stream, i));
+        for (std::size_t i = 0; i < v.size(); ++i) {
+            const double factor = 1.0 + s * detail::standard_normal(seed, stream, i);
+            if (factor < 0.0 || (factor == 0.0 && !zero_allowed))
+                throw SceneError(
+                    "model.scatter." + std::string(key) + ": s = " + detail::format_number(s) +
+                    " draws the factor 1 + s z = " + detail::format_number(factor) + " for model." +
+                    key + "[" + std::to_string(i) + "] (seed " + std::to_string(seed) +
+                    "), which must stay " + (zero_allowed ? ">= 0" : "> 0") +
+                    "; a smaller s (0.25 keeps it so to z = -4) or another seed");
+            v[i] *= factor;
+        }
     };
-    // Clearances may close to zero; masses and stiffnesses must stay positive.
-    spread("clearance", a.clearance, 1, 0.0);
-    spread("contact", a.contact, 2, 1e-3);
-    spread("mass", a.mass, 3, 1e-3);
-    spread("stiffness", a.stiffness, 4, 1e-3);
+    // Clearances may close to zero; masses, stiffnesses and contacts must stay positive.
+    spread("clearance", a.clearance, 1, true);
+    spread("contact", a.contact, 2, false);
+    spread("mass", a.mass, 3, false);
+    spread("stiffness", a.stiffness, 4, false);
 }
 
 /// Throws SceneError on the first entry out of its range.

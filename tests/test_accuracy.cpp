@@ -34,6 +34,12 @@ TEST_CASE("work-precision study: errors fall with the tolerance, exact is its ow
     CHECK(best->F_m_error <= 1e-6);
     CHECK_THROWS_AS(work_precision(dyn, WorkPrecisionOptions{{Scheme::automatic}}),
                     std::invalid_argument);
+    // A tolerance listed twice ran twice and wrote duplicate rows.
+    WorkPrecisionOptions twice;
+    twice.tolerances = {1e-3, 1e-4, 1e-3};
+    CHECK_THROWS_WITH_AS(work_precision(dyn, twice),
+                         doctest::Contains("tolerances: 0.001 is listed twice"),
+                         std::invalid_argument);
 }
 
 namespace {

@@ -66,8 +66,14 @@ double max_norm_difference(const std::vector<double>& a, const std::vector<doubl
 void validate(const WorkPrecisionOptions& o) {
     detail::require_range("periods", static_cast<double>(o.periods), 1.0, 1e7);
     detail::require_range("repeats", o.repeats, 1, 100);
-    for (double tol : o.tolerances)
-        detail::require_range("tolerances", tol, 1e-12, 0.1);
+    for (std::size_t k = 0; k < o.tolerances.size(); ++k) {
+        detail::require_range("tolerances", o.tolerances[k], 1e-12, 0.1);
+        // Each would be run and written again (duplicate rows), as a scheme listed twice.
+        if (std::find(o.tolerances.begin(), o.tolerances.begin() + static_cast<long>(k),
+                      o.tolerances[k]) != o.tolerances.begin() + static_cast<long>(k))
+            throw std::invalid_argument("tolerances: " + detail::format_number(o.tolerances[k]) +
+                                        " is listed twice");
+    }
     for (Scheme s : o.schemes)
         if (s == Scheme::automatic)
             throw std::invalid_argument("schemes: name concrete schemes, not auto");

@@ -76,9 +76,16 @@ void print_modes(const Scene& scene, const ModalResult& r) {
             std::printf("%8s\n", "...");
             m = r.frequencies.size() - 2;
         }
-        std::printf("%8d %20.14f %20.14f %11.4f%% %10.1e\n", r.mode_numbers[m], r.frequencies[m],
-                    r.approx[m], 100 * r.rel_error[m], r.residuals[m]);
+        if (std::isnan(r.approx[m]))
+            std::printf("%8d %20.14f %20s %12s %10.1e\n", r.mode_numbers[m], r.frequencies[m], "-",
+                        "-", r.residuals[m]);
+        else
+            std::printf("%8d %20.14f %20.14f %11.4f%% %10.1e\n", r.mode_numbers[m],
+                        r.frequencies[m], r.approx[m], 100 * r.rel_error[m], r.residuals[m]);
     }
+    if (!r.approx.empty() && std::isnan(r.approx.front()))
+        std::printf("(eq (26) describes the paper's uniform row; this row's masses, springs or "
+                    "contacts differ: not compared)\n");
 }
 
 // The command line: one row's modes, or with --grid eq (26) over a grid.

@@ -54,10 +54,12 @@ enum class ModalStatus { converged, not_converged, numerical_issue };
 
 /// Modes, in ascending frequency order.
 struct ModalResult {
-    std::vector<int> mode_numbers;           ///< k, 1-based, ascending
-    std::vector<double> frequencies;         ///< reduced f_k = sqrt(eigenvalue_k)
-    std::vector<double> approx;              ///< paper eq (26) f_ka for the same k
-    std::vector<double> rel_error;           ///< (f_ka - f_k) / f_k
+    std::vector<int> mode_numbers;   ///< k, 1-based, ascending
+    std::vector<double> frequencies; ///< reduced f_k = sqrt(eigenvalue_k)
+    /// Paper eq (26) f_ka for the same k; NaN where the row is not the paper's uniform one
+    /// (other masses, springs or contacts), which the formula does not describe.
+    std::vector<double> approx;
+    std::vector<double> rel_error;           ///< (f_ka - f_k) / f_k; NaN where approx is
     std::vector<std::vector<double>> shapes; ///< per mode, Nm entries, phi^T M phi = 1
     std::vector<double> residuals;           ///< per mode |A psi - lambda psi| / lambda (error)
     EigenMethod method = EigenMethod::dense; ///< solver used

@@ -72,3 +72,17 @@ TEST_CASE("Lyapunov and orbit JSON name the row that ran: its chain, where array
     CHECK(to_json(o, arrays).find("\"chain\"") != std::string::npos);
     CHECK(to_json(o, uniform).find("\"chain\"") == std::string::npos);
 }
+
+TEST_CASE("attractor and bifurcation JSON name the scheme that ran") {
+    // --set run.scheme=rk4 and =auto gave lambda_max 0.830 and 1.013 under the same run block.
+    AttractorOptions o;
+    o.run.scheme = Scheme::rk4;
+    o.run.step = 0.001;
+    const ReducedParameters p{2, 60, 0.5, 0.1, 3.0};
+    const std::string a = to_json(AttractorSet{}, o, p);
+    CHECK(a.find("\"scheme\": \"rk4\"") != std::string::npos);
+    CHECK(a.find("\"step\": 0.001") != std::string::npos);
+    BifurcationOptions b;
+    b.scheme = Scheme::exact;
+    CHECK(to_json(BifurcationResult{}, b, p).find("\"scheme\": \"exact\"") != std::string::npos);
+}

@@ -330,6 +330,7 @@ std::string to_json(const BifurcationResult& r, const BifurcationOptions& o,
                     {"F_m_error",
                      "|max over the first half - max over the second half of the recorded "
                      "periods| (sampling spread), at least tolerance * F_m"}};
+    j["scheme"] = std::string(to_string(o.scheme));
     j["tolerance"] = o.tolerance;
     double largest_error = 0.0;
     for (const auto& row : r.rows)
@@ -520,8 +521,13 @@ nlohmann::ordered_json attractor_set_json(const AttractorSet& set, const Attract
                 {"transient_periods", o.run.transient_periods == auto_transient
                                           ? nlohmann::ordered_json("auto")
                                           : nlohmann::ordered_json(o.run.transient_periods)},
+                {"scheme", to_string(o.run.scheme)},
                 {"tolerance", o.run.tolerance},
-                {"steady_state", o.run.stop_at_steady_state}};
+                {"step", o.run.step ? nlohmann::ordered_json(*o.run.step)
+                                    : nlohmann::ordered_json(nullptr)},
+                {"accuracy_mode", to_string(o.run.accuracy_mode)},
+                {"steady_state", o.run.stop_at_steady_state},
+                {"max_work", o.run.max_work}};
     j["parameters"] = parameters_json(p);
     j["threads"] = set.threads_used;
     j["wall_time_s"] = set.wall_time_s;

@@ -375,6 +375,16 @@ PeriodicOrbit find_periodic_orbit(const Dynamics& dyn, const OrbitOptions& optio
             return finish(OrbitStatus::not_converged, "no convergence in " +
                                                           std::to_string(options.max_iterations) +
                                                           " Newton iterations");
+        // run.max_work bounds the search, not each shooting alone: at fc = 1e9 on rk4 one
+        // shooting took 3.9e9 body-steps (6 min) and 40 iterations would have run for hours.
+        if (static_cast<double>(orbit.iterations + 2) * shooting_work(dyn, options) >
+            options.max_work)
+            return finish(OrbitStatus::not_converged,
+                          "run.max_work = " + detail::format_number(options.max_work) +
+                              " reached after " + std::to_string(orbit.iterations) +
+                              " Newton iterations (each shooting about " +
+                              detail::format_number(shooting_work(dyn, options)) +
+                              " body-steps); raise run.max_work");
         orbit.residual_history.push_back(residual);
         ++orbit.iterations;
         const Matrix a =

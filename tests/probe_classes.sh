@@ -457,10 +457,9 @@ printf 'Nm,fc,eps,e_r,f_r,F_m,status\n2.9xyz,60,0.5,0.1,1,0.5,steady_state\n' >r
 expect 28 2 "rows28.csv line 2, Nm: must be a decimal integer" "$bin/gapchain-bench" relaxed rows28.csv
 # classify --map's axes replace the scene's e_r and f_r: a --set of them changed nothing.
 expect 28 2 "--set model.e_r: gapchain-classify --map varies e_r itself" "$bin/gapchain-classify" fig5.json --map --e_r 0.1:0.3:2 --f_r 0.5:1:2 --set model.e_r=0.7 --out k28
-# Options that changed nothing: a tolerance twice (duplicate rows), branches without doublings.
+# A tolerance listed twice ran twice (duplicate rows).
 expect 28 2 "--tolerances: 0.001 is listed twice" "$bin/gapchain-accuracy" fig5.json --tolerances 1e-3 1e-3 --out acc28
-expect 28 2 "--max-branches requires --follow-doublings" "$bin/gapchain-continue" fig5.json --from 0.9 --to 1 --max-branches 3 --out c28
-absent 28 acc28 c28
+absent 28 acc28
 # The once-through tools ran the same with run keys they do not read.
 expect 28 2 "--set run.steady_state: gapchain-lyapunov does not read it" "$bin/gapchain-lyapunov" fig5.json --set run.steady_state=false --out l28.json
 expect 28 2 "--set run.accuracy_mode: gapchain-spectrum does not read it" "$bin/gapchain-spectrum" fig5.json --set run.accuracy_mode=strict --out p28

@@ -121,6 +121,18 @@ void classify_map(const ReducedParameters& p, const ClassifyOptions& o, const st
     std::printf("wrote %s/map.csv%s\n", out.c_str(), plot ? ", regimes.png, force.png" : "");
 }
 
+// Refuses a --set the classification would ignore: run keys it does not read, and with --map
+// the scene's e_r and f_r, which the map's axes replace (a --set of them changed nothing).
+void require_sets_read(const cli::SceneArguments& scene_args, bool map) {
+    cli::require_sets_read(scene_args, "gapchain-classify",
+                           {"run.scheme", "run.tolerance", "run.max_work"},
+                           "its runs are set by --transient and --record");
+    if (map)
+        for (const char* axis : {"e_r", "f_r"})
+            cli::require_not_set(scene_args, axis, "gapchain-classify --map",
+                                 std::string("over --") + axis);
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -157,14 +169,7 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_flag("--no-plot", no_plot, "Write the CSV only")->needs(map);
     return cli::run(app, argc, argv, [&] {
-        cli::require_sets_read(scene_args, "gapchain-classify",
-                               {"run.scheme", "run.tolerance", "run.max_work"},
-                               "its runs are set by --transient and --record");
-        // The map's axes replace the scene's e_r and f_r (a --set of them changed nothing).
-        if (map_flag)
-            for (const char* axis : {"e_r", "f_r"})
-                cli::require_not_set(scene_args, axis, "gapchain-classify --map",
-                                     std::string("over --") + axis);
+        require_sets_read(scene_args, map_flag);
         const Scene scene = cli::load(scene_args);
         require_paper_row(scene, "gapchain-classify");
         take_run_settings(scene, o);

@@ -117,9 +117,9 @@ void add_options(CLI::App& app, ContinueArguments& a) {
         app.add_flag("--follow-doublings", o.follow_doublings,
                      "At each period doubling (and each non-smooth loss of stability next to -1), "
                      "switch to the doubled branch and follow it");
-    // Without the doublings there is one branch: the flag alone changed nothing.
-    app.add_option("--max-branches", o.max_branches, "Branches followed in all")
-        ->needs(follow)
+    app.add_option("--max-branches", o.max_branches,
+                   "Branches followed in all: restarts beyond a point where a branch ended, and "
+                   "with --follow-doublings the doubled branches")
         ->check(cli::range(1, 64))
         ->capture_default_str();
     app.add_option("--transient", o.transient_periods,

@@ -81,7 +81,7 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_flag("--no-plot", no_plot, "Write the JSON and CSV only");
     return cli::run(app, argc, argv, [&] {
-        cli::require_sets_read(scene_args, "gapchain-lyapunov", cli::plain_run_keys,
+        cli::require_sets_read(scene_args, "gapchain-lyapunov", once_through_run_keys,
                                cli::plain_run_reason);
         const Scene scene = cli::load(scene_args);
         const Dynamics dyn = scene.dynamics();

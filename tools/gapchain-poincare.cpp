@@ -137,7 +137,7 @@ int main(int argc, char** argv) {
         app, argc, argv,
         [&] {
             refuse_other_kind_options(app, a.kind);
-            cli::require_sets_read(scene_args, "gapchain-poincare", cli::plain_run_keys,
+            cli::require_sets_read(scene_args, "gapchain-poincare", once_through_run_keys,
                                    cli::plain_run_reason);
             const Scene scene = cli::load(scene_args);
             spec = section_spec(a, spec, scene.reduced.Nm);

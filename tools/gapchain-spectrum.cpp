@@ -85,7 +85,7 @@ int main(int argc, char** argv) {
     return cli::run(
         app, argc, argv,
         [&] {
-            cli::require_sets_read(a.scene, "gapchain-spectrum", cli::plain_run_keys,
+            cli::require_sets_read(a.scene, "gapchain-spectrum", once_through_run_keys,
                                    cli::plain_run_reason);
             const Scene scene = cli::load(a.scene);
             const Dynamics dyn = scene.dynamics();

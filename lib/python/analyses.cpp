@@ -214,7 +214,7 @@ py::dict poincare_py(const py::object& scene_arg, const std::string& section, do
                      const std::string& trigger, double level, const std::string& direction,
                      const std::vector<std::string>& record, const py::object& progress,
                      const py::kwargs& keys) {
-    refuse_run_keys(keys, "poincare", plain_run_keys, plain_run_reason);
+    refuse_run_keys(keys, "poincare", once_through_run_keys, plain_run_reason);
     const Scene scene = to_scene(scene_arg, keys);
     const Dynamics dyn = scene.dynamics();
     const SectionSpec spec =
@@ -253,7 +253,7 @@ py::dict peaks_dict(const SpectralContent& content) {
 py::dict spectrum_py(const py::object& scene_arg, const std::string& variable,
                      int samples_per_period, int segment, const std::string& window, int order,
                      const py::object& progress, const py::kwargs& keys) {
-    refuse_run_keys(keys, "spectrum", plain_run_keys, plain_run_reason);
+    refuse_run_keys(keys, "spectrum", once_through_run_keys, plain_run_reason);
     const Scene scene = to_scene(scene_arg, keys);
     const Dynamics dyn = scene.dynamics();
     RowSpectrumOptions o;
@@ -286,7 +286,7 @@ py::dict spectrum_py(const py::object& scene_arg, const std::string& variable,
 
 py::dict lyapunov_py(const py::object& scene_arg, int count, const py::object& progress,
                      const py::kwargs& keys) {
-    refuse_run_keys(keys, "lyapunov", plain_run_keys, plain_run_reason);
+    refuse_run_keys(keys, "lyapunov", once_through_run_keys, plain_run_reason);
     const Scene scene = to_scene(scene_arg, keys);
     const Dynamics dyn = scene.dynamics();
     // As gapchain-lyapunov --count: 0 means all, which the library's [1, 2 Nm] does not say.

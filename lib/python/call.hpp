@@ -49,12 +49,7 @@ void refuse_run_keys(const py::kwargs& keys, const std::string& function,
 inline const std::vector<std::string> run_settings_keys{"run.scheme", "run.tolerance",
                                                         "run.max_work"};
 
-// The run keys of a function that runs the row once over its whole length (poincare, spectrum,
-// lyapunov: no steady-state stop, error estimate or start check, every step strict), as the
-// tools' cli::plain_run_keys.
-inline const std::vector<std::string> plain_run_keys{"run.periods", "run.transient_periods",
-                                                     "run.scheme",  "run.tolerance",
-                                                     "run.step",    "run.max_work"};
+// Why poincare(), spectrum() and lyapunov() read no run key but once_through_run_keys.
 inline const char* plain_run_reason = "it runs every period strict, with no steady-state stop, "
                                       "error estimate or start check, and returns no trajectory";
 

@@ -1069,28 +1069,22 @@ std::vector<double> fraction_line_values(const ReducedParameters& base, SweptPar
     return values;
 }
 
-FractionContinuation continue_basin_fractions(const ReducedParameters& base,
-                                              SweptParameter parameter,
-                                              const std::vector<double>& values,
-                                              const AttractorOptions& options,
-                                              const ProgressCallback& progress) {
-    const auto clock = std::chrono::steady_clock::now();
-    if (values.empty()) throw std::invalid_argument("steps: at least one value, got none");
-    // Each value's search is checked on its own, and the line as a whole (10,000 values, each
-    // within the limit, were accepted with an estimate of 17 hours).
+namespace {
+
+/// Validates each value's search and checks the line as a whole against run.max_work (10,000
+/// values, each within the limit, were accepted with an estimate of 17 hours); a row refused at
+/// an end names its option.
+void require_line_affordable(const ReducedParameters& base, SweptParameter parameter,
+                             const std::vector<double>& values, const AttractorOptions& options) {
     double body_steps = 0.0;
     for (std::size_t k = 0; k < values.size(); ++k) {
         const ReducedParameters p = with_value(base, parameter, values[k]);
-        // A row refused at an end names the option that set it ("excitation.f_r: one forcing
-        // period would take 1.7e302 steps" did not say it was --from's 1e-300); the options'
-        // own rules (samples, box, ...) are the same at every value and keep their names.
         try {
             validate(p, options);
         } catch (const std::invalid_argument& e) {
-            const std::string_view message = e.what();
-            const bool row = message.starts_with("excitation.") || message.starts_with("model.");
-            if (!row || (k != 0 && k + 1 != values.size())) throw;
-            throw std::invalid_argument(std::string(k == 0 ? "from" : "to") + ": " + e.what());
+            detail::rethrow_naming_end(e, k == 0                   ? "from"
+                                          : k + 1 == values.size() ? "to"
+                                                                   : nullptr);
         }
         const Dynamics dyn = Dynamics::paper_row(p);
         body_steps += search_work(dyn, plan_run(dyn, options.run), options).body_steps;
@@ -1099,6 +1093,18 @@ FractionContinuation continue_basin_fractions(const ReducedParameters& base,
                          std::to_string(values.size()) + " searches, every start at full length",
                          "fewer values (steps), fewer starts, a shorter run.periods, or raise "
                          "run.max_work");
+}
+
+} // namespace
+
+FractionContinuation continue_basin_fractions(const ReducedParameters& base,
+                                              SweptParameter parameter,
+                                              const std::vector<double>& values,
+                                              const AttractorOptions& options,
+                                              const ProgressCallback& progress) {
+    const auto clock = std::chrono::steady_clock::now();
+    if (values.empty()) throw std::invalid_argument("steps: at least one value, got none");
+    require_line_affordable(base, parameter, values, options);
     FractionContinuation fc;
     fc.parameter = parameter;
     for (std::size_t k = 0; k < values.size(); ++k) {

@@ -732,17 +732,12 @@ ReducedParameters checked_start(const ReducedParameters& base, const Continuatio
     // that crossed it was refused only where it got there, its output lost.
     OrbitOptions shooting = options.orbit;
     shooting.period = options.period;
-    // A row refused is named by the option that carried its value: "excitation.f_r: one forcing
-    // period would take 4.4e301 steps" did not say it was --from's 1e-300.
     for (const auto& [row, option] : {std::pair{start, "from"}, std::pair{end, "to"}}) {
         try {
             require_orbit_size(Dynamics::paper_row(row), shooting.scheme);
             require_shooting_affordable(Dynamics::paper_row(row), shooting);
         } catch (const std::invalid_argument& e) {
-            // Only a refusal of the row itself; run.max_work's is the same at both ends.
-            const std::string_view message = e.what();
-            if (!message.starts_with("excitation.") && !message.starts_with("model.")) throw;
-            throw std::invalid_argument(std::string(option) + ": " + e.what());
+            detail::rethrow_naming_end(e, option);
         }
     }
     return start;

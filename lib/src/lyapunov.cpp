@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <numeric>
 #include <stdexcept>
@@ -256,7 +257,8 @@ void TangentObserver::on_step(const StepView& step) {
     if (!m_healthy) return;
     m_flow.on_step(step);
     // Within a period where damping is strong; the period's end does its own below.
-    // Step period p spans periods p .. p + 1; the averages start at on_period(m_start_period).
+    // A step of period p lies between on_period(p) and on_period(p + 1); the averages start at
+    // on_period(m_start_period).
     if (step.t1 >= m_next_qr) orthonormalize(step.t1, step.period >= m_start_period);
 }
 
@@ -265,7 +267,17 @@ bool TangentObserver::on_period(long n, double t, const double*) {
     // The flow carried the basis over the period; QR it and carry on from the new basis.
     orthonormalize(t, n > m_start_period);
     if (n == m_start_period) m_accumulator.start(t);
+    if (n > m_start_period) ++m_periods_averaged;
     return false;
+}
+
+LyapunovResult TangentObserver::result() const {
+    LyapunovResult r = m_accumulator.result();
+    // The accumulator's rule counts samples; with several a period (strong damping) 10 periods
+    // gave "+- 1e-16" where they give no error estimate.
+    if (m_periods_averaged < 20)
+        r.errors.assign(r.errors.size(), std::numeric_limits<double>::infinity());
+    return r;
 }
 
 Scheme tangent_run_scheme(const Dynamics& dyn, Scheme requested) {

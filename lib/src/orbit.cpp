@@ -258,15 +258,28 @@ std::optional<double> orbit_force_error(const Dynamics& dyn, const OrbitOptions&
 
 namespace {
 
-enum class DampedStep { improved, stalled, cancelled };
+/// Why a Newton search stopped at run.max_work: run.max_work bounds the search, not each
+/// shooting alone (fc = 1e9 on rk4: 3.9e9 body-steps a shooting, and 40 iterations of up to 11
+/// shootings each could follow).
+std::string over_budget_message(const Dynamics& dyn, const OrbitOptions& options, long shootings) {
+    return "run.max_work = " + detail::format_number(options.max_work) + " reached after " +
+           std::to_string(shootings) + " shooting(s) of about " +
+           detail::format_number(shooting_work(dyn, options)) + " body-steps; raise run.max_work";
+}
+
+enum class DampedStep { improved, stalled, cancelled, over_budget };
 
 /// The Newton step from x, damped: halved (up to 10 times) until the residual decreases (the map
 /// is only piecewise smooth, so a full step can cross a switch and overshoot). When it improves,
-/// x, s and residual are the new iterate's.
+/// x, s and residual are the new iterate's. shootings counts the search's shootings; one that
+/// would take them beyond run.max_work is not started (over_budget).
 DampedStep damped_step(const Dynamics& dyn, const OrbitOptions& options, const Vector& step,
                        const ProgressCallback& keep_going, std::vector<double>& x,
-                       ShootingResult& s, double& residual) {
+                       ShootingResult& s, double& residual, long& shootings) {
     for (int halving = 0; halving <= 10; ++halving) {
+        if (static_cast<double>(shootings + 1) * shooting_work(dyn, options) > options.max_work)
+            return DampedStep::over_budget;
+        ++shootings;
         const double lambda = std::ldexp(1.0, -halving);
         std::vector<double> trial(x);
         for (Eigen::Index i = 0; i < step.size(); ++i)
@@ -351,6 +364,7 @@ PeriodicOrbit find_periodic_orbit(const Dynamics& dyn, const OrbitOptions& optio
                                      std::max(1, options.max_iterations));
     };
     ShootingResult s = shoot(dyn, options, x, keep_going);
+    long shootings = 1;
     double residual = relative_residual(x, s.end_state);
     auto finish = [&](OrbitStatus status, std::string message) {
         orbit.status = status;
@@ -375,16 +389,6 @@ PeriodicOrbit find_periodic_orbit(const Dynamics& dyn, const OrbitOptions& optio
             return finish(OrbitStatus::not_converged, "no convergence in " +
                                                           std::to_string(options.max_iterations) +
                                                           " Newton iterations");
-        // run.max_work bounds the search, not each shooting alone: at fc = 1e9 on rk4 one
-        // shooting took 3.9e9 body-steps (6 min) and 40 iterations would have run for hours.
-        if (static_cast<double>(orbit.iterations + 2) * shooting_work(dyn, options) >
-            options.max_work)
-            return finish(OrbitStatus::not_converged,
-                          "run.max_work = " + detail::format_number(options.max_work) +
-                              " reached after " + std::to_string(orbit.iterations) +
-                              " Newton iterations (each shooting about " +
-                              detail::format_number(shooting_work(dyn, options)) +
-                              " body-steps); raise run.max_work");
         orbit.residual_history.push_back(residual);
         ++orbit.iterations;
         const Matrix a =
@@ -393,8 +397,11 @@ PeriodicOrbit find_periodic_orbit(const Dynamics& dyn, const OrbitOptions& optio
         if (!lu.isInvertible())
             return finish(OrbitStatus::singular, "M - I is singular (a multiplier at +1)");
         const Vector step = lu.solve(as_vector(x) - as_vector(s.end_state));
-        const DampedStep taken = damped_step(dyn, options, step, keep_going, x, s, residual);
+        const DampedStep taken =
+            damped_step(dyn, options, step, keep_going, x, s, residual, shootings);
         if (taken == DampedStep::cancelled) return cancelled();
+        if (taken == DampedStep::over_budget)
+            return finish(OrbitStatus::not_converged, over_budget_message(dyn, options, shootings));
         if (taken == DampedStep::stalled)
             return finish(OrbitStatus::not_converged,
                           "the damped Newton step no longer decreases the residual");

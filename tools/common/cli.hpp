@@ -142,18 +142,14 @@ std::pair<CLI::Option*, CLI::Option*> add_start_box(CLI::App& app, long long& se
 // over: how the tool varies it (classify --map: "over --e_r").
 void require_not_set(const SceneArguments& args, const std::string& param, const std::string& tool,
                      const std::string& over = "from --from to --to");
+// Why a once-through tool (gapchain::once_through_run_keys) reads no other run key.
+inline const std::string plain_run_reason =
+    "it runs every period strict, with no steady-state stop, error estimate or start check, "
+    "and writes no trajectory";
 // Refuses a --set of a run.* or output.* key that the tool does not read, which it would
 // silently ignore: read lists the keys it does read ("run." for every run key), unread the
 // keys under such a prefix that it sets itself, instead says how the tool runs ("its runs are
 // set by --transient and --record").
-// The run keys of a tool that runs the row once over its whole length (PlannedRun: no
-// steady-state stop, no error estimate, no multistability twin, every step strict), and why.
-inline const std::vector<std::string> plain_run_keys = {"run.periods", "run.transient_periods",
-                                                        "run.scheme",  "run.tolerance",
-                                                        "run.step",    "run.max_work"};
-inline const std::string plain_run_reason =
-    "it runs every period strict, with no steady-state stop, error estimate or start check, "
-    "and writes no trajectory";
 void require_sets_read(const SceneArguments& args, const std::string& tool,
                        const std::vector<std::string>& read, const std::string& instead,
                        const std::vector<std::string>& unread = {});

@@ -40,7 +40,9 @@ struct ContinuationOptions {
     /// switch to the doubled branch at each period doubling, and at each non-smooth loss of
     /// stability next to -1 (a multiplier jumping across the unit circle within 10 degrees of -1)
     bool follow_doublings = false;
-    int max_branches = 6;           ///< branches followed in all (with follow_doublings), 1 .. 64
+    /// Branches followed in all, 1 .. 64: restarts beyond a point where a branch ended, and
+    /// with follow_doublings the doubled branches.
+    int max_branches = 6;
     double locate_tolerance = 1e-6; ///< special points located to this in the parameter
     long transient_periods = 200;   ///< plain run before the first Newton search, 0 .. 1e7
     OrbitOptions orbit;             ///< Newton and integration settings (its period is set here)

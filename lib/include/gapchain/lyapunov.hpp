@@ -109,7 +109,9 @@ public:
     bool on_period(long n, double t, const double* y) override;
     /// As its tangent flow's: count steps of the row per step.
     [[nodiscard]] double step_cost() const override { return m_flow.step_cost(); }
-    [[nodiscard]] LyapunovResult result() const { return m_accumulator.result(); }
+    /// The exponents; errors infinite where fewer than 20 periods were averaged (the 10 blocks
+    /// count re-orthonormalisations, several a period where damping is strong).
+    [[nodiscard]] LyapunovResult result() const;
     /// False once the basis collapsed or became non-finite.
     [[nodiscard]] bool healthy() const { return m_healthy; }
 
@@ -125,6 +127,7 @@ private:
     /// exponents' spread bound (the row's largest damping rate, plus 2 pi for growth).
     double m_qr_interval;
     double m_next_qr;
+    long m_periods_averaged = 0;
     bool m_healthy = true;
 };
 

@@ -130,6 +130,13 @@ void take_run_settings(const Scene& scene, AnalysisOptions& o) {
 /// Empty when it is one. The message starts "must be" and ends with the text.
 std::string number_text_error(std::string_view text, bool integer = false);
 
+/// The run keys an analysis reads that runs the row once over its whole length (PlannedRun:
+/// poincare, spectrum, lyapunov; no steady-state stop, error estimate or start check, every
+/// step strict): the tools refuse a --set, and Python a keyword, of any other run key.
+inline const std::vector<std::string> once_through_run_keys{"run.periods", "run.transient_periods",
+                                                            "run.scheme",  "run.tolerance",
+                                                            "run.step",    "run.max_work"};
+
 /// Whether text spells NaN or an infinity (nan, inf or infinity, any case, with a sign): what
 /// --set and the command-line flags read as those values, and JSON lacks.
 bool spells_non_finite(std::string_view text);

@@ -84,4 +84,16 @@ inline void require_length(const std::string& key, std::size_t got, std::size_t 
                                     " entries, got " + std::to_string(got));
 }
 
+/// A line's end refused: e again, prefixed with the option that set the end ("from: ...") where
+/// it refuses the row itself (its message names a model. or excitation. key; "excitation.f_r:
+/// one forcing period would take 1.7e302 steps" did not say it was --from's 1e-300), else e
+/// unchanged (the options' own rules, run.max_work, read alike at every value). option may be
+/// null: a value inside the line.
+[[noreturn]] inline void rethrow_naming_end(const std::invalid_argument& e, const char* option) {
+    const std::string message = e.what();
+    if (!option || (message.rfind("excitation.", 0) != 0 && message.rfind("model.", 0) != 0))
+        throw e;
+    throw std::invalid_argument(std::string(option) + ": " + message);
+}
+
 } // namespace gapchain::detail

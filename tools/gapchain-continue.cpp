@@ -113,10 +113,9 @@ void add_options(CLI::App& app, ContinueArguments& a) {
     app.add_option("--max-points", o.max_points, "Points per branch")
         ->check(cli::range(1, 1'000'000))
         ->capture_default_str();
-    CLI::Option* follow =
-        app.add_flag("--follow-doublings", o.follow_doublings,
-                     "At each period doubling (and each non-smooth loss of stability next to -1), "
-                     "switch to the doubled branch and follow it");
+    app.add_flag("--follow-doublings", o.follow_doublings,
+                 "At each period doubling (and each non-smooth loss of stability next to -1), "
+                 "switch to the doubled branch and follow it");
     app.add_option("--max-branches", o.max_branches,
                    "Branches followed in all: restarts beyond a point where a branch ended, and "
                    "with --follow-doublings the doubled branches")

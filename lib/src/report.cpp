@@ -853,11 +853,10 @@ std::string record_text(const nlohmann::ordered_json& scene, const std::string& 
         excitation->value("type", nlohmann::ordered_json("harmonic")) != "record" ||
         !excitation->contains("file") || !(*excitation)["file"].is_string())
         return {};
-    std::filesystem::path file = (*excitation)["file"].get<std::string>();
-    if (file.is_relative() && !source.empty() && source.front() != '<')
-        file = std::filesystem::path(source).parent_path() / file;
     try {
-        return detail::read_text_file(file.string(), "excitation.file");
+        return detail::read_text_file(
+            detail::scene_relative_path((*excitation)["file"].get<std::string>(), source),
+            "excitation.file");
     } catch (const std::exception&) {
         return {}; // the scene reader refuses it, by name
     }
@@ -895,12 +894,12 @@ void check_resume(const std::string& results_csv, const Study& study) {
         throw SceneError(results_csv + ": exists, but its sidecar " + sidecar +
                          " does not say which study started it; choose another --out or remove "
                          "both files");
-    if (found != study_fingerprint(study))
-        throw SceneError(results_csv + ": was started by another study (fingerprint " + found +
-                         ", this study " + study_fingerprint(study) +
-                         ", or by a build whose rows mean something else: results version " +
-                         std::to_string(sweep_results_version) +
-                         "); choose another --out or remove both files");
+    const std::string expected = study_fingerprint(study); // reads a record file: once
+    if (found != expected)
+        throw SceneError(
+            results_csv + ": was started by another study (fingerprint " + found + ", this study " +
+            expected + ", or by a build whose rows mean something else: results version " +
+            std::to_string(sweep_results_version) + "); choose another --out or remove both files");
 }
 
 std::string study_json(const Study& study) {

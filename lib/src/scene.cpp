@@ -240,11 +240,9 @@ Accelerogram read_record_excitation(SectionReader& excitation, const std::string
     if (!excitation.has("file"))
         throw SceneError("excitation.file: required for excitation.type = record (a "
                          "two-column text/CSV file: time [s], acceleration)");
-    std::filesystem::path file = excitation.text("file", "", {});
-    if (file.is_relative() && !source.empty() && source.front() != '<')
-        file = std::filesystem::path(source).parent_path() / file;
+    const std::string file = detail::scene_relative_path(excitation.text("file", "", {}), source);
     const std::string unit = excitation.text("unit", "m/s2", {"m/s2", "g"});
-    Accelerogram record = read_accelerogram(file.string(), unit == "g" ? 9.80665 : 1.0);
+    Accelerogram record = read_accelerogram(file, unit == "g" ? 9.80665 : 1.0);
     tail = excitation.number("tail", 0.0, 0.0, 1e5);
     return record;
 }
@@ -676,6 +674,13 @@ std::string non_finite_literal_at(std::string_view text, std::size_t last_read, 
         --before;
     if (before == 0 || std::strchr(in_object ? ":" : "[,", text[before - 1]) == nullptr) return {};
     return literal;
+}
+
+std::string scene_relative_path(const std::string& path, const std::string& source) {
+    const std::filesystem::path file = path;
+    if (file.is_relative() && !source.empty() && source.front() != '<')
+        return (std::filesystem::path(source).parent_path() / file).string();
+    return path;
 }
 
 std::string read_text_file(const std::string& path, const std::string& what) {

@@ -274,6 +274,11 @@ Json parse_json_strictly(std::string_view text, const std::string& source,
     }
 }
 
+/// A path a scene names (excitation.file), resolved as the scene reader resolves it: relative
+/// to the folder of the scene's source (a file path; "<string>" and other sources in angle
+/// brackets leave it as written).
+std::string scene_relative_path(const std::string& path, const std::string& source);
+
 /// Reads a whole text file; `what` names it in messages ("scene", "study"). A directory, or a
 /// file that cannot be read, is a SceneError naming the path and the reason.
 std::string read_text_file(const std::string& path, const std::string& what);

@@ -468,6 +468,10 @@ absent 28 l28.json p28 q28
 # A sweep axis over the number a model array replaces ran one row under each label.
 echo '{"scene": {"model": {"Nm": 3, "clearance": [0.2, 0.2, 0.2, 0.2]}, "run": {"periods": 20}}, "parameters": {"e_r": [0.1, 3]}}' >arr28.json
 expect 28 2 "parameters.e_r: not read where the scene's model.clearance" "$bin/gapchain-sweep" arr28.json --out arr28.csv
+# ... and a single run printed e_r = 3 for a row whose clearances were all 0.2.
+echo '{"model": {"Nm": 3, "clearance": [0.2, 0.2, 0.2, 0.2]}, "run": {"periods": 20}}' >arr28s.json
+expect 28 2 "model.e_r: not read where model.clearance gives every entry" "$bin/gapchain-sim" arr28s.json --set model.e_r=3 --out arr28s.out.json
+absent 28 arr28s.out.json
 absent 28 arr28.csv k28
 # A row out of the model's range names its file and line too; a line's end its option.
 printf 'Nm,fc,eps,e_r,f_r,F_m,status\n5,-60,0.5,0.06,3,0.3,steady_state\n' >rows28c.csv

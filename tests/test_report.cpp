@@ -2,7 +2,10 @@
 #include "gapchain/scene.hpp"
 
 #include <doctest/doctest.h>
+#include <nlohmann/json.hpp>
 
+#include <cstdio>
+#include <fstream>
 #include <limits>
 #include <sstream>
 #include <string>
@@ -85,4 +88,22 @@ TEST_CASE("attractor and bifurcation JSON name the scheme that ran") {
     BifurcationOptions b;
     b.scheme = Scheme::exact;
     CHECK(to_json(BifurcationResult{}, b, p).find("\"scheme\": \"exact\"") != std::string::npos);
+}
+
+TEST_CASE("simulation JSON of a recorded ground motion names the record file and the type") {
+    // The JSON said "harmonic": false and a duration, not which record the row was shaken by.
+    const std::string record = "test_report_record.csv";
+    std::ofstream(record) << "0,0\n0.01,1\n0.02,-1\n0.03,0\n";
+    const Scene scene = parse_scene(R"({"units": "physical", "model": {"Nm": 2, "M": 100,
+        "K": 1e5, "C": 500, "Kc": 5e7, "e": 0.003}, "excitation": {"type": "record", "file": ")" +
+                                    record + R"("}})");
+    std::remove(record.c_str());
+    const auto j = nlohmann::json::parse(to_json(SimulationResult{}, scene));
+    CHECK(j["excitation"]["type"] == "record");
+    CHECK(j["excitation"]["record_file"] == record);
+    const auto kanai_tajimi = nlohmann::json::parse(
+        to_json(SimulationResult{}, parse_scene(R"({"units": "physical", "excitation": {"type":
+        "kanai_tajimi", "duration": 1}})")));
+    CHECK(kanai_tajimi["excitation"]["type"] == "kanai_tajimi");
+    CHECK_FALSE(kanai_tajimi["excitation"].contains("record_file"));
 }

@@ -285,10 +285,10 @@ TEST_CASE("OutputFile leaves nothing behind unless committed") {
 }
 
 TEST_CASE("non-uniform rows: arrays equal to the nominal values give the homogeneous run exactly") {
+    // The arrays replace eps and e_r, which the array scene therefore does not give.
     const std::string base =
-        R"({"model": {"Nm": 3, "fc": 100, "eps": 0.3, "e_r": 0.2}, "excitation": {"f_r": 1.1},
-        "run": {"periods": 40}})";
-    const Scene uniform = parse_scene(base);
+        R"({"model": {"Nm": 3, "fc": 100}, "excitation": {"f_r": 1.1}, "run": {"periods": 40}})";
+    const Scene uniform = parse_scene(base, {"model.eps=0.3", "model.e_r=0.2"});
     const Scene arrays = parse_scene(
         base, {"model.mass=[1,1,1]", "model.stiffness=[1,1,1]", "model.damping=[0.3,0.3,0.3]",
                "model.clearance=[0.2,0.2,0.2,0.2]", "model.contact=[1,1,1,1]"});
@@ -302,7 +302,7 @@ TEST_CASE("non-uniform rows: arrays equal to the nominal values give the homogen
 
 TEST_CASE("a simulation result names the row and the start it ran, not only the five numbers") {
     // After --set on arrays, a scatter or a start, the scene file no longer says what ran.
-    const std::string base = R"({"model": {"Nm": 2, "fc": 50, "e_r": 0.1}})";
+    const std::string base = R"({"model": {"Nm": 2, "fc": 50}})";
     const Scene s = parse_scene(base, {"model.clearance=[0.1,0.3,0.0]", "initial.u=[0.01,-0.02]",
                                        R"(model.scatter={"mass": 0.1, "seed": 3})"});
     const SimulationResult nothing_run;
@@ -325,7 +325,8 @@ TEST_CASE("a simulation result names the row and the start it ran, not only the 
 TEST_CASE("non-uniform rows: per-gap values reach the chain, and a scatter is seeded") {
     const std::string base = R"({"model": {"Nm": 2, "fc": 50, "e_r": 0.1}})";
     const Scene s = parse_scene(
-        base, {"model.clearance=[0.1,0.3,0.0]", "model.contact=[2,1,0.5]", "model.mass=[1,4]"});
+        R"({"model": {"Nm": 2, "fc": 50}})",
+        {"model.clearance=[0.1,0.3,0.0]", "model.contact=[2,1,0.5]", "model.mass=[1,4]"});
     const Chain c = s.chain();
     CHECK(c.clearance[1] == 0.3);
     CHECK(c.contact[0] == 100.0);                           // 2 x fc at the left wall
@@ -344,6 +345,27 @@ TEST_CASE("non-uniform rows: per-gap values reach the chain, and a scatter is se
     CHECK(
         error_of(base, {R"(model.scatter={"mass": 10, "seed": 4})"}).find("which must stay > 0") !=
         std::string::npos);
+}
+
+TEST_CASE("a scalar an array replaces is refused, not shown as if it ran") {
+    // e_r = 3 with a clearance array printed "e_r=3" in the header and JSON of a row whose
+    // clearances were all 0.2.
+    const std::string arrays =
+        R"({"model": {"Nm": 3, "clearance": [0.2, 0.2, 0.2, 0.2], "damping": [0.1, 0.1, 0.1]}})";
+    CHECK(error_of(arrays, {"model.e_r=3"})
+              .find("model.e_r: not read where model.clearance gives every entry") !=
+          std::string::npos);
+    CHECK(error_of(arrays, {"model.eps=0.5"})
+              .find("model.eps: not read where model.damping gives every entry") !=
+          std::string::npos);
+    CHECK(error_of(R"({"units": "physical", "model": {"Nm": 2, "e": 0.003,
+                     "clearance": [0.003, 0.003, 0.003]}})")
+              .find("model.e: not read where model.clearance") != std::string::npos);
+    // The same arrays without the scalars, and a scatter (which scales e_r), are accepted.
+    CHECK_FALSE(parse_scene(arrays).uniform());
+    CHECK(parse_scene(R"({"model": {"e_r": 0.2, "scatter": {"clearance": 0.1}}})")
+              .chain()
+              .clearance[0] != 0.2);
 }
 
 TEST_CASE("bad arrays fail with a message naming the key") {

@@ -113,7 +113,9 @@ json simulation_json(const SimulationResult& r, const Scene& scene) {
         j["excitation"] = {{"harmonic", scene.harmonic()},
                            {"a0_m_s2", scene.physical->a0},
                            {"natural_frequency_hz", natural_frequency(*scene.physical)}};
+        j["excitation"]["type"] = scene.ground_motion_type;
         if (!scene.harmonic()) j["excitation"]["duration_s"] = scene.record_duration;
+        if (!scene.record_file.empty()) j["excitation"]["record_file"] = scene.record_file;
     }
     j["per_body"] = per_body_json(r, scene);
     json contacts = json::array();

@@ -188,12 +188,26 @@ Chain row_from_arrays(const ReducedParameters& p, const RowArrays& a) {
     return c;
 }
 
+/// A scalar the model's array replaces in every entry (e_r or e under model.clearance, eps
+/// under model.damping) is refused: it was read, shown in the run's header and JSON, and never
+/// used, so the output described a row other than the one that ran.
+void refuse_replaced_scalar(const json& model, const char* array, const char* scalar) {
+    if (model.contains(array) && model.contains(scalar))
+        throw SceneError(std::string("model.") + scalar + ": not read where model." + array +
+                         " gives every entry (the array replaces it); drop model." + scalar +
+                         ", or change the array's entries");
+}
+
 /// The row from the model's arrays and scatter, or nothing if the model gives neither.
 // clearance_scale converts the scene's clearance entries to reduced clearances (1 for reduced
 // scenes, 4 pi^2 f0^2 / a0 for metres); damping entries are eps_i (reduced scenes only).
+// clearance_key is the scalar the clearance array replaces (e_r, or e in metres).
 std::optional<Chain> non_uniform_row(const json& model, const ReducedParameters& p,
+                                     const char* clearance_key = "e_r",
                                      double clearance_scale = 1.0) {
     if (!model.is_object()) return std::nullopt;
+    refuse_replaced_scalar(model, "clearance", clearance_key);
+    refuse_replaced_scalar(model, "damping", "eps");
     const char* array_keys[] = {"mass", "stiffness", "damping", "clearance", "contact", "scatter"};
     bool any = false;
     for (const char* k : array_keys)
@@ -233,14 +247,16 @@ void read_reduced_model(SectionReader& model, SectionReader& excitation, Scene& 
     p.f_r = excitation.number("f_r", p.f_r, 0.0, 1e4, detail::Bound::open_low);
 }
 
-/// A recorded accelerogram (excitation.type = record); tail: seconds of free vibration after.
-Accelerogram read_record_excitation(SectionReader& excitation, const std::string& source,
-                                    double& tail) {
+/// A recorded accelerogram (excitation.type = record); tail: seconds of free vibration after;
+/// sets scene.record_file.
+Accelerogram read_record_excitation(SectionReader& excitation, Scene& scene, double& tail) {
     excitation.allow({"file", "unit", "tail"});
     if (!excitation.has("file"))
         throw SceneError("excitation.file: required for excitation.type = record (a "
                          "two-column text/CSV file: time [s], acceleration)");
-    const std::string file = detail::scene_relative_path(excitation.text("file", "", {}), source);
+    const std::string file =
+        detail::scene_relative_path(excitation.text("file", "", {}), scene.source);
+    scene.record_file = file;
     const std::string unit = excitation.text("unit", "m/s2", {"m/s2", "g"});
     Accelerogram record = read_accelerogram(file, unit == "g" ? 9.80665 : 1.0);
     tail = excitation.number("tail", 0.0, 0.0, 1e5);
@@ -271,8 +287,9 @@ void read_ground_record(SectionReader& excitation, const std::string& type, Scen
     // The reduced form takes the record's PGA as a0 and one natural period as the time loop's
     // unit (f = f0, so f_r = 1).
     double tail = 0.0;
-    Accelerogram record = type == "record" ? read_record_excitation(excitation, scene.source, tail)
+    Accelerogram record = type == "record" ? read_record_excitation(excitation, scene, tail)
                                            : read_kanai_tajimi_excitation(excitation);
+    scene.ground_motion_type = type;
     const double pga = peak_ground_acceleration(record);
     q.a0 = excitation.number("a0", pga, 0.0, 1e6, detail::Bound::open_low);
     for (double& a : record.acceleration)
@@ -313,7 +330,7 @@ void read_physical_model(SectionReader& model, SectionReader& excitation, const 
     if (model_object(root).contains("damping"))
         throw SceneError("model.damping: per-body damping arrays are for reduced scenes "
                          "(eps_i); physical scenes give C");
-    scene.row = non_uniform_row(model_object(root), scene.reduced, 1.0 / L);
+    scene.row = non_uniform_row(model_object(root), scene.reduced, "e", 1.0 / L);
 }
 
 /// The row of a reduced scene: arrays, scatter and the contact law.

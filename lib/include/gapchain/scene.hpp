@@ -62,6 +62,9 @@ struct Scene {
     std::optional<Chain> row;                   ///< set for a non-uniform row (arrays, scatter)
     std::optional<GroundMotion> ground_record;  ///< set for record / kanai_tajimi excitation
     double record_duration = 0.0; ///< [s] record length plus tail (non-harmonic scenes)
+    std::string ground_motion_type =
+        "harmonic";          ///< excitation.type: harmonic, record, kanai_tajimi
+    std::string record_file; ///< excitation.file as read (resolved against the scene), else empty
 
     /// The row: the non-uniform one if the scene gave arrays or a scatter, else the
     /// homogeneous chain of the reduced parameters.

@@ -47,7 +47,8 @@ inline int rhs(double t, const double y[], double f[], void* params) {
 
 struct Outcome {
     double F_m = 0.0;
-    std::vector<double> state; // at the end
+    std::vector<double> contact_max; // per contact j = 0 .. Nm, the largest reduced force
+    std::vector<double> state;       // at the end
 };
 
 // Integrates `periods` forcing periods from y0 (empty: rest); F_m over periods >= transient.
@@ -63,6 +64,7 @@ inline Outcome run(const Row& r, int periods, int transient = 0, std::vector<dou
     std::vector<double> y = y0;
     double t = 0.0;
     Outcome out;
+    out.contact_max.assign(r.Nm + 1, 0.0);
     std::vector<double> prev2(r.Nm + 1, -1e300), prev1(r.Nm + 1, -1e300);
     const long total = static_cast<long>(periods) * samples_per_period;
     for (long k = 1; k <= total; ++k) {
@@ -76,7 +78,9 @@ inline Outcome run(const Row& r, int periods, int transient = 0, std::vector<dou
                 const double a = 0.5 * (prev2[j] + g) - prev1[j];
                 const double b = 0.5 * (g - prev2[j]);
                 const double peak = a < 0.0 ? prev1[j] - b * b / (4.0 * a) : prev1[j];
-                out.F_m = std::max(out.F_m, contact_k(r, j) * peak / std::sqrt(r.fc));
+                const double force = contact_k(r, j) * peak / std::sqrt(r.fc);
+                out.contact_max[j] = std::max(out.contact_max[j], force);
+                out.F_m = std::max(out.F_m, force);
             }
             prev2[j] = prev1[j];
             prev1[j] = g;

@@ -56,7 +56,7 @@ start_up_periods and start_up_in_window (a run that did not settle: the periods 
 start-up takes to decay, and whether the run discarded fewer, so that F_m may be the
 start-up's), per_body (Nm x 2 float64: max force on the left and right of
 each body), per_body_time (Nm x 2), per_contact (dict of arrays force, time, impacts, Nm + 1
-entries), steady_state_period (int or None), steady_state_time, cycle_entry_period (int or
+entries, and force_error: an array, or None where no comparison run estimated it), steady_state_period (int or None), steady_state_time, cycle_entry_period (int or
 None: the period from which on the state stayed within 1e-3 of repeating, where the transient
 ended), status ("completed",
 "steady_state", "non_finite", "cancelled"), message, scheme, step, periods_simulated,
@@ -105,7 +105,10 @@ py::dict result_dict(const std::string& report, const SimulationResult& r, const
             f = force_in_newtons(f, *scene.physical);
         d["per_body_newton"] = matrix(forces, r.per_body.size(), 2);
     }
-    d["per_contact"] = per_contact_dict(r.per_contact);
+    py::dict contacts = per_contact_dict(r.per_contact);
+    contacts["force_error"] = r.per_contact_error.empty() ? py::object(py::none())
+                                                          : py::object(array(r.per_contact_error));
+    d["per_contact"] = contacts;
     d["message"] = r.message;
     d["final_state"] = array(r.final_state);
     d["run"] = run_dict(scene);

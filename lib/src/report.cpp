@@ -84,6 +84,21 @@ void add_provenance(json& j, const Scene& scene) {
 
 namespace {
 
+/// Each contact's maximum, its error (null where none was estimated), time and impacts.
+json per_contact_json(const SimulationResult& r) {
+    json contacts = json::array();
+    for (std::size_t j = 0; j < r.per_contact.size(); ++j) {
+        const auto& c = r.per_contact[j];
+        contacts.push_back(
+            {{"force", c.force},
+             {"force_error",
+              j < r.per_contact_error.size() ? json(r.per_contact_error[j]) : json(nullptr)},
+             {"time", c.time},
+             {"impacts", c.impacts}});
+    }
+    return contacts;
+}
+
 json simulation_json(const SimulationResult& r, const Scene& scene) {
     json j;
     j["F_m"] = r.F_m;
@@ -118,10 +133,7 @@ json simulation_json(const SimulationResult& r, const Scene& scene) {
         if (!scene.record_file.empty()) j["excitation"]["record_file"] = scene.record_file;
     }
     j["per_body"] = per_body_json(r, scene);
-    json contacts = json::array();
-    for (const auto& c : r.per_contact)
-        contacts.push_back({{"force", c.force}, {"time", c.time}, {"impacts", c.impacts}});
-    j["per_contact"] = contacts;
+    j["per_contact"] = per_contact_json(r);
     j["steady_state_period"] = r.steady_state_period ? json(*r.steady_state_period) : json(nullptr);
     j["steady_state_time"] = r.steady_state_time ? json(*r.steady_state_time) : json(nullptr);
     j["cycle_entry_period"] =

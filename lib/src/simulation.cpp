@@ -124,6 +124,7 @@ double orbit_mismatch(double tolerance) {
 struct Comparison {
     double estimate = 0.0;
     bool ended_elsewhere = false;
+    std::vector<double> contact_estimate; ///< per contact, the same rule on its own maxima
 };
 
 /// Whether a comparison run ended elsewhere than a main run that settled on an orbit whose
@@ -206,12 +207,16 @@ Comparison wide_comparison(const Dynamics& dyn, const RunOptions& options, const
     if (wide_plan.steps_per_period >= plan.steps_per_period) return {};
     const ComparisonRun wide = run_comparison(dyn, options, wide_plan, initial, progress, result);
     if (const auto d = orbit_difference(options, main, result, wide)) {
-        const double richardson = 2.0 * *d / (std::ldexp(1.0, traits(plan.scheme).order) - 1.0);
-        return {std::max(richardson, transient_excess(options, result, wide)), false};
+        const double factor = 2.0 / (std::ldexp(1.0, traits(plan.scheme).order) - 1.0);
+        Comparison c{std::max(factor * *d, transient_excess(options, result, wide)), false, {}};
+        for (std::size_t j = 0; j < main.contacts.size(); ++j)
+            c.contact_estimate.push_back(
+                factor * std::abs(main.contacts[j].force - wide.run.contacts[j].force));
+        return c;
     }
     if (wide.run.outcome.status != RunStatus::non_finite &&
         ended_elsewhere(options, main, wide.run, wide.orbit, *result.F_m_orbit))
-        return {std::abs(result.F_m - wide.run.F_m), true};
+        return {std::abs(result.F_m - wide.run.F_m), true, {}};
     return {};
 }
 
@@ -224,7 +229,7 @@ Comparison comparison_error(const Dynamics& dyn, const RunOptions& options, cons
     const StepPlan other = comparison_plan(dyn, plan, on_orbit);
     const ComparisonRun check = run_comparison(dyn, options, other, initial, progress, result);
     if (check.run.outcome.status == RunStatus::non_finite)
-        return {std::numeric_limits<double>::infinity(), false};
+        return {std::numeric_limits<double>::infinity(), false, {}};
     result.F_m_comparison = check.run.F_m;
     Comparison c;
     c.ended_elsewhere = result.F_m_orbit &&
@@ -241,13 +246,19 @@ Comparison comparison_error(const Dynamics& dyn, const RunOptions& options, cons
     const std::optional<double> periodic_diff =
         finer && on_orbit ? orbit_difference(options, main, result, check) : std::nullopt;
     const double diff = std::abs(result.F_m - check.run.F_m);
-    double estimate = periodic_diff ? 2.0 * *periodic_diff / (1.0 - std::ldexp(1.0, -tr.order))
-                                    : (finer ? 2.0 * diff : diff);
+    const double factor =
+        periodic_diff ? 2.0 / (1.0 - std::ldexp(1.0, -tr.order)) : (finer ? 2.0 : 1.0);
+    double estimate = factor * (periodic_diff ? *periodic_diff : diff);
+    for (std::size_t j = 0; j < main.contacts.size(); ++j)
+        c.contact_estimate.push_back(
+            factor * std::abs(main.contacts[j].force - check.run.contacts[j].force));
     if (periodic_diff) {
         const Comparison wide =
             wide_comparison(dyn, options, plan, initial, main, progress, result);
         estimate = std::max({estimate, transient_excess(options, result, check), wide.estimate});
         c.ended_elsewhere = c.ended_elsewhere || wide.ended_elsewhere;
+        for (std::size_t j = 0; j < wide.contact_estimate.size(); ++j)
+            c.contact_estimate[j] = std::max(c.contact_estimate[j], wide.contact_estimate[j]);
     }
     // Round-off floor: F_m is never known better than a few ulps of itself; for exact, whose
     // two runs share the same eigendecompositions and so the same round-off, the floor is what
@@ -301,6 +312,7 @@ void estimate_error(const Dynamics& dyn, const RunOptions& options, const StepPl
         const Comparison c = comparison_error(dyn, options, plan, initial, main, progress, result);
         result.F_m_error = std::max(c.estimate, tail);
         result.comparison_ended_elsewhere = c.ended_elsewhere;
+        result.per_contact_error = c.contact_estimate;
     }
 }
 
@@ -490,7 +502,12 @@ SimulationResult simulate(const Dynamics& dyn, const RunOptions& requested,
     if (refused) {
         result.status = RunStatus::cancelled;
         result.multistability_checked = result.multistable;
+        result.per_contact_error.clear();
     }
+    // F_m_error, final only now (the start checks widen it), bounds every contact's error from
+    // below: what moved F_m (a transient, another attractor) moves the other contacts too.
+    for (double& e : result.per_contact_error)
+        e = std::max(e, result.F_m_error);
     result.wall_time_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;

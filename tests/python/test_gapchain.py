@@ -48,6 +48,11 @@ def test_simulate_equals_gapchain_sim_bit_for_bit(scene_path, tmp_path):
     assert r["per_contact"]["force"].tolist() == [c["force"] for c in tool["per_contact"]]
     assert r["per_contact"]["time"].tolist() == [c["time"] for c in tool["per_contact"]]
     assert r["per_contact"]["impacts"].tolist() == [c["impacts"] for c in tool["per_contact"]]
+    errors = [c["force_error"] for c in tool["per_contact"]]
+    if None in errors:
+        assert r["per_contact"]["force_error"] is None and set(errors) == {None}
+    else:
+        assert r["per_contact"]["force_error"].tolist() == errors
     assert r["per_body"].tolist() == [[b["left"], b["right"]] for b in tool["per_body"]]
     assert r["F_m_comparison"] == tool.get("F_m_comparison")
     assert r["comparison_ended_elsewhere"] == tool.get("comparison_ended_elsewhere", False)

@@ -18,7 +18,8 @@ namespace gapchain {
 struct ContactMaximum {
     double force = 0.0; ///< reduced force max_t F_j(t), >= 0 (0: never closed)
     double time = 0.0;  ///< reduced time of that maximum
-    long impacts = 0;   ///< number of times the contact closed
+    long impacts = 0;   ///< times the contact closed while recording (a run stopped at its
+                        ///< steady state counts up to the stop, not the requested periods)
 };
 
 /// Tracks max_t F_j(t) for every contact j. Peaks between steps are located on the quintic

@@ -55,6 +55,12 @@ struct SimulationResult {
     double F_m_time = 0.0;                        ///< reduced time of F_m
     bool contact = false;                    ///< whether any contact ever closed while recording
     std::vector<ContactMaximum> per_contact; ///< Nm + 1 entries, j = 0 left wall
+    /// Estimated absolute error of each per_contact[j].force (Nm + 1 entries): the larger of
+    /// F_m_error and the contact's own difference against the comparison run, scaled as F_m's
+    /// (a small inner contact can be known less well than F_m: 5e-5 against 2.9e-5 on Fig 5's
+    /// scene). Empty where no comparison run estimated F_m_error (the window-halves spread of a
+    /// run that never settles is F_m's, not each contact's; estimate_error off; cancelled).
+    std::vector<double> per_contact_error;
     std::vector<BodyMaximum> per_body;       ///< Nm entries
     std::optional<int> steady_state_period;  ///< k if a periodic steady state was found
     std::optional<double> steady_state_time; ///< reduced time it was found at

@@ -472,6 +472,12 @@ expect 28 2 "parameters.e_r: not read where the scene's model.clearance" "$bin/g
 echo '{"model": {"Nm": 3, "clearance": [0.2, 0.2, 0.2, 0.2]}, "run": {"periods": 20}}' >arr28s.json
 expect 28 2 "model.e_r: not read where model.clearance gives every entry" "$bin/gapchain-sim" arr28s.json --set model.e_r=3 --out arr28s.out.json
 absent 28 arr28s.out.json
+# A record scene's accelerogram was overwritten by --out naming it.
+printf '0,0\n0.01,1\n0.02,-1\n0.03,0\n' >rec28.csv
+cp rec28.csv rec28.keep
+echo '{"units": "physical", "model": {"Nm": 2, "M": 100, "K": 1e5, "C": 500, "Kc": 5e7, "e": 0.003}, "excitation": {"type": "record", "file": "rec28.csv"}}' >rec28.json
+expect 28 2 "--out: rec28.csv is an input of this run" "$bin/gapchain-sim" rec28.json --out rec28.csv
+cmp -s rec28.csv rec28.keep || { echo "class 28: FAIL: the record file was changed"; failed+=(28); }
 absent 28 arr28.csv k28
 # A row out of the model's range names its file and line too; a line's end its option.
 printf 'Nm,fc,eps,e_r,f_r,F_m,status\n5,-60,0.5,0.06,3,0.3,steady_state\n' >rows28c.csv

@@ -279,7 +279,8 @@ int main(int argc, char** argv) {
         [&] {
             const Scene scene = load_scene_for(scene_args, trajectory_path);
             search.check(scene);
-            cli::Outputs outputs({scene_args.path});
+            // A record scene's accelerogram is an input too: --out rec.csv replaced it.
+            cli::Outputs outputs({scene_args.path, scene.record_file});
             outputs.file(out_path, "--out");
             outputs.file(trajectory_path, "--trajectory");
             const Dynamics dyn = scene.dynamics();

@@ -226,3 +226,35 @@ TEST_CASE("default transient: the slowest free decay of the start, also beyond c
             CHECK(n_t == std::max(1L, static_cast<long>(std::ceil(decay_periods - 1e-9))));
         }
 }
+
+TEST_CASE("run.max_work counts the exact propagator's set-up of contact configurations") {
+    // Nm = 46 on exact, 5 periods: counted as 30,820 body-steps (Nm x steps), it was accepted
+    // under run.max_work = 40,000 and ran 7 s (7e7 body-steps at 1e7 a second), setting up a
+    // (2 Nm)^3 eigendecomposition for each contact configuration met.
+    const Dynamics long_row = Dynamics::paper_row({46, 559, 0.1, 0.22, 1.0});
+    RunOptions o;
+    o.periods = 5;
+    o.scheme = Scheme::exact;
+    o.max_work = 40'000;
+    CHECK_THROWS_WITH_AS(require_affordable(long_row, o),
+                         doctest::Contains("contact configurations"), std::invalid_argument);
+    const StepPlan plan = plan_run(long_row, o);
+    const double n = long_row.dimension();
+    CHECK(run_work(long_row, plan, 5) >= 5 * 2 * 47 * 0.5 * n * n * n);
+    // A short row has at most 2^(Nm + 1) configurations, which its cache keeps: a long periodic
+    // run on it is not charged for a set-up each period.
+    const Dynamics short_row = Dynamics::paper_row({5, 60, 0.5, 0.06, 3.0});
+    const StepPlan short_plan = plan_step(short_row, Scheme::exact, 1e-4);
+    const double all_configurations = 64 * 0.5 * 1000.0;
+    CHECK(run_work(short_row, short_plan, 1e6) - run_work(short_row, short_plan, 1e5) ==
+          doctest::Approx(run_work(short_row, short_plan, 9e5) - all_configurations));
+    // affordable_periods() is run_work()'s inverse: the largest whole number of periods within.
+    for (double budget : {1e4, 3e4, 1e6, 3e10}) {
+        const double p = affordable_periods(short_row, short_plan, budget);
+        CHECK(run_work(short_row, short_plan, p) <= budget);
+        CHECK(run_work(short_row, short_plan, p + 1) > budget);
+    }
+    // The other schemes: Nm x steps per period, as before.
+    const StepPlan rk4 = plan_step(long_row, Scheme::rk4, 1e-4);
+    CHECK(run_work(long_row, rk4, 7) == 46.0 * rk4.steps_per_period * 7);
+}

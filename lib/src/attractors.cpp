@@ -133,12 +133,11 @@ SearchWork search_work(const Dynamics& dyn, const StepPlan& plan, const Attracto
         (options.slice ? std::pow(static_cast<double>(options.slice->resolution), 2.0) : 0.0);
     RunOptions tangent = options.run;
     tangent.periods = options.lyapunov_periods;
-    const long tangent_steps = plan_run(dyn, tangent_run_options(dyn, tangent)).steps_per_period;
+    const StepPlan tangent_plan = plan_run(dyn, tangent_run_options(dyn, tangent));
+    const long tangent_steps = tangent_plan.steps_per_period;
     const double body_steps =
-        static_cast<double>(dyn.bodies()) *
-        (static_cast<double>(plan.steps_per_period) * static_cast<double>(options.run.periods) *
-             (starts + 10.0) +
-         2.0 * static_cast<double>(tangent_steps) * static_cast<double>(options.lyapunov_periods));
+        run_work(dyn, plan, static_cast<double>(options.run.periods)) * (starts + 10.0) +
+        run_work(dyn, tangent_plan, static_cast<double>(options.lyapunov_periods), 1);
     std::ostringstream breakdown;
     breakdown << "(" << detail::format_number(starts)
               << " starts + up to 10 to confirm a non-periodic group) x " << options.run.periods
@@ -792,8 +791,7 @@ long confirmation_periods(const Dynamics& dyn, const RunOptions& run,
     else if (orbit_reached)
         periods = 4.0 * static_cast<double>(run.periods);
     const StepPlan plan = plan_run(dyn, run);
-    const double affordable =
-        run.max_work / (static_cast<double>(dyn.bodies()) * plan.steps_per_period);
+    const double affordable = affordable_periods(dyn, plan, run.max_work);
     // Whole periods within the budget (rounding up made the run refused after every start had
     // run), and within validate(RunOptions)'s 1e9.
     periods = std::min(

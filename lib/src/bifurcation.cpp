@@ -155,7 +155,7 @@ void validate(const BifurcationOptions& o, const ReducedParameters& base) {
     for (const double end : {o.from, o.to}) {
         const Dynamics dyn = Dynamics::paper_row(with_value(base, o.parameter, end));
         const StepPlan plan = plan_step(dyn, o.scheme, o.tolerance);
-        const double work = dyn.bodies() * static_cast<double>(plan.steps_per_period) * periods;
+        const double work = run_work(dyn, plan, periods);
         if (work > per_value) {
             per_value = work;
             steps_per_period = plan.steps_per_period;

@@ -228,10 +228,9 @@ void require_map_work(const ReducedParameters& base, std::size_t rows,
     for (double f : f_r) {
         const Dynamics dyn = Dynamics::paper_row({base.Nm, base.fc, base.eps, base.e_r, f});
         body_steps +=
-            static_cast<double>(rows) * dyn.bodies() *
-            static_cast<double>(plan_run(dyn, classify_run_options(dyn, o), o.samples_per_period)
-                                    .steps_per_period) *
-            periods;
+            static_cast<double>(rows) *
+            run_work(dyn, plan_run(dyn, classify_run_options(dyn, o), o.samples_per_period),
+                     periods);
     }
     detail::require_work(body_steps, o.max_work, "this map runs up to",
                          detail::format_number(cells) + " cells of " +

@@ -311,8 +311,7 @@ LyapunovResult chain_lyapunov(const Dynamics& dyn, const RunOptions& options, in
     PlannedRun planned(dyn, run, initial);
     // Each of the count tangent vectors costs about a step of the row: the run's own
     // affordability check (body-steps) sees only the row.
-    const double work = static_cast<double>(dyn.bodies()) * planned.plan().steps_per_period *
-                        static_cast<double>(options.periods) * (1.0 + count);
+    const double work = run_work(dyn, planned.plan(), static_cast<double>(options.periods), count);
     detail::require_work(work, options.max_work, "this run takes about",
                          "the row and its " + std::to_string(count) + " tangent vectors",
                          "fewer exponents (count), a shorter run (run.periods) or a larger "

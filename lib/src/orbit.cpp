@@ -59,8 +59,7 @@ double shooting_work(const Dynamics& dyn, const OrbitOptions& options) {
     // about a row's step (measured: Nm = 200 on rk4, one period at the default 1e-12, 11.8 s
     // where this count, 5.6e8 body-steps, gives 56 s at 1e7 per second; Nm = 4096 would have
     // taken over an hour per shooting, after its transient run, with no estimate).
-    return static_cast<double>(dyn.bodies()) * plan.steps_per_period *
-           static_cast<double>(options.period) * (1.0 + dyn.dimension());
+    return run_work(dyn, plan, options.period, dyn.dimension());
 }
 
 void require_shooting_affordable(const Dynamics& dyn, const OrbitOptions& options) {

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <utility>
 #include <cstdio>
 #include <limits>
 #include <optional>
@@ -518,6 +519,45 @@ StepPlan plan_run(const Dynamics& dyn, const RunOptions& options, int samples_pe
 
 namespace {
 
+/// Body-steps of one period's steps, and of one new configuration's set-up (0 but on exact).
+std::pair<double, double> work_rates(const Dynamics& dyn, const StepPlan& plan, int tangents) {
+    const double steps = static_cast<double>(plan.steps_per_period) * (1.0 + tangents);
+    if (plan.scheme != Scheme::exact) return {static_cast<double>(dyn.bodies()) * steps, 0.0};
+    // Calibrated on a 2-core machine (2026-11-27), on a row that finds new configurations
+    // every period (Nm = 46, fc = 559, eps = 0.1, e_r = 0.22, f_r = 1): 1.44 s a period
+    // (1.44e7 body-steps) where Nm x steps alone counted 6164; Nm = 20: 0.094 s. Half an n^3 a
+    // configuration, 2 (Nm + 1) configurations a period, gives 3.7e7 and 2.7e6: above both.
+    const double n = dyn.dimension();
+    return {std::max(static_cast<double>(dyn.bodies()), 0.08 * n * n) * steps, 0.5 * n * n * n};
+}
+
+/// How many configurations `periods` periods may set up: 2 (Nm + 1) a period, at most all
+/// 2^(Nm + 1) of a row whose cache holds them (Nm <= 11: 4096 entries).
+double configurations(const Dynamics& dyn, double periods) {
+    const double per_period = 2.0 * dyn.gaps() * periods;
+    return dyn.gaps() <= 12 ? std::min(per_period, std::ldexp(1.0, dyn.gaps())) : per_period;
+}
+
+} // namespace
+
+double run_work(const Dynamics& dyn, const StepPlan& plan, double periods, int tangents) {
+    const auto [steps, set_up] = work_rates(dyn, plan, tangents);
+    return steps * periods + set_up * configurations(dyn, periods);
+}
+
+double affordable_periods(const Dynamics& dyn, const StepPlan& plan, double max_work) {
+    // run_work() rises with the periods: 2 (Nm + 1) new configurations a period until a short
+    // row has set up all 2^(Nm + 1) of them, the steps alone after that.
+    const auto [steps, set_up] = work_rates(dyn, plan, 0);
+    const double per_gap_period = 2.0 * dyn.gaps();
+    double periods = max_work / (steps + set_up * per_gap_period);
+    if (dyn.gaps() <= 12 && periods * per_gap_period > std::ldexp(1.0, dyn.gaps()))
+        periods = (max_work - set_up * std::ldexp(1.0, dyn.gaps())) / steps;
+    return std::max(0.0, std::floor(periods));
+}
+
+namespace {
+
 const RunOptions& validated(const RunOptions& options) {
     validate(options);
     return options;
@@ -525,12 +565,16 @@ const RunOptions& validated(const RunOptions& options) {
 
 /// Refuses a run whose work (body-steps) exceeds options.max_work, with the estimate.
 const StepPlan& affordable(const Dynamics& dyn, const RunOptions& options, const StepPlan& plan) {
-    const double work = static_cast<double>(dyn.bodies()) * plan.steps_per_period *
-                        static_cast<double>(options.periods);
+    const double work = run_work(dyn, plan, static_cast<double>(options.periods));
     detail::require_work(
         work, options.max_work, "this run takes up to",
         "Nm " + std::to_string(dyn.bodies()) + " x " + std::to_string(plan.steps_per_period) +
-            " steps per forcing period x " + std::to_string(options.periods) + " periods",
+            " steps per forcing period" +
+            (plan.scheme == Scheme::exact
+                 ? std::string(", each a (2 Nm)^2 product, and the exact propagator's set-up of "
+                               "up to 2 (Nm + 1) contact configurations a period, (2 Nm)^3 each")
+                 : std::string()) +
+            ", x " + std::to_string(options.periods) + " periods",
         "shorten the run (fewer forcing periods: run.periods, or the tool's own --transient / "
         "--record / --from-transient; or a higher excitation.f_r) or raise run.max_work");
     return plan;

@@ -155,9 +155,20 @@ RunOutcome run(const Dynamics& dyn, Stepper& stepper, const StepPlan& plan, cons
 /// on step ends). 0: no refinement.
 StepPlan plan_run(const Dynamics& dyn, const RunOptions& options, int samples_per_period = 0);
 
+/// Work of a run of `periods` forcing periods of dyn on plan, in body-steps (about 1e7 a
+/// second), carrying `tangents` tangent vectors (0 .. 2 Nm) along: Nm x steps per period for
+/// every vector; on the exact propagator a step is a dense (2 Nm)^2 product per vector, and
+/// every contact closing and opening once a period may call for a new configuration's
+/// eigendecomposition, (2 Nm)^3, up to the 2^(Nm + 1) configurations a short row has (its
+/// cache keeps them all up to Nm = 11). An upper estimate where a row repeats configurations.
+double run_work(const Dynamics& dyn, const StepPlan& plan, double periods, int tangents = 0);
+
+/// The whole forcing periods of dyn on plan that run_work() fits into max_work (>= 0).
+double affordable_periods(const Dynamics& dyn, const StepPlan& plan, double max_work);
+
 /// The check every run makes before it starts, callable without running: throws
-/// std::invalid_argument naming run.max_work, with the estimated work (Nm x steps per forcing
-/// period x periods, in body-steps) and how long it would take, when the run of options on dyn
+/// std::invalid_argument naming run.max_work, with the estimated work (period_work() x
+/// periods, in body-steps) and how long it would take, when the run of options on dyn
 /// exceeds options.max_work. Also throws on invalid options (validate()).
 void require_affordable(const Dynamics& dyn, const RunOptions& options);
 

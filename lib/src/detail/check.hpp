@@ -55,7 +55,7 @@ inline void require_work(double work, double max_work, const std::string& what,
     hours.precision(3);
     hours << work / 1e7 / 3600.0;
     throw std::invalid_argument(
-        "run.max_work: " + what + " " + format_number(work) + " body-steps (" + breakdown +
+        "run.max_work: " + what + " " + format_number(std::ceil(work)) + " body-steps (" + breakdown +
         "), about " + hours.str() +
         " h at 1e7 body-steps/s; above run.max_work = " + format_number(max_work) + ": " + remedy);
 }

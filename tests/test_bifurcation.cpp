@@ -1,5 +1,6 @@
 #include "gapchain/bifurcation.hpp"
 
+#include "gapchain/poincare.hpp"
 #include "gapchain/report.hpp"
 
 #include <doctest/doctest.h>
@@ -102,6 +103,65 @@ TEST_CASE("detect_period on synthetic sequences") {
     CHECK(detect_period(seq({1, 2, 1, 2, 1, 2}), 8, 1e-9) == 2);
     CHECK(detect_period(seq({1, 2, 3, 1, 2, 3, 1}), 8, 1e-9) == 3);
     CHECK(detect_period(seq({1, 2, 3, 4, 5, 6}), 8, 1e-9) == 0);
+}
+
+TEST_CASE("SectionRepeats, one point at a time, answers as the pairwise definition") {
+    // The definition written out: every value repeats k points later (all pairs), within
+    // tolerance (1 + the largest |value|), at least 2 k points.
+    auto by_pairs = [](const std::vector<std::vector<double>>& x, int max_period, double tol) {
+        double scale = 0.0;
+        for (const auto& p : x)
+            for (double v : p)
+                scale = std::max(scale, std::abs(v));
+        for (int k = 1; k <= max_period && 2 * k <= static_cast<int>(x.size()); ++k) {
+            bool all = true;
+            for (std::size_t i = 0; i + k < x.size(); ++i)
+                for (std::size_t c = 0; c < x[i].size(); ++c)
+                    all = all && std::abs(x[i][c] - x[i + k][c]) <= tol * (1.0 + scale);
+            if (all) return k;
+        }
+        return 0;
+    };
+    unsigned seed = 12345;
+    auto next = [&seed] { return (seed = seed * 1103515245u + 12345u) % 1000 / 1000.0; };
+    for (int trial = 0; trial < 300; ++trial) {
+        const int k = 1 + trial % 7, n = 1 + trial % 23, dim = 1 + trial % 3;
+        std::vector<std::vector<double>> x;
+        for (int i = 0; i < n; ++i) {
+            if (i >= k && trial % 2 == 0) {
+                x.push_back(x[i - k]); // exactly k-periodic, then perturbed below at times
+                if (trial % 5 == 0 && i == n - 1) x.back()[0] += 1e-3;
+            } else {
+                std::vector<double> p;
+                for (int c = 0; c < dim; ++c)
+                    p.push_back(next());
+                x.push_back(p);
+            }
+        }
+        SectionRepeats repeats(8);
+        for (const auto& p : x)
+            repeats.add(p);
+        CHECK(repeats.period(1e-6) == by_pairs(x, 8, 1e-6));
+    }
+}
+
+TEST_CASE("the diagram's period is the section state's, whatever variable it plots") {
+    // F0 is 0 at every section instant where the left wall is open: on the chaotic row at
+    // f_r = 3.3 it read "period 1"; t never repeats: it read 0 on the period-1 row at 3.0.
+    for (const char* variable : {"u1", "F0", "t"}) {
+        BifurcationOptions o;
+        o.from = 3.0;
+        o.to = 3.3;
+        o.steps = 2;
+        o.transient_periods = 200;
+        o.record_periods = 40;
+        o.section.record = {SectionVariable::parse(variable, 5, "variable")};
+        const BifurcationResult r = bifurcation(fig13, o);
+        REQUIRE(r.rows.size() == 2);
+        CHECK(r.rows[0].period == 1);
+        CHECK(r.rows[1].period == 0);
+        CHECK(r.rows[0].points.front().values.size() == 1); // the plotted variable alone
+    }
 }
 
 TEST_CASE("independent mode: identical CSVs with 1 and 2 threads") {

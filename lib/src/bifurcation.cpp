@@ -42,8 +42,32 @@ BifurcationRow diagram_row(const ReducedParameters& p, const BifurcationOptions&
     row.value = value;
     row.direction = direction;
     row.points.reserve(static_cast<std::size_t>(o.record_periods));
-    PoincareSampler sampler(dyn, o.section,
-                            [&row](const SectionPoint& s) { row.points.push_back(s); });
+    // The period is the whole state's at the section, not the plotted variable's: a contact
+    // force is 0 at every section time where the contact is open (F0 read "period 1" on
+    // chaotic rows), and t never repeats.
+    SectionSpec section = o.section;
+    section.record.clear();
+    for (const auto kind : {SectionVariable::Kind::displacement, SectionVariable::Kind::velocity})
+        for (int i = 0; i < p.Nm; ++i)
+            section.record.push_back({kind, i});
+    const auto state_size = static_cast<std::ptrdiff_t>(section.record.size());
+    std::vector<std::size_t> plotted;
+    for (const auto& v : o.section.record) {
+        const auto same = [&v](const SectionVariable& w) {
+            return w.kind == v.kind && w.index == v.index;
+        };
+        const auto at = std::find_if(section.record.begin(), section.record.end(), same);
+        plotted.push_back(static_cast<std::size_t>(at - section.record.begin()));
+        if (at == section.record.end()) section.record.push_back(v);
+    }
+    SectionRepeats repeats(o.max_period);
+    PoincareSampler sampler(dyn, section, [&](const SectionPoint& s) {
+        repeats.add({s.values.begin(), s.values.begin() + state_size});
+        SectionPoint kept{s.t, {}};
+        for (const std::size_t k : plotted)
+            kept.values.push_back(s.values[k]);
+        row.points.push_back(std::move(kept));
+    });
     // Split at the middle of the recorded periods: the halves' maxima give the sampling spread.
     const long split = o.record_periods >= 2 ? o.transient_periods + o.record_periods / 2 : -1;
     MaxForceTracker forces(dyn, split);
@@ -51,7 +75,7 @@ BifurcationRow diagram_row(const ReducedParameters& p, const BifurcationOptions&
     row.status = planned.run(observers, keep_going).status;
     y = planned.state();
     row.F_m = forces.max_force();
-    row.period = detect_period(row.points, o.max_period, o.period_tolerance);
+    row.period = repeats.period(o.period_tolerance);
     row.F_m_error = forces.window_error(o.tolerance, row.period > 0);
     return row;
 }

@@ -173,22 +173,35 @@ void PoincareSampler::on_step(const StepView& step) {
 }
 
 int detect_period(const std::vector<SectionPoint>& points, int max_period, double tolerance) {
-    const auto n = static_cast<int>(points.size());
-    double scale = 0.0;
+    SectionRepeats repeats(max_period);
     for (const auto& p : points)
-        for (double v : p.values)
-            scale = std::max(scale, std::abs(v));
-    const double tol = tolerance * (1.0 + scale);
-    for (int k = 1; k <= max_period && 2 * k <= n; ++k) {
-        bool repeats = true;
-        for (int i = 0; i + k < n && repeats; ++i)
-            for (std::size_t c = 0; c < points[i].values.size(); ++c)
-                if (std::abs(points[i].values[c] - points[i + k].values[c]) > tol) {
-                    repeats = false;
-                    break;
-                }
-        if (repeats) return k;
+        repeats.add(p.values);
+    return repeats.period(tolerance);
+}
+
+SectionRepeats::SectionRepeats(int max_period)
+    : m_max_period(max_period), m_largest_difference(static_cast<std::size_t>(max_period) + 1) {
+    detail::require_range("max_period", max_period, 1, 1000);
+}
+
+void SectionRepeats::add(const std::vector<double>& values) {
+    for (double v : values)
+        m_scale = std::max(m_scale, std::abs(v));
+    for (std::size_t k = 1; k <= m_recent.size(); ++k) {
+        const std::vector<double>& earlier = m_recent[m_recent.size() - k];
+        double& largest = m_largest_difference[k];
+        for (std::size_t c = 0; c < values.size(); ++c)
+            largest = std::max(largest, std::abs(values[c] - earlier[c]));
     }
+    m_recent.push_back(values);
+    if (static_cast<int>(m_recent.size()) > m_max_period) m_recent.pop_front();
+    ++m_count;
+}
+
+int SectionRepeats::period(double tolerance) const {
+    const double tol = tolerance * (1.0 + m_scale);
+    for (int k = 1; k <= m_max_period && 2L * k <= m_count; ++k)
+        if (m_largest_difference[static_cast<std::size_t>(k)] <= tol) return k;
     return 0;
 }
 

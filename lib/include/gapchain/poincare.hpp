@@ -8,6 +8,7 @@
 #include "gapchain/dynamics.hpp"
 #include "gapchain/run.hpp"
 
+#include <deque>
 #include <functional>
 #include <memory>
 #include <string>
@@ -95,6 +96,27 @@ private:
 /// Smallest k <= max_period such that every recorded value repeats k points later to
 /// tolerance * (1 + max |value|); 0 if none (or fewer than 2 k points).
 int detect_period(const std::vector<SectionPoint>& points, int max_period, double tolerance);
+
+/// detect_period() one point at a time, on values that need not be kept: the last max_period
+/// points, per lag k the largest difference between values k points apart, and the largest
+/// |value|. A bifurcation diagram reads its period from the section's whole state this way,
+/// whatever single variable it plots.
+class SectionRepeats {
+public:
+    /// max_period in [1, 1000].
+    explicit SectionRepeats(int max_period);
+    /// The next point's values (the same count each time).
+    void add(const std::vector<double>& values);
+    /// detect_period()'s answer for the points added so far, at tolerance (> 0).
+    [[nodiscard]] int period(double tolerance) const;
+
+private:
+    int m_max_period;
+    std::deque<std::vector<double>> m_recent;
+    std::vector<double> m_largest_difference; ///< index k, lag k points
+    double m_scale = 0.0;
+    long m_count = 0;
+};
 
 /// Runs dyn from initial (empty: rest) over options.periods, with options.transient_periods
 /// discarded, on the step options.scheme / tolerance / step ask for, and streams the section

@@ -88,6 +88,32 @@ TEST_CASE("attractor and bifurcation JSON name the scheme that ran") {
     BifurcationOptions b;
     b.scheme = Scheme::exact;
     CHECK(to_json(BifurcationResult{}, b, p).find("\"scheme\": \"exact\"") != std::string::npos);
+    // auto is written as what it resolves to (rk4 at the default tolerance), and as asked.
+    b.scheme = Scheme::automatic;
+    const std::string resolved = to_json(BifurcationResult{}, b, p);
+    CHECK(resolved.find("\"scheme\": \"rk4\"") != std::string::npos);
+    CHECK(resolved.find("\"scheme_requested\": \"auto\"") != std::string::npos);
+}
+
+TEST_CASE("Lyapunov and orbit JSON name the scheme, step and run keys that ran, no others") {
+    // Lyapunov JSON listed estimate_error, multistability_check and accuracy_mode, which the
+    // tool refuses as keys it does not read, and no scheme; the orbit JSON no scheme at all.
+    const Scene scene = parse_scene(R"({"model": {"Nm": 2}})");
+    LyapunovResult l;
+    l.scheme = Scheme::exact;
+    l.step = 0.01;
+    const auto lj = nlohmann::json::parse(to_json(l, scene));
+    CHECK(lj["scheme"] == "exact");
+    CHECK(lj["step"] == 0.01);
+    CHECK(lj["parameters"].contains("tolerance"));
+    for (const char* unread : {"estimate_error", "multistability_check", "accuracy_mode"})
+        CHECK_FALSE(lj["parameters"].contains(unread));
+    PeriodicOrbit o;
+    o.scheme = Scheme::rk8pd;
+    o.integration_tolerance = 1e-11;
+    const auto oj = nlohmann::json::parse(to_json(o, scene));
+    CHECK(oj["scheme"] == "rk8pd");
+    CHECK(oj["integration_tolerance"] == 1e-11);
 }
 
 TEST_CASE("simulation JSON of a recorded ground motion names the record file and the type") {

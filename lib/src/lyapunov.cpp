@@ -206,6 +206,7 @@ LyapunovResult lyapunov_spectrum(const TangentSystem& sys, std::vector<double> y
         }
     }
     LyapunovResult r = acc.result();
+    r.step = o.step;
     r.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return r;
 }
@@ -320,6 +321,8 @@ LyapunovResult chain_lyapunov(const Dynamics& dyn, const RunOptions& options, in
     Observer* observers[] = {&tangent};
     const RunOutcome outcome = planned.run(observers, progress);
     LyapunovResult r = tangent.result();
+    r.scheme = planned.plan().scheme;
+    r.step = planned.plan().step;
     if (count == dyn.dimension()) {
         const auto& d = dyn.chain().damping;
         r.expected_sum = -std::accumulate(d.begin(), d.end(), 0.0);

@@ -356,6 +356,8 @@ PeriodicOrbit find_periodic_orbit(const Dynamics& dyn, const OrbitOptions& optio
     detail::require_length("start state", start.size(), static_cast<std::size_t>(dyn.dimension()));
     PeriodicOrbit orbit;
     orbit.period = options.period;
+    orbit.scheme = options.scheme;
+    orbit.integration_tolerance = options.integration_tolerance;
     const auto dim = static_cast<Eigen::Index>(dyn.dimension());
     std::vector<double> x = start;
     const ProgressCallback keep_going = [&](double) {

@@ -66,16 +66,19 @@ json chain_json(const Scene& scene) {
 /// What ran: the reduced parameters and run options, and what the five numbers do not say, so
 /// that a result read alone (after --set on arrays, a scatter, a start) names the row and the
 /// start it ran.
-void add_provenance(json& j, const Scene& scene) {
+// A once-through run (Lyapunov) lists only the run keys it reads (scene.hpp's
+// once_through_run_keys); the tool refuses the others.
+void add_provenance(json& j, const Scene& scene, bool once_through = false) {
     j["parameters"] = parameters_json(scene.reduced);
     j["parameters"].update({{"periods", scene.run.periods},
                             {"transient_periods", scene.run.transient_periods == auto_transient
                                                       ? json("auto")
                                                       : json(scene.run.transient_periods)},
-                            {"tolerance", scene.run.tolerance},
-                            {"accuracy_mode", to_string(scene.run.accuracy_mode)},
-                            {"estimate_error", scene.run.estimate_error},
-                            {"multistability_check", scene.run.multistability_check}});
+                            {"tolerance", scene.run.tolerance}});
+    if (!once_through)
+        j["parameters"].update({{"accuracy_mode", to_string(scene.run.accuracy_mode)},
+                                {"estimate_error", scene.run.estimate_error},
+                                {"multistability_check", scene.run.multistability_check}});
     if (scene.row) j["chain"] = chain_json(scene);
     if (std::any_of(scene.initial.begin(), scene.initial.end(), [](double x) { return x != 0.0; }))
         j["initial"] = scene.initial;
@@ -344,7 +347,10 @@ std::string to_json(const BifurcationResult& r, const BifurcationOptions& o,
                     {"F_m_error",
                      "|max over the first half - max over the second half of the recorded "
                      "periods| (sampling spread), at least tolerance * F_m"}};
-    j["scheme"] = std::string(to_string(o.scheme));
+    // The scheme that ran (auto resolves by the row and the tolerance, the same along a line).
+    const Dynamics first = Dynamics::paper_row(with_value(base, o.parameter, o.from));
+    j["scheme"] = std::string(to_string(plan_step(first, o.scheme, o.tolerance).scheme));
+    j["scheme_requested"] = std::string(to_string(o.scheme));
     j["tolerance"] = o.tolerance;
     double largest_error = 0.0;
     for (const auto& row : r.rows)
@@ -419,8 +425,10 @@ std::string to_json(const LyapunovResult& r, const Scene& scene) {
     j["averaging_time"] = r.averaging_time;
     j["units"] = "1 / reduced time";
     j["status"] = std::string(to_string(r.status));
+    j["scheme"] = std::string(to_string(r.scheme));
+    j["step"] = r.step;
     j["wall_time_s"] = r.wall_time_s;
-    add_provenance(j, scene);
+    add_provenance(j, scene, true);
     return j.dump(2) + "\n";
 }
 
@@ -656,6 +664,8 @@ std::string to_json(const PeriodicOrbit& orbit, const Scene& scene) {
                             {"impacts", orbit.per_contact[c].impacts},
                             {"max_gap", orbit.max_gap[c]}});
     j["per_contact"] = contacts;
+    j["scheme"] = std::string(to_string(orbit.scheme));
+    j["integration_tolerance"] = orbit.integration_tolerance;
     j["wall_time_s"] = orbit.wall_time_s;
     const ReducedParameters& p = scene.reduced;
     j["parameters"] = parameters_json(p);

@@ -37,6 +37,8 @@ struct LyapunovResult {
     /// exponents were asked for, or outside chain_lyapunov().
     double expected_sum = std::numeric_limits<double>::quiet_NaN();
     double averaging_time = 0.0;         ///< time the averages cover
+    Scheme scheme = Scheme::rk4;         ///< the scheme the trajectory and its tangents ran on
+    double step = 0.0;                   ///< its step (output interval on exact), reduced time
     std::vector<LyapunovSample> history; ///< running estimates (at most ~500 samples)
     RunStatus status = RunStatus::completed;
     std::string message;      ///< why a run failed (empty otherwise)

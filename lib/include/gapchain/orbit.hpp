@@ -54,6 +54,8 @@ struct PeriodicOrbit {
     double residual = 0.0;     ///< |P^k(x) - x| / (1 + |x|) at the end
     int iterations = 0;        ///< Newton iterations taken
     std::vector<double> residual_history; ///< residual before each iteration and at the end
+    Scheme scheme = Scheme::exact;        ///< the scheme the shootings ran on
+    double integration_tolerance = 0.0;   ///< and its tolerance
     /// Floquet multipliers of the k-period map (eigenvalues of the monodromy), largest modulus
     /// first.
     std::vector<std::complex<double>> multipliers;

@@ -153,10 +153,12 @@ void add_options(CLI::App& app, ModesArguments& a) {
 // The scene with --Nm and --fc applied as overrides.
 Scene load_row(ModesArguments& a) {
     cli::require_sets_read(a.scene, "gapchain-modes", {}, "its modes follow from the model alone");
+    // --Nm first: a scene read at its own Nm refused arrays of --Nm's length ("model.mass:
+    // must have 5 entries" for --Nm 3), and then its own length as well.
+    if (a.Nm != 0) a.scene.sets.push_back("model.Nm=" + std::to_string(a.Nm));
     if (a.fc != 0.0 && cli::load(a.scene).units == Units::physical)
         throw std::invalid_argument("--fc: not for a physical scene (its fc is model.Kc / "
                                     "model.K); change those with --set");
-    if (a.Nm != 0) a.scene.sets.push_back("model.Nm=" + std::to_string(a.Nm));
     if (a.fc != 0.0) {
         std::ostringstream s;
         s.precision(17);

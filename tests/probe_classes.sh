@@ -480,7 +480,7 @@ expect 28 2 "--out: rec28.csv is an input of this run" "$bin/gapchain-sim" rec28
 cmp -s rec28.csv rec28.keep || { echo "class 28: FAIL: the record file was changed"; failed+=(28); }
 # gapchain-modes read the arrays at the scene's Nm before --Nm: 3 entries were refused for
 # "must have 5", and 5 then for "must have 3".
-expect 28 0 "" "$bin/gapchain-modes" fig5.json --Nm 3 --fc 60 --set 'model.mass=[1,2,1]' --out m28.json
+expect 28 0 "" "$bin/gapchain-modes" fig5.json --Nm 3 --fc 60 --set 'model.mass=[1,2,1]' --out modes28.json
 absent 28 arr28.csv k28
 # A row out of the model's range names its file and line too; a line's end its option.
 printf 'Nm,fc,eps,e_r,f_r,F_m,status\n5,-60,0.5,0.06,3,0.3,steady_state\n' >rows28c.csv

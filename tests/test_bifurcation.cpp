@@ -246,7 +246,7 @@ TEST_CASE("bifurcation and regime maps: a cancelled run stops within one value p
 
         ClassifyOptions co;
         co.transient_periods = 10;
-        co.record_periods = 10;
+        co.record_periods = 20;
         const RegimeMap map =
             regime_map(base, {0.0, 0.1, 0.2, 0.3, 0.4}, {1.0, 2.0, 3.0, 4.0}, co, threads,
                        [&](double done) { return done < 2.0 / 20.0 - 1e-12; });

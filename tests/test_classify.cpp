@@ -193,7 +193,7 @@ TEST_CASE("a chaotic point's lambda_max through stiff contacts agrees with a tan
 }
 
 TEST_CASE("a shooting beyond run.max_work leaves the label unconfirmed, after a run within it") {
-    // Fig 13's row at f_r = 4.05, started on its period-3 orbit and recorded for 12 periods:
+    // Fig 13's row at f_r = 4.05, started on its period-3 orbit and recorded for 20 periods:
     // the run is within the limit, one 3-period shooting with its 10 tangent vectors is not.
     // It threw after the run before.
     const ReducedParameters p{5, 60, 0.5, 0.06, 4.05};
@@ -204,7 +204,7 @@ TEST_CASE("a shooting beyond run.max_work leaves the label unconfirmed, after a 
     REQUIRE(orbit.status == OrbitStatus::converged);
     ClassifyOptions o;
     o.transient_periods = 0;
-    o.record_periods = 12;
+    o.record_periods = 20;
     o.initial = orbit.state;
     // On rk4 (the exact propagator's set-up of contact configurations, counted since, weighs
     // on the 12-period run as much as on the shooting).
@@ -214,8 +214,8 @@ TEST_CASE("a shooting beyond run.max_work leaves the label unconfirmed, after a 
     tangent_run.tolerance = o.tolerance;
     const StepPlan plan =
         plan_run(dyn, tangent_run_options(dyn, tangent_run), o.samples_per_period);
-    const double work = 5.0 * plan.steps_per_period * 12;
-    REQUIRE(work == run_work(dyn, plan, 12));
+    const double work = 5.0 * plan.steps_per_period * 20;
+    REQUIRE(work == run_work(dyn, plan, 20));
     o.max_work = 1.01 * work;
     OrbitOptions shooting;
     shooting.period = 3;
@@ -279,4 +279,21 @@ TEST_CASE(
     CHECK_THROWS_WITH_AS(classify(p, o), doctest::Contains("initial"), std::invalid_argument);
     CHECK_THROWS_WITH_AS(regime_map(p, {0.06}, {3.2}, o, 1), doctest::Contains("initial"),
                          std::invalid_argument);
+}
+
+TEST_CASE("a record too short for lambda_max's error is refused, not labelled") {
+    // With 10 recorded periods Fig 13's row at e_r = 0, f_r = 2 read "quasi-periodic,
+    // lambda_max = -1.19 +- inf": an infinite margin put every non-repeating record there.
+    ClassifyOptions o;
+    o.transient_periods = 5;
+    o.record_periods = 19;
+    CHECK_THROWS_WITH_AS(validate(o), doctest::Contains("record_periods: must be"),
+                         std::invalid_argument);
+    o.record_periods = 20;
+    const Classification c = classify({5, 60, 0.5, 0.0, 2.0}, o);
+    CHECK(std::isfinite(c.lambda_max_error));
+    CHECK(c.regime == Regime::periodic);
+    CHECK(c.period == 2);
+    MESSAGE(to_string(c.regime) << ", period " << c.period << ", lambda_max " << c.lambda_max
+                                << " +- " << c.lambda_max_error);
 }

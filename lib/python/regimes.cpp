@@ -21,7 +21,7 @@ Classify the paper's uniform row at one point as "no-contact", "periodic" (with 
 "quasi-periodic" or "chaotic", with the evidence: gapchain-classify in-process.
 
 transient  settling periods (ended early by a periodic steady state), >= 0
-record     periods of evidence for non-periodic motion, >= 10
+record     periods of evidence for non-periodic motion, >= 20
 confirm    confirm a periodic regime by Newton shooting (period = the orbit's minimal period)
 scene, **keys  the row (Nm, fc, eps, e_r, f_r; of the run section scheme, tolerance and
           max_work are used) and its initial state.

@@ -26,7 +26,7 @@ std::string_view to_string(Regime regime);
 struct ClassifyOptions {
     long transient_periods = 100; ///< discarded periods (a periodic steady state may stop the
                                   ///< run as soon as it is found), >= 0
-    long record_periods = 300;    ///< periods of evidence for non-periodic motion, >= 10
+    long record_periods = 300;    ///< periods of evidence for non-periodic motion, >= 20
     /// Integration scheme (run.scheme). `auto` is the exact propagator where the Lyapunov
     /// spectrum takes it (tangent_run_scheme(): linear contacts, harmonic forcing, <= 10
     /// bodies), else the simulator's `auto`.

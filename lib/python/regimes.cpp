@@ -8,11 +8,18 @@
 #include <pybind11/stl.h>
 
 #include <algorithm>
+#include <cmath>
 #include <limits>
 
 namespace gapchain::python {
 
 namespace {
+
+/// An error nothing estimated (infinite: too few periods averaged) as NaN, as the arrays and
+/// a sweep's columns write it (JSON null, an empty CSV field).
+double estimated_or_nan(double error) {
+    return std::isfinite(error) ? error : std::numeric_limits<double>::quiet_NaN();
+}
 
 constexpr const char* classify_doc =
     R"(classify(scene=None, *, transient=100, record=300, confirm=True, **keys) -> dict
@@ -28,7 +35,8 @@ scene, **keys  the row (Nm, fc, eps, e_r, f_r; of the run section scheme, tolera
 
 Returns a dict: regime, period (forcing periods; 0 if not periodic or longer than 16),
 lambda_max (largest Lyapunov exponent per unit reduced time; a Newton-confirmed orbit's
-from its largest multiplier, error 0) and lambda_max_error,
+from its largest multiplier, error 0) and lambda_max_error (None where too few periods were
+averaged for it),
 distinct_points, section_points, broadband_share ([0, 1]), F_m (a Newton-confirmed orbit's,
 else the record's maximum), F_m_error (tolerance * F_m on a periodic state, else the recorded
 halves' spread, at least that; covering the record's maximum too), stopped_at_steady_state,
@@ -47,7 +55,8 @@ transient, record, confirm  as in classify().
 
 Returns a dict: e_r ((rows,)), f_r ((cols,)), and (rows x cols) arrays regime (str), code
 (0 no-contact, 1 periodic, 2 quasi-periodic, 3 chaotic), period, F_m, F_m_error, lambda_max,
-lambda_max_error, distinct_points, broadband_share, status; wall_time_s, threads_used,
+lambda_max_error (NaN where not estimated), distinct_points, broadband_share, status;
+wall_time_s, threads_used,
 cancelled.)";
 
 constexpr const char* sweep_doc = R"(sweep(study, *, threads=0, progress=None) -> dict
@@ -90,9 +99,8 @@ py::dict classify_py(const py::object& scene_arg, long transient, long record, b
     const ReducedParameters& row = paper_row(scene, "classify");
     const Classification c = call.run([&] { return classify(row, o, call.callback()); });
     // The JSON gapchain-classify writes (report.cpp, the one list of the fields), as a dict; an
-    // infinite error (a window too short) that JSON writes as null is put back as inf.
+    // error nothing estimated (too few periods averaged) stays None, as the JSON's null.
     py::dict d = py::module_::import("json").attr("loads")(to_json(c, row));
-    d["lambda_max_error"] = c.lambda_max_error;
     d["max_multiplier"] = c.max_multiplier;
     return d;
 }
@@ -116,7 +124,8 @@ py::dict regime_map_dict(const RegimeMap& m) {
     d["F_m"] = grid<double>(m, [](const C& c) { return c.F_m; });
     d["F_m_error"] = grid<double>(m, [](const C& c) { return c.F_m_error; });
     d["lambda_max"] = grid<double>(m, [](const C& c) { return c.lambda_max; });
-    d["lambda_max_error"] = grid<double>(m, [](const C& c) { return c.lambda_max_error; });
+    d["lambda_max_error"] =
+        grid<double>(m, [](const C& c) { return estimated_or_nan(c.lambda_max_error); });
     d["distinct_points"] = grid<int>(m, [](const C& c) { return c.distinct_points; });
     d["broadband_share"] = grid<double>(m, [](const C& c) { return c.broadband_share; });
     d["status"] = strings(m.cells, [](const C& c) {
@@ -169,8 +178,8 @@ void kept_columns(py::dict& d, const Study& study, const std::vector<SweepPointR
         d["regime"] = strings(rows, [](const R& r) { return to_string(r.regime->regime); });
         d["period"] = column<int>(rows, [](const R& r) { return r.regime->period; });
         d["lambda_max"] = column<double>(rows, [](const R& r) { return r.regime->lambda_max; });
-        d["lambda_max_error"] =
-            column<double>(rows, [](const R& r) { return r.regime->lambda_max_error; });
+        d["lambda_max_error"] = column<double>(
+            rows, [](const R& r) { return estimated_or_nan(r.regime->lambda_max_error); });
     }
     if (study.keep.orbit) {
         d["F_m_orbit"] = column<double>(rows, [](const R& r) {

@@ -74,6 +74,34 @@ TEST_CASE("a pure sine's peak lands on its frequency and is labelled") {
     CHECK(c.broadband_share < 1e-3);
 }
 
+TEST_CASE("a peak is labelled m/n f_r only when that fraction alone is its nearest bin's") {
+    // Bins of df = f_r / 8 (a segment of 8 forcing periods), f_r = 3, a line at 0.375 f_r:
+    // labelled "1/2 f_r" (a bin away) before; 1/3 f_r is within half a bin, alone.
+    auto psd_with_peak = [](double df, int peak) {
+        Psd psd;
+        psd.df = df;
+        for (int k = 0; k < 64; ++k) {
+            psd.frequency.push_back(k * df);
+            psd.density.push_back(k == peak ? 1.0 : 1e-3);
+        }
+        return psd;
+    };
+    const double f_r = 3.0;
+    const SpectralContent coarse = spectral_content(psd_with_peak(f_r / 8, 3), f_r);
+    REQUIRE(coarse.peaks.size() == 1);
+    CHECK(coarse.peaks[0].numerator == 1);
+    CHECK(coarse.peaks[0].denominator == 3);
+    // df = f_r / 4: 1/4 f_r (on the bin) and 1/3 f_r (a third of a bin off) share it: no label.
+    const SpectralContent ambiguous = spectral_content(psd_with_peak(f_r / 4, 1), f_r);
+    REQUIRE(ambiguous.peaks.size() == 1);
+    CHECK(ambiguous.peaks[0].denominator == 0);
+    CHECK(ambiguous.peaks[0].label() == "-");
+    // A harmonic on its bin keeps its label.
+    const SpectralContent harmonic = spectral_content(psd_with_peak(f_r / 8, 16), f_r);
+    REQUIRE(harmonic.peaks.size() == 1);
+    CHECK(harmonic.peaks[0].label() == "2 f_r");
+}
+
 TEST_CASE("white noise is broadband") {
     std::mt19937 gen(3);
     std::normal_distribution<double> noise(0.0, 1.0);

@@ -150,15 +150,21 @@ SpectralContent spectral_content(const Psd& psd, double f_r, int max_order, int 
         p.frequency = psd.frequency[k];
         for (int j = std::max(1, k - width); j <= std::min(bins - 1, k + width); ++j)
             p.power += psd.density[j] * psd.df;
-        // Smallest denominator whose multiple lands within the peak's bins.
-        for (int q = 1; q <= max_order && p.denominator == 0; ++q) {
-            const int m = static_cast<int>(std::lround(p.frequency * q / f_r));
-            if (m >= 1 && std::abs(m * f_r / q - p.frequency) <= (width + 0.5) * psd.df) {
-                const int g = std::gcd(m, q);
-                p.numerator = m / g;
-                p.denominator = q / g;
+        // The one fraction m/n (n <= max_order) of f_r whose nearest bin is the peak's; none
+        // where two are (a segment of few forcing periods): an aliased 0.375 f_r, a bin from
+        // 1/2 f_r, was labelled "1/2 f_r". A line's largest bin is its nearest one.
+        const double within = 0.5 * psd.df * (1.0 + 1e-9);
+        int labels = 0;
+        for (int q = 1; q <= max_order; ++q)
+            for (int m =
+                     std::max(1, static_cast<int>(std::floor((p.frequency - within) * q / f_r)));
+                 m * f_r / q <= p.frequency + within; ++m) {
+                if (std::gcd(m, q) != 1 || std::abs(m * f_r / q - p.frequency) > within) continue;
+                ++labels;
+                p.numerator = m;
+                p.denominator = q;
             }
-        }
+        if (labels != 1) p.numerator = p.denominator = 0;
         c.peaks.push_back(p);
     }
     std::sort(c.peaks.begin(), c.peaks.end(),

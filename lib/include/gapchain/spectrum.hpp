@@ -41,7 +41,8 @@ struct SpectralPeak {
     double frequency = 0.0; ///< [1 / reduced time]
     double power = 0.0;     ///< power in the peak's bins (density * df summed)
     int numerator = 0;      ///< the peak is at numerator / denominator * f_r, if labelled
-    int denominator = 0;    ///< 1: harmonic; > 1: subharmonic order; 0: unlabelled
+    int denominator = 0;    ///< 1: harmonic; > 1: subharmonic order; 0: unlabelled (no
+                            ///< m/n within the peak's bins, or more than one)
     [[nodiscard]] std::string label() const; ///< "2 f_r", "1/2 f_r", "3/4 f_r", or "-"
 };
 

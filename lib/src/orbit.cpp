@@ -346,6 +346,19 @@ int minimal_period(const std::vector<double>& x, const ShootingResult& s, double
     return k;
 }
 
+namespace {
+
+/// The result before any shooting: the period asked for and the scheme that will run.
+PeriodicOrbit unsearched_orbit(const OrbitOptions& options) {
+    PeriodicOrbit orbit;
+    orbit.period = options.period;
+    orbit.scheme = options.scheme;
+    orbit.integration_tolerance = options.integration_tolerance;
+    return orbit;
+}
+
+} // namespace
+
 PeriodicOrbit find_periodic_orbit(const Dynamics& dyn, const OrbitOptions& options,
                                   const std::vector<double>& start,
                                   const ProgressCallback& progress) {
@@ -354,10 +367,7 @@ PeriodicOrbit find_periodic_orbit(const Dynamics& dyn, const OrbitOptions& optio
     require_orbit_size(dyn, options.scheme);
     require_shooting_affordable(dyn, options);
     detail::require_length("start state", start.size(), static_cast<std::size_t>(dyn.dimension()));
-    PeriodicOrbit orbit;
-    orbit.period = options.period;
-    orbit.scheme = options.scheme;
-    orbit.integration_tolerance = options.integration_tolerance;
+    PeriodicOrbit orbit = unsearched_orbit(options);
     const auto dim = static_cast<Eigen::Index>(dyn.dimension());
     std::vector<double> x = start;
     const ProgressCallback keep_going = [&](double) {
@@ -458,9 +468,8 @@ PeriodicOrbit find_periodic_orbit_after(const Dynamics& dyn, const OrbitOptions&
         // The transient run is the first half of the progress reported, Newton the second.
         const ProgressCallback first_half = [&](double f) { return !progress || progress(f / 2); };
         if (planned.run({}, first_half).status == RunStatus::cancelled) {
-            PeriodicOrbit cancelled;
+            PeriodicOrbit cancelled = unsearched_orbit(options);
             cancelled.status = OrbitStatus::cancelled;
-            cancelled.period = options.period;
             cancelled.message = "the transient run was cancelled";
             return cancelled;
         }

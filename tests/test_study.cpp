@@ -95,6 +95,16 @@ TEST_CASE("bad studies name the key") {
     // A scatter varies about the number: both are read.
     CHECK(point_count(parse_study(R"({"scene": {"model": {"Nm": 2, "scatter": {"clearance": 0.1}}},
                                       "parameters": {"e_r": [0.1, 0.5]}})")) == 2);
+    // Axes that change nothing: every row the same, exit 0.
+    CHECK_THROWS_WITH_AS(
+        parse_study(R"({"parameters": {"output.trajectory_every": [1, 5]}})"),
+        doctest::Contains("parameters.output.trajectory_every: a sweep writes no trajectory"),
+        SceneError);
+    CHECK_THROWS_WITH_AS(parse_study(R"({"parameters": {"model.scatter.seed": [1, 2]}})"),
+                         doctest::Contains("parameters.model.scatter.seed: nothing to seed"),
+                         SceneError);
+    CHECK(point_count(parse_study(R"({"parameters": {"model.scatter.seed": [1, 2],
+                                      "model.scatter.mass": [0.1]}})")) == 2);
 }
 
 TEST_CASE("a study point above run.max_work is refused when the study is read") {

@@ -194,6 +194,23 @@ void check_attractor_window(const Scene& scene, long starts) {
 /// clearance array wrote four values and ran one row four times.
 void check_axes_read(const Study& s) {
     const json root = json::parse(s.scene_json, nullptr, false);
+    const bool scene_spreads = root.is_object() && root.contains("model") &&
+                               root["model"].is_object() && root["model"].contains("scatter");
+    for (const auto& axis : s.axes) {
+        const std::string key = full_key(axis.key);
+        // Axes that changed nothing: every row the same, exit 0.
+        if (key.starts_with("output."))
+            throw SceneError("parameters." + axis.key + ": a sweep writes no trajectory, so it " +
+                             "does not read " + key);
+        const bool axis_spreads = std::any_of(s.axes.begin(), s.axes.end(), [](const auto& a) {
+            const std::string k = full_key(a.key);
+            return k.starts_with("model.scatter.") && k != "model.scatter.seed";
+        });
+        if (key == "model.scatter.seed" && !scene_spreads && !axis_spreads)
+            throw SceneError("parameters." + axis.key + ": nothing to seed (no model.scatter in " +
+                             "the scene or the parameters), every row would be the same row; " +
+                             "give model.scatter its clearance, contact, mass or stiffness spread");
+    }
     if (!root.is_object() || !root.contains("model") || !root["model"].is_object()) return;
     const json& model = root["model"];
     for (const auto& axis : s.axes) {

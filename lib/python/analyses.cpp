@@ -107,6 +107,8 @@ py::dict modes_py(const py::object& Nm, const py::object& fc, int count, const s
     // Given, they override the scene's; else the scene's (the paper's 5 and 100 without one).
     if (!Nm.is_none()) keys["Nm"] = Nm;
     if (!fc.is_none()) keys["fc"] = fc;
+    // As gapchain-modes: a run or output keyword (periods=5) was taken and ignored.
+    refuse_run_keys(keys, "modes", {}, "its modes follow from the model alone");
     const Scene scene = to_scene(scene_arg, keys);
     ModalOptions o;
     o.count = count;

@@ -11,6 +11,16 @@ namespace gapchain::python {
 
 namespace {
 
+/// The shooting's schemes by name; the message lists those alone (parse_scheme() listed auto
+/// and central_difference, which the search then refused).
+Scheme shooting_scheme(const std::string& name) {
+    if (name == "exact" || name == "rk4" || name == "rkf45" || name == "rk8pd")
+        return parse_scheme(name);
+    throw std::invalid_argument("scheme: must be one of exact, rk4, rkf45, rk8pd (the "
+                                "shooting's schemes), got \"" +
+                                name + "\"");
+}
+
 constexpr const char* orbit_doc =
     R"(orbit(scene=None, *, period=1, transient=200, tolerance=1e-10, max_iterations=40, scheme="exact", **keys) -> dict
 
@@ -69,7 +79,7 @@ py::dict orbit_py(const py::object& scene_arg, int period, long transient, doubl
     o.period = period;
     o.tolerance = tolerance;
     o.max_iterations = max_iterations;
-    o.scheme = parse_scheme(scheme);
+    o.scheme = shooting_scheme(scheme);
     o.max_work = scene.run.max_work;
     Call call;
     const PeriodicOrbit r = call.run([&] {
@@ -155,7 +165,7 @@ py::dict continuation_py(const py::object& scene_arg, const std::string& param, 
     o.step = step, o.max_step = max_step, o.max_points = max_points;
     o.follow_doublings = follow_doublings, o.max_branches = max_branches;
     o.transient_periods = transient;
-    o.orbit.scheme = parse_scheme(scheme);
+    o.orbit.scheme = shooting_scheme(scheme);
     o.orbit.max_work = scene.run.max_work;
     validate(o);
     Call call(progress);

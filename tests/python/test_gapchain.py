@@ -533,6 +533,16 @@ def test_a_non_string_key_in_a_scene_dict_is_named():
         gapchain.simulate({"model": {("a",): 1}}, periods=50)
 
 
+def test_modes_refuse_run_keywords_and_the_shooting_names_its_schemes():
+    # modes(periods=5) was taken and ignored, as gapchain-modes --set run.periods refuses.
+    with pytest.raises(ValueError, match="^periods: modes\\(\\) does not read"):
+        gapchain.modes(3, 60, periods=5)
+    # The message listed auto and central_difference, which the search then refused.
+    for name in ("RK4", "auto", "central_difference"):
+        with pytest.raises(ValueError, match="^scheme: must be one of exact, rk4, rkf45, rk8pd"):
+            gapchain.orbit(MIRROR_PAIR, scheme=name)
+
+
 def test_analyses_of_the_five_reduced_numbers_refuse_other_rows():
     # bifurcation(), classify(), regime_map() and continuation() read the scene's five reduced
     # numbers only: a Hertz law, model arrays or a seismic record were run as the paper's row.

@@ -144,3 +144,21 @@ TEST_CASE("eq (26) is compared on the paper's uniform row only") {
     CHECK(u.approx[0] == doctest::Approx(approx_frequency(1, 3, 100)));
     CHECK(std::isfinite(u.rel_error[0]));
 }
+
+TEST_CASE("the sparse solver states its own range of modes, whatever count is asked") {
+    // 4 modes of Nm = 3 read "must be in [0, 3]", then 3 "1 <= modes < Nm / 2".
+    const Chain row = Chain::homogeneous({3, 100, 0.5, 0.0, 1.0});
+    for (int count : {-1, 0, 2, 3, 4}) {
+        ModalOptions o;
+        o.method = EigenMethod::sparse;
+        o.count = count;
+        CHECK_THROWS_WITH_AS(
+            modal_analysis(row, o),
+            doctest::Contains("count: the sparse solver needs 1 <= modes < Nm / 2"),
+            std::invalid_argument);
+    }
+    ModalOptions dense;
+    dense.count = 4;
+    CHECK_THROWS_WITH_AS(modal_analysis(row, dense), doctest::Contains("count: must be"),
+                         std::invalid_argument);
+}

@@ -119,7 +119,7 @@ EigenMethod chosen_method(const ModalOptions& o, int n, int count) {
             " operations, above the limit Nm <= " + std::to_string(o.max_dense_bodies) +
             "; ask fewer modes (1 <= modes < Nm / 2 use the sparse solver) or raise the limit");
     }
-    if (method == EigenMethod::sparse && (o.count == 0 || 2 * count + 1 > n))
+    if (method == EigenMethod::sparse && (o.count < 1 || 2 * count + 1 > n))
         throw std::invalid_argument("count: the sparse solver needs 1 <= modes < Nm / 2, got " +
                                     std::to_string(o.count) + " of Nm = " + std::to_string(n) +
                                     "; use the dense solver for more");
@@ -195,7 +195,9 @@ ModalResult modal_analysis(const Chain& chain, const ModalOptions& o) {
     const auto start = std::chrono::steady_clock::now();
     const Tridiagonal t = linear_chain_matrix(chain);
     const int n = chain.bodies();
-    detail::require_range("count", o.count, 0, n);
+    // The sparse solver's own range first: "[0, 3]" for 4 modes of Nm = 3, then "1 <= modes <
+    // Nm / 2" for 3, read as two rules contradicting each other.
+    if (o.method != EigenMethod::sparse) detail::require_range("count", o.count, 0, n);
     detail::require_range("tolerance", o.tolerance, 0.0, 1e-2, detail::Bound::open_low);
     // Nominal fc for eq (26): the wall contact stiffness (fc for the paper's row).
     const double fc = chain.contact.front();

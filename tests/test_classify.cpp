@@ -207,7 +207,7 @@ TEST_CASE("a shooting beyond run.max_work leaves the label unconfirmed, after a 
     o.record_periods = 20;
     o.initial = orbit.state;
     // On rk4 (the exact propagator's set-up of contact configurations, counted since, weighs
-    // on the 12-period run as much as on the shooting).
+    // on the 20-period run as much as on the shooting).
     o.scheme = Scheme::rk4;
     RunOptions tangent_run;
     tangent_run.scheme = Scheme::rk4;

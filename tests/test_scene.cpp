@@ -361,6 +361,19 @@ TEST_CASE("a scalar an array replaces is refused, not shown as if it ran") {
     CHECK(error_of(R"({"units": "physical", "model": {"Nm": 2, "e": 0.003,
                      "clearance": [0.003, 0.003, 0.003]}})")
               .find("model.e: not read where model.clearance") != std::string::npos);
+    // An array from the command line replaces the file's scalar (every shipped scene gives e_r
+    // and eps); the result then names no e_r or eps, and the header says "array".
+    const Scene over_file =
+        parse_scene(R"({"model": {"Nm": 3, "e_r": 0.3, "eps": 0.5}})",
+                    {"model.clearance=[0.1,0.2,0.3,0.4]", "model.damping=[1,1,1]"});
+    CHECK(over_file.chain().clearance[3] == 0.4);
+    CHECK(row_label(over_file) == "Nm=3 fc=100 eps=array e_r=array");
+    const auto j = nlohmann::json::parse(to_json(SimulationResult{}, over_file));
+    CHECK(j["parameters"]["e_r"].is_null());
+    CHECK(j["parameters"]["eps"].is_null());
+    CHECK(error_of(R"({"model": {"Nm": 3, "e_r": 0.3}})",
+                   {"model.clearance=[0.1,0.2,0.3,0.4]", "model.e_r=0.5"})
+              .find("model.e_r: not read") != std::string::npos);
     // The same arrays without the scalars, and a scatter (which scales e_r), are accepted.
     CHECK_FALSE(parse_scene(arrays).uniform());
     CHECK(parse_scene(R"({"model": {"e_r": 0.2, "scatter": {"clearance": 0.1}}})")

@@ -103,6 +103,10 @@ TEST_CASE("bad studies name the key") {
     CHECK_THROWS_WITH_AS(parse_study(R"({"parameters": {"model.scatter.seed": [1, 2]}})"),
                          doctest::Contains("parameters.model.scatter.seed: nothing to seed"),
                          SceneError);
+    CHECK_THROWS_WITH_AS(parse_study(R"({"scene": {"model": {"scatter": {"seed": 1}}},
+                                         "parameters": {"model.scatter.seed": [1, 2],
+                                                        "model.scatter.mass": [0]}})"),
+                         doctest::Contains("nothing to seed"), SceneError);
     CHECK(point_count(parse_study(R"({"parameters": {"model.scatter.seed": [1, 2],
                                       "model.scatter.mass": [0.1]}})")) == 2);
 }

@@ -161,7 +161,7 @@ int main(int argc, char** argv) {
         ->check(cli::range(0L, 1'000'000'000L))
         ->capture_default_str();
     app.add_option("--record", o.record_periods, "Recorded periods for non-periodic motion")
-        ->check(cli::range(10L, 1'000'000'000L))
+        ->check(cli::range(20L, 1'000'000'000L))
         ->capture_default_str();
     app.add_option("--threads", threads, "OpenMP threads for --map (0: all)")
         ->check(cli::range(0, 4096))

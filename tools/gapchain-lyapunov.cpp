@@ -16,9 +16,8 @@ using namespace gapchain;
 
 void print_exponents(const Scene& scene, const LyapunovResult& r, int k) {
     const ReducedParameters& p = scene.reduced;
-    std::printf(
-        "gapchain-lyapunov: Nm=%d fc=%g eps=%g e_r=%g f_r=%g, averaged over %.4g time units\n",
-        p.Nm, p.fc, p.eps, p.e_r, p.f_r, r.averaging_time);
+    std::printf("gapchain-lyapunov: %s f_r=%g, averaged over %.4g time units\n",
+                row_label(scene).c_str(), p.f_r, r.averaging_time);
     bool unestimated = false;
     for (int i = 0; i < k; ++i) {
         unestimated = unestimated || !std::isfinite(r.errors[i]);

@@ -72,13 +72,12 @@ void print_header(const Scene& scene, const SimulationResult& r) {
                                       std::to_string(scene.run.periods) + " periods run"
                                 : std::to_string(r.periods_simulated) + " periods";
     if (scene.harmonic())
-        std::printf("gapchain-sim: Nm=%d fc=%g eps=%g e_r=%g f_r=%g  (%s, h=%.3g, %s)\n", p.Nm,
-                    p.fc, p.eps, p.e_r, p.f_r, std::string(to_string(r.scheme)).c_str(), r.step,
-                    ran.c_str());
+        std::printf("gapchain-sim: %s f_r=%g  (%s, h=%.3g, %s)\n", row_label(scene).c_str(), p.f_r,
+                    std::string(to_string(r.scheme)).c_str(), r.step, ran.c_str());
     else
-        std::printf("gapchain-sim: Nm=%d fc=%g eps=%g e_r=%g under a ground-motion record, "
+        std::printf("gapchain-sim: %s under a ground-motion record, "
                     "PGA a0 = %g m/s^2  (%s, h=%.3g, %.4g s = %ld natural periods)\n",
-                    p.Nm, p.fc, p.eps, p.e_r, scene.physical->a0,
+                    row_label(scene).c_str(), scene.physical->a0,
                     std::string(to_string(r.scheme)).c_str(), r.step, scene.record_duration,
                     r.periods_simulated);
 }

@@ -115,12 +115,10 @@ private:
         const std::string key(m_closed.begin(), m_closed.end());
         auto it = m_cache.find(key);
         if (it != m_cache.end()) return it->second;
-        // A chaotic long row can visit a great many configurations: bound the memory (each
-        // entry holds two complex (2 Nm)^2 matrices, a defective one two real ones more: 1.5
-        // times, counted) to about 1 GB by starting the cache afresh when it is full (4096
-        // entries of Nm = 150 took 4.5 GB and more).
-        const double entry_bytes = 3.0 * 16.0 * static_cast<double>(m_dim) * m_dim;
-        const auto capacity = static_cast<std::size_t>(std::clamp(1e9 / entry_bytes, 16.0, 4096.0));
+        // A chaotic long row can visit a great many configurations: bound the memory to about
+        // 1 GB by starting the cache afresh when it is full (4096 entries of Nm = 150 took
+        // 4.5 GB and more).
+        const auto capacity = static_cast<std::size_t>(detail::exact_cache_capacity(m_dim));
         if (m_cache.size() >= capacity) {
             m_cache.clear();
             m_last = nullptr;

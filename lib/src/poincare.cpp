@@ -185,6 +185,10 @@ SectionRepeats::SectionRepeats(int max_period)
 }
 
 void SectionRepeats::add(const std::vector<double>& values) {
+    if (!m_recent.empty() && values.size() != m_recent.back().size())
+        throw std::invalid_argument("section point: " + std::to_string(values.size()) +
+                                    " values after points of " +
+                                    std::to_string(m_recent.back().size()));
     for (double v : values)
         m_scale = std::max(m_scale, std::abs(v));
     for (std::size_t k = 1; k <= m_recent.size(); ++k) {
@@ -199,6 +203,7 @@ void SectionRepeats::add(const std::vector<double>& values) {
 }
 
 int SectionRepeats::period(double tolerance) const {
+    detail::require_range("period_tolerance", tolerance, 0.0, 1.0, detail::Bound::open_low);
     const double tol = tolerance * (1.0 + m_scale);
     for (int k = 1; k <= m_max_period && 2L * k <= m_count; ++k)
         if (m_largest_difference[static_cast<std::size_t>(k)] <= tol) return k;

@@ -79,6 +79,9 @@ void add_provenance(json& j, const Scene& scene, bool once_through = false) {
         j["parameters"].update({{"accuracy_mode", to_string(scene.run.accuracy_mode)},
                                 {"estimate_error", scene.run.estimate_error},
                                 {"multistability_check", scene.run.multistability_check}});
+    // A number an array replaced did not run: the chain says what did.
+    if (scene.clearance_array) j["parameters"]["e_r"] = nullptr;
+    if (scene.damping_array) j["parameters"]["eps"] = nullptr;
     if (scene.row) j["chain"] = chain_json(scene);
     if (std::any_of(scene.initial.begin(), scene.initial.end(), [](double x) { return x != 0.0; }))
         j["initial"] = scene.initial;
@@ -168,6 +171,16 @@ nlohmann::ordered_json transients_json(const TransientLifetime& t) {
 }
 
 } // namespace
+
+std::string row_label(const Scene& scene) {
+    const ReducedParameters& p = scene.reduced;
+    std::ostringstream os;
+    os << "Nm=" << p.Nm << " fc=" << p.fc << " eps=";
+    scene.damping_array ? os << "array" : os << p.eps;
+    os << " e_r=";
+    scene.clearance_array ? os << "array" : os << p.e_r;
+    return os.str();
+}
 
 std::string to_json(const SimulationResult& r, const Scene& scene) {
     return simulation_json(r, scene).dump(2) + "\n";
@@ -347,9 +360,16 @@ std::string to_json(const BifurcationResult& r, const BifurcationOptions& o,
                     {"F_m_error",
                      "|max over the first half - max over the second half of the recorded "
                      "periods| (sampling spread), at least tolerance * F_m"}};
-    // The scheme that ran (auto resolves by the row and the tolerance, the same along a line).
-    const Dynamics first = Dynamics::paper_row(with_value(base, o.parameter, o.from));
-    j["scheme"] = std::string(to_string(plan_step(first, o.scheme, o.tolerance).scheme));
+    // The scheme that ran: auto resolves by the row and the tolerance, and on an fc line the
+    // exact propagator can refuse one end (fc = 1e9) and take the other: "rk4 to exact".
+    const auto resolved = [&](double value) {
+        return std::string(
+            to_string(plan_step(Dynamics::paper_row(with_value(base, o.parameter, value)), o.scheme,
+                                o.tolerance)
+                          .scheme));
+    };
+    const std::string at_from = resolved(o.from), at_to = resolved(o.to);
+    j["scheme"] = at_from == at_to ? at_from : at_from + " to " + at_to;
     j["scheme_requested"] = std::string(to_string(o.scheme));
     j["tolerance"] = o.tolerance;
     double largest_error = 0.0;

@@ -2,14 +2,15 @@
 
 #include "detail/check.hpp"
 #include "detail/hermite.hpp"
+#include "detail/steppers.hpp"
 
 #include <algorithm>
 #include <cmath>
-#include <utility>
 #include <cstdio>
 #include <limits>
 #include <optional>
 #include <stdexcept>
+#include <utility>
 
 namespace gapchain {
 
@@ -526,16 +527,24 @@ std::pair<double, double> work_rates(const Dynamics& dyn, const StepPlan& plan, 
     // Calibrated on a 2-core machine (2026-11-27), on a row that finds new configurations
     // every period (Nm = 46, fc = 559, eps = 0.1, e_r = 0.22, f_r = 1): 1.44 s a period
     // (1.44e7 body-steps) where Nm x steps alone counted 6164; Nm = 20: 0.094 s. Half an n^3 a
-    // configuration, 2 (Nm + 1) configurations a period, gives 3.7e7 and 2.7e6: above both.
+    // configuration, 2 (Nm + 1) configurations a period, gives 3.7e7 and 1.4e6: above both.
     const double n = dyn.dimension();
     return {std::max(static_cast<double>(dyn.bodies()), 0.08 * n * n) * steps, 0.5 * n * n * n};
 }
 
-/// How many configurations `periods` periods may set up: 2 (Nm + 1) a period, at most all
-/// 2^(Nm + 1) of a row whose cache holds them (Nm <= 11: 4096 entries).
+/// All 2^(Nm + 1) configurations of a row whose exact-propagator cache holds them (Nm <= 11),
+/// else 0: no bound.
+double cached_configurations(const Dynamics& dyn) {
+    const double all = std::ldexp(1.0, std::min(dyn.gaps(), 1000));
+    return all <= detail::exact_cache_capacity(dyn.dimension()) ? all : 0.0;
+}
+
+/// How many configurations `periods` periods may set up: 2 (Nm + 1) a period, at most all of a
+/// row whose cache holds them.
 double configurations(const Dynamics& dyn, double periods) {
     const double per_period = 2.0 * dyn.gaps() * periods;
-    return dyn.gaps() <= 12 ? std::min(per_period, std::ldexp(1.0, dyn.gaps())) : per_period;
+    const double all = cached_configurations(dyn);
+    return all > 0.0 ? std::min(per_period, all) : per_period;
 }
 
 } // namespace
@@ -547,12 +556,12 @@ double run_work(const Dynamics& dyn, const StepPlan& plan, double periods, int t
 
 double affordable_periods(const Dynamics& dyn, const StepPlan& plan, double max_work) {
     // run_work() rises with the periods: 2 (Nm + 1) new configurations a period until a short
-    // row has set up all 2^(Nm + 1) of them, the steps alone after that.
+    // row has set up all of them, the steps alone after that.
     const auto [steps, set_up] = work_rates(dyn, plan, 0);
     const double per_gap_period = 2.0 * dyn.gaps();
+    const double all = cached_configurations(dyn);
     double periods = max_work / (steps + set_up * per_gap_period);
-    if (dyn.gaps() <= 12 && periods * per_gap_period > std::ldexp(1.0, dyn.gaps()))
-        periods = (max_work - set_up * std::ldexp(1.0, dyn.gaps())) / steps;
+    if (all > 0.0 && periods * per_gap_period > all) periods = (max_work - set_up * all) / steps;
     return std::max(0.0, std::floor(periods));
 }
 
@@ -571,8 +580,9 @@ const StepPlan& affordable(const Dynamics& dyn, const RunOptions& options, const
         "Nm " + std::to_string(dyn.bodies()) + " x " + std::to_string(plan.steps_per_period) +
             " steps per forcing period" +
             (plan.scheme == Scheme::exact
-                 ? std::string(", each a (2 Nm)^2 product, and the exact propagator's set-up of "
-                               "up to 2 (Nm + 1) contact configurations a period, (2 Nm)^3 each")
+                 ? std::string(
+                       ", each a (2 Nm)^2 product, and the exact propagator's set-up of "
+                       "up to 2 (Nm + 1) contact configurations a period, (2 Nm)^3 / 2 each")
                  : std::string()) +
             ", x " + std::to_string(options.periods) + " periods",
         "shorten the run (fewer forcing periods: run.periods, or the tool's own --transient / "

@@ -198,6 +198,28 @@ void refuse_replaced_scalar(const json& model, const char* array, const char* sc
                          ", or change the array's entries");
 }
 
+/// A --set of model.clearance (model.damping) replaces the scene file's e_r or e (eps) in every
+/// entry: the file's scalar is dropped, so that the shipped scenes, which all give e_r and eps,
+/// take an array from the command line. A scalar given by --set too is still refused.
+void drop_scalars_arrays_replace(json& root, const std::vector<std::string>& overrides) {
+    if (!root.contains("model") || !root["model"].is_object()) return;
+    json& model = root["model"];
+    for (const auto& o : overrides) {
+        std::string key;
+        try {
+            key = scene_key(o.substr(0, o.find('=')));
+        } catch (const std::invalid_argument&) {
+            continue; // apply_override() names the bad key in its own words
+        }
+        if (key == "model.clearance") {
+            model.erase("e_r");
+            model.erase("e");
+        } else if (key == "model.damping") {
+            model.erase("eps");
+        }
+    }
+}
+
 /// The row from the model's arrays and scatter, or nothing if the model gives neither.
 // clearance_scale converts the scene's clearance entries to reduced clearances (1 for reduced
 // scenes, 4 pi^2 f0^2 / a0 for metres); damping entries are eps_i (reduced scenes only).
@@ -331,11 +353,14 @@ void read_physical_model(SectionReader& model, SectionReader& excitation, const 
         throw SceneError("model.damping: per-body damping arrays are for reduced scenes "
                          "(eps_i); physical scenes give C");
     scene.row = non_uniform_row(model_object(root), scene.reduced, "e", 1.0 / L);
+    scene.clearance_array = model_object(root).contains("clearance");
 }
 
 /// The row of a reduced scene: arrays, scatter and the contact law.
 void read_reduced_row(SectionReader& model, const json& root, Scene& scene) {
     scene.row = non_uniform_row(model_object(root), scene.reduced);
+    scene.clearance_array = model_object(root).contains("clearance");
+    scene.damping_array = model_object(root).contains("damping");
     const std::string law =
         model.text("contact_law", "linear", {"linear", "hertz", "hunt_crossley"});
     if (law != "linear" && !scene.row) scene.row = Chain::homogeneous(scene.reduced);
@@ -501,6 +526,7 @@ Scene scene_from_json(json root, const std::vector<std::string>& overrides,
                                  overrides[k] + "\" and \"" + overrides[i] +
                                  "\"): set the part inside the whole, or the parts alone");
         }
+    drop_scalars_arrays_replace(root, overrides);
     for (const auto& o : overrides)
         apply_override(root, o);
     SectionReader top(root, "", {"units", "model", "excitation", "run", "initial", "output"});

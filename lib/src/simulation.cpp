@@ -229,7 +229,8 @@ Comparison comparison_error(const Dynamics& dyn, const RunOptions& options, cons
     const StepPlan other = comparison_plan(dyn, plan, on_orbit);
     const ComparisonRun check = run_comparison(dyn, options, other, initial, progress, result);
     if (check.run.outcome.status == RunStatus::non_finite)
-        return {std::numeric_limits<double>::infinity(), false, {}};
+        return {std::numeric_limits<double>::infinity(), false,
+                std::vector<double>(main.contacts.size(), std::numeric_limits<double>::infinity())};
     result.F_m_comparison = check.run.F_m;
     Comparison c;
     c.ended_elsewhere = result.F_m_orbit &&

@@ -194,8 +194,12 @@ void check_attractor_window(const Scene& scene, long starts) {
 /// clearance array wrote four values and ran one row four times.
 void check_axes_read(const Study& s) {
     const json root = json::parse(s.scene_json, nullptr, false);
-    const bool scene_spreads = root.is_object() && root.contains("model") &&
-                               root["model"].is_object() && root["model"].contains("scatter");
+    // A spread above 0 in the scene's scatter ({"seed": 1} alone spreads nothing).
+    bool scene_spreads = false;
+    if (root.is_object() && root.contains("model") && root["model"].is_object() &&
+        root["model"].contains("scatter") && root["model"]["scatter"].is_object())
+        for (const auto& [k, v] : root["model"]["scatter"].items())
+            scene_spreads = scene_spreads || (k != "seed" && v.is_number() && v.get<double>() > 0);
     for (const auto& axis : s.axes) {
         const std::string key = full_key(axis.key);
         // Axes that changed nothing: every row the same, exit 0.
@@ -204,7 +208,8 @@ void check_axes_read(const Study& s) {
                              "does not read " + key);
         const bool axis_spreads = std::any_of(s.axes.begin(), s.axes.end(), [](const auto& a) {
             const std::string k = full_key(a.key);
-            return k.starts_with("model.scatter.") && k != "model.scatter.seed";
+            return k.starts_with("model.scatter.") && k != "model.scatter.seed" &&
+                   std::any_of(a.values.begin(), a.values.end(), [](double v) { return v > 0; });
         });
         if (key == "model.scatter.seed" && !scene_spreads && !axis_spreads)
             throw SceneError("parameters." + axis.key + ": nothing to seed (no model.scatter in " +

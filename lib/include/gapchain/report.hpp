@@ -21,6 +21,10 @@
 
 namespace gapchain {
 
+/// "Nm=5 fc=100 eps=0.5 e_r=0.5" for a tool's first line; eps and e_r read "array" where the
+/// scene's model.damping or model.clearance gives every entry instead.
+std::string row_label(const Scene& scene);
+
 /// A simulation result as JSON: F_m, F_m_error, contact, per_body, per_contact,
 /// steady_state_period (null if none), wall_time_s, and the run's provenance: the reduced
 /// parameters and run options, for a non-uniform row the arrays that ran ("chain": mass,

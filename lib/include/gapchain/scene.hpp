@@ -60,7 +60,10 @@ struct Scene {
     int trajectory_every = 1;                   ///< trajectory decimation in steps, >= 1
     std::string source;                         ///< file it came from, or "<built-in>"
     std::optional<Chain> row;                   ///< set for a non-uniform row (arrays, scatter)
-    std::optional<GroundMotion> ground_record;  ///< set for record / kanai_tajimi excitation
+    /// model.clearance (model.damping) gives every gap's clearance (body's damping): the
+    /// reduced e_r (eps) did not run.
+    bool clearance_array = false, damping_array = false;
+    std::optional<GroundMotion> ground_record; ///< set for record / kanai_tajimi excitation
     double record_duration = 0.0; ///< [s] record length plus tail (non-harmonic scenes)
     std::string ground_motion_type =
         "harmonic";          ///< excitation.type: harmonic, record, kanai_tajimi

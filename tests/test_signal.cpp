@@ -44,6 +44,28 @@ TEST_CASE("a contact-free row's spectrum is one line at the forcing frequency") 
     CHECK(s.content.broadband_share < 1e-3);
 }
 
+TEST_CASE("the default segment is the largest power of two up to 4096 the record holds") {
+    // The shipped scenes record 100 periods (3201 samples at 32 a period): a fixed 4096 was
+    // refused on every one of them.
+    const Dynamics dyn = Dynamics::paper_row({2, 100, 0.1, 1e3, 1.3});
+    RunOptions run;
+    run.periods = 100;
+    run.transient_periods = 0;
+    run.stop_at_steady_state = false;
+    const RowSpectrum s = row_spectrum(dyn, run, RowSpectrumOptions{});
+    REQUIRE(s.outcome.status == RunStatus::completed);
+    CHECK(s.samples == 3201);
+    CHECK(s.segment == 2048);
+    run.periods = 1000;
+    CHECK(row_spectrum(dyn, run, RowSpectrumOptions{}).segment == 4096);
+    run.periods = 1; // 9 samples cannot hold the shortest segment
+    RowSpectrumOptions few;
+    few.samples_per_period = 8;
+    CHECK_THROWS_WITH_AS(row_spectrum(dyn, run, few),
+                         doctest::Contains("segment: the record holds 9 samples"),
+                         std::invalid_argument);
+}
+
 TEST_CASE("a row spectrum's options are refused naming the option and its range") {
     RowSpectrumOptions o;
     o.variable = "t";

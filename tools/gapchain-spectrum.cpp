@@ -41,8 +41,10 @@ void add_options(CLI::App& app, SpectrumArguments& a) {
                    "Samples per forcing period")
         ->check(cli::range(2, 100000))
         ->capture_default_str();
-    app.add_option("--segment", a.spectrum.segment, "Welch segment length (samples, >= 16)")
-        ->check(cli::range(16, 1 << 24))
+    app.add_option("--segment", a.spectrum.segment,
+                   "Welch segment length (samples, >= 16; 0: the largest power of two up to "
+                   "4096 the record holds)")
+        ->check(cli::range(0, 1 << 24))
         ->capture_default_str();
     app.add_option("--window", a.window, "hann or rectangular")
         ->check(CLI::IsMember({"hann", "rectangular"}))
@@ -71,7 +73,7 @@ void write_outputs(const SpectrumArguments& a, const std::string& dir, const Row
         cli::plot_template(dir, "spectrum",
                            {{"VARIABLE", a.spectrum.variable},
                             {"SEGMENTS", std::to_string(s.psd.segments)},
-                            {"SEGMENT", std::to_string(a.spectrum.segment)}});
+                            {"SEGMENT", std::to_string(s.segment)}});
 }
 
 } // namespace

@@ -73,13 +73,14 @@ Returns a dict: t ((n,) reduced times), points ((n, len(record)) float64), names
 status, message, wall_time_s.)";
 
 constexpr const char* spectrum_doc =
-    R"(spectrum(scene=None, *, variable="u1", samples_per_period=32, segment=4096, window="hann", order=4, progress=None, **keys) -> dict
+    R"(spectrum(scene=None, *, variable="u1", samples_per_period=32, segment=0, window="hann", order=4, progress=None, **keys) -> dict
 
 Power spectral density (Welch, FFTW) of a variable over the scene's run.periods after
 run.transient_periods, peaks labelled as (sub)harmonics m/n f_r: gapchain-spectrum in-process.
 
 variable  u1..uNm, v1..vNm, g0..gNm or F0..FNm;  samples_per_period  2 .. 100000
-segment   Welch segment length in samples, 16 .. 2^24 and at most the recorded samples
+segment   Welch segment length in samples, 16 .. 2^24 and at most the recorded samples; 0 (the
+          default): the largest power of two up to 4096 the record holds
 window    "hann" or "rectangular";  order  largest subharmonic order n labelled, 1 .. 64
 (the limits of gapchain-spectrum: both use RowSpectrumOptions)
 
@@ -338,7 +339,7 @@ void register_analyses(py::module_& m) {
           py::arg("record") = std::vector<std::string>{"u1", "v1"},
           py::arg("progress") = py::none());
     m.def("spectrum", &spectrum_py, spectrum_doc, py::arg("scene") = py::none(), py::kw_only(),
-          py::arg("variable") = "u1", py::arg("samples_per_period") = 32, py::arg("segment") = 4096,
+          py::arg("variable") = "u1", py::arg("samples_per_period") = 32, py::arg("segment") = 0,
           py::arg("window") = "hann", py::arg("order") = 4, py::arg("progress") = py::none());
     m.def("lyapunov", &lyapunov_py, lyapunov_doc, py::arg("scene") = py::none(), py::kw_only(),
           py::arg("count") = 0, py::arg("progress") = py::none());

@@ -56,12 +56,17 @@ void validate(const RowSpectrumOptions& o, const Dynamics& dyn, const RunOptions
     require_harmonic(dyn, "spectrum"); // before the sample count, which needs a period
     (void)spectrum_variable(o.variable, dyn);
     detail::require_range("samples_per_period", o.samples_per_period, 2, 100000);
-    detail::require_range("segment", o.segment, 16, 1 << 24);
+    if (o.segment != 0) detail::require_range("segment", o.segment, 16, 1 << 24);
     detail::require_range("order", o.order, 1, 64);
     // Both ends of the recorded window are samples.
     const long samples = (run.periods - with_transient_resolved(dyn, run).transient_periods) *
                              static_cast<long>(o.samples_per_period) +
                          1;
+    if (o.segment == 0 && samples < 16)
+        throw std::invalid_argument(
+            "segment: the record holds " + std::to_string(samples) +
+            " samples ((run.periods - run.transient_periods) x samples per period + 1), fewer "
+            "than the shortest segment's 16; record more periods or more samples per period");
     if (samples < o.segment)
         throw std::invalid_argument("segment: must be at most the recorded samples " +
                                     std::to_string(samples) +
@@ -93,9 +98,12 @@ RowSpectrum row_spectrum(const Dynamics& dyn, const RunOptions& run, const RowSp
     r.samples = static_cast<long>(signal.values.size());
     r.sample_rate = signal.sample_rate;
     if (r.outcome.status != RunStatus::completed) return finish();
+    r.segment = o.segment != 0 ? o.segment : 4096;
+    while (o.segment == 0 && r.segment > r.samples)
+        r.segment /= 2; // validate() made sure the record holds 16
     PsdOptions po;
     po.sample_rate = signal.sample_rate;
-    po.segment_length = o.segment;
+    po.segment_length = r.segment;
     po.window = o.window;
     r.psd = welch_psd(signal.values, po);
     r.content = spectral_content(r.psd, dyn.ground_motion().f_r(), o.order);

@@ -46,9 +46,11 @@ Signal record_signal(const Dynamics& dyn, const RunOptions& options,
 /// The spectrum of one variable of a run, as gapchain-spectrum and Python's spectrum() ask for
 /// it (one set of rules and limits for both).
 struct RowSpectrumOptions {
-    std::string variable = "u1";  ///< a state variable: u1..uNm, v1..vNm, g0..gNm or F0..FNm
-    int samples_per_period = 32;  ///< samples per forcing period, 2 .. 100000
-    int segment = 4096;           ///< Welch segment [samples], 16 .. 2^24, at most those recorded
+    std::string variable = "u1"; ///< a state variable: u1..uNm, v1..vNm, g0..gNm or F0..FNm
+    int samples_per_period = 32; ///< samples per forcing period, 2 .. 100000
+    /// Welch segment [samples], 16 .. 2^24 and at most those recorded; 0: the largest power of
+    /// two up to 4096 that the record holds (a shipped scene's 100 periods hold 3201 samples)
+    int segment = 0;
     Window window = Window::hann; ///< segment taper
     int order = 4;                ///< largest subharmonic order n labelled (m/n f_r), 1 .. 64
 };
@@ -57,6 +59,7 @@ struct RowSpectrumOptions {
 struct RowSpectrum {
     RunOutcome outcome;       ///< the run (psd and content are empty unless it completed)
     long samples = 0;         ///< samples recorded
+    int segment = 0;          ///< Welch segment used [samples]
     double sample_rate = 0;   ///< [samples per unit reduced time]
     Psd psd;                  ///< Welch PSD of the variable
     SpectralContent content;  ///< peaks and broadband share

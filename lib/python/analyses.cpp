@@ -85,7 +85,7 @@ window    "hann" or "rectangular";  order  largest subharmonic order n labelled,
 (the limits of gapchain-spectrum: both use RowSpectrumOptions)
 
 Returns a dict: frequency ((n,) cycles per reduced time unit), f_over_f_r, density
-(signal^2 per unit frequency), df, segments, broadband_share (power away from m/n f_r, [0, 1]),
+(signal^2 per unit frequency), df, segment (the length used), segments, broadband_share (power away from m/n f_r, [0, 1]),
 peaks (dict of columns frequency, power, numerator, denominator, label), sample_rate, status, wall_time_s.)";
 
 constexpr const char* lyapunov_doc =
@@ -280,6 +280,7 @@ py::dict spectrum_py(const py::object& scene_arg, const std::string& variable,
     d["f_over_f_r"] = array(ratio);
     d["density"] = array(s.psd.density);
     d["df"] = s.psd.df;
+    d["segment"] = s.segment;
     d["segments"] = s.psd.segments;
     d["broadband_share"] = s.content.broadband_share;
     d["peaks"] = peaks_dict(s.content);

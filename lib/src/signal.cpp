@@ -56,7 +56,10 @@ void validate(const RowSpectrumOptions& o, const Dynamics& dyn, const RunOptions
     require_harmonic(dyn, "spectrum"); // before the sample count, which needs a period
     (void)spectrum_variable(o.variable, dyn);
     detail::require_range("samples_per_period", o.samples_per_period, 2, 100000);
-    if (o.segment != 0) detail::require_range("segment", o.segment, 16, 1 << 24);
+    if (o.segment != 0 && (o.segment < 16 || o.segment > (1 << 24)))
+        throw std::invalid_argument("segment: must be 0 (the largest power of two up to 4096 the "
+                                    "record holds) or an integer in [16, 16777216], got " +
+                                    std::to_string(o.segment));
     detail::require_range("order", o.order, 1, 64);
     // Both ends of the recorded window are samples.
     const long samples = (run.periods - with_transient_resolved(dyn, run).transient_periods) *

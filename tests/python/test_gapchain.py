@@ -574,3 +574,13 @@ def test_line_limits_are_the_tools_limits():
         gapchain.basin_fractions(fig13, param="f_r", from_=3, to=3.1, steps=20000, samples=2)
     with pytest.raises(ValueError, match="^steps: from = to"):
         gapchain.basin_fractions(fig13, param="f_r", from_=3, to=3, steps=3, samples=2)
+
+
+def test_spectrum_default_segment_fits_a_shipped_scene():
+    # A fixed 4096-sample segment was refused on every shipped scene (3201 samples recorded).
+    scene = os.path.join(os.environ.get("GAPCHAIN_SCENES", ""), "fig13.json")
+    r = gapchain.spectrum(scene)
+    assert r["segment"] == 2048 and r["segments"] == 2
+    assert r["df"] == pytest.approx(r["sample_rate"] / 2048)
+    with pytest.raises(ValueError, match="^segment: must be 0 .* got 8$"):
+        gapchain.spectrum(scene, segment=8)

@@ -25,6 +25,27 @@ std::string_view to_string(SweepDirection d) {
 
 namespace {
 
+/// o's section recording the whole state first (u_1..u_Nm, v_1..v_Nm), then any plotted
+/// variable that is not part of it; plotted gets each plotted variable's index. The period is
+/// the state's, not the plotted variable's: a contact force is 0 at every section time where
+/// the contact is open (F0 read "period 1" on chaotic rows), and t never repeats.
+SectionSpec state_section(const SectionSpec& o, int Nm, std::vector<std::size_t>& plotted) {
+    SectionSpec section = o;
+    section.record.clear();
+    for (const auto kind : {SectionVariable::Kind::displacement, SectionVariable::Kind::velocity})
+        for (int i = 0; i < Nm; ++i)
+            section.record.push_back({kind, i});
+    for (const auto& v : o.record) {
+        const auto same = [&v](const SectionVariable& w) {
+            return w.kind == v.kind && w.index == v.index;
+        };
+        const auto at = std::find_if(section.record.begin(), section.record.end(), same);
+        plotted.push_back(static_cast<std::size_t>(at - section.record.begin()));
+        if (at == section.record.end()) section.record.push_back(v);
+    }
+    return section;
+}
+
 /// One value: run transient + record periods from y (empty: rest; updated to the end state);
 /// keep_going may stop it (status cancelled).
 BifurcationRow diagram_row(const ReducedParameters& p, const BifurcationOptions& o,
@@ -42,24 +63,9 @@ BifurcationRow diagram_row(const ReducedParameters& p, const BifurcationOptions&
     row.value = value;
     row.direction = direction;
     row.points.reserve(static_cast<std::size_t>(o.record_periods));
-    // The period is the whole state's at the section, not the plotted variable's: a contact
-    // force is 0 at every section time where the contact is open (F0 read "period 1" on
-    // chaotic rows), and t never repeats.
-    SectionSpec section = o.section;
-    section.record.clear();
-    for (const auto kind : {SectionVariable::Kind::displacement, SectionVariable::Kind::velocity})
-        for (int i = 0; i < p.Nm; ++i)
-            section.record.push_back({kind, i});
-    const auto state_size = static_cast<std::ptrdiff_t>(section.record.size());
     std::vector<std::size_t> plotted;
-    for (const auto& v : o.section.record) {
-        const auto same = [&v](const SectionVariable& w) {
-            return w.kind == v.kind && w.index == v.index;
-        };
-        const auto at = std::find_if(section.record.begin(), section.record.end(), same);
-        plotted.push_back(static_cast<std::size_t>(at - section.record.begin()));
-        if (at == section.record.end()) section.record.push_back(v);
-    }
+    const SectionSpec section = state_section(o.section, p.Nm, plotted);
+    const auto state_size = static_cast<std::ptrdiff_t>(2 * p.Nm);
     SectionRepeats repeats(o.max_period);
     PoincareSampler sampler(dyn, section, [&](const SectionPoint& s) {
         repeats.add({s.values.begin(), s.values.begin() + state_size});

@@ -198,6 +198,27 @@ void refuse_replaced_scalar(const json& model, const char* array, const char* sc
                          ", or change the array's entries");
 }
 
+/// The same key set twice would leave its value to the order of the arguments; so would a
+/// key and a part of it (model.scatter={...} replaced an earlier model.scatter.seed=2).
+void refuse_overlapping_overrides(const std::vector<std::string>& overrides) {
+    for (std::size_t i = 0; i < overrides.size(); ++i)
+        for (std::size_t k = 0; k < i; ++k) {
+            const std::string key = overrides[i].substr(0, overrides[i].find('='));
+            const std::string other = overrides[k].substr(0, overrides[k].find('='));
+            const auto within = [](const std::string& part, const std::string& whole) {
+                return part.size() > whole.size() && part.compare(0, whole.size(), whole) == 0 &&
+                       part[whole.size()] == '.';
+            };
+            if (key == other)
+                throw SceneError("--set " + key + ": given twice (\"" + overrides[k] + "\" and \"" +
+                                 overrides[i] + "\")");
+            if (within(key, other) || within(other, key))
+                throw SceneError("--set " + key + ": overlaps --set " + other + " (\"" +
+                                 overrides[k] + "\" and \"" + overrides[i] +
+                                 "\"): set the part inside the whole, or the parts alone");
+        }
+}
+
 /// A --set of model.clearance (model.damping) replaces the scene file's e_r or e (eps) in every
 /// entry: the file's scalar is dropped, so that the shipped scenes, which all give e_r and eps,
 /// take an array from the command line. A scalar given by --set too is still refused.
@@ -353,14 +374,11 @@ void read_physical_model(SectionReader& model, SectionReader& excitation, const 
         throw SceneError("model.damping: per-body damping arrays are for reduced scenes "
                          "(eps_i); physical scenes give C");
     scene.row = non_uniform_row(model_object(root), scene.reduced, "e", 1.0 / L);
-    scene.clearance_array = model_object(root).contains("clearance");
 }
 
 /// The row of a reduced scene: arrays, scatter and the contact law.
 void read_reduced_row(SectionReader& model, const json& root, Scene& scene) {
     scene.row = non_uniform_row(model_object(root), scene.reduced);
-    scene.clearance_array = model_object(root).contains("clearance");
-    scene.damping_array = model_object(root).contains("damping");
     const std::string law =
         model.text("contact_law", "linear", {"linear", "hertz", "hunt_crossley"});
     if (law != "linear" && !scene.row) scene.row = Chain::homogeneous(scene.reduced);
@@ -508,24 +526,7 @@ Scene scene_from_json(json root, const std::vector<std::string>& overrides,
     if (root.contains("scene") && root.contains("F_m"))
         throw SceneError("scene: this file is a gapchain result (F_m, scene, ...), not a scene; "
                          "its \"scene\" key holds the scene it was computed from");
-    // The same key set twice would leave its value to the order of the arguments; so would a
-    // key and a part of it (model.scatter={...} replaced an earlier model.scatter.seed=2).
-    for (std::size_t i = 0; i < overrides.size(); ++i)
-        for (std::size_t k = 0; k < i; ++k) {
-            const std::string key = overrides[i].substr(0, overrides[i].find('='));
-            const std::string other = overrides[k].substr(0, overrides[k].find('='));
-            const auto within = [](const std::string& part, const std::string& whole) {
-                return part.size() > whole.size() && part.compare(0, whole.size(), whole) == 0 &&
-                       part[whole.size()] == '.';
-            };
-            if (key == other)
-                throw SceneError("--set " + key + ": given twice (\"" + overrides[k] + "\" and \"" +
-                                 overrides[i] + "\")");
-            if (within(key, other) || within(other, key))
-                throw SceneError("--set " + key + ": overlaps --set " + other + " (\"" +
-                                 overrides[k] + "\" and \"" + overrides[i] +
-                                 "\"): set the part inside the whole, or the parts alone");
-        }
+    refuse_overlapping_overrides(overrides);
     drop_scalars_arrays_replace(root, overrides);
     for (const auto& o : overrides)
         apply_override(root, o);
@@ -549,6 +550,8 @@ Scene scene_from_json(json root, const std::vector<std::string>& overrides,
     } else {
         read_physical_model(model, excitation, root, type, scene);
     }
+    scene.clearance_array = model_object(root).contains("clearance");
+    scene.damping_array = model_object(root).contains("damping");
     model.finish();
     excitation.finish();
     read_run(top.section("run"), type, scene);

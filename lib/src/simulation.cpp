@@ -127,6 +127,16 @@ struct Comparison {
     std::vector<double> contact_estimate; ///< per contact, the same rule on its own maxima
 };
 
+/// factor x |main's maximum - other's| for each contact: a comparison's per-contact estimate,
+/// scaled as F_m's.
+std::vector<double> contact_differences(const SingleRun& main, const SingleRun& other,
+                                        double factor) {
+    std::vector<double> d;
+    for (std::size_t j = 0; j < main.contacts.size(); ++j)
+        d.push_back(factor * std::abs(main.contacts[j].force - other.contacts[j].force));
+    return d;
+}
+
 /// Whether a comparison run ended elsewhere than a main run that settled on an orbit whose
 /// largest force is main_orbit: it ran its full length without the steady state the main run
 /// reached within half of it, or it settled on an orbit whose largest force differs by more
@@ -208,11 +218,8 @@ Comparison wide_comparison(const Dynamics& dyn, const RunOptions& options, const
     const ComparisonRun wide = run_comparison(dyn, options, wide_plan, initial, progress, result);
     if (const auto d = orbit_difference(options, main, result, wide)) {
         const double factor = 2.0 / (std::ldexp(1.0, traits(plan.scheme).order) - 1.0);
-        Comparison c{std::max(factor * *d, transient_excess(options, result, wide)), false, {}};
-        for (std::size_t j = 0; j < main.contacts.size(); ++j)
-            c.contact_estimate.push_back(
-                factor * std::abs(main.contacts[j].force - wide.run.contacts[j].force));
-        return c;
+        return {std::max(factor * *d, transient_excess(options, result, wide)), false,
+                contact_differences(main, wide.run, factor)};
     }
     if (wide.run.outcome.status != RunStatus::non_finite &&
         ended_elsewhere(options, main, wide.run, wide.orbit, *result.F_m_orbit))
@@ -250,9 +257,7 @@ Comparison comparison_error(const Dynamics& dyn, const RunOptions& options, cons
     const double factor =
         periodic_diff ? 2.0 / (1.0 - std::ldexp(1.0, -tr.order)) : (finer ? 2.0 : 1.0);
     double estimate = factor * (periodic_diff ? *periodic_diff : diff);
-    for (std::size_t j = 0; j < main.contacts.size(); ++j)
-        c.contact_estimate.push_back(
-            factor * std::abs(main.contacts[j].force - check.run.contacts[j].force));
+    c.contact_estimate = contact_differences(main, check.run, factor);
     if (periodic_diff) {
         const Comparison wide =
             wide_comparison(dyn, options, plan, initial, main, progress, result);

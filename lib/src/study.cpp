@@ -189,33 +189,38 @@ void check_attractor_window(const Scene& scene, long starts) {
     }
 }
 
+/// Axes that change nothing (every row the same, exit 0): output.* (a sweep writes no
+/// trajectory) and a seed with no scatter spread above 0 in the scene or the parameters
+/// ({"seed": 1} alone spreads nothing).
+void check_axes_change_something(const Study& s, const json& root) {
+    bool spreads = std::any_of(s.axes.begin(), s.axes.end(), [](const auto& a) {
+        const std::string k = full_key(a.key);
+        return k.starts_with("model.scatter.") && k != "model.scatter.seed" &&
+               std::any_of(a.values.begin(), a.values.end(), [](double v) { return v > 0; });
+    });
+    if (root.is_object() && root.contains("model") && root["model"].is_object() &&
+        root["model"].contains("scatter") && root["model"]["scatter"].is_object())
+        for (const auto& [k, v] : root["model"]["scatter"].items())
+            spreads = spreads || (k != "seed" && v.is_number() && v.get<double>() > 0);
+    for (const auto& axis : s.axes) {
+        const std::string key = full_key(axis.key);
+        if (key.starts_with("output."))
+            throw SceneError("parameters." + axis.key + ": a sweep writes no trajectory, so it " +
+                             "does not read " + key);
+        if (key == "model.scatter.seed" && !spreads)
+            throw SceneError("parameters." + axis.key + ": nothing to seed (no model.scatter " +
+                             "spread above 0 in the scene or the parameters), every row would " +
+                             "be the same row; give model.scatter its clearance, contact, mass " +
+                             "or stiffness spread");
+    }
+}
+
 /// An axis over the number a model array replaces (e_r or a physical e under model.clearance,
 /// eps under model.damping) would label one row with many values: a sweep of e_r over a
 /// clearance array wrote four values and ran one row four times.
 void check_axes_read(const Study& s) {
     const json root = json::parse(s.scene_json, nullptr, false);
-    // A spread above 0 in the scene's scatter ({"seed": 1} alone spreads nothing).
-    bool scene_spreads = false;
-    if (root.is_object() && root.contains("model") && root["model"].is_object() &&
-        root["model"].contains("scatter") && root["model"]["scatter"].is_object())
-        for (const auto& [k, v] : root["model"]["scatter"].items())
-            scene_spreads = scene_spreads || (k != "seed" && v.is_number() && v.get<double>() > 0);
-    for (const auto& axis : s.axes) {
-        const std::string key = full_key(axis.key);
-        // Axes that changed nothing: every row the same, exit 0.
-        if (key.starts_with("output."))
-            throw SceneError("parameters." + axis.key + ": a sweep writes no trajectory, so it " +
-                             "does not read " + key);
-        const bool axis_spreads = std::any_of(s.axes.begin(), s.axes.end(), [](const auto& a) {
-            const std::string k = full_key(a.key);
-            return k.starts_with("model.scatter.") && k != "model.scatter.seed" &&
-                   std::any_of(a.values.begin(), a.values.end(), [](double v) { return v > 0; });
-        });
-        if (key == "model.scatter.seed" && !scene_spreads && !axis_spreads)
-            throw SceneError("parameters." + axis.key + ": nothing to seed (no model.scatter in " +
-                             "the scene or the parameters), every row would be the same row; " +
-                             "give model.scatter its clearance, contact, mass or stiffness spread");
-    }
+    check_axes_change_something(s, root);
     if (!root.is_object() || !root.contains("model") || !root["model"].is_object()) return;
     const json& model = root["model"];
     for (const auto& axis : s.axes) {

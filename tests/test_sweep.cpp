@@ -19,6 +19,27 @@
 
 using namespace gapchain;
 
+namespace {
+
+/// The cell of a sweep CSV row under the header's column `name` (empty cells kept).
+std::string csv_cell(const std::string& header, const std::string& row, const std::string& name) {
+    const auto split = [](const std::string& line) {
+        std::vector<std::string> cells(1);
+        for (char c : line) {
+            if (c == ',')
+                cells.emplace_back();
+            else
+                cells.back().push_back(c);
+        }
+        return cells;
+    };
+    const std::vector<std::string> names = split(header);
+    const auto k = std::find(names.begin(), names.end(), name) - names.begin();
+    return split(row).at(static_cast<std::size_t>(k));
+}
+
+} // namespace
+
 TEST_CASE("the parallel loop rethrows a worker's bad input as itself, and stops the others") {
     for (int threads : {1, 2}) {
         std::atomic<long> ran{0};
@@ -55,17 +76,7 @@ TEST_CASE("a study with \"attractors\": F_m_max over the starts is never below t
     CHECK(results[0].F_m_max_error < 0.01 * *results[0].F_m_max);
     const std::string row = sweep_csv_row(s, results[0]);
     const std::string header = sweep_csv_header(s);
-    const auto field = [](const std::string& line, const std::string& names, const char* name) {
-        std::vector<std::string> n, v;
-        std::stringstream a(names), b(line);
-        for (std::string x; std::getline(a, x, ',');)
-            n.push_back(x);
-        for (std::string x; std::getline(b, x, ',');)
-            v.push_back(x);
-        const auto k = std::find(n.begin(), n.end(), name) - n.begin();
-        return v.at(static_cast<std::size_t>(k));
-    };
-    CHECK(std::stod(field(row, header, "F_m_max_error")) ==
+    CHECK(std::stod(csv_cell(header, row, "F_m_max_error")) ==
           doctest::Approx(results[0].F_m_max_error).epsilon(1e-9));
     CHECK(*results[1].F_m_max == 0.0);
     CHECK(results[1].attractors_found == 1);
@@ -129,19 +140,7 @@ TEST_CASE("an F_m_error nothing estimated is written empty, never as an exact 0"
     }
     REQUIRE(results.size() == 2);
     const auto field = [&](const SweepPointResult& r, const std::string& name) {
-        const auto split = [](const std::string& line) {
-            std::vector<std::string> cells(1);
-            for (char c : line) {
-                if (c == ',')
-                    cells.emplace_back();
-                else
-                    cells.back().push_back(c);
-            }
-            return cells;
-        };
-        const std::vector<std::string> header = split(sweep_csv_header(s));
-        const auto at = std::find(header.begin(), header.end(), name) - header.begin();
-        return split(sweep_csv_row(s, r)).at(static_cast<std::size_t>(at));
+        return csv_cell(sweep_csv_header(s), sweep_csv_row(s, r), name);
     };
     REQUIRE(results[0].simulation.steady_state_period);
     CHECK(has_error_estimate(results[0].simulation));
@@ -185,4 +184,64 @@ TEST_CASE("a results CSV is resumed only by the same study and results version")
     CHECK_NOTHROW(check_resume(csv, s));
     std::remove(csv.c_str());
     std::remove((csv + ".json").c_str());
+}
+
+TEST_CASE("each force a sweep writes has its error: per_body_error and F_m_newton_error") {
+    // A small physical row that settles (a comparison run estimates every contact), and the
+    // same with the estimate off (every error cell empty, never 0).
+    const auto study = [](const char* estimate) {
+        return parse_study(
+            std::string(R"({"scene": {"units": "physical", "model": {"Nm": 3, "M": 100,
+                "K": 1e5, "C": 500, "Kc": 5e6, "e": 0.002}, "excitation": {"a0": 5, "f": 4},
+                "run": {"periods": 300, "transient_periods": 150,
+                "estimate_error": )") +
+            estimate + R"(}}, "parameters": {"model.e": [0.002]}, "keep": ["per_body"]})");
+    };
+    std::vector<std::string> rows;
+    std::vector<SweepPointResult> results;
+    const Study s = study("true");
+    const std::string header = sweep_csv_header(s);
+    for (const Study& each : {s, study("false, \"multistability_check\": false")}) {
+        CHECK(sweep_csv_header(each) == header);
+        const StudyScenes scenes(each);
+        run_sweep(
+            each, {}, [&](long i) { return sweep_point_input(scenes.scene(i)); },
+            [&](const SweepPointResult& r) {
+                results.push_back(r);
+                rows.push_back(sweep_csv_row(each, r));
+            });
+    }
+    REQUIRE(results.size() == 2);
+    const auto field = [&](const std::string& row, const std::string& name) {
+        return csv_cell(header, row, name);
+    };
+    const SimulationResult& est = results[0].simulation;
+    REQUIRE(has_error_estimate(est));
+    REQUIRE(est.contact);
+    REQUIRE(est.per_contact_error.size() == 4);
+    // Newtons scale F_m and its error alike.
+    REQUIRE(results[0].F_m_newton);
+    REQUIRE(results[0].F_m_newton_error);
+    CHECK(*results[0].F_m_newton_error / est.F_m_error ==
+          doctest::Approx(*results[0].F_m_newton / est.F_m).epsilon(1e-12));
+    CHECK(std::stod(field(rows[0], "F_m_newton_error")) ==
+          doctest::Approx(*results[0].F_m_newton_error).epsilon(1e-9));
+    // Body i's left and right errors are those of contacts i and i + 1, each at least F_m_error.
+    std::stringstream bodies(field(rows[0], "per_body_error"));
+    int i = 0;
+    for (std::string body; std::getline(bodies, body, ';'); ++i) {
+        const auto bar = body.find('|');
+        REQUIRE(bar != std::string::npos);
+        CHECK(std::stod(body.substr(0, bar)) ==
+              doctest::Approx(est.per_contact_error[static_cast<std::size_t>(i)]).epsilon(1e-9));
+        CHECK(
+            std::stod(body.substr(bar + 1)) ==
+            doctest::Approx(est.per_contact_error[static_cast<std::size_t>(i) + 1]).epsilon(1e-9));
+        CHECK(std::stod(body.substr(bar + 1)) >= est.F_m_error * (1 - 1e-9));
+    }
+    CHECK(i == 3);
+    CHECK_FALSE(has_error_estimate(results[1].simulation));
+    CHECK(field(rows[1], "F_m_newton_error").empty());
+    CHECK(field(rows[1], "per_body_error").empty());
+    CHECK_FALSE(field(rows[1], "per_body").empty());
 }

@@ -72,10 +72,11 @@ threads   OpenMP threads (0: all cores);  progress  callable(fraction of points 
 Returns a dict of columns in index order: index, one column per axis (named by its key), Nm,
 fc, eps, e_r, f_r, F_m, F_m_error (NaN: not estimated), status, multistable (bool;
 False also where run.multistability_check was false, which the CSV leaves empty),
-steady_state_period (0: none), wall_time_s; with "per_body" kept, per_body (points x Nm x 2); with "regime" kept, regime,
+steady_state_period (0: none), wall_time_s; with "per_body" kept, per_body (points x Nm x 2) and per_body_error (the same shape; NaN where not estimated); with "regime" kept, regime,
 period, lambda_max, lambda_max_error; with "F_m_orbit" kept, F_m_orbit (NaN: did not settle)
 and maximum_in_transient (bool); with "attractors", F_m_max, F_m_max_error (NaN: not
-estimated), attractors and unsettled; F_m_newton for physical scenes; and cancelled.)";
+estimated), attractors and unsettled; F_m_newton and F_m_newton_error (NaN: not estimated) for
+physical scenes; and cancelled.)";
 
 // How classify() and regime_map() run, for the refusal of a run key they do not read.
 const std::string classify_runs = "it runs transient, then record periods";
@@ -173,6 +174,15 @@ void kept_columns(py::dict& d, const Study& study, const std::vector<SweepPointR
                 forces.insert(forces.end(), {b.left, b.right});
         const std::size_t n = rows.empty() ? 0 : rows.front().simulation.per_body.size();
         d["per_body"] = matrix(forces, rows.size(), n * 2).attr("reshape")(rows.size(), n, 2);
+        // NaN where no comparison run estimated the per-contact errors (as F_m_error's column).
+        std::vector<double> errors;
+        for (const auto& r : rows)
+            for (std::size_t i = 0; i < n; ++i) {
+                const auto& e = r.simulation.per_contact_error;
+                const double nan = std::numeric_limits<double>::quiet_NaN();
+                errors.insert(errors.end(), {e.empty() ? nan : e[i], e.empty() ? nan : e[i + 1]});
+            }
+        d["per_body_error"] = matrix(errors, rows.size(), n * 2).attr("reshape")(rows.size(), n, 2);
     }
     if (study.keep.regime) {
         d["regime"] = strings(rows, [](const R& r) { return to_string(r.regime->regime); });
@@ -199,8 +209,12 @@ void kept_columns(py::dict& d, const Study& study, const std::vector<SweepPointR
         d["attractors"] = column<int>(rows, [](const R& r) { return r.attractors_found; });
         d["unsettled"] = column<int>(rows, [](const R& r) { return r.attractors_unsettled; });
     }
-    if (!rows.empty() && rows.front().F_m_newton)
+    if (!rows.empty() && rows.front().F_m_newton) {
         d["F_m_newton"] = column<double>(rows, [](const R& r) { return *r.F_m_newton; });
+        d["F_m_newton_error"] = column<double>(rows, [](const R& r) {
+            return r.F_m_newton_error.value_or(std::numeric_limits<double>::quiet_NaN());
+        });
+    }
 }
 
 py::dict sweep_dict(const Study& study, std::vector<SweepPointResult> rows) {

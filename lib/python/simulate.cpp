@@ -55,7 +55,8 @@ force over one cycle of the orbit a periodic run settled on, or None), maximum_i
 start_up_periods and start_up_in_window (a run that did not settle: the periods the row's
 start-up takes to decay, and whether the run discarded fewer, so that F_m may be the
 start-up's), per_body (Nm x 2 float64: max force on the left and right of
-each body), per_body_time (Nm x 2), per_contact (dict of arrays force, time, impacts, Nm + 1
+each body), per_body_error (Nm x 2: the errors of the contacts on either side, or None where
+no comparison run estimated them), per_body_time (Nm x 2), per_contact (dict of arrays force, time, impacts, Nm + 1
 entries, and force_error: an array, or None where no comparison run estimated it), steady_state_period (int or None), steady_state_time, cycle_entry_period (int or
 None: the period from which on the state stayed within 1e-3 of repeating, where the transient
 ended), status ("completed",
@@ -100,6 +101,14 @@ py::dict result_dict(const std::string& report, const SimulationResult& r, const
     }
     d["per_body"] = matrix(forces, r.per_body.size(), 2);
     d["per_body_time"] = matrix(times, r.per_body.size(), 2);
+    if (r.per_contact_error.empty()) {
+        d["per_body_error"] = py::none();
+    } else {
+        std::vector<double> errors;
+        for (std::size_t i = 0; i < r.per_body.size(); ++i)
+            errors.insert(errors.end(), {r.per_contact_error[i], r.per_contact_error[i + 1]});
+        d["per_body_error"] = matrix(errors, r.per_body.size(), 2);
+    }
     if (scene.physical) {
         for (double& f : forces)
             f = force_in_newtons(f, *scene.physical);

@@ -36,12 +36,17 @@ nlohmann::json parameters_json(const ReducedParameters& p) {
     return {{"Nm", p.Nm}, {"fc", p.fc}, {"eps", p.eps}, {"e_r", p.e_r}, {"f_r", p.f_r}};
 }
 
-/// Each body's largest force on either side, when, and in newtons for physical scenes.
+/// Each body's largest force on either side, when, their errors (the per-contact errors of the
+/// contacts on either side, null where not estimated), and in newtons for physical scenes.
 json per_body_json(const SimulationResult& r, const Scene& scene) {
     json bodies = json::array();
-    for (const auto& b : r.per_body) {
+    const bool estimated = !r.per_contact_error.empty();
+    for (std::size_t i = 0; i < r.per_body.size(); ++i) {
+        const BodyMaximum& b = r.per_body[i];
         json e = {
             {"left", b.left}, {"right", b.right}, {"t_left", b.t_left}, {"t_right", b.t_right}};
+        e["left_error"] = estimated ? json(r.per_contact_error[i]) : json(nullptr);
+        e["right_error"] = estimated ? json(r.per_contact_error[i + 1]) : json(nullptr);
         if (scene.physical) {
             e["left_newton"] = force_in_newtons(b.left, *scene.physical);
             e["right_newton"] = force_in_newtons(b.right, *scene.physical);
@@ -818,13 +823,13 @@ std::string sweep_csv_header(const Study& study) {
     for (const auto& a : study.axes)
         h += ",axis:" + a.key;
     h += ",Nm,fc,eps,e_r,f_r,F_m,F_m_error,status,multistable";
-    if (parse_scene(study.scene_json).physical) h += ",F_m_newton";
+    if (parse_scene(study.scene_json).physical) h += ",F_m_newton,F_m_newton_error";
     if (study.attractor_starts > 0) h += ",F_m_max,F_m_max_error,attractors,unsettled";
     if (study.keep.steady_state) h += ",steady_state_period";
     if (study.keep.wall_time) h += ",wall_time_s";
     if (study.keep.orbit) h += ",F_m_orbit,maximum_in_transient";
     if (study.keep.regime) h += ",regime,period,lambda_max,lambda_max_error";
-    if (study.keep.per_body) h += ",per_body";
+    if (study.keep.per_body) h += ",per_body,per_body_error";
     return h;
 }
 
@@ -843,7 +848,10 @@ std::string sweep_csv_row(const Study& study, const SweepPointResult& r) {
     // Unknown where the check was off and no attractor search ran: empty, never 0.
     if (r.multistable || s.multistability_checked || study.attractor_starts > 0)
         os << (r.multistable ? 1 : 0);
-    if (r.F_m_newton) os << ',' << *r.F_m_newton;
+    if (r.F_m_newton) {
+        os << ',' << *r.F_m_newton << ',';
+        if (r.F_m_newton_error) write_if_finite(os, *r.F_m_newton_error);
+    }
     if (study.attractor_starts > 0) {
         os << ',' << (r.F_m_max ? *r.F_m_max : s.F_m) << ',';
         if (r.F_m_max)
@@ -870,6 +878,11 @@ std::string sweep_csv_row(const Study& study, const SweepPointResult& r) {
         os << ',';
         for (std::size_t i = 0; i < s.per_body.size(); ++i)
             os << (i ? ";" : "") << s.per_body[i].left << '|' << s.per_body[i].right;
+        // Empty where no comparison run estimated the per-contact errors (as F_m_error's cell).
+        os << ',';
+        if (!s.per_contact_error.empty())
+            for (std::size_t i = 0; i < s.per_body.size(); ++i)
+                os << (i ? ";" : "") << s.per_contact_error[i] << '|' << s.per_contact_error[i + 1];
     }
     return os.str();
 }
@@ -984,13 +997,13 @@ std::vector<std::string> csv_fields(const std::string& line) {
 
 /// Whether a results row has no more columns than the header (a point without a regime leaves
 /// those out), each a number or empty, but for the columns of text (status, regime) and of
-/// lists (per_body).
+/// lists (per_body, per_body_error).
 bool row_matches_header(const std::string& line, const std::vector<std::string>& names) {
     const std::vector<std::string> fields = csv_fields(line);
     if (fields.size() > names.size() || fields.size() < 2) return false;
     for (std::size_t k = 0; k < fields.size(); ++k) {
         if (names[k] == "status" || names[k] == "regime" || names[k] == "per_body" ||
-            fields[k].empty())
+            names[k] == "per_body_error" || fields[k].empty())
             continue;
         char* tail = nullptr;
         std::strtod(fields[k].c_str(), &tail);

@@ -134,7 +134,11 @@ SweepPointResult run_point(const Study& s, const SweepPointFactory& make_point, 
     hooks.progress = keep_going;
     r.simulation = simulate(in.dynamics, in.run, in.initial, hooks);
     r.multistable = r.simulation.multistable;
-    if (in.physical) r.F_m_newton = force_in_newtons(r.simulation.F_m, *in.physical);
+    if (in.physical) {
+        r.F_m_newton = force_in_newtons(r.simulation.F_m, *in.physical);
+        if (has_error_estimate(r.simulation))
+            r.F_m_newton_error = force_in_newtons(r.simulation.F_m_error, *in.physical);
+    }
     if (s.keep.regime) {
         require_classifiable(in, "keep: \"regime\"");
         ClassifyOptions co;

@@ -54,6 +54,12 @@ def test_simulate_equals_gapchain_sim_bit_for_bit(scene_path, tmp_path):
     else:
         assert r["per_contact"]["force_error"].tolist() == errors
     assert r["per_body"].tolist() == [[b["left"], b["right"]] for b in tool["per_body"]]
+    body_errors = [[b["left_error"], b["right_error"]] for b in tool["per_body"]]
+    if None in errors:
+        assert r["per_body_error"] is None
+    else:
+        assert r["per_body_error"].tolist() == body_errors
+        assert body_errors == [[errors[i], errors[i + 1]] for i in range(len(body_errors))]
     assert r["F_m_comparison"] == tool.get("F_m_comparison")
     assert r["comparison_ended_elsewhere"] == tool.get("comparison_ended_elsewhere", False)
     if "F_m_newton" in tool:
@@ -199,6 +205,23 @@ def test_sweep_columns_follow_the_study():
     assert s["maximum_in_transient"][3] == one["maximum_in_transient"]
     orbit = one["F_m_orbit"]
     assert (np.isnan(s["F_m_orbit"][3]) if orbit is None else s["F_m_orbit"][3] == orbit)
+    assert s["per_body_error"].shape == (4, 5, 2)
+    if one["per_body_error"] is None:
+        assert np.all(np.isnan(s["per_body_error"][3]))
+    else:
+        assert s["per_body_error"][3].tolist() == one["per_body_error"].tolist()
+
+
+def test_a_physical_sweep_gives_F_m_and_its_error_in_newtons():
+    scene = {"units": "physical", "model": {"Nm": 3, "M": 100, "K": 1e5, "C": 500, "Kc": 5e6,
+             "e": 0.002}, "excitation": {"a0": 5, "f": 4},
+             "run": {"periods": 300, "transient_periods": 150}}
+    s = gapchain.sweep({"scene": scene, "parameters": {"model.e": [0.002, 0.003]}})
+    one = gapchain.simulate(scene)
+    assert s["F_m_newton"][0] == one["F_m_newton"]
+    assert s["F_m_newton_error"][0] == one["F_m_error_newton"]
+    assert np.allclose(s["F_m_newton_error"] / s["F_m_error"], s["F_m_newton"] / s["F_m"],
+                       rtol=1e-12)
 
 
 def test_accuracy_mode_is_reported_and_strict_keeps_a_periodic_answer():

@@ -93,6 +93,8 @@ struct SweepPointResult {
     int attractors_found = 0;             ///< attractors found (attractors > 0)
     int attractors_unsettled = 0;         ///< of them unsettled: F_m_max may be a transient's
     std::optional<double> F_m_newton;     ///< F_m in newtons, for physical scenes
+    /// F_m_error in newtons, for physical scenes where F_m_error was estimated [N, >= 0]
+    std::optional<double> F_m_newton_error;
 };
 
 /// Which points to run: a shard of the index range, minus those already done.

@@ -258,3 +258,27 @@ TEST_CASE("run.max_work counts the exact propagator's set-up of contact configur
     const StepPlan rk4 = plan_step(long_row, Scheme::rk4, 1e-4);
     CHECK(run_work(long_row, rk4, 7) == 46.0 * rk4.steps_per_period * 7);
 }
+
+TEST_CASE("run.max_work counts the matrix exponentials of a critically damped row on exact") {
+    // Fig 13's row at f_r = 3 on exact, 300 periods: eps = 1 ran 0.107 s where eps = 0.999 ran
+    // 0.0085 s (12.5x; Nm = 40: 150x), but was counted the same, 70,400 body-steps (7 ms).
+    const auto work = [](double eps, int Nm) {
+        const Dynamics row = Dynamics::paper_row({Nm, 60, eps, 0.06, 3.0});
+        return run_work(row, plan_step(row, Scheme::exact, 1e-4), 300);
+    };
+    CHECK(work(1.0, 5) >= 10 * work(0.999, 5));
+    CHECK(work(1.0, 5) >= 0.107 * 1e7); // the measured time, at 1e7 body-steps a second
+    CHECK(work(1.0, 40) >= 56.0 * 1e7);
+    // Only critical damping: 1e-8 below it the eigendecompositions hold (0.08 s for 2000
+    // periods, as at 0.9999).
+    CHECK(work(1.0 - 1e-8, 5) == work(0.999, 5));
+    // A row of arrays: one critically damped body is enough.
+    RunOptions o;
+    o.scheme = Scheme::exact;
+    Chain chain = Chain::homogeneous({3, 60, 0.5, 0.06, 3.0});
+    const Dynamics damped_below(chain, GroundMotion::harmonic(3.0));
+    chain.damping[1] = 2.0 * std::sqrt(chain.spring[1]);
+    const Dynamics one_critical(chain, GroundMotion::harmonic(3.0));
+    CHECK(run_work(one_critical, plan_run(one_critical, o), 300) >
+          5 * run_work(damped_below, plan_run(damped_below, o), 300));
+}

@@ -520,6 +520,17 @@ StepPlan plan_run(const Dynamics& dyn, const RunOptions& options, int samples_pe
 
 namespace {
 
+/// Whether some body's own damping is critical (u'' = -k u - c u' with c^2 = 4 k, to 1e-9
+/// relative; the chain's rates are per unit mass), so that its free motion has a double
+/// eigenvalue and no eigenvector basis (exact_propagator.cpp).
+bool critically_damped_body(const Chain& chain) {
+    for (int i = 0; i < chain.bodies(); ++i) {
+        const double c = chain.damping[i], four_k = 4.0 * chain.spring[i];
+        if (std::abs(c * c - four_k) <= 1e-9 * four_k) return true;
+    }
+    return false;
+}
+
 /// Body-steps of one period's steps, and of one new configuration's set-up (0 but on exact).
 std::pair<double, double> work_rates(const Dynamics& dyn, const StepPlan& plan, int tangents) {
     const double steps = static_cast<double>(plan.steps_per_period) * (1.0 + tangents);
@@ -529,7 +540,15 @@ std::pair<double, double> work_rates(const Dynamics& dyn, const StepPlan& plan, 
     // (1.44e7 body-steps) where Nm x steps alone counted 6164; Nm = 20: 0.094 s. Half an n^3 a
     // configuration, 2 (Nm + 1) configurations a period, gives 3.7e7 and 1.4e6: above both.
     const double n = dyn.dimension();
-    return {std::max(static_cast<double>(dyn.bodies()), 0.08 * n * n) * steps, 0.5 * n * n * n};
+    double per_period = std::max(static_cast<double>(dyn.bodies()), 0.08 * n * n) * steps;
+    // A critically damped body makes every configuration it moves free in defective: each step
+    // split at a switch, and each dense state, takes a matrix exponential. Measured on Fig 13's
+    // row at f_r = 3 (300 periods, 2026-11-27), the time above eps = 0.999's, per period: Nm 5
+    // 3.3e-4 s, 10 8.2e-4 s, 20 5.0e-3 s, 40 0.19 s (3.3e3 to 1.9e6 body-steps); 2 (Nm + 1)
+    // exponentials of 250 + n^3 / 20 body-steps a period count 3.6e3, 1.4e4, 1.4e5, 2.1e6.
+    if (critically_damped_body(dyn.chain()))
+        per_period += 2.0 * dyn.gaps() * (250.0 + 0.05 * n * n * n);
+    return {per_period, 0.5 * n * n * n};
 }
 
 /// All 2^(Nm + 1) configurations of a row whose exact-propagator cache holds them (Nm <= 11),
@@ -584,6 +603,9 @@ const StepPlan& affordable(const Dynamics& dyn, const RunOptions& options, const
                        ", each a (2 Nm)^2 product, and the exact propagator's set-up of "
                        "up to 2 (Nm + 1) contact configurations a period, (2 Nm)^3 / 2 each")
                  : std::string()) +
+            (plan.scheme == Scheme::exact && critically_damped_body(dyn.chain())
+                 ? ", and 2 (Nm + 1) matrix exponentials a period (a critically damped body)"
+                 : "") +
             ", x " + std::to_string(options.periods) + " periods",
         "shorten the run (fewer forcing periods: run.periods, or the tool's own --transient / "
         "--record / --from-transient; or a higher excitation.f_r) or raise run.max_work");

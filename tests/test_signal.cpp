@@ -42,6 +42,13 @@ TEST_CASE("a contact-free row's spectrum is one line at the forcing frequency") 
     CHECK(std::abs(top.frequency - f_r) <= s.psd.df);
     CHECK(top.label() == "1 f_r");
     CHECK(s.content.broadband_share < 1e-3);
+    // The line holds the cosine's mean square A^2 / 2, A of eq (20) (f_r on a bin: Hann's
+    // three bins hold all of it), within the error the spectrum states for it.
+    const double A = 1.0 / std::sqrt(std::pow(1 - f_r * f_r, 2) + 4 * 0.01 * f_r * f_r);
+    REQUIRE(std::isfinite(top.power_error));
+    CHECK(top.power_error >= 2 * run.tolerance * top.power);
+    CHECK(std::abs(top.power - A * A / 2) <= top.power_error);
+    CHECK(std::abs(top.frequency - f_r) <= top.frequency_error);
 }
 
 TEST_CASE("the default segment is the largest power of two up to 4096 the record holds") {

@@ -2,6 +2,7 @@
 
 #include <doctest/doctest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -123,4 +124,66 @@ TEST_CASE("bad input is refused") {
     x[5] = NAN;
     CHECK_THROWS_AS(welch_psd(x, o), std::invalid_argument);
     CHECK_THROWS_AS(parse_window("kaiser"), std::invalid_argument);
+}
+
+TEST_CASE("a peak's power error is the scatter an independent record of the signal shows") {
+    // A sine in white noise: the power in the line's bins varies from record to record. Each
+    // record's own error (from its segments) must match the spread over 200 records.
+    PsdOptions o;
+    o.sample_rate = 32.0;
+    o.segment_length = 256;
+    const double f = 2.0; // on a bin: df = 0.125
+    std::mt19937 gen(3);
+    std::normal_distribution<double> noise(0.0, 1.0);
+    std::vector<double> powers, errors;
+    for (int record = 0; record < 200; ++record) {
+        std::vector<double> x(256 * 16);
+        for (std::size_t i = 0; i < x.size(); ++i)
+            x[i] = 0.3 * std::sin(2 * pi * f * i / o.sample_rate) + noise(gen);
+        const Psd psd = welch_psd(x, o);
+        const SpectralContent c = spectral_content(psd, f);
+        REQUIRE_FALSE(c.peaks.empty());
+        const SpectralPeak& line = c.peaks.front();
+        REQUIRE(line.frequency == doctest::Approx(f));
+        CHECK(line.frequency_error == doctest::Approx(0.5 * psd.df));
+        CHECK(std::isnan(line.power_error)); // spectral_content() alone does not estimate it
+        powers.push_back(line.power);
+        errors.push_back(band_power_errors(x, o, {{line.first_bin, line.last_bin}}).at(0));
+    }
+    double mean = 0.0, spread = 0.0;
+    for (double p : powers)
+        mean += p / powers.size();
+    for (double p : powers)
+        spread += (p - mean) * (p - mean) / (powers.size() - 1);
+    spread = std::sqrt(spread);
+    std::sort(errors.begin(), errors.end());
+    const double median = errors[errors.size() / 2];
+    // Within a factor 1.5 either way (the overlap's correlation is approximated).
+    CHECK(median > spread / 1.5);
+    CHECK(median < spread * 1.5);
+}
+
+TEST_CASE("a periodic record's power error is at round-off; one segment has none") {
+    PsdOptions o;
+    o.sample_rate = 64.0;
+    o.segment_length = 512; // 8 periods of the unit-frequency sine a segment
+    std::vector<double> x(512 * 4);
+    for (std::size_t i = 0; i < x.size(); ++i)
+        x[i] = std::sin(2 * pi * i / o.sample_rate) + 0.1 * std::sin(6 * pi * i / o.sample_rate);
+    const SpectralContent c = spectral_content(welch_psd(x, o), 1.0);
+    REQUIRE(c.peaks.size() >= 2);
+    for (const SpectralPeak& p : c.peaks) {
+        const double e = band_power_errors(x, o, {{p.first_bin, p.last_bin}}).at(0);
+        CHECK(e <= 1e-12 * c.peaks.front().power);
+    }
+    // A frequency between bins lies within half a bin of its peak.
+    std::vector<double> off(512);
+    for (std::size_t i = 0; i < off.size(); ++i)
+        off[i] = std::sin(2 * pi * 1.37 * i / o.sample_rate);
+    const SpectralContent one = spectral_content(welch_psd(off, o), 1.37);
+    REQUIRE_FALSE(one.peaks.empty());
+    CHECK(std::abs(one.peaks.front().frequency - 1.37) <= one.peaks.front().frequency_error);
+    CHECK(std::isnan(band_power_errors(off, o, {{1, 3}}).at(0)));
+    CHECK_THROWS_AS(band_power_errors(off, o, {{3, 1}}), std::invalid_argument);
+    CHECK_THROWS_AS(band_power_errors(off, o, {{0, 257}}), std::invalid_argument);
 }

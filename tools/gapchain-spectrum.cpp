@@ -7,21 +7,34 @@
 #include "gapchain/spectrum.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <string>
 
 namespace {
 
 using namespace gapchain;
+
+std::string short_number(double x) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%.2g", x);
+    return text;
+}
 
 void print_spectrum(const RowSpectrumOptions& o, const RowSpectrum& s) {
     std::printf("gapchain-spectrum: %s, %ld samples at %g per unit time, %d segments\n",
                 o.variable.c_str(), s.samples, s.sample_rate, s.psd.segments);
     std::printf("broadband share %.4f (power away from m/n f_r, n <= %d)\n",
                 s.content.broadband_share, o.order);
-    for (std::size_t i = 0; i < std::min<std::size_t>(8, s.content.peaks.size()); ++i)
-        std::printf("  peak %-10s f = %.5f  power %.3g\n", s.content.peaks[i].label().c_str(),
-                    s.content.peaks[i].frequency, s.content.peaks[i].power);
+    for (std::size_t i = 0; i < std::min<std::size_t>(8, s.content.peaks.size()); ++i) {
+        const SpectralPeak& p = s.content.peaks[i];
+        const std::string error = std::isfinite(p.power_error)
+                                      ? " +- " + short_number(p.power_error)
+                                      : std::string(" (error: one segment, not estimated)");
+        std::printf("  peak %-10s f = %.5f +- %.2g  power %.3g%s\n", p.label().c_str(), p.frequency,
+                    p.frequency_error, p.power, error.c_str());
+    }
     std::printf("wall time %.3f s\n", s.wall_time_s);
 }
 

@@ -86,7 +86,9 @@ window    "hann" or "rectangular";  order  largest subharmonic order n labelled,
 
 Returns a dict: frequency ((n,) cycles per reduced time unit), f_over_f_r, density
 (signal^2 per unit frequency), df, segment (the length used), segments, broadband_share (power away from m/n f_r, [0, 1]),
-peaks (dict of columns frequency, power, numerator, denominator, label), sample_rate, status, wall_time_s.)";
+peaks (dict of columns frequency, frequency_error (df / 2), power, power_error (the larger of
+the segments' spread and 2 run.tolerance x power; NaN with a single segment), numerator,
+denominator, label), sample_rate, status, wall_time_s.)";
 
 constexpr const char* lyapunov_doc =
     R"(lyapunov(scene=None, *, count=0, progress=None, **keys) -> dict
@@ -246,7 +248,10 @@ py::dict peaks_dict(const SpectralContent& content) {
     using Peak = SpectralPeak;
     py::dict d;
     d["frequency"] = column<double>(content.peaks, [](const Peak& p) { return p.frequency; });
+    d["frequency_error"] =
+        column<double>(content.peaks, [](const Peak& p) { return p.frequency_error; });
     d["power"] = column<double>(content.peaks, [](const Peak& p) { return p.power; });
+    d["power_error"] = column<double>(content.peaks, [](const Peak& p) { return p.power_error; });
     d["numerator"] = column<int>(content.peaks, [](const Peak& p) { return p.numerator; });
     d["denominator"] = column<int>(content.peaks, [](const Peak& p) { return p.denominator; });
     d["label"] = strings(content.peaks, [](const Peak& p) { return p.label(); });

@@ -800,10 +800,15 @@ std::string to_json(const AnalyticEstimates& a, const Scene& scene) {
 std::string peaks_csv(const SpectralContent& content, double f_r) {
     std::ostringstream os;
     os.precision(10);
-    os << "f,f_over_f_r,power,label\n";
-    for (const auto& pk : content.peaks)
+    // The error columns come last: scripts that read the first four keep working. An error
+    // not estimated (a single segment) is an empty field.
+    os << "f,f_over_f_r,power,label,f_error,power_error\n";
+    for (const auto& pk : content.peaks) {
         os << pk.frequency << ',' << pk.frequency / f_r << ',' << pk.power << ',' << pk.label()
-           << '\n';
+           << ',' << pk.frequency_error << ',';
+        write_if_finite(os, pk.power_error);
+        os << '\n';
+    }
     return os.str();
 }
 

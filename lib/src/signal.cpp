@@ -110,6 +110,17 @@ RowSpectrum row_spectrum(const Dynamics& dyn, const RunOptions& run, const RowSp
     po.window = o.window;
     r.psd = welch_psd(signal.values, po);
     r.content = spectral_content(r.psd, dyn.ground_motion().f_r(), o.order);
+    std::vector<std::pair<int, int>> bands;
+    for (const SpectralPeak& p : r.content.peaks)
+        bands.emplace_back(p.first_bin, p.last_bin);
+    const std::vector<double> spread = band_power_errors(signal.values, po, bands);
+    // A power is an amplitude squared: the samples' relative error run.tolerance moves it by
+    // twice that. The segments' spread is the sampling error; a periodic record has none.
+    for (std::size_t i = 0; i < bands.size(); ++i) {
+        SpectralPeak& p = r.content.peaks[i];
+        if (std::isfinite(spread[i]))
+            p.power_error = std::max(spread[i], 2.0 * run.tolerance * p.power);
+    }
     return finish();
 }
 

@@ -69,48 +69,119 @@ struct FftwBuffers {
 
 } // namespace
 
-Psd welch_psd(const std::vector<double>& signal, const PsdOptions& o) {
-    detail::require_range("sample_rate", o.sample_rate, 0.0, 1e12, detail::Bound::open_low);
-    detail::require_range("segment_length", o.segment_length, 8, 1 << 24);
-    detail::require_range("overlap", o.overlap, 0.0, 0.95);
-    const int n = o.segment_length;
-    if (signal.size() < static_cast<std::size_t>(n))
-        throw std::invalid_argument("signal: needs at least segment_length = " + std::to_string(n) +
-                                    " samples, got " + std::to_string(signal.size()));
-    for (double x : signal)
-        if (!std::isfinite(x)) throw std::invalid_argument("signal: every sample must be finite");
-    const double mean =
-        o.remove_mean ? std::accumulate(signal.begin(), signal.end(), 0.0) / signal.size() : 0.0;
+namespace {
 
-    std::vector<double> w(n, 1.0);
-    if (o.window == Window::hann)
-        for (int i = 0; i < n; ++i)
-            w[i] = 0.5 - 0.5 * std::cos(2.0 * std::numbers::pi * i / n);
-    const double w2 = std::inner_product(w.begin(), w.end(), w.begin(), 0.0);
-
-    const int hop = std::max(1, static_cast<int>(std::lround(n * (1.0 - o.overlap))));
-    const fftw_plan plan = PlanCache::instance().plan(n);
-    FftwBuffers buf(n);
-    Psd psd;
-    const int bins = n / 2 + 1;
-    psd.density.assign(bins, 0.0);
-    for (std::size_t start = 0; start + n <= signal.size(); start += hop) {
-        for (int i = 0; i < n; ++i)
-            buf.in[i] = (signal[start + i] - mean) * w[i];
-        fftw_execute_dft_r2c(plan, buf.in, buf.out);
-        for (int k = 0; k < bins; ++k)
-            psd.density[k] += buf.out[k][0] * buf.out[k][0] + buf.out[k][1] * buf.out[k][1];
-        ++psd.segments;
+/// Welch's segments of a signal, each windowed and transformed in turn: the one loop behind
+/// the PSD and its band errors.
+class WelchSegments {
+public:
+    WelchSegments(const std::vector<double>& signal, const PsdOptions& o)
+        : m_signal(signal), m_n(o.segment_length), m_w(o.segment_length, 1.0),
+          m_hop(std::max(1, static_cast<int>(std::lround(m_n * (1.0 - o.overlap))))),
+          m_plan(PlanCache::instance().plan(m_n)), m_buffers(m_n) {
+        detail::require_range("sample_rate", o.sample_rate, 0.0, 1e12, detail::Bound::open_low);
+        detail::require_range("segment_length", o.segment_length, 8, 1 << 24);
+        detail::require_range("overlap", o.overlap, 0.0, 0.95);
+        if (signal.size() < static_cast<std::size_t>(m_n))
+            throw std::invalid_argument(
+                "signal: needs at least segment_length = " + std::to_string(m_n) +
+                " samples, got " + std::to_string(signal.size()));
+        for (double x : signal)
+            if (!std::isfinite(x))
+                throw std::invalid_argument("signal: every sample must be finite");
+        m_mean = o.remove_mean ? std::accumulate(signal.begin(), signal.end(), 0.0) / signal.size()
+                               : 0.0;
+        if (o.window == Window::hann)
+            for (int i = 0; i < m_n; ++i)
+                m_w[i] = 0.5 - 0.5 * std::cos(2.0 * std::numbers::pi * i / m_n);
+        const double w2 = std::inner_product(m_w.begin(), m_w.end(), m_w.begin(), 0.0);
+        // One-sided density: |X_k|^2 / (fs sum w^2), doubled except at DC and (even n) Nyquist.
+        m_scale.resize(m_n / 2 + 1);
+        for (int k = 0; k <= m_n / 2; ++k) {
+            const bool edge = k == 0 || (m_n % 2 == 0 && k == m_n / 2);
+            m_scale[k] = (edge ? 1.0 : 2.0) / (o.sample_rate * w2);
+        }
     }
-    // One-sided density: |X_k|^2 / (fs sum w^2), doubled except at DC and (even n) Nyquist.
-    psd.df = o.sample_rate / n;
-    psd.frequency.resize(bins);
-    for (int k = 0; k < bins; ++k) {
-        const bool edge = k == 0 || (n % 2 == 0 && k == n / 2);
-        psd.density[k] *= (edge ? 1.0 : 2.0) / (o.sample_rate * w2 * psd.segments);
-        psd.frequency[k] = k * psd.df;
+
+    /// Calls segment(density) for each segment in turn (bins 0 .. n / 2, one segment's
+    /// one-sided density); returns the number of segments.
+    template <class Segment>
+    int each(Segment&& segment) {
+        std::vector<double> density(m_scale.size());
+        int count = 0;
+        for (std::size_t start = 0; start + m_n <= m_signal.size(); start += m_hop, ++count) {
+            for (int i = 0; i < m_n; ++i)
+                m_buffers.in[i] = (m_signal[start + i] - m_mean) * m_w[i];
+            fftw_execute_dft_r2c(m_plan, m_buffers.in, m_buffers.out);
+            for (std::size_t k = 0; k < density.size(); ++k)
+                density[k] = m_scale[k] * (m_buffers.out[k][0] * m_buffers.out[k][0] +
+                                           m_buffers.out[k][1] * m_buffers.out[k][1]);
+            segment(density);
+        }
+        return count;
+    }
+
+    [[nodiscard]] int hop() const { return m_hop; }
+
+private:
+    const std::vector<double>& m_signal;
+    int m_n;
+    std::vector<double> m_w;
+    int m_hop;
+    fftw_plan m_plan;
+    FftwBuffers m_buffers;
+    double m_mean = 0.0;
+    std::vector<double> m_scale;
+};
+
+} // namespace
+
+Psd welch_psd(const std::vector<double>& signal, const PsdOptions& o) {
+    WelchSegments segments(signal, o);
+    Psd psd;
+    psd.density.assign(static_cast<std::size_t>(o.segment_length / 2 + 1), 0.0);
+    psd.segments = segments.each([&](const std::vector<double>& density) {
+        for (std::size_t k = 0; k < density.size(); ++k)
+            psd.density[k] += density[k];
+    });
+    psd.df = o.sample_rate / o.segment_length;
+    psd.frequency.resize(psd.density.size());
+    for (std::size_t k = 0; k < psd.density.size(); ++k) {
+        psd.density[k] /= psd.segments;
+        psd.frequency[k] = static_cast<double>(k) * psd.df;
     }
     return psd;
+}
+
+std::vector<double> band_power_errors(const std::vector<double>& signal, const PsdOptions& o,
+                                      const std::vector<std::pair<int, int>>& bands) {
+    WelchSegments segments(signal, o);
+    for (const auto& [first, last] : bands)
+        if (first < 0 || last < first || last > o.segment_length / 2)
+            throw std::invalid_argument("bands: each must be 0 <= first <= last <= " +
+                                        std::to_string(o.segment_length / 2) + ", got [" +
+                                        std::to_string(first) + ", " + std::to_string(last) + "]");
+    const double df = o.sample_rate / o.segment_length;
+    // Welford's running mean and spread of each band's power over the segments.
+    std::vector<double> mean(bands.size(), 0.0), squares(bands.size(), 0.0);
+    int count = 0;
+    segments.each([&](const std::vector<double>& density) {
+        ++count;
+        for (std::size_t b = 0; b < bands.size(); ++b) {
+            double power = 0.0;
+            for (int k = bands[b].first; k <= bands[b].second; ++k)
+                power += density[static_cast<std::size_t>(k)] * df;
+            const double delta = power - mean[b];
+            mean[b] += delta / count;
+            squares[b] += delta * (power - mean[b]);
+        }
+    });
+    std::vector<double> errors(bands.size(), std::numeric_limits<double>::quiet_NaN());
+    if (count < 2) return errors;
+    const double span = static_cast<double>(count - 1) * segments.hop() / o.segment_length + 1.0;
+    for (std::size_t b = 0; b < bands.size(); ++b)
+        errors[b] = std::sqrt(squares[b] / (count - 1) / span);
+    return errors;
 }
 
 std::string SpectralPeak::label() const {
@@ -148,7 +219,10 @@ SpectralContent spectral_content(const Psd& psd, double f_r, int max_order, int 
         if (d <= psd.density[k - 1] || d < psd.density[k + 1] || d < 1e-6 * largest) continue;
         SpectralPeak p;
         p.frequency = psd.frequency[k];
-        for (int j = std::max(1, k - width); j <= std::min(bins - 1, k + width); ++j)
+        p.frequency_error = 0.5 * psd.df;
+        p.first_bin = std::max(1, k - width);
+        p.last_bin = std::min(bins - 1, k + width);
+        for (int j = p.first_bin; j <= p.last_bin; ++j)
             p.power += psd.density[j] * psd.df;
         // The one fraction m/n (n <= max_order) of f_r whose nearest bin is the peak's; none
         // where two are (a segment of few forcing periods): an aliased 0.375 f_r, a bin from

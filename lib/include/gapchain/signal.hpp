@@ -57,12 +57,14 @@ struct RowSpectrumOptions {
 
 /// The recorded signal's size, its PSD and its reading against f_r.
 struct RowSpectrum {
-    RunOutcome outcome;       ///< the run (psd and content are empty unless it completed)
-    long samples = 0;         ///< samples recorded
-    int segment = 0;          ///< Welch segment used [samples]
-    double sample_rate = 0;   ///< [samples per unit reduced time]
-    Psd psd;                  ///< Welch PSD of the variable
-    SpectralContent content;  ///< peaks and broadband share
+    RunOutcome outcome;     ///< the run (psd and content are empty unless it completed)
+    long samples = 0;       ///< samples recorded
+    int segment = 0;        ///< Welch segment used [samples]
+    double sample_rate = 0; ///< [samples per unit reduced time]
+    Psd psd;                ///< Welch PSD of the variable
+    /// Peaks and broadband share; each peak's power_error is the larger of its segments'
+    /// spread (band_power_errors()) and 2 run.tolerance x power, NaN with a single segment
+    SpectralContent content;
     double wall_time_s = 0.0; ///< the run and the PSD [s]
 };
 

@@ -3,8 +3,10 @@
 /// Power spectral density of a uniformly sampled signal (Welch's method, FFTW), peaks labelled
 /// as harmonics or subharmonics of the forcing, and a broadband indicator.
 
+#include <limits>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 namespace gapchain {
@@ -39,10 +41,17 @@ Psd welch_psd(const std::vector<double>& signal, const PsdOptions& options);
 /// A spectral peak and what it is relative to the forcing frequency f_r.
 struct SpectralPeak {
     double frequency = 0.0; ///< [1 / reduced time]
-    double power = 0.0;     ///< power in the peak's bins (density * df summed)
-    int numerator = 0;      ///< the peak is at numerator / denominator * f_r, if labelled
-    int denominator = 0;    ///< 1: harmonic; > 1: subharmonic order; 0: unlabelled (no
-                            ///< m/n within the peak's bins, or more than one)
+    /// Half the frequency resolution, df / 2 [1 / reduced time]: the line lies within it
+    double frequency_error = 0.0;
+    double power = 0.0; ///< power in the peak's bins (density * df summed)
+    /// Estimated error of power [signal^2, >= 0]: band_power_errors() where the caller sets it;
+    /// NaN where not estimated (spectral_content() alone, or fewer than 2 segments)
+    double power_error = std::numeric_limits<double>::quiet_NaN();
+    int first_bin = 0; ///< the peak's bins, first_bin .. last_bin of the PSD
+    int last_bin = 0;
+    int numerator = 0;   ///< the peak is at numerator / denominator * f_r, if labelled
+    int denominator = 0; ///< 1: harmonic; > 1: subharmonic order; 0: unlabelled (no
+                         ///< m/n within the peak's bins, or more than one)
     [[nodiscard]] std::string label() const; ///< "2 f_r", "1/2 f_r", "3/4 f_r", or "-"
 };
 
@@ -51,6 +60,16 @@ struct SpectralContent {
     std::vector<SpectralPeak> peaks; ///< local maxima above 1e-6 of the largest, by power
     double broadband_share = 0.0;    ///< power away from every m/n f_r (n <= max_order), [0, 1]
 };
+
+/// The sampling error of each band's power in welch_psd(signal, options): the band (bins
+/// first .. last, 0 <= first <= last <= segment_length / 2) is summed in every segment, and the
+/// standard deviation of those sums over the segments is divided by the square root of the
+/// record's length in whole segments, (segments - 1) x hop / segment_length + 1 (overlapping
+/// segments are not independent). NaN for every band where the record holds fewer than 2
+/// segments. A signal that repeats segment to segment (a periodic motion sampled over whole
+/// periods) has an error at round-off: what remains is the integration's.
+std::vector<double> band_power_errors(const std::vector<double>& signal, const PsdOptions& options,
+                                      const std::vector<std::pair<int, int>>& bands);
 
 /// Finds the peaks of psd and measures its broadband share: power more than `width` bins away
 /// from every frequency m/n f_r with 1 <= n <= max_order (f_r > 0, max_order >= 1).

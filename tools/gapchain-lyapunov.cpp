@@ -16,7 +16,8 @@ using namespace gapchain;
 
 void print_exponents(const Scene& scene, const LyapunovResult& r, int k) {
     const ReducedParameters& p = scene.reduced;
-    std::printf("gapchain-lyapunov: %s f_r=%g, averaged over %.4g time units\n",
+    std::printf("gapchain-lyapunov: %s f_r=%g, averaged over %.4g time units (+- one standard "
+                "error over 10 blocks: two runs can differ by twice it)\n",
                 row_label(scene).c_str(), p.f_r, r.averaging_time);
     bool unestimated = false;
     for (int i = 0; i < k; ++i) {

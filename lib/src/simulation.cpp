@@ -203,16 +203,16 @@ double transient_excess(const RunOptions& options, const SimulationResult& resul
 }
 
 /// The order at which F_m converges with the step of a fixed-step scheme: the scheme's own,
-/// but at most 2.5 under a p^(3/2) contact law (Hertz, Hunt-Crossley), whose force leaves the
+/// but at most 1.5 under a p^(3/2) contact law (Hertz, Hunt-Crossley), whose force leaves the
 /// motion's third derivative singular, t^(1/2), at each contact onset, so that the error of the
-/// step after it depends on where the onset falls and F_m converges erratically. Measured on
-/// Nm 5, fc 100, eps 0.5, e_r 0.5, f_r 1 (Hertz, rk4, against rk8pd at 1e-10): errors -4.6e-6,
-/// -1.3e-6, -1.5e-6, -1.5e-7, -5.4e-8, -6.4e-9, -5.4e-10 at 111, 223, 446 ... 7136 steps a
-/// period, 2.9 a halving on average but not monotone: order 4 made the bar 5.1e-7 on an error of
-/// 1.27e-6 (docs/accuracy.md).
+/// step after it depends on where the onset falls and F_m converges erratically at the default
+/// step. Measured against rk8pd at 1e-10 (docs/accuracy.md): Hertz, Nm 5, fc 100, eps 0.5,
+/// e_r 0.5, f_r 1: -4.6e-6, -1.3e-6, -1.5e-6, -1.5e-7 at 2h, h, h/2, h/4 (order 4 made the bar
+/// 5.1e-7); Hunt-Crossley, Nm 3, fc 153.9, eps 0.063, e_r 0.092, f_r 0.772: -4.7e-6, -2.1e-6,
+/// -1.9e-6, -2.0e-7, a local order of 1.2 from 2h to h (order 2.5 made the bar 1.1e-6).
 double convergence_order(const Dynamics& dyn, const SchemeTraits& tr) {
     const bool three_halves = dyn.chain().law != ContactLaw::linear;
-    return three_halves ? std::min(static_cast<double>(tr.order), 2.5)
+    return three_halves ? std::min(static_cast<double>(tr.order), 1.5)
                         : static_cast<double>(tr.order);
 }
 

@@ -541,6 +541,13 @@ std::pair<double, double> work_rates(const Dynamics& dyn, const StepPlan& plan, 
     // configuration, 2 (Nm + 1) configurations a period, gives 3.7e7 and 1.4e6: above both.
     const double n = dyn.dimension();
     double per_period = std::max(static_cast<double>(dyn.bodies()), 0.08 * n * n) * steps;
+    // Each contact switch splits a step (one more piece, a product per vector) and is located
+    // by root finding on the propagator's dense states: about 100 body-steps, with about two
+    // switches a contact per natural period (1 reduced time). Without it a 16-step plan (f_r
+    // >= 1) was counted 3-5 times short: Fig 13's row, Nm 2 and 5 at f_r = 1, 3000 periods, ran
+    // 0.13 s and 0.35 s, counted 0.026 s and 0.11 s (2026-11-27); f_r = 0.1 was counted right
+    // by its 440 steps a period and is now 5 times over.
+    per_period += 2.0 * dyn.gaps() * dyn.period() * (100.0 + (1.0 + tangents) * 0.08 * n * n);
     // A critically damped body makes every configuration it moves free in defective: each step
     // split at a switch, and each dense state, takes a matrix exponential. Measured on Fig 13's
     // row at f_r = 3 (300 periods, 2026-11-27), the time above eps = 0.999's, per period: Nm 5
@@ -599,9 +606,10 @@ const StepPlan& affordable(const Dynamics& dyn, const RunOptions& options, const
         "Nm " + std::to_string(dyn.bodies()) + " x " + std::to_string(plan.steps_per_period) +
             " steps per forcing period" +
             (plan.scheme == Scheme::exact
-                 ? std::string(
-                       ", each a (2 Nm)^2 product, and the exact propagator's set-up of "
-                       "up to 2 (Nm + 1) contact configurations a period, (2 Nm)^3 / 2 each")
+                 ? std::string(", each a (2 Nm)^2 product, about 2 contact switches a contact "
+                               "per natural period, 100 body-steps each, and the exact "
+                               "propagator's set-up of up to 2 (Nm + 1) contact configurations "
+                               "a period, (2 Nm)^3 / 2 each")
                  : std::string()) +
             (plan.scheme == Scheme::exact && critically_damped_body(dyn.chain())
                  ? ", and 2 (Nm + 1) matrix exponentials a period (a critically damped body)"

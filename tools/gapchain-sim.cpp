@@ -254,6 +254,19 @@ Scene load_scene_for(const cli::SceneArguments& args, const std::string& traject
     return cli::load(args);
 }
 
+// The trajectory's file (opened in trajectory) and sink, if path is given: checked first, so
+// that a trajectory past what memory or disk hold leaves no file (simulate() checks it too).
+SimulationHooks trajectory_hooks(const Scene& scene, const Dynamics& dyn, const std::string& path,
+                                 std::optional<OutputFile>& trajectory) {
+    SimulationHooks hooks;
+    if (path.empty()) return hooks;
+    require_trajectory_fits(dyn, scene.run, scene.trajectory_every);
+    trajectory.emplace(path);
+    hooks.trajectory = trajectory_sink(*trajectory, dyn.bodies());
+    hooks.trajectory_every = scene.trajectory_every;
+    return hooks;
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -284,12 +297,7 @@ int main(int argc, char** argv) {
             outputs.file(trajectory_path, "--trajectory");
             const Dynamics dyn = scene.dynamics();
             std::optional<OutputFile> trajectory;
-            SimulationHooks hooks;
-            if (!trajectory_path.empty()) {
-                trajectory.emplace(trajectory_path);
-                hooks.trajectory = trajectory_sink(*trajectory, dyn.bodies());
-                hooks.trajectory_every = scene.trajectory_every;
-            }
+            SimulationHooks hooks = trajectory_hooks(scene, dyn, trajectory_path, trajectory);
             cli::Progress progress("gapchain-sim", !quiet);
             hooks.progress = progress.callback();
             const SimulationResult r = simulate(dyn, scene.run, scene.initial, hooks);

@@ -487,10 +487,28 @@ SimulationResult main_run_result(const Dynamics& dyn, const RunOptions& options,
 
 } // namespace
 
+void require_trajectory_fits(const Dynamics& dyn, const RunOptions& requested, int every) {
+    detail::require_range("output.trajectory_every", every, 1, 1'000'000);
+    const RunOptions options = with_transient_resolved(dyn, requested);
+    const double recorded = static_cast<double>(options.periods - options.transient_periods);
+    const double rows = recorded * plan_run(dyn, options).steps_per_period / every + 1.0;
+    const double values = rows * (1.0 + dyn.dimension());
+    if (values <= max_trajectory_values) return;
+    throw std::invalid_argument(
+        "output.trajectory_every: the trajectory would hold about " + detail::format_number(rows) +
+        " rows of " + std::to_string(1 + dyn.dimension()) + " values (" +
+        detail::format_number(std::ceil(values * 8e-9)) + " GB in memory, about " +
+        detail::format_number(std::ceil(values * 20e-9)) + " GB as CSV); at most " +
+        detail::format_number(max_trajectory_values) +
+        " values: raise output.trajectory_every (now " + std::to_string(every) +
+        ", at most 1000000) or record fewer periods (run.periods, run.transient_periods)");
+}
+
 SimulationResult simulate(const Dynamics& dyn, const RunOptions& requested,
                           const std::vector<double>& initial, const SimulationHooks& hooks) {
     const auto start = std::chrono::steady_clock::now();
     validate(requested);
+    if (hooks.trajectory) require_trajectory_fits(dyn, requested, hooks.trajectory_every);
     const RunOptions options = with_transient_resolved(dyn, requested);
     std::optional<PlannedRun> planned;
     const SingleRun main = run_settled(dyn, options, initial, hooks, planned);

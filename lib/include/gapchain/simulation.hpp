@@ -148,6 +148,17 @@ struct SimulationHooks {
     std::vector<Observer*> observers; ///< further observers of the main run (not owned)
 };
 
+/// The most trajectory values (rows x (1 + 2 Nm) columns) one run may record: 2.5e8, 2 GB as
+/// doubles in memory, about 5 GB as CSV.
+inline constexpr double max_trajectory_values = 2.5e8;
+
+/// Throws std::invalid_argument naming output.trajectory_every and run.periods, with the
+/// estimated rows and their size, when a run of options on dyn recording every `every`-th step
+/// (>= 1) after its transient would hold more than max_trajectory_values: a long run's
+/// trajectory filled the memory (Python) or the disk (CSV) after its work check had passed.
+/// Rows are counted as the recorded periods' planned steps / every (split steps add more).
+void require_trajectory_fits(const Dynamics& dyn, const RunOptions& options, int every);
+
 /// Simulates dyn from initial (2 Nm entries; empty = rest) under options; an auto transient is
 /// resolved by with_transient_resolved() (result.transient_periods_used).
 ///
@@ -162,8 +173,9 @@ struct SimulationHooks {
 ///   above F_m_orbit) at half the step and at twice it (rk4's default step is often not yet
 ///   in its asymptotic order: docs/accuracy.md), and report the larger of 2 |F_m - F_m'| /
 ///   (1 - 2^-p) (half the step) and 2 |F_m - F_m''| / (2^p - 1) (twice it): Richardson with
-///   a safety factor of 2, p the scheme's order; F_m' is a comparison run's orbit maximum over
-///   one cycle where that run took its own maximum in the transient, and the bar then also
+///   a safety factor of 2, p the scheme's order (at most 1.5 under a p^(3/2) contact law,
+///   whose F_m converges erratically: docs/accuracy.md); F_m' is a comparison run's orbit maximum
+///   over one cycle where that run took its own maximum in the transient, and the bar then also
 ///   covers how far that run's window maximum lies above F_m (its path's start-up reached into
 ///   the window). Where the half-step run does not settle on that orbit, 2 |F_m - F_m'|; where
 ///   the run at twice the step ends elsewhere, |F_m - F_m''| at least. Others - a run that did not

@@ -66,7 +66,8 @@ sampling of their product; every point simulated (and classified if the study ke
 "regime"), in parallel: gapchain-sweep in-process, without the results file.
 
 study     a study dict ({"scene": {...}, "parameters": {"fc": [1, 10], "e_r": {"lin":
-          [0, 1.5, 61]}}, "sample": ..., "keep": [...]}) or the path of a study file
+          [0, 1.5, 61]}}, "sample": ..., "keep": [...]}) or the path of a study file; at
+          most 1e6 points (every row is kept until the call returns; gapchain-sweep streams)
 threads   OpenMP threads (0: all cores);  progress  callable(fraction of points done)
 
 Returns a dict of columns in index order: index, one column per axis (named by its key), Nm,
@@ -237,8 +238,18 @@ py::dict sweep_dict(const Study& study, std::vector<SweepPointResult> rows) {
     return d;
 }
 
+/// The most points gapchain.sweep() takes: it keeps every row (about 1.5 KB with its vectors)
+/// until it returns, where gapchain-sweep streams them to its file.
+constexpr long python_sweep_points = 1'000'000;
+
 py::dict sweep_py(const py::object& study_arg, int threads, const py::object& progress) {
     const Study study = to_study(study_arg);
+    if (point_count(study) > python_sweep_points)
+        throw std::invalid_argument(
+            "study: " + std::to_string(point_count(study)) +
+            " points; sweep() keeps every row in memory until it returns (about 1.5 KB each): at "
+            "most 1000000 here; run gapchain-sweep, which writes each row as it finishes, or "
+            "split the study");
     SweepSelection selection;
     selection.threads = threads;
     std::vector<SweepPointResult> rows;

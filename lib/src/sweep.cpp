@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <map>
+#include <mutex>
 #include <stdexcept>
 
 namespace gapchain {
@@ -171,17 +173,30 @@ SweepEnd run_sweep(const Study& s, const SweepSelection& sel, const SweepPointFa
     detail::require_range("threads", sel.threads, 0, 4096);
     const std::vector<long> pending = pending_points(s, sel);
     const long total = static_cast<long>(pending.size());
-    // A finished point waits in its slot only until the sink has taken it.
-    std::vector<std::optional<SweepPointResult>> slots(pending.size());
+    // A finished point waits here only until the sink has taken it (right after, on its own
+    // thread): one slot per point in flight. A slot for every point cost 630 bytes a point up
+    // front, 6.3 GB for a study of 1e7 (the documented limit is 1e8).
+    std::map<long, SweepPointResult> finished;
+    std::mutex finished_lock;
     detail::SharedProgress shared(progress, std::max(total, 1L));
     const auto end = detail::parallel_for(
         total, detail::thread_count(sel.threads),
-        [&](long k) { slots[k] = run_point(s, make_point, pending[k], shared.item_callback()); },
         [&](long k) {
+            SweepPointResult r = run_point(s, make_point, pending[k], shared.item_callback());
+            const std::lock_guard<std::mutex> guard(finished_lock);
+            finished.emplace(k, std::move(r));
+        },
+        [&](long k) {
+            std::optional<SweepPointResult> r;
+            {
+                const std::lock_guard<std::mutex> guard(finished_lock);
+                const auto it = finished.find(k);
+                r = std::move(it->second);
+                finished.erase(it);
+            }
             // A point stopped by the cancel is not done: it is not written (a resume runs it).
             if (shared.cancelled()) return false;
-            sink(*slots[k]);
-            slots[k].reset();
+            sink(*r);
             return shared.finished();
         });
     return end == detail::LoopEnd::cancelled ? SweepEnd::cancelled : SweepEnd::completed;

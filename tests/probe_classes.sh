@@ -145,7 +145,7 @@ expect 9 2 "--out: /proc/x" "$bin/gapchain-classify" fig5.json --out /proc/x
 verdict 9
 
 # 10. SIGINT during a run removes the temporary trajectory file.
-"$bin/gapchain-sim" fig5.json --set run.periods=400000 --set run.steady_state=false \
+"$bin/gapchain-sim" fig5.json --set run.periods=400000 --set run.steady_state=false --set output.trajectory_every=100 \
     --trajectory t.csv --out t.json >/dev/null 2>&1 &
 pid=$!
 sleep 1
@@ -513,8 +513,23 @@ expect 28 2 "--from: must be a finite decimal number" "$bin/gapchain-bifurcation
 expect 28 0 "" "$bin/gapchain-sim" "$scenes/table4-experiment-harmonic.json" --set model.K=1e-200 --set model.Kc=1e-195 --set model.C=1e-199 --set model.M=1e-200 --set excitation.f=1e-3 --set run.periods=20 -q --out s28.json
 verdict 28
 
+# 29 (session 45's probe): a trajectory past what memory or disk holds passed the work check;
+# an ill-formed UTF-8 byte reached the message raw (Python raised an empty ValueError); a row
+# of clearances was titled with the default e_r.
+echo '{"model": {"Nm": 3, "fc": 100, "eps": 0.3, "e_r": 0.2}, "excitation": {"f_r": 1.3}, "run": {"periods": 300}}' >s29.json
+expect 29 2 "output.trajectory_every: the trajectory would hold about .* at most 250000000 values" "$bin/gapchain-sim" s29.json --trajectory t29.csv --set run.periods=10000000 --set run.steady_state=false --out s29.out.json
+absent 29 t29.csv s29.out.json
+printf '{"model": {"Nm": 2}, "run": {"periods": 50}, "x": "\xff"}' >utf29.json
+expect 29 2 "ill-formed UTF-8 byte; last read: '.{1,2}xFF'$" "$bin/gapchain-sim" utf29.json --out u29.json
+expect 29 0 "" "$bin/gapchain-accuracy" s29.json --set 'model.clearance=[0.2,0.2,0.2,0.2]' --schemes rk4 --periods 5 --repeats 1 --no-plot --out acc29
+grep -q "e_r=array" "$dir/stdout" || { echo "class 29: FAIL: gapchain-accuracy did not title the row e_r=array"; failed+=(29); }
+# gapchain-modes and modes() took the forcing and the start, and ignored them.
+expect 29 2 "--set excitation.f_r: gapchain-modes does not read it" "$bin/gapchain-modes" --set excitation.f_r=2 --out m29.json
+absent 29 m29.json
+verdict 29
+
 if [ "${#failed[@]}" -eq 0 ]; then
-    echo "all 28 classes checked"
+    echo "all 29 classes checked"
     exit 0
 fi
 exit 1

@@ -58,6 +58,13 @@ std::vector<Scheme> distinct_schemes(const std::vector<std::string>& names) {
     return schemes;
 }
 
+// row_label(): a row of arrays says eps/e_r = array (row_title printed the defaults).
+std::string study_title(const Scene& scene, long periods) {
+    char forcing[48];
+    std::snprintf(forcing, sizeof forcing, " f_r=%g", scene.reduced.f_r);
+    return row_label(scene) + forcing + ", " + std::to_string(periods) + " periods";
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -110,8 +117,7 @@ int main(int argc, char** argv) {
         outputs.create_folders();
         const std::string staged = outputs.staged(out);
         write_file_atomically(staged + "/work_precision.csv", work_precision_csv(study));
-        const std::string title =
-            cli::row_title(scene.reduced) + ", " + std::to_string(o.periods) + " periods";
+        const std::string title = study_title(scene, o.periods);
         if (!no_plot) cli::plot_template(staged, "work_precision", {{"TITLE", title}});
         outputs.keep();
         print_study(study, title, target);

@@ -153,6 +153,12 @@ void add_options(CLI::App& app, ModesArguments& a) {
 // The scene with --Nm and --fc applied as overrides.
 Scene load_row(ModesArguments& a) {
     cli::require_sets_read(a.scene, "gapchain-modes", {}, "its modes follow from the model alone");
+    // The forcing and the start change nothing either: a --set of them was taken and ignored.
+    for (const std::string& set : a.scene.sets)
+        if (set.rfind("excitation.", 0) == 0 || set.rfind("initial.", 0) == 0)
+            throw SceneError("--set " + set.substr(0, set.find('=')) +
+                             ": gapchain-modes does not read it (its modes follow from the model "
+                             "alone); drop the --set");
     // --Nm first: a scene read at its own Nm refused arrays of --Nm's length ("model.mass:
     // must have 5 entries" for --Nm 3), and then its own length as well.
     if (a.Nm != 0) a.scene.sets.push_back("model.Nm=" + std::to_string(a.Nm));

@@ -112,6 +112,16 @@ py::dict modes_py(const py::object& Nm, const py::object& fc, int count, const s
     if (!fc.is_none()) keys["fc"] = fc;
     // As gapchain-modes: a run or output keyword (periods=5) was taken and ignored.
     refuse_run_keys(keys, "modes", {}, "its modes follow from the model alone");
+    // The forcing and the start change nothing either (f_r=2 was taken and ignored).
+    for (const auto& [key, value] : keys) {
+        const std::string name = key.cast<std::string>();
+        const std::string dotted = scene_key(name);
+        if (dotted.rfind("excitation.", 0) == 0 || dotted.rfind("initial.", 0) == 0)
+            throw std::invalid_argument(name +
+                                        ": modes() does not read it (its modes follow from the "
+                                        "model alone); drop the " +
+                                        name + " keyword");
+    }
     const Scene scene = to_scene(scene_arg, keys);
     ModalOptions o;
     o.count = count;

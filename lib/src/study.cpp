@@ -336,7 +336,7 @@ StudyScenes::StudyScenes(const Study& study)
     try {
         m_base->root = json::parse(study.scene_json);
     } catch (const json::exception& e) {
-        throw SceneError(study.source + " scene: malformed JSON: " + e.what());
+        throw SceneError(study.source + " scene: malformed JSON: " + detail::plain_what(e));
     }
 }
 

@@ -608,3 +608,39 @@ def test_spectrum_default_segment_fits_a_shipped_scene():
     assert r["df"] == pytest.approx(r["sample_rate"] / 2048)
     with pytest.raises(ValueError, match="^segment: must be 0 .* got 8$"):
         gapchain.spectrum(scene, segment=8)
+
+
+def test_text_that_is_not_utf8_is_refused_naming_where(tmp_path):
+    # An ill-formed byte in a scene file: the library's message quotes it escaped (it raised
+    # ValueError() with no message); a lone surrogate, as os.fsdecode makes of an undecodable
+    # file name, in a path, keyword or scene value (pybind11 raised RuntimeError).
+    bad = tmp_path / "bad.json"
+    bad.write_bytes(b'{"model": {"Nm": 2}, "run": {"periods": 50}, "x": "\xff"}')
+    with pytest.raises(ValueError, match=r"ill-formed UTF-8 byte; last read: '\"\\xFF'"):
+        gapchain.simulate(str(bad))
+    with pytest.raises(ValueError, match="scene: must be valid UTF-8 text"):
+        gapchain.simulate(str(tmp_path / "\udcff.json"))
+    with pytest.raises(ValueError, match="keyword .*: must be valid UTF-8 text"):
+        gapchain.simulate(**{"run.sch\udcff": 1})
+    with pytest.raises(ValueError, match="model.contact_law: must be valid UTF-8 text"):
+        gapchain.simulate({"model": {"contact_law": "h\udcff"}})
+
+
+def test_a_trajectory_or_sweep_past_memory_is_refused_before_running():
+    start = time.monotonic()
+    with pytest.raises(ValueError, match="output.trajectory_every: the trajectory would hold"):
+        gapchain.simulate(Nm=3, fc=100, e_r=0.2, f_r=1.3, trajectory=True, periods=10**6,
+                          steady_state=False)
+    with pytest.raises(ValueError, match="study: 10000000 points; sweep\\(\\) keeps every row"):
+        gapchain.sweep({"parameters": {"f_r": {"lin": [0.5, 2, 10000]},
+                                       "e_r": {"lin": [0, 1, 1000]}}})
+    assert time.monotonic() - start < 5.0  # refused up front, not after running
+    r = gapchain.simulate(Nm=3, fc=100, e_r=0.2, f_r=1.3, trajectory=True, periods=50,
+                          steady_state=False, trajectory_every=10)
+    assert r["trajectory"]["state"].shape[1] == 6
+
+
+def test_modes_refuses_the_forcing_and_the_start():
+    for key in ("f_r", "initial.u"):
+        with pytest.raises(ValueError, match=key + ": modes\\(\\) does not read it"):
+            gapchain.modes(5, 100, **{key: 2})

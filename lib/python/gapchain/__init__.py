@@ -15,6 +15,7 @@ import collections.abc as _abc
 import functools as _functools
 import math as _math
 import numbers as _numbers
+import os as _os
 import sys as _sys
 
 
@@ -182,6 +183,33 @@ def _out_of_range(name, parameters, args, kwargs):
     return TypeError, "%s(): arguments of the wrong type; see help(gapchain.%s)" % (name, name)
 
 
+def _not_utf8(names, args, kwargs):
+    """One line naming the first argument, keyword or path that is a string UTF-8 cannot
+    encode (a lone surrogate, as os.fsdecode makes of undecodable file names), or None:
+    pybind11 raised RuntimeError "Unable to cast Python instance" for it."""
+    def bad(value):
+        if isinstance(value, _os.PathLike):
+            value = _os.fspath(value)
+        if not isinstance(value, str):
+            return False
+        try:
+            value.encode("utf-8")
+        except UnicodeEncodeError:
+            return True
+        return False
+
+    for i, value in enumerate(args):
+        if bad(value):
+            name = names[i] if i < len(names) else "argument %d" % (i + 1)
+            return "%s: must be valid UTF-8 text, got %s" % (name, _shown(value))
+    for key, value in kwargs.items():
+        if bad(key):
+            return "keyword %s: must be valid UTF-8 text" % _shown(key)
+        if bad(value):
+            return "%s: must be valid UTF-8 text, got %s" % (key, _shown(value))
+    return None
+
+
 def _typed(function):
     """function, with its arguments checked against its C++ signature first: one line naming
     the argument of the wrong kind, instead of pybind11's multi-line list of signatures or a
@@ -208,6 +236,9 @@ def _typed(function):
 
     @_functools.wraps(function)
     def call(*args, **kwargs):
+        bad = _not_utf8(names, args, kwargs)
+        if bad:
+            raise ValueError(bad)
         unknown = [key for key in kwargs if closed and key not in names]
         if unknown:
             raise TypeError("%s: unknown keyword of %s(); accepted: %s" % (
@@ -254,9 +285,12 @@ def _scene_json(value, key=""):
                 if not isinstance(k, str):
                     raise ValueError("%s: keys must be strings, got %r (%s)"
                                      % (key or "scene", k, type(k).__name__))
+                plain(k, key)
             return {k: plain(x, "%s.%s" % (key, k) if key else str(k)) for k, x in v.items()}
         if isinstance(v, (list, tuple)):
             return [plain(x, "%s[%d]" % (key, i)) for i, x in enumerate(v)]
+        if isinstance(v, str) and _not_utf8(["text"], (v,), {}):
+            raise ValueError("%s: must be valid UTF-8 text, got %s" % (key or "scene", _shown(v)))
         if v is None or isinstance(v, (bool, str)):
             return v
         if hasattr(v, "tolist"):  # NumPy scalars and arrays

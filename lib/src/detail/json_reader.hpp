@@ -182,13 +182,24 @@ std::optional<UnreadableNumber> first_unreadable_number(std::string_view text);
 std::string non_finite_literal_at(std::string_view text, std::size_t last_read, bool in_object);
 
 /// An nlohmann exception's message without its "[json.exception.parse_error.101] " prefix,
-/// which names nlohmann's internals, not the file's fault.
+/// which names nlohmann's internals, not the file's fault, and with every byte outside printable
+/// ASCII written \xNN: the message quotes the bytes last read, which may be ill-formed UTF-8
+/// (Python then raised a ValueError with no message at all) or control characters.
 inline std::string plain_what(const std::exception& e) {
     std::string what = e.what();
     if (const auto end = what.find("] ");
         what.rfind("[json.exception.", 0) == 0 && end != std::string::npos)
         what.erase(0, end + 2);
-    return what;
+    std::string printable;
+    for (const unsigned char c : what) {
+        if (c >= 0x20 && c < 0x7f) {
+            printable.push_back(static_cast<char>(c));
+            continue;
+        }
+        static constexpr char hex[] = "0123456789ABCDEF";
+        printable += {'\\', 'x', hex[c >> 4], hex[c & 15]};
+    }
+    return printable;
 }
 
 /// The deepest nesting of arrays and objects a scene or study file may have.

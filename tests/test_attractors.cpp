@@ -1,4 +1,5 @@
 #include "gapchain/attractors.hpp"
+#include "gapchain/scene.hpp"
 
 #include "gapchain/bounds.hpp"
 #include "gapchain/report.hpp"
@@ -816,7 +817,8 @@ TEST_CASE("fractions.csv: a label absent at a value has fraction 0 +- 1/N, not 0
 
     // fractions.json keeps what the CSV cannot: each value's own row, where the starts were
     // drawn, and the run time.
-    const ReducedParameters base{2, 200, 0.1, 0.351, 1.0};
+    const Scene base = parse_scene(
+        R"({"model": {"Nm": 2, "fc": 200, "eps": 0.1, "e_r": 0.351}, "excitation": {"f_r": 1}})");
     AttractorOptions o;
     o.center = {0.1, 0.0, 0.0, 0.0};
     c.wall_time_s = 3.5;

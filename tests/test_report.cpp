@@ -1,9 +1,11 @@
+#include "gapchain/orbit.hpp"
 #include "gapchain/report.hpp"
 #include "gapchain/scene.hpp"
 
 #include <doctest/doctest.h>
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <limits>
@@ -82,7 +84,9 @@ TEST_CASE("attractor and bifurcation JSON name the scheme that ran") {
     o.run.scheme = Scheme::rk4;
     o.run.step = 0.001;
     const ReducedParameters p{2, 60, 0.5, 0.1, 3.0};
-    const std::string a = to_json(AttractorSet{}, o, p);
+    const std::string a = to_json(
+        AttractorSet{}, o, parse_scene(R"({"model": {"Nm": 2, "fc": 60, "eps": 0.5, "e_r": 0.1},
+                        "excitation": {"f_r": 3}})"));
     CHECK(a.find("\"scheme\": \"rk4\"") != std::string::npos);
     CHECK(a.find("\"step\": 0.001") != std::string::npos);
     BifurcationOptions b;
@@ -149,4 +153,30 @@ TEST_CASE("simulation JSON: each body's left and right maxima carry their contac
     CHECK(body(0)["right_error"] == 2e-4);
     CHECK(body(1)["left_error"] == 2e-4);
     CHECK(body(1)["right_error"] == 3e-4);
+}
+
+TEST_CASE("a physical scene's attractors and orbit are also given in newtons") {
+    // M a0 sqrt(Kc / K) per reduced unit (MODEL.md section 3): 100 kg x 5 m/s^2 x sqrt(50).
+    const Scene scene = parse_scene(R"({"units": "physical", "model": {"Nm": 2, "M": 100,
+        "K": 1e5, "C": 500, "Kc": 5e6, "e": 0.002}, "excitation": {"a0": 5, "f": 4}})");
+    const double newtons = 100 * 5 * std::sqrt(50.0);
+    AttractorSet set;
+    set.F_m_max = 0.7;
+    set.F_m_max_error = 0.01;
+    set.attractors.resize(1);
+    set.attractors[0].F_m = 0.7;
+    const auto a = nlohmann::json::parse(to_json(set, AttractorOptions{}, scene));
+    CHECK(a.at("F_m_max_newton").get<double>() == doctest::Approx(0.7 * newtons));
+    CHECK(a.at("F_m_max_error_newton").get<double>() == doctest::Approx(0.01 * newtons));
+    CHECK(a.at("attractors")[0].at("F_m_newton").get<double>() == doctest::Approx(0.7 * newtons));
+    PeriodicOrbit orbit;
+    orbit.F_m = 0.5;
+    orbit.F_m_error = 1e-4;
+    const auto j = nlohmann::json::parse(to_json(orbit, scene));
+    CHECK(j.at("F_m_newton").get<double>() == doctest::Approx(0.5 * newtons));
+    CHECK(j.at("F_m_error_newton").get<double>() == doctest::Approx(1e-4 * newtons));
+    // A reduced scene has none.
+    const Scene reduced = parse_scene(R"({"model": {"Nm": 2}})");
+    CHECK_FALSE(nlohmann::json::parse(to_json(set, AttractorOptions{}, reduced))
+                    .contains("F_m_max_newton"));
 }

@@ -161,7 +161,7 @@ void run_point(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs)
     outputs.create_folders();
     const std::string dir = outputs.staged(a.out_dir);
     write_file_atomically(dir + "/attractors.csv", attractors_csv(set));
-    write_file_atomically(dir + "/attractors.json", to_json(set, a.options, scene.reduced));
+    write_file_atomically(dir + "/attractors.json", to_json(set, a.options, scene));
     write_file_atomically(dir + "/starts.csv", attractor_starts_csv(set));
     if (a.options.slice) {
         write_file_atomically(dir + "/basins.csv", basin_slice_csv(set));
@@ -192,7 +192,7 @@ void run_line(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs) 
     outputs.create_folders();
     const std::string dir = outputs.staged(a.out_dir);
     write_file_atomically(dir + "/fractions.csv", fractions_csv(c));
-    write_file_atomically(dir + "/fractions.json", to_json(c, a.options, scene.reduced));
+    write_file_atomically(dir + "/fractions.json", to_json(c, a.options, scene));
     const bool plotted =
         !a.no_plot &&
         cli::plot_template(dir, "fractions",

@@ -176,6 +176,14 @@ py::dict attractors_py(const py::object& scene_arg, long samples, std::uint64_t 
     const AttractorSet s = call.run([&] { return find_attractors(p, o, call.callback()); });
     py::dict d = set_dict(s);
     d["center"] = array(box_center(o, p.Nm));
+    if (scene.physical) {
+        d["F_m_max_newton"] = force_in_newtons(s.F_m_max, *scene.physical);
+        d["F_m_max_error_newton"] = force_in_newtons(s.F_m_max_error, *scene.physical);
+        std::vector<double> newtons;
+        for (const auto& a : s.attractors)
+            newtons.push_back(force_in_newtons(a.F_m, *scene.physical));
+        d["attractors"].attr("__setitem__")("F_m_newton", array(newtons));
+    }
     return d;
 }
 

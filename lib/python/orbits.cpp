@@ -100,6 +100,10 @@ py::dict orbit_py(const py::object& scene_arg, int period, long transient, doubl
     d["liouville_error"] = r.liouville_error;
     d["F_m"] = r.F_m;
     d["F_m_error"] = r.F_m_error;
+    if (scene.physical) {
+        d["F_m_newton"] = force_in_newtons(r.F_m, *scene.physical);
+        d["F_m_error_newton"] = force_in_newtons(r.F_m_error, *scene.physical);
+    }
     d["max_multiplier_error"] = r.max_multiplier_error;
     d["per_contact"] = per_contact_dict(r.per_contact);
     d["max_gap"] = array(r.max_gap);

@@ -77,7 +77,7 @@ steady_state_period (0: none), wall_time_s; with "per_body" kept, per_body (poin
 period, lambda_max, lambda_max_error; with "F_m_orbit" kept, F_m_orbit (NaN: did not settle)
 and maximum_in_transient (bool); with "attractors", F_m_max, F_m_max_error (NaN: not
 estimated), attractors and unsettled; F_m_newton and F_m_newton_error (NaN: not estimated) for
-physical scenes; and cancelled.)";
+physical scenes (and F_m_max_newton with "attractors"); and cancelled.)";
 
 // How classify() and regime_map() run, for the refusal of a run key they do not read.
 const std::string classify_runs = "it runs transient, then record periods";
@@ -215,6 +215,10 @@ void kept_columns(py::dict& d, const Study& study, const std::vector<SweepPointR
         d["F_m_newton_error"] = column<double>(rows, [](const R& r) {
             return r.F_m_newton_error.value_or(std::numeric_limits<double>::quiet_NaN());
         });
+        if (study.attractor_starts > 0)
+            d["F_m_max_newton"] = column<double>(rows, [](const R& r) {
+                return r.F_m_max_newton.value_or(std::numeric_limits<double>::quiet_NaN());
+            });
     }
 }
 

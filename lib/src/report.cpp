@@ -527,10 +527,15 @@ namespace {
 /// The attractors of one search, with its options and row: attractors.json, and each value of
 /// fractions.json.
 nlohmann::ordered_json attractor_set_json(const AttractorSet& set, const AttractorOptions& o,
-                                          const ReducedParameters& p) {
+                                          const ReducedParameters& p,
+                                          const std::optional<PhysicalParameters>& physical) {
     nlohmann::ordered_json j;
     j["F_m_max"] = set.F_m_max;
     j["F_m_max_error"] = set.F_m_max_error;
+    if (physical) {
+        j["F_m_max_newton"] = force_in_newtons(set.F_m_max, *physical);
+        j["F_m_max_error_newton"] = force_in_newtons(set.F_m_max_error, *physical);
+    }
     j["F_m_max_attractor"] = set.F_m_max_id;
     j["unsettled"] = set.unsettled;
     j["attractor_count"] = set.attractors.size();
@@ -556,6 +561,9 @@ nlohmann::ordered_json attractor_set_json(const AttractorSet& set, const Attract
                         {"F_m_runs_error", a.F_m_runs_error},
                         {"initial_state", a.initial_state},
                         {"state", a.state}});
+    if (physical)
+        for (auto& a : list)
+            a["F_m_newton"] = force_in_newtons(a["F_m"].get<double>(), *physical);
     j["attractors"] = list;
     j["transients"] = transients_json(set.transients);
     j["samples"] = o.samples;
@@ -585,13 +593,12 @@ nlohmann::ordered_json attractor_set_json(const AttractorSet& set, const Attract
 
 } // namespace
 
-std::string to_json(const AttractorSet& set, const AttractorOptions& o,
-                    const ReducedParameters& p) {
-    return attractor_set_json(set, o, p).dump(2) + "\n";
+std::string to_json(const AttractorSet& set, const AttractorOptions& o, const Scene& scene) {
+    return attractor_set_json(set, o, scene.reduced, scene.physical).dump(2) + "\n";
 }
 
-std::string to_json(const FractionContinuation& c, const AttractorOptions& o,
-                    const ReducedParameters& base) {
+std::string to_json(const FractionContinuation& c, const AttractorOptions& o, const Scene& scene) {
+    const ReducedParameters& base = scene.reduced;
     nlohmann::ordered_json j;
     j["parameter"] = to_string(c.parameter);
     j["values"] = c.values;
@@ -602,8 +609,8 @@ std::string to_json(const FractionContinuation& c, const AttractorOptions& o,
         nlohmann::ordered_json point;
         point["value"] = c.values[k];
         point["labels"] = c.labels[k];
-        point["search"] =
-            attractor_set_json(c.sets[k], o, with_value(base, c.parameter, c.values[k]));
+        point["search"] = attractor_set_json(
+            c.sets[k], o, with_value(base, c.parameter, c.values[k]), scene.physical);
         points.push_back(std::move(point));
     }
     j["points"] = points;
@@ -683,6 +690,13 @@ std::string to_json(const PeriodicOrbit& orbit, const Scene& scene) {
     j["F_m"] = orbit.F_m;
     j["F_m_error"] = std::isnan(orbit.F_m_error) ? nlohmann::ordered_json(nullptr)
                                                  : nlohmann::ordered_json(orbit.F_m_error);
+    if (scene.physical) {
+        j["F_m_newton"] = force_in_newtons(orbit.F_m, *scene.physical);
+        j["F_m_error_newton"] =
+            std::isnan(orbit.F_m_error)
+                ? nlohmann::ordered_json(nullptr)
+                : nlohmann::ordered_json(force_in_newtons(orbit.F_m_error, *scene.physical));
+    }
     auto contacts = nlohmann::ordered_json::array();
     for (std::size_t c = 0; c < orbit.per_contact.size(); ++c)
         contacts.push_back({{"contact", c},
@@ -832,6 +846,9 @@ std::string sweep_csv_header(const Study& study) {
     h += ",Nm,fc,eps,e_r,f_r,F_m,F_m_error,status,multistable";
     if (parse_scene(study.scene_json).physical) h += ",F_m_newton,F_m_newton_error";
     if (study.attractor_starts > 0) h += ",F_m_max,F_m_max_error,attractors,unsettled";
+    // Only as the last of those: a reduced study's columns stay where they were.
+    if (study.attractor_starts > 0 && parse_scene(study.scene_json).physical)
+        h += ",F_m_max_newton";
     if (study.keep.steady_state) h += ",steady_state_period";
     if (study.keep.wall_time) h += ",wall_time_s";
     if (study.keep.orbit) h += ",F_m_orbit,maximum_in_transient";
@@ -866,6 +883,7 @@ std::string sweep_csv_row(const Study& study, const SweepPointResult& r) {
         else if (has_error_estimate(s))
             os << s.F_m_error;
         os << ',' << r.attractors_found << ',' << r.attractors_unsettled;
+        if (r.F_m_max_newton) os << ',' << *r.F_m_max_newton;
     }
     if (study.keep.steady_state)
         os << ','

@@ -222,6 +222,15 @@ def test_a_physical_sweep_gives_F_m_and_its_error_in_newtons():
     assert s["F_m_newton_error"][0] == one["F_m_error_newton"]
     assert np.allclose(s["F_m_newton_error"] / s["F_m_error"], s["F_m_newton"] / s["F_m"],
                        rtol=1e-12)
+    # The design value, an attractor search's and an orbit's F_m, in newtons too.
+    newtons = one["F_m_newton"] / one["F_m"]
+    d = gapchain.sweep({"scene": scene, "parameters": {"model.e": [0.002]}, "attractors": 4})
+    assert d["F_m_max_newton"][0] == pytest.approx(d["F_m_max"][0] * newtons, rel=1e-12)
+    a = gapchain.attractors(scene, samples=4)
+    assert a["F_m_max_newton"] == pytest.approx(a["F_m_max"] * newtons, rel=1e-12)
+    assert np.allclose(a["attractors"]["F_m_newton"], a["attractors"]["F_m"] * newtons)
+    o = gapchain.orbit(scene)
+    assert o["F_m_newton"] == pytest.approx(o["F_m"] * newtons, rel=1e-12)
 
 
 def test_accuracy_mode_is_reported_and_strict_keeps_a_periodic_answer():

@@ -128,9 +128,9 @@ std::string attractor_starts_csv(const AttractorSet& set);
 
 /// Attractors as JSON: F_m_max (the design value) and its attractor, each attractor with its
 /// row of attractors_csv(), max_multiplier, initial_state and state, the search's options and
-/// the scene's reduced parameters.
-std::string to_json(const AttractorSet& set, const AttractorOptions& options,
-                    const ReducedParameters& p);
+/// the scene's reduced parameters; a physical scene adds F_m_max_newton, F_m_max_error_newton
+/// and each attractor's F_m_newton [N].
+std::string to_json(const AttractorSet& set, const AttractorOptions& options, const Scene& scene);
 
 /// The basin slice: x,y,attractor (-1: the run failed), one row per start.
 std::string basin_slice_csv(const AttractorSet& set);
@@ -139,9 +139,10 @@ std::string basin_slice_csv(const AttractorSet& set);
 /// of the varied parameter is the scene's, which the line replaces; never run), and per
 /// value its labels (the global label of each of its attractors, in their order) and its whole
 /// search as to_json(AttractorSet) writes it (the options, the center of the starts, the
-/// attractors with their errors, wall_time_s); the line's wall_time_s [s].
+/// attractors with their errors, wall_time_s, and the newtons of a physical scene); the line's
+/// wall_time_s [s].
 std::string to_json(const FractionContinuation& continuation, const AttractorOptions& options,
-                    const ReducedParameters& base);
+                    const Scene& scene);
 
 /// Basin fractions along a line, one row per value: value, then for every label L the columns
 /// fraction_L, fraction_error_L, F_m_L, period_L (period 0 for a non-periodic attractor; where

@@ -95,6 +95,8 @@ struct SweepPointResult {
     std::optional<double> F_m_newton;     ///< F_m in newtons, for physical scenes
     /// F_m_error in newtons, for physical scenes where F_m_error was estimated [N, >= 0]
     std::optional<double> F_m_newton_error;
+    /// F_m_max in newtons, for physical scenes with attractors > 0 [N]
+    std::optional<double> F_m_max_newton;
 };
 
 /// Which points to run: a shard of the index range, minus those already done.

@@ -524,6 +524,21 @@ std::string attractor_starts_csv(const AttractorSet& set) {
 
 namespace {
 
+/// The run options each start of an attractor search ran with.
+nlohmann::ordered_json search_run_json(const RunOptions& run) {
+    return {
+        {"periods", run.periods},
+        {"transient_periods", run.transient_periods == auto_transient
+                                  ? nlohmann::ordered_json("auto")
+                                  : nlohmann::ordered_json(run.transient_periods)},
+        {"scheme", to_string(run.scheme)},
+        {"tolerance", run.tolerance},
+        {"step", run.step ? nlohmann::ordered_json(*run.step) : nlohmann::ordered_json(nullptr)},
+        {"accuracy_mode", to_string(run.accuracy_mode)},
+        {"steady_state", run.stop_at_steady_state},
+        {"max_work", run.max_work}};
+}
+
 /// The attractors of one search, with its options and row: attractors.json, and each value of
 /// fractions.json.
 nlohmann::ordered_json attractor_set_json(const AttractorSet& set, const AttractorOptions& o,
@@ -574,17 +589,7 @@ nlohmann::ordered_json attractor_set_json(const AttractorSet& set, const Attract
     j["center"] = box_center(o, p.Nm);
     j["amplitude"] = set.amplitude;
     j["section_points"] = o.section_points;
-    j["run"] = {{"periods", o.run.periods},
-                {"transient_periods", o.run.transient_periods == auto_transient
-                                          ? nlohmann::ordered_json("auto")
-                                          : nlohmann::ordered_json(o.run.transient_periods)},
-                {"scheme", to_string(o.run.scheme)},
-                {"tolerance", o.run.tolerance},
-                {"step", o.run.step ? nlohmann::ordered_json(*o.run.step)
-                                    : nlohmann::ordered_json(nullptr)},
-                {"accuracy_mode", to_string(o.run.accuracy_mode)},
-                {"steady_state", o.run.stop_at_steady_state},
-                {"max_work", o.run.max_work}};
+    j["run"] = search_run_json(o.run);
     j["parameters"] = parameters_json(p);
     j["threads"] = set.threads_used;
     j["wall_time_s"] = set.wall_time_s;

@@ -604,7 +604,9 @@ Accelerogram read_accelerogram(const std::string& path, double unit) {
 }
 
 std::string scene_key(const std::string& key, const std::string& context) {
-    if (key.find('.') != std::string::npos) return key;
+    // "model." and ".fc" name no key (Python's model.=1 was refused in --set's words).
+    const auto dot = key.find('.');
+    if (dot != std::string::npos && dot != 0 && key.back() != '.') return key;
     static const std::vector<std::pair<std::string, std::vector<std::string>>> sections = {
         {"model", {"Nm", "fc", "eps", "e_r"}},
         {"excitation", {"f_r"}},

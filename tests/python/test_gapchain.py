@@ -354,7 +354,7 @@ def test_numpy_values_in_dicts_and_non_finite_numbers_name_their_key():
     assert gapchain.simulate(base, **SHORT)["F_m"] == \
         gapchain.simulate({"model": {"Nm": 2, "fc": 100.0, "e_r": 0.5}}, **SHORT)["F_m"]
     # A non-finite value names its key and the key's range (the probe of 2026-11-26: no range).
-    with pytest.raises(ValueError, match=r"^model\.fc: must be a number in \(0, 1000000000\], got \"nan\"$"):
+    with pytest.raises(ValueError, match=r"^model\.fc: must be a finite number in \(0, 1000000000\], got nan$"):
         gapchain.simulate({"model": {"fc": float("nan")}})
     with pytest.raises(ValueError, match=r"^run\.periods: must be an integer in \[1, 1000000000\]"):
         gapchain.simulate({"run": {"periods": float("inf")}})
@@ -653,3 +653,13 @@ def test_modes_refuses_the_forcing_and_the_start():
     for key in ("f_r", "initial.u"):
         with pytest.raises(ValueError, match=key + ": modes\\(\\) does not read it"):
             gapchain.modes(5, 100, **{key: 2})
+
+
+def test_a_non_finite_number_or_an_empty_key_part_is_named_as_such():
+    with pytest.raises(ValueError, match="model.fc: must be a finite number in .*, got inf"):
+        gapchain.simulate({"model": {"fc": np.float32("inf")}})
+    with pytest.raises(ValueError, match="model.eps: must be a finite number in .*, got nan"):
+        gapchain.simulate({"model": {"eps": float("nan")}})
+    for key in ("model.", ".fc"):  # was "--set: expected section.key=value", a CLI message
+        with pytest.raises(ValueError, match="^" + key + ": unknown key; a scene key is"):
+            gapchain.simulate(**{key: 1})

@@ -72,6 +72,12 @@ public:
                   Bound bound = Bound::closed) const {
         if (!has(key)) return fallback;
         const auto& v = m_object.at(key);
+        // Python's scenes carry a non-finite number as its text ("inf", "nan"): say what it is.
+        static const std::set<std::string> non_finite{"nan",  "inf",      "-inf",     "+inf",
+                                                      "-nan", "infinity", "-infinity"};
+        if (v.is_string() && non_finite.count(v.template get<std::string>()) != 0)
+            throw SceneError(full(key) + ": must be a finite number" + range(lo, hi, bound) +
+                             ", got " + v.template get<std::string>());
         if (!v.is_number())
             throw SceneError(full(key) + ": must be a number" + range(lo, hi, bound) + ", got " +
                              shown_json(v));

@@ -237,7 +237,7 @@ TEST_CASE("run.max_work counts the exact propagator's set-up of contact configur
     o.scheme = Scheme::exact;
     o.max_work = 40'000;
     CHECK_THROWS_WITH_AS(require_affordable(long_row, o),
-                         doctest::Contains("contact configurations"), std::invalid_argument);
+                         doctest::Contains("a new contact configuration"), std::invalid_argument);
     const StepPlan plan = plan_run(long_row, o);
     const double n = long_row.dimension();
     CHECK(run_work(long_row, plan, 5) >= 5 * 2 * 47 * 0.5 * n * n * n);

@@ -143,10 +143,21 @@ TEST_CASE("Fig 5 scene: every contact's maximum within its own error bar of the 
         beyond_F_m_error = beyond_F_m_error || error > r.F_m_error;
     }
     CHECK(beyond_F_m_error);
+    // Body i lies between contacts i and i + 1: its maxima and their errors are theirs, each
+    // within its bar of the reference too.
+    REQUIRE(r.per_body.size() + 1 == r.per_contact.size());
+    for (std::size_t i = 0; i < r.per_body.size(); ++i) {
+        CHECK(r.per_body[i].left_error == r.per_contact_error[i]);
+        CHECK(r.per_body[i].right_error == r.per_contact_error[i + 1]);
+        CHECK(std::abs(r.per_body[i].left - ref.contact_max[i]) < r.per_body[i].left_error);
+        CHECK(std::abs(r.per_body[i].right - ref.contact_max[i + 1]) < r.per_body[i].right_error);
+    }
     // Nothing estimated, nothing claimed.
     RunOptions off;
     off.estimate_error = false;
-    CHECK(simulate(dyn, off).per_contact_error.empty());
+    const SimulationResult unestimated = simulate(dyn, off);
+    CHECK(unestimated.per_contact_error.empty());
+    CHECK(std::isnan(unestimated.per_body[0].left_error));
 }
 
 TEST_CASE("adaptive schemes: the error bar covers the error where the output interval, not "

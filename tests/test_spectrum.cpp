@@ -158,9 +158,11 @@ TEST_CASE("a peak's power error is the scatter an independent record of the sign
     spread = std::sqrt(spread);
     std::sort(errors.begin(), errors.end());
     const double median = errors[errors.size() / 2];
-    // Within a factor 1.5 either way (the overlap's correlation is approximated).
-    CHECK(median > spread / 1.5);
-    CHECK(median < spread * 1.5);
+    // Within 15 % either way (Welch's correction for the overlap; the record's length in whole
+    // segments instead overstated it 1.3-1.4 times).
+    MESSAGE("median error / spread over records: " << median / spread);
+    CHECK(median > spread / 1.15);
+    CHECK(median < spread * 1.15);
 }
 
 TEST_CASE("a periodic record's power error is at round-off; one segment has none") {

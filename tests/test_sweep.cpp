@@ -186,7 +186,7 @@ TEST_CASE("a results CSV is resumed only by the same study and results version")
     std::remove((csv + ".json").c_str());
 }
 
-TEST_CASE("each force a sweep writes has its error: per_body_error and F_m_newton_error") {
+TEST_CASE("each force a sweep writes has its error: per_body_error and F_m_error_newton") {
     // A small physical row that settles (a comparison run estimates every contact), and the
     // same with the estimate off (every error cell empty, never 0).
     const auto study = [](const char* estimate) {
@@ -221,11 +221,11 @@ TEST_CASE("each force a sweep writes has its error: per_body_error and F_m_newto
     REQUIRE(est.per_contact_error.size() == 4);
     // Newtons scale F_m and its error alike.
     REQUIRE(results[0].F_m_newton);
-    REQUIRE(results[0].F_m_newton_error);
-    CHECK(*results[0].F_m_newton_error / est.F_m_error ==
+    REQUIRE(results[0].F_m_error_newton);
+    CHECK(*results[0].F_m_error_newton / est.F_m_error ==
           doctest::Approx(*results[0].F_m_newton / est.F_m).epsilon(1e-12));
-    CHECK(std::stod(field(rows[0], "F_m_newton_error")) ==
-          doctest::Approx(*results[0].F_m_newton_error).epsilon(1e-9));
+    CHECK(std::stod(field(rows[0], "F_m_error_newton")) ==
+          doctest::Approx(*results[0].F_m_error_newton).epsilon(1e-9));
     // Body i's left and right errors are those of contacts i and i + 1, each at least F_m_error.
     std::stringstream bodies(field(rows[0], "per_body_error"));
     int i = 0;
@@ -241,7 +241,7 @@ TEST_CASE("each force a sweep writes has its error: per_body_error and F_m_newto
     }
     CHECK(i == 3);
     CHECK_FALSE(has_error_estimate(results[1].simulation));
-    CHECK(field(rows[1], "F_m_newton_error").empty());
+    CHECK(field(rows[1], "F_m_error_newton").empty());
     CHECK(field(rows[1], "per_body_error").empty());
     CHECK_FALSE(field(rows[1], "per_body").empty());
 }

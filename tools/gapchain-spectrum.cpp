@@ -23,8 +23,9 @@ std::string short_number(double x) {
 }
 
 void print_spectrum(const RowSpectrumOptions& o, const RowSpectrum& s) {
-    std::printf("gapchain-spectrum: %s, %ld samples at %g per unit time, %d segments\n",
-                o.variable.c_str(), s.samples, s.sample_rate, s.psd.segments);
+    std::printf("gapchain-spectrum: %s, %ld samples at %g per unit time, %d segment%s\n",
+                o.variable.c_str(), s.samples, s.sample_rate, s.psd.segments,
+                s.psd.segments == 1 ? "" : "s");
     std::printf("broadband share %.4f (power away from m/n f_r, n <= %d)\n",
                 s.content.broadband_share, o.order);
     for (std::size_t i = 0; i < std::min<std::size_t>(8, s.content.peaks.size()); ++i) {

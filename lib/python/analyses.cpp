@@ -87,7 +87,8 @@ window    "hann" or "rectangular";  order  largest subharmonic order n labelled,
 Returns a dict: frequency ((n,) cycles per reduced time unit), f_over_f_r, density
 (signal^2 per unit frequency), df, segment (the length used), segments, broadband_share (power away from m/n f_r, [0, 1]),
 peaks (dict of columns frequency, frequency_error (df / 2), power, power_error (the larger of
-the segments' spread and 2 run.tolerance x power; NaN with a single segment), numerator,
+its standard error over the Welch segments and 2 run.tolerance x power; NaN with a single
+segment), numerator,
 denominator, label), sample_rate, status, wall_time_s.)";
 
 constexpr const char* lyapunov_doc =

@@ -73,11 +73,12 @@ threads   OpenMP threads (0: all cores);  progress  callable(fraction of points 
 Returns a dict of columns in index order: index, one column per axis (named by its key), Nm,
 fc, eps, e_r, f_r, F_m, F_m_error (NaN: not estimated), status, multistable (bool;
 False also where run.multistability_check was false, which the CSV leaves empty),
-steady_state_period (0: none), wall_time_s; with "per_body" kept, per_body (points x Nm x 2) and per_body_error (the same shape; NaN where not estimated); with "regime" kept, regime,
+steady_state_period (0: none), wall_time_s; with "per_body" kept, per_body (points x Nm x 2; a study over model.Nm pads shorter rows with
+NaN to the largest Nm) and per_body_error (the same shape; NaN where not estimated); with "regime" kept, regime,
 period, lambda_max, lambda_max_error; with "F_m_orbit" kept, F_m_orbit (NaN: did not settle)
 and maximum_in_transient (bool); with "attractors", F_m_max, F_m_max_error (NaN: not
-estimated), attractors and unsettled; F_m_newton and F_m_newton_error (NaN: not estimated) for
-physical scenes (and F_m_max_newton with "attractors"); and cancelled.)";
+estimated), attractors and unsettled; F_m_newton and F_m_error_newton (NaN: not estimated) for
+physical scenes (and F_m_max_newton, F_m_max_error_newton with "attractors"); and cancelled.)";
 
 // How classify() and regime_map() run, for the refusal of a run key they do not read.
 const std::string classify_runs = "it runs transient, then record periods";
@@ -166,25 +167,32 @@ void axis_columns(py::dict& d, const Study& study, const std::vector<SweepPointR
     d["f_r"] = column<double>(rows, [](const R& r) { return r.parameters.f_r; });
 }
 
+/// per_body and per_body_error, points x Nm x 2.
+void per_body_columns(py::dict& d, const std::vector<SweepPointResult>& rows) {
+    // Rows of a study over model.Nm differ in length: each is padded to the longest with
+    // NaN (they were read past their end, from the first row's length).
+    std::size_t n = 0;
+    for (const auto& r : rows)
+        n = std::max(n, r.simulation.per_body.size());
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    std::vector<double> forces(rows.size() * n * 2, nan), errors(forces.size(), nan);
+    for (std::size_t k = 0; k < rows.size(); ++k)
+        for (std::size_t i = 0; i < rows[k].simulation.per_body.size(); ++i) {
+            const BodyMaximum& b = rows[k].simulation.per_body[i];
+            const std::size_t at = (k * n + i) * 2;
+            forces[at] = b.left;
+            forces[at + 1] = b.right;
+            // NaN where no comparison run estimated them (as F_m_error's column).
+            errors[at] = b.left_error;
+            errors[at + 1] = b.right_error;
+        }
+    d["per_body"] = matrix(forces, rows.size(), n * 2).attr("reshape")(rows.size(), n, 2);
+    d["per_body_error"] = matrix(errors, rows.size(), n * 2).attr("reshape")(rows.size(), n, 2);
+}
+
 void kept_columns(py::dict& d, const Study& study, const std::vector<SweepPointResult>& rows) {
     using R = SweepPointResult;
-    if (study.keep.per_body) {
-        std::vector<double> forces;
-        for (const auto& r : rows)
-            for (const auto& b : r.simulation.per_body)
-                forces.insert(forces.end(), {b.left, b.right});
-        const std::size_t n = rows.empty() ? 0 : rows.front().simulation.per_body.size();
-        d["per_body"] = matrix(forces, rows.size(), n * 2).attr("reshape")(rows.size(), n, 2);
-        // NaN where no comparison run estimated the per-contact errors (as F_m_error's column).
-        std::vector<double> errors;
-        for (const auto& r : rows)
-            for (std::size_t i = 0; i < n; ++i) {
-                const auto& e = r.simulation.per_contact_error;
-                const double nan = std::numeric_limits<double>::quiet_NaN();
-                errors.insert(errors.end(), {e.empty() ? nan : e[i], e.empty() ? nan : e[i + 1]});
-            }
-        d["per_body_error"] = matrix(errors, rows.size(), n * 2).attr("reshape")(rows.size(), n, 2);
-    }
+    if (study.keep.per_body) per_body_columns(d, rows);
     if (study.keep.regime) {
         d["regime"] = strings(rows, [](const R& r) { return to_string(r.regime->regime); });
         d["period"] = column<int>(rows, [](const R& r) { return r.regime->period; });
@@ -212,13 +220,17 @@ void kept_columns(py::dict& d, const Study& study, const std::vector<SweepPointR
     }
     if (!rows.empty() && rows.front().F_m_newton) {
         d["F_m_newton"] = column<double>(rows, [](const R& r) { return *r.F_m_newton; });
-        d["F_m_newton_error"] = column<double>(rows, [](const R& r) {
-            return r.F_m_newton_error.value_or(std::numeric_limits<double>::quiet_NaN());
+        d["F_m_error_newton"] = column<double>(rows, [](const R& r) {
+            return r.F_m_error_newton.value_or(std::numeric_limits<double>::quiet_NaN());
         });
-        if (study.attractor_starts > 0)
+        if (study.attractor_starts > 0) {
             d["F_m_max_newton"] = column<double>(rows, [](const R& r) {
                 return r.F_m_max_newton.value_or(std::numeric_limits<double>::quiet_NaN());
             });
+            d["F_m_max_error_newton"] = column<double>(rows, [](const R& r) {
+                return r.F_m_max_error_newton.value_or(std::numeric_limits<double>::quiet_NaN());
+            });
+        }
     }
 }
 

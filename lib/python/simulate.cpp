@@ -105,8 +105,8 @@ py::dict result_dict(const std::string& report, const SimulationResult& r, const
         d["per_body_error"] = py::none();
     } else {
         std::vector<double> errors;
-        for (std::size_t i = 0; i < r.per_body.size(); ++i)
-            errors.insert(errors.end(), {r.per_contact_error[i], r.per_contact_error[i + 1]});
+        for (const auto& b : r.per_body)
+            errors.insert(errors.end(), {b.left_error, b.right_error});
         d["per_body_error"] = matrix(errors, r.per_body.size(), 2);
     }
     if (scene.physical) {

@@ -40,13 +40,12 @@ nlohmann::json parameters_json(const ReducedParameters& p) {
 /// contacts on either side, null where not estimated), and in newtons for physical scenes.
 json per_body_json(const SimulationResult& r, const Scene& scene) {
     json bodies = json::array();
-    const bool estimated = !r.per_contact_error.empty();
-    for (std::size_t i = 0; i < r.per_body.size(); ++i) {
-        const BodyMaximum& b = r.per_body[i];
+    const auto known = [](double x) { return std::isnan(x) ? json(nullptr) : json(x); };
+    for (const BodyMaximum& b : r.per_body) {
         json e = {
             {"left", b.left}, {"right", b.right}, {"t_left", b.t_left}, {"t_right", b.t_right}};
-        e["left_error"] = estimated ? json(r.per_contact_error[i]) : json(nullptr);
-        e["right_error"] = estimated ? json(r.per_contact_error[i + 1]) : json(nullptr);
+        e["left_error"] = known(b.left_error);
+        e["right_error"] = known(b.right_error);
         if (scene.physical) {
             e["left_newton"] = force_in_newtons(b.left, *scene.physical);
             e["right_newton"] = force_in_newtons(b.right, *scene.physical);
@@ -849,11 +848,11 @@ std::string sweep_csv_header(const Study& study) {
     for (const auto& a : study.axes)
         h += ",axis:" + a.key;
     h += ",Nm,fc,eps,e_r,f_r,F_m,F_m_error,status,multistable";
-    if (parse_scene(study.scene_json).physical) h += ",F_m_newton,F_m_newton_error";
+    if (parse_scene(study.scene_json).physical) h += ",F_m_newton,F_m_error_newton";
     if (study.attractor_starts > 0) h += ",F_m_max,F_m_max_error,attractors,unsettled";
     // Only as the last of those: a reduced study's columns stay where they were.
     if (study.attractor_starts > 0 && parse_scene(study.scene_json).physical)
-        h += ",F_m_max_newton";
+        h += ",F_m_max_newton,F_m_max_error_newton";
     if (study.keep.steady_state) h += ",steady_state_period";
     if (study.keep.wall_time) h += ",wall_time_s";
     if (study.keep.orbit) h += ",F_m_orbit,maximum_in_transient";
@@ -879,7 +878,8 @@ std::string sweep_csv_row(const Study& study, const SweepPointResult& r) {
         os << (r.multistable ? 1 : 0);
     if (r.F_m_newton) {
         os << ',' << *r.F_m_newton << ',';
-        if (r.F_m_newton_error) write_if_finite(os, *r.F_m_newton_error);
+        // As F_m_error's cell: the number, inf where a comparison run went non-finite.
+        if (r.F_m_error_newton) os << *r.F_m_error_newton;
     }
     if (study.attractor_starts > 0) {
         os << ',' << (r.F_m_max ? *r.F_m_max : s.F_m) << ',';
@@ -888,7 +888,10 @@ std::string sweep_csv_row(const Study& study, const SweepPointResult& r) {
         else if (has_error_estimate(s))
             os << s.F_m_error;
         os << ',' << r.attractors_found << ',' << r.attractors_unsettled;
-        if (r.F_m_max_newton) os << ',' << *r.F_m_max_newton;
+        if (r.F_m_max_newton) {
+            os << ',' << *r.F_m_max_newton << ',';
+            write_if_finite(os, r.F_m_max_error_newton.value_or(std::nan("")));
+        }
     }
     if (study.keep.steady_state)
         os << ','
@@ -912,7 +915,8 @@ std::string sweep_csv_row(const Study& study, const SweepPointResult& r) {
         os << ',';
         if (!s.per_contact_error.empty())
             for (std::size_t i = 0; i < s.per_body.size(); ++i)
-                os << (i ? ";" : "") << s.per_contact_error[i] << '|' << s.per_contact_error[i + 1];
+                os << (i ? ";" : "") << s.per_body[i].left_error << '|'
+                   << s.per_body[i].right_error;
     }
     return os.str();
 }

@@ -518,6 +518,10 @@ StepPlan plan_run(const Dynamics& dyn, const RunOptions& options, int samples_pe
     return plan;
 }
 
+double contact_switches_per_period(const Dynamics& dyn) {
+    return 2.0 * dyn.gaps() * dyn.period();
+}
+
 namespace {
 
 /// Whether some body's own damping is critical (u'' = -k u - c u' with c^2 = 4 k, to 1e-9
@@ -547,14 +551,17 @@ std::pair<double, double> work_rates(const Dynamics& dyn, const StepPlan& plan, 
     // >= 1) was counted 3-5 times short: Fig 13's row, Nm 2 and 5 at f_r = 1, 3000 periods, ran
     // 0.13 s and 0.35 s, counted 0.026 s and 0.11 s (2026-11-27); f_r = 0.1 was counted right
     // by its 440 steps a period and is now 5 times over.
-    per_period += 2.0 * dyn.gaps() * dyn.period() * (100.0 + (1.0 + tangents) * 0.08 * n * n);
+    const double switches = contact_switches_per_period(dyn);
+    per_period += switches * (100.0 + (1.0 + tangents) * 0.08 * n * n);
     // A critically damped body makes every configuration it moves free in defective: each step
     // split at a switch, and each dense state, takes a matrix exponential. Measured on Fig 13's
     // row at f_r = 3 (300 periods, 2026-11-27), the time above eps = 0.999's, per period: Nm 5
     // 3.3e-4 s, 10 8.2e-4 s, 20 5.0e-3 s, 40 0.19 s (3.3e3 to 1.9e6 body-steps); 2 (Nm + 1)
     // exponentials of 250 + n^3 / 20 body-steps a period count 3.6e3, 1.4e4, 1.4e5, 2.1e6.
+    // Calibrated at f_r = 3; a longer period has more switches (Nm 10, eps 1, f_r 0.3 ran 12.4 s
+    // where 2 (Nm + 1) a period counted 9.4 s).
     if (critically_damped_body(dyn.chain()))
-        per_period += 2.0 * dyn.gaps() * (250.0 + 0.05 * n * n * n);
+        per_period += std::max(2.0 * dyn.gaps(), switches) * (250.0 + 0.05 * n * n * n);
     return {per_period, 0.5 * n * n * n};
 }
 
@@ -605,18 +612,18 @@ const StepPlan& affordable(const Dynamics& dyn, const RunOptions& options, const
         work, options.max_work, "this run takes up to",
         "Nm " + std::to_string(dyn.bodies()) + " x " + std::to_string(plan.steps_per_period) +
             " steps per forcing period" +
+            // Short: the tools cut a message past 400 characters (the periods and the limit
+            // were cut from exact's).
             (plan.scheme == Scheme::exact
-                 ? std::string(", each a (2 Nm)^2 product, about 2 contact switches a contact "
-                               "per natural period, 100 body-steps each, and the exact "
-                               "propagator's set-up of up to 2 (Nm + 1) contact configurations "
-                               "a period, (2 Nm)^3 / 2 each")
+                 ? std::string(" (exact: (2 Nm)^2 a step, a switch, (2 Nm)^3 / 2 a new contact "
+                               "configuration") +
+                       (critically_damped_body(dyn.chain())
+                            ? ", a matrix exponential a switch: critical damping)"
+                            : ")")
                  : std::string()) +
-            (plan.scheme == Scheme::exact && critically_damped_body(dyn.chain())
-                 ? ", and 2 (Nm + 1) matrix exponentials a period (a critically damped body)"
-                 : "") +
-            ", x " + std::to_string(options.periods) + " periods",
-        "shorten the run (fewer forcing periods: run.periods, or the tool's own --transient / "
-        "--record / --from-transient; or a higher excitation.f_r) or raise run.max_work");
+            " x " + std::to_string(options.periods) + " periods",
+        "fewer periods (run.periods, or --transient / --record / --from-transient), a higher "
+        "excitation.f_r, or a larger run.max_work");
     return plan;
 }
 

@@ -491,7 +491,11 @@ void require_trajectory_fits(const Dynamics& dyn, const RunOptions& requested, i
     detail::require_range("output.trajectory_every", every, 1, 1'000'000);
     const RunOptions options = with_transient_resolved(dyn, requested);
     const double recorded = static_cast<double>(options.periods - options.transient_periods);
-    const double rows = recorded * plan_run(dyn, options).steps_per_period / every + 1.0;
+    // Every piece of a split step is a row: the planned steps and a piece per switch (exact's
+    // 16-step plan wrote 2.45 rows a step at f_r = 2).
+    const double pieces =
+        plan_run(dyn, options).steps_per_period + contact_switches_per_period(dyn);
+    const double rows = recorded * pieces / every + 1.0;
     const double values = rows * (1.0 + dyn.dimension());
     if (values <= max_trajectory_values) return;
     throw std::invalid_argument(
@@ -547,6 +551,12 @@ SimulationResult simulate(const Dynamics& dyn, const RunOptions& requested,
     // below: what moved F_m (a transient, another attractor) moves the other contacts too.
     for (double& e : result.per_contact_error)
         e = std::max(e, result.F_m_error);
+    // Body i lies between contacts i and i + 1: every writer reads the errors from here.
+    if (!result.per_contact_error.empty())
+        for (std::size_t i = 0; i < result.per_body.size(); ++i) {
+            result.per_body[i].left_error = result.per_contact_error[i];
+            result.per_body[i].right_error = result.per_contact_error[i + 1];
+        }
     result.wall_time_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return result;

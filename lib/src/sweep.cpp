@@ -140,7 +140,7 @@ SweepPointResult run_point(const Study& s, const SweepPointFactory& make_point, 
     if (in.physical) {
         r.F_m_newton = force_in_newtons(r.simulation.F_m, *in.physical);
         if (has_error_estimate(r.simulation))
-            r.F_m_newton_error = force_in_newtons(r.simulation.F_m_error, *in.physical);
+            r.F_m_error_newton = force_in_newtons(r.simulation.F_m_error, *in.physical);
     }
     if (s.keep.regime) {
         require_classifiable(in, "keep: \"regime\"");
@@ -162,7 +162,10 @@ SweepPointResult run_point(const Study& s, const SweepPointFactory& make_point, 
         r.multistable = multistable(r.simulation, design);
         r.attractors_found = static_cast<int>(design.search.attractors.size());
         r.attractors_unsettled = design.search.unsettled;
-        if (in.physical) r.F_m_max_newton = force_in_newtons(design.F_m_max, *in.physical);
+        if (in.physical) {
+            r.F_m_max_newton = force_in_newtons(design.F_m_max, *in.physical);
+            r.F_m_max_error_newton = force_in_newtons(design.F_m_max_error, *in.physical);
+        }
     }
     return r;
 }

@@ -219,8 +219,8 @@ def test_a_physical_sweep_gives_F_m_and_its_error_in_newtons():
     s = gapchain.sweep({"scene": scene, "parameters": {"model.e": [0.002, 0.003]}})
     one = gapchain.simulate(scene)
     assert s["F_m_newton"][0] == one["F_m_newton"]
-    assert s["F_m_newton_error"][0] == one["F_m_error_newton"]
-    assert np.allclose(s["F_m_newton_error"] / s["F_m_error"], s["F_m_newton"] / s["F_m"],
+    assert s["F_m_error_newton"][0] == one["F_m_error_newton"]
+    assert np.allclose(s["F_m_error_newton"] / s["F_m_error"], s["F_m_newton"] / s["F_m"],
                        rtol=1e-12)
     # The design value, an attractor search's and an orbit's F_m, in newtons too.
     newtons = one["F_m_newton"] / one["F_m"]
@@ -663,3 +663,14 @@ def test_a_non_finite_number_or_an_empty_key_part_is_named_as_such():
     for key in ("model.", ".fc"):  # was "--set: expected section.key=value", a CLI message
         with pytest.raises(ValueError, match="^" + key + ": unknown key; a scene key is"):
             gapchain.simulate(**{key: 1})
+
+
+def test_a_sweep_over_Nm_pads_per_body_with_nan():
+    # Rows were read to the first row's length: the Nm = 1 row came back as garbage.
+    s = gapchain.sweep({"scene": {"model": {"fc": 100, "e_r": 0.1}, "excitation": {"f_r": 1.3},
+                                  "run": {"periods": 200}},
+                        "parameters": {"model.Nm": [3, 1]}, "keep": ["per_body"]}, threads=1)
+    one = gapchain.simulate(Nm=1, fc=100, e_r=0.1, f_r=1.3, periods=200)
+    assert s["per_body"].shape == (2, 3, 2)
+    assert s["per_body"][1, 0].tolist() == one["per_body"][0].tolist()
+    assert np.all(np.isnan(s["per_body"][1, 1:])) and np.all(np.isnan(s["per_body_error"][1, 1:]))

@@ -194,9 +194,10 @@ std::string study_json(const Study& study);
 /// that fell in the transient; steady_state_period is the minimal period), 3 since later that
 /// day (an F_m_error nothing estimated is empty, not 0), 4 since 2026-11-26 (a point that never
 /// settles has an F_m_error of at least its per-period maxima's tail spread; multistable is
-/// empty where the check was off; "attractors" adds F_m_max_error). A CSV is resumed only by a
-/// build of the same version, so that no file mixes two meanings.
-inline constexpr int sweep_results_version = 4;
+/// empty where the check was off; "attractors" adds F_m_max_error), 5 since 2026-11-27 (the
+/// F_m_error of Hertz and Hunt-Crossley rows at order 1.5, 3-7 times wider). A CSV is resumed
+/// only by a build of the same version, so that no file mixes two meanings.
+inline constexpr int sweep_results_version = 5;
 /// A hash (16 hex digits) of everything that decides a study's rows: the base scene, the axes
 /// and their values, the sampling, what is kept and results_version (sweep_results_version
 /// unless a test asks otherwise). Not the file name, nor a build of the same results version.

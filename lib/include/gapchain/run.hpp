@@ -155,6 +155,11 @@ RunOutcome run(const Dynamics& dyn, Stepper& stepper, const StepPlan& plan, cons
 /// on step ends). 0: no refinement.
 StepPlan plan_run(const Dynamics& dyn, const RunOptions& options, int samples_per_period = 0);
 
+/// The contact switches one forcing period is counted to hold, for work and size estimates:
+/// two per contact per natural period (reduced time 1), 2 (Nm + 1) x the forcing period. Each
+/// splits a step into one more piece (a trajectory row, an RK4 step or a propagator product).
+double contact_switches_per_period(const Dynamics& dyn);
+
 /// Work of a run of `periods` forcing periods of dyn on plan, in body-steps (about 1e7 a
 /// second), carrying `tangents` tangent vectors (0 .. 2 Nm) along: Nm x steps per period for
 /// every vector; on the exact propagator a step is a dense (2 Nm)^2 product per vector, and

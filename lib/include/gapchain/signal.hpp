@@ -62,8 +62,9 @@ struct RowSpectrum {
     int segment = 0;        ///< Welch segment used [samples]
     double sample_rate = 0; ///< [samples per unit reduced time]
     Psd psd;                ///< Welch PSD of the variable
-    /// Peaks and broadband share; each peak's power_error is the larger of its segments'
-    /// spread (band_power_errors()) and 2 run.tolerance x power, NaN with a single segment
+    /// Peaks and broadband share; each peak's power_error is the larger of its standard
+    /// error over the segments (band_power_errors()) and 2 run.tolerance x power, NaN with a single
+    /// segment
     SpectralContent content;
     double wall_time_s = 0.0; ///< the run and the PSD [s]
 };

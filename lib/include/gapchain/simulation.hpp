@@ -7,6 +7,7 @@
 #include "gapchain/observers.hpp"
 #include "gapchain/run.hpp"
 
+#include <limits>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -20,6 +21,10 @@ struct BodyMaximum {
     double right = 0.0;   ///< max reduced force from the contact on its right
     double t_left = 0.0;  ///< reduced time of the left maximum
     double t_right = 0.0; ///< reduced time of the right maximum
+    /// Estimated errors of left and right: the per_contact_error of contacts i and i + 1
+    /// (SimulationResult), NaN where it is empty (not estimated)
+    double left_error = std::numeric_limits<double>::quiet_NaN();
+    double right_error = std::numeric_limits<double>::quiet_NaN(); ///< see left_error
 };
 
 /// How SimulationResult::F_m_error was estimated.
@@ -156,7 +161,8 @@ inline constexpr double max_trajectory_values = 2.5e8;
 /// estimated rows and their size, when a run of options on dyn recording every `every`-th step
 /// (>= 1) after its transient would hold more than max_trajectory_values: a long run's
 /// trajectory filled the memory (Python) or the disk (CSV) after its work check had passed.
-/// Rows are counted as the recorded periods' planned steps / every (split steps add more).
+/// Rows are counted as the recorded periods' planned steps and contact switches
+/// (contact_switches_per_period()), each a piece of a split step, / every.
 void require_trajectory_fits(const Dynamics& dyn, const RunOptions& options, int every);
 
 /// Simulates dyn from initial (2 Nm entries; empty = rest) under options; an auto transient is

@@ -63,11 +63,11 @@ struct SpectralContent {
 
 /// The sampling error of each band's power in welch_psd(signal, options): the band (bins
 /// first .. last, 0 <= first <= last <= segment_length / 2) is summed in every segment, and the
-/// standard deviation of those sums over the segments is divided by the square root of the
-/// record's length in whole segments, (segments - 1) x hop / segment_length + 1 (overlapping
-/// segments are not independent). NaN for every band where the record holds fewer than 2
-/// segments. A signal that repeats segment to segment (a periodic motion sampled over whole
-/// periods) has an error at round-off: what remains is the integration's.
+/// standard error of the mean of those sums follows from their spread over the segments with
+/// Welch's (1967) correction for overlapping segments (the window's own correlation between
+/// segments k hops apart). NaN for every band where the record holds fewer than 2 segments. A
+/// signal that repeats segment to segment (a periodic motion sampled over whole periods) has an
+/// error at round-off: what remains is the integration's.
 std::vector<double> band_power_errors(const std::vector<double>& signal, const PsdOptions& options,
                                       const std::vector<std::pair<int, int>>& bands);
 

@@ -94,9 +94,10 @@ struct SweepPointResult {
     int attractors_unsettled = 0;         ///< of them unsettled: F_m_max may be a transient's
     std::optional<double> F_m_newton;     ///< F_m in newtons, for physical scenes
     /// F_m_error in newtons, for physical scenes where F_m_error was estimated [N, >= 0]
-    std::optional<double> F_m_newton_error;
-    /// F_m_max in newtons, for physical scenes with attractors > 0 [N]
+    std::optional<double> F_m_error_newton;
+    /// F_m_max and F_m_max_error in newtons, for physical scenes with attractors > 0 [N]
     std::optional<double> F_m_max_newton;
+    std::optional<double> F_m_max_error_newton; ///< see F_m_max_newton
 };
 
 /// Which points to run: a shard of the index range, minus those already done.

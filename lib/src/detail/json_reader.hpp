@@ -68,14 +68,19 @@ public:
         return has(key) && m_object.at(key).is_string();
     }
 
+    /// Python's scenes carry a non-finite number as its text ("inf", "nan"): say what it is.
+    template <class Value>
+    static bool is_non_finite_text(const Value& v) {
+        static const std::set<std::string> non_finite{"nan",  "inf",      "-inf",     "+inf",
+                                                      "-nan", "infinity", "-infinity"};
+        return v.is_string() && non_finite.count(v.template get<std::string>()) != 0;
+    }
+
     double number(const std::string& key, double fallback, double lo, double hi,
                   Bound bound = Bound::closed) const {
         if (!has(key)) return fallback;
         const auto& v = m_object.at(key);
-        // Python's scenes carry a non-finite number as its text ("inf", "nan"): say what it is.
-        static const std::set<std::string> non_finite{"nan",  "inf",      "-inf",     "+inf",
-                                                      "-nan", "infinity", "-infinity"};
-        if (v.is_string() && non_finite.count(v.template get<std::string>()) != 0)
+        if (is_non_finite_text(v))
             throw SceneError(full(key) + ": must be a finite number" + range(lo, hi, bound) +
                              ", got " + v.template get<std::string>());
         if (!v.is_number())
@@ -100,8 +105,10 @@ public:
                    v.get<double>() == std::floor(v.get<double>())) {
             x = v.get<double>();
         } else {
-            throw SceneError(full(key) + ": must be an integer in [" + std::to_string(lo) + ", " +
-                             std::to_string(hi) + "], got " + shown_json(v));
+            throw SceneError(
+                full(key) + ": must be an integer in [" + std::to_string(lo) + ", " +
+                std::to_string(hi) + "], got " +
+                (is_non_finite_text(v) ? v.template get<std::string>() : shown_json(v)));
         }
         if (x < static_cast<double>(lo) || x > static_cast<double>(hi))
             throw SceneError(full(key) + ": must be an integer in [" + std::to_string(lo) + ", " +

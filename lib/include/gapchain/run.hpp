@@ -162,7 +162,9 @@ double contact_switches_per_period(const Dynamics& dyn);
 
 /// Work of a run of `periods` forcing periods of dyn on plan, in body-steps (about 1e7 a
 /// second), carrying `tangents` tangent vectors (0 .. 2 Nm) along: Nm x steps per period for
-/// every vector; on the exact propagator a step is a dense (2 Nm)^2 product per vector, and
+/// every vector; on the exact propagator a step is a dense (2 Nm)^2 product per vector, each
+/// contact switch (contact_switches_per_period()) about 100 more and a product per vector, a
+/// critically damped body a matrix exponential (2 Nm)^3 / 20 per switch, and
 /// every contact closing and opening once a period may call for a new configuration's
 /// eigendecomposition, (2 Nm)^3, up to the 2^(Nm + 1) configurations a short row has (its
 /// cache keeps them all up to Nm = 11). An upper estimate where a row repeats configurations.

@@ -155,7 +155,7 @@ Scene load_row(ModesArguments& a) {
     cli::require_sets_read(a.scene, "gapchain-modes", {}, "its modes follow from the model alone");
     // The forcing and the start change nothing either: a --set of them was taken and ignored.
     for (const std::string& set : a.scene.sets)
-        if (set.rfind("excitation.", 0) == 0 || set.rfind("initial.", 0) == 0)
+        if (forcing_or_start_key(set.substr(0, set.find('='))))
             throw SceneError("--set " + set.substr(0, set.find('=')) +
                              ": gapchain-modes does not read it (its modes follow from the model "
                              "alone); drop the --set");

@@ -117,7 +117,7 @@ py::dict modes_py(const py::object& Nm, const py::object& fc, int count, const s
     for (const auto& [key, value] : keys) {
         const std::string name = key.cast<std::string>();
         const std::string dotted = scene_key(name);
-        if (dotted.rfind("excitation.", 0) == 0 || dotted.rfind("initial.", 0) == 0)
+        if (forcing_or_start_key(dotted))
             throw std::invalid_argument(name +
                                         ": modes() does not read it (its modes follow from the "
                                         "model alone); drop the " +

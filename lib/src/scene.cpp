@@ -624,6 +624,10 @@ std::string scene_key(const std::string& key, const std::string& context) {
                      list);
 }
 
+bool forcing_or_start_key(const std::string& dotted_key) {
+    return dotted_key.rfind("excitation.", 0) == 0 || dotted_key.rfind("initial.", 0) == 0;
+}
+
 std::array<std::string, 2> keys_replaced_by(SweptParameter which) {
     // f_r = f / f0, e_r = (2 pi f0)^2 e / a0, fc = Kc / K, eps = C / (2 sqrt(K M)): of the
     // physical keys, f, e, Kc and C each enter one reduced number only.

@@ -101,6 +101,10 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
 /// key throws SceneError naming it (prefixed by context if not empty).
 std::string scene_key(const std::string& key, const std::string& context = "");
 
+/// Whether a dotted scene key sets the forcing or the start (excitation.*, initial.*): what a
+/// row's modes do not depend on (gapchain-modes and Python's modes() refuse them).
+bool forcing_or_start_key(const std::string& dotted_key);
+
 /// The dotted scene keys whose value a sweep or continuation of `which` replaces: the reduced
 /// key (excitation.f_r, model.e_r, model.fc, model.eps) and the physical scene's key that enters
 /// that number alone (excitation.f, model.e, model.Kc, model.C; MODEL.md section 1). A tool or

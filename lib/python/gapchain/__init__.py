@@ -183,21 +183,24 @@ def _out_of_range(name, parameters, args, kwargs):
     return TypeError, "%s(): arguments of the wrong type; see help(gapchain.%s)" % (name, name)
 
 
-def _not_utf8(names, args, kwargs):
-    """One line naming the first argument, keyword or path that is a string UTF-8 cannot
-    encode (a lone surrogate, as os.fsdecode makes of undecodable file names), or None:
-    pybind11 raised RuntimeError "Unable to cast Python instance" for it."""
-    def bad(value):
-        if isinstance(value, _os.PathLike):
-            value = _os.fspath(value)
-        if not isinstance(value, str):
-            return False
-        try:
-            value.encode("utf-8")
-        except UnicodeEncodeError:
-            return True
+def _unencodable(value):
+    """Whether value (a str or os.PathLike) is text UTF-8 cannot encode: a lone surrogate, as
+    os.fsdecode makes of undecodable file names."""
+    if isinstance(value, _os.PathLike):
+        value = _os.fspath(value)
+    if not isinstance(value, str):
         return False
+    try:
+        value.encode("utf-8")
+    except UnicodeEncodeError:
+        return True
+    return False
 
+
+def _not_utf8(names, args, kwargs):
+    """One line naming the first argument, keyword or path that _unencodable(), or None:
+    pybind11 raised RuntimeError "Unable to cast Python instance" for it."""
+    bad = _unencodable
     for i, value in enumerate(args):
         if bad(value):
             name = names[i] if i < len(names) else "argument %d" % (i + 1)
@@ -289,7 +292,7 @@ def _scene_json(value, key=""):
             return {k: plain(x, "%s.%s" % (key, k) if key else str(k)) for k, x in v.items()}
         if isinstance(v, (list, tuple)):
             return [plain(x, "%s[%d]" % (key, i)) for i, x in enumerate(v)]
-        if isinstance(v, str) and _not_utf8(["text"], (v,), {}):
+        if _unencodable(v):
             raise ValueError("%s: must be valid UTF-8 text, got %s" % (key or "scene", _shown(v)))
         if v is None or isinstance(v, (bool, str)):
             return v

@@ -396,26 +396,61 @@ TEST_CASE("a start or end value outside the model's range names the option that 
                          std::invalid_argument);
 }
 
-TEST_CASE("a branch that comes back onto itself ends there, traced once") {
-    // Fig 13's period-1 family from 2.15 passes the fold at 3.3044, comes down to a corner at
-    // 2.99783 and turns back on itself there. Before the branch looked for points it had
-    // passed, it retraced the whole family back to 2.15 (and the period-2 loop between the
-    // doublings at 2.2573 and 2.4651 was traced round until max_points).
+TEST_CASE("the period-1 family turns at its grazing corner onto the other sheet and follows it") {
+    // Fig 13's period-1 family from 2.15 passes the fold at 3.3044, winds down to a corner at
+    // 2.99783 where contacts 2 and 3 graze, and turns there onto a sheet on which they stay
+    // open. The arclength corrector used to land on that sheet from 3.01871 (0.023 away in the
+    // state), skip both sheets down to the corner, walk the far one back into the corner and
+    // end "back onto itself": the far sheet above 3.00128 was never traced. Numbers from an
+    // independent implementation (RK4 with switches located to round-off, Newton shooting;
+    // review of 2026-11-27): at 3.00128 the near sheet's orbit has |mu| 4.75, the far one's
+    // 0.579; the far sheet is stable up to a Neimark-Sacker at 3.065158.
     const ContinuationResult r = continue_orbits(fig13_row, one_branch(2.15, 4.5, 1));
     REQUIRE(r.branch_end.size() == 1);
-    CHECK(r.branch_end.front().rfind("came back onto itself", 0) == 0);
-    double top = 0.0, lowest_after_top = 10.0;
+    CHECK(r.branch_end.front().rfind("reached the end value", 0) == 0);
+    double top = 0.0;
+    bool near_sheet = false, far_sheet = false;
     for (const auto& q : r.points) {
-        if (q.value > top) {
-            top = q.value;
-            lowest_after_top = 10.0;
-        }
-        lowest_after_top = std::min(lowest_after_top, q.value);
+        top = std::max(top, q.value);
+        if (q.value < 2.9975 || q.value > 3.0035) continue;
+        near_sheet = near_sheet || q.max_multiplier > 4.0;
+        far_sheet = far_sheet || (q.stable && q.max_multiplier < 0.7);
     }
-    MESSAGE("top " << top << ", lowest after it " << lowest_after_top << ", " << r.points.size()
-                   << " orbits");
-    CHECK(top > 3.3);
-    CHECK(lowest_after_top > 2.9);
+    CHECK(near_sheet);
+    CHECK(far_sheet);
+    CHECK(top == doctest::Approx(4.5));
+    bool torus = false;
+    for (const auto& sp : r.special)
+        if (sp.type == SpecialPointType::neimark_sacker &&
+            std::abs(sp.value - 3.065158) <= sp.value_error + 1e-6)
+            torus = true;
+    CHECK(torus);
+    // The far sheet between the corner and that point, stable, every orbit of it below the
+    // near sheet's F_m at the corner (0.1727).
+    long on_far = 0;
+    for (const auto& q : r.points)
+        if (q.value > 3.01 && q.value < 3.06 && q.stable && q.F_m < 0.17) ++on_far;
+    MESSAGE(r.points.size() << " orbits, " << on_far << " on the far sheet in 3.01-3.06");
+    CHECK(on_far >= 3);
+}
+
+TEST_CASE("a fold is located where the branch turns, beyond both ends of its bracket") {
+    // The independent implementation of the review of 2026-11-27 puts Fig 13's fold over the
+    // clearance (f_r = 3) at e_r = 0.0738587; the bracket's width alone, narrow in e_r where
+    // both its ends had come to one value, reported 0.07385728 +- 5.4e-7.
+    ContinuationOptions o = one_branch(0.02, 0.5, 1);
+    o.parameter = SweptParameter::e_r;
+    ReducedParameters row = fig13_row;
+    row.e_r = 0.02;
+    const ContinuationResult r = continue_orbits(row, o);
+    bool found = false;
+    for (const auto& sp : r.special)
+        if (sp.type == SpecialPointType::fold && std::abs(sp.value - 0.0738587) < 1e-5) {
+            MESSAGE("fold at " << sp.value << " +- " << sp.value_error);
+            CHECK(std::abs(sp.value - 0.0738587) <= sp.value_error + 1e-7);
+            found = true;
+        }
+    CHECK(found);
 }
 
 TEST_CASE("the period-2 loop of Fig 13's line is traced round once, both of its sheets") {
@@ -464,6 +499,15 @@ TEST_CASE("the period-2 loop of Fig 13's line is traced round once, both of its 
         CHECK(sheets.back().minimal_period == 2);
     }
     CHECK(std::abs(sheets[0].state[0] - sheets[1].state[0]) > 1e-3);
+    // Its upper fold: the independent implementation finds a period-2 orbit at 2.4650719, which
+    // the fold must lie beyond (it was reported at 2.46507132 +- 2.5e-7).
+    bool fold = false;
+    for (const auto& sp : r.special)
+        if (sp.type == SpecialPointType::fold && std::abs(sp.value - 2.4651) < 1e-3) {
+            CHECK(sp.value + sp.value_error >= 2.4650719);
+            fold = true;
+        }
+    CHECK(fold);
 }
 
 TEST_CASE("--follow-doublings switches at the grazing corner where period 1 loses stability") {

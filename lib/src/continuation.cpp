@@ -274,10 +274,14 @@ public:
             if (!b) {
                 const std::string where =
                     std::string(to_string(m_o.parameter)) + " = " + std::to_string(a.z[n]);
-                return end(beyond_range
-                               ? "reached the end of the model's range of " + where
-                               : "the corrector failed at the smallest step (1e-7) at " + where);
+                if (beyond_range) return end("reached the end of the model's range of " + where);
+                if (m_cut_corner)
+                    return end("reached a grazing corner at " + where +
+                               ": the orbit goes on only on another sheet, with other impact "
+                               "counts, not followed");
+                return end("the corrector failed at the smallest step (1e-7) at " + where);
             }
+            m_cut_corner = false;
             const bool landed = land_on_end(a, *b, ds);
             detect(a, *b, ds);
             arclength += (b->z - a.z).norm();
@@ -325,9 +329,44 @@ private:
             // A corrected point far from its prediction sits on another sheet: joining the two
             // would draw a branch that does not exist.
             if (b && !near(*b, guess, ds)) b.reset();
+            if (b && cuts_corner(a, *b, ds)) {
+                b.reset();
+                m_cut_corner = true;
+            }
             if (!b) ds /= 2;
         }
         return b;
+    }
+
+    /// Whether the step a -> b landed on another sheet across a grazing corner: b's contacts
+    /// close another number of times than a's, and a's own orbit goes on past b's value,
+    /// another orbit there (Newton at b's value from a's orbit carried along its tangent
+    /// converges, near a, with a's impact counts, and not onto b). Near a corner where the
+    /// branch turns back, the arclength corrector converges onto the far sheet: Fig 13's
+    /// period-1 family stepped from 3.01871 (unstable, every contact striking) to 3.00128 on
+    /// the sheet whose middle contacts stay open, 0.023 away in the state, skipping both
+    /// sheets between there and their corner at 2.99783, and then walked the far sheet back
+    /// into the corner instead of away from it (found by an independent review, 2026-11-27).
+    /// Refused, the step shortens until the walk reaches the corner, where a's sheet ends:
+    /// there Newton finds b itself, and the walk turns onto the far sheet and follows it.
+    bool cuts_corner(const OrbitPoint& a, const OrbitPoint& b, double ds) {
+        const Eigen::Index n = m_tracer.dimension();
+        if (same_impacts(a, b)) return false;
+        // a's orbit carried to b's value along a's tangent.
+        const double along = (b.z[n] - a.z[n]) / a.tangent[n];
+        Vector guess = a.z + (std::isfinite(along) ? along : 0.0) * a.tangent;
+        guess[n] = b.z[n];
+        const std::optional<OrbitPoint> own = m_tracer.correct_at_value(guess);
+        if (!own || !near(*own, a.z, ds) || !same_impacts(*own, a)) return false;
+        return (own->z.head(n) - b.z.head(n)).norm() >
+               1e3 * m_o.orbit.tolerance * (1.0 + b.z.head(n).norm());
+    }
+
+    /// Whether every contact closes as many times per orbit at a as at b.
+    static bool same_impacts(const OrbitPoint& a, const OrbitPoint& b) {
+        for (std::size_t j = 0; j < a.shot.per_contact.size(); ++j)
+            if (a.shot.per_contact[j].impacts != b.shot.per_contact[j].impacts) return false;
+        return true;
     }
 
     /// Moves b, past the end value `to`, onto `to` itself (Newton at that value from the
@@ -389,18 +428,40 @@ private:
         OrbitPoint lo, hi;
     };
 
-    /// Bisection on the arclength fraction of the step a -> a + ds t until the parameter is
-    /// known to locate_tolerance (or the corrector fails).
-    template <class Test>
-    Bracket bisect(const OrbitPoint& a, const OrbitPoint& b, double ds, Test test) {
+    /// How far in the parameter a special point between a bracket's ends can lie from them:
+    /// the bracket's width.
+    double bracket_width(const Bracket& br) const {
         const Eigen::Index n = m_tracer.dimension();
+        return std::abs(br.hi.z[n] - br.lo.z[n]);
+    }
+
+    /// The same for a fold, which lies beyond both ends, where the branch turns: with dp/ds
+    /// linear between the ends' tangents t_lo and t_hi, p(s) peaks t_lo s* / 2 past the end at
+    /// s = 0, s* = t_lo / (t_lo - t_hi) times the arclength between them; the width adds twice
+    /// that, for the parabola's sake. At a fold both ends soon have one value of the parameter
+    /// whatever their distance: the width alone missed Fig 13's e_r fold at 0.0738587 by 2.7
+    /// widths and the period-2 loop's at 2.46507 by 2.6 (the review of 2026-11-27).
+    double fold_width(const Bracket& br) const {
+        const Eigen::Index n = m_tracer.dimension();
+        const double t_lo = br.lo.tangent[n], t_hi = br.hi.tangent[n];
+        const double s = t_lo / (t_lo - t_hi) * (br.hi.z - br.lo.z).norm();
+        return bracket_width(br) + (std::isfinite(s) ? std::abs(t_lo * s) : 0.0);
+    }
+
+    /// Bisection on the arclength fraction of the step a -> a + ds t until located(bracket)
+    /// (or the corrector fails).
+    template <class Test, class Done>
+    Bracket bisect(const OrbitPoint& a, const OrbitPoint& b, double ds, Test test, Done located) {
         double s_lo = 0.0, s_hi = 1.0;
         const bool sign_lo = test(a) > 0;
         Bracket br{a, b};
-        for (int it = 0; it < 60 && std::abs(br.hi.z[n] - br.lo.z[n]) > m_o.locate_tolerance;
-             ++it) {
+        for (int it = 0; it < 60 && !located(br); ++it) {
             const double s = 0.5 * (s_lo + s_hi);
-            const Vector guess = a.z + s * ds * a.tangent;
+            // From the chord between the bracket's ends, both on the branch: a guess on a's
+            // tangent line lies off it by the branch's curvature, and next to a branch point
+            // Newton went from there onto the branch born there (Fig 13's 2.76206 reported an
+            // F_m 2.5e-6 off the family's; the review of 2026-11-27).
+            const Vector guess = 0.5 * (br.lo.z + br.hi.z);
             std::optional<OrbitPoint> mid = m_tracer.correct(guess, a.tangent);
             // Next to a non-smooth corner the arclength corrector can fail where Newton at the
             // fixed parameter value still converges (away from a fold the orbit is a function
@@ -458,13 +519,44 @@ private:
         }
     }
 
-    /// The special point between a and b where test changes sign (an orbit at one end of the
-    /// final bracket), and the bracket's width: the point lies within it of that orbit's value.
-    template <class Test>
-    std::pair<OrbitPoint, double> locate(const OrbitPoint& a, const OrbitPoint& b, double ds,
-                                         Test test) {
+    /// A located special point: the orbit at one end of the final bracket, the width within
+    /// which the point lies of its value, and the other end (where both are one orbit).
+    struct Located {
+        OrbitPoint at;
+        double value_error;
+        std::optional<OrbitPoint> other;
+    };
+
+    /// The fold between a and b: bisection in arclength alone, where the branch is regular
+    /// (Newton at a fixed value, as bisect_in_value() takes it, is singular at a fold, and
+    /// both sheets lie below it).
+    Located locate_fold(const OrbitPoint& a, const OrbitPoint& b, double ds) {
+        // The parameter stands still at a fold while the orbit moves on: its F_m is known to
+        // the spread of the bracket's ends, which a bracket narrow in the parameter alone left
+        // at up to 1e-3 on the e_r line below.
+        const auto located = [this](const Bracket& br) {
+            return fold_width(br) <= m_o.locate_tolerance &&
+                   std::abs(br.hi.F_m - br.lo.F_m) <= 1e-9 * std::max(1.0, br.lo.F_m);
+        };
+        Bracket br = bisect(a, b, ds, fold_test, located);
+        const bool lo_closer = std::abs(fold_test(br.lo)) < std::abs(fold_test(br.hi));
+        // The branch's points are solved to the orbit tolerance, and the fold sits on them to
+        // about that: on the e_r line below, the exact scheme's and rk8pd's folds differed by
+        // up to 1.4e-12 with brackets of 1e-14.
         const Eigen::Index n = m_tracer.dimension();
-        Bracket br = bisect(a, b, ds, test);
+        const double floor = m_o.orbit.tolerance * (1.0 + std::abs(br.lo.z[n]));
+        return {lo_closer ? br.lo : br.hi, std::max(fold_width(br), floor),
+                lo_closer ? br.hi : br.lo};
+    }
+
+    /// The special point between a and b where test changes sign.
+    template <class Test>
+    Located locate(const OrbitPoint& a, const OrbitPoint& b, double ds, Test test) {
+        const Eigen::Index n = m_tracer.dimension();
+        const auto located = [this](const Bracket& x) {
+            return bracket_width(x) <= m_o.locate_tolerance;
+        };
+        Bracket br = bisect(a, b, ds, test, located);
         // At a grazing the branch can turn so sharply within one step that the arclength
         // hyperplane cuts it twice, and the bisection hops between the two cuts without
         // closing in: the step is retraced in sub-steps and the sub-step with the sign change
@@ -477,18 +569,21 @@ private:
             if (!again) break;
             from = again->first.lo;
             step = again->second;
-            br = bisect(again->first.lo, again->first.hi, step, test);
+            br = bisect(again->first.lo, again->first.hi, step, test, located);
         }
         bisect_in_value(br, test);
         // A bracket whose ends differ far more in the state than the parameter explains has its
         // ends on two orbits, however narrow it is.
         const double dp = std::abs(br.hi.z[n] - br.lo.z[n]);
         const double dx = (br.hi.z.head(n) - br.lo.z.head(n)).norm();
-        if (dp > m_o.locate_tolerance || dx > 100.0 * dp + 1e-9 * (1.0 + br.lo.z.head(n).norm()))
-            return follow_to_end(br, test);
+        if (dp > m_o.locate_tolerance || dx > 100.0 * dp + 1e-9 * (1.0 + br.lo.z.head(n).norm())) {
+            auto [at, width] = follow_to_end(br, test);
+            return {std::move(at), width, std::nullopt};
+        }
         // The reported orbit is one end of the bracket, so the point lies within the bracket's
         // whole width of it.
-        return {std::abs(test(br.lo)) < std::abs(test(br.hi)) ? br.lo : br.hi, dp};
+        const bool lo_closer = std::abs(test(br.lo)) < std::abs(test(br.hi));
+        return {lo_closer ? br.lo : br.hi, dp, lo_closer ? br.hi : br.lo};
     }
 
     /// Where the bracket's ends lie on two different orbits (the branch stepped across a corner
@@ -503,11 +598,8 @@ private:
         const Eigen::Index n = m_tracer.dimension();
         const bool sign_lo = test(br.lo) > 0;
         const auto same_orbit = [&](const OrbitPoint& x, const Vector& guess, double dp) {
-            if ((test(x) > 0) != sign_lo || !near(x, guess, 20.0 * std::abs(dp))) return false;
-            for (std::size_t j = 0; j < x.shot.per_contact.size(); ++j)
-                if (x.shot.per_contact[j].impacts != br.lo.shot.per_contact[j].impacts)
-                    return false;
-            return true;
+            return (test(x) > 0) == sign_lo && near(x, guess, 20.0 * std::abs(dp)) &&
+                   same_impacts(x, br.lo);
         };
         double p_hi = br.hi.z[n];
         for (int it = 0; it < 60 && std::abs(p_hi - br.lo.z[n]) > m_o.locate_tolerance; ++it) {
@@ -523,14 +615,22 @@ private:
         return {br.lo, std::abs(p_hi - br.lo.z[n])};
     }
 
-    void add(SpecialPointType type, const std::pair<OrbitPoint, double>& located,
-             int contact = -1) {
-        const auto& [at, value_error] = located;
+    void add(SpecialPointType type, const Located& located, int contact = -1) {
+        const OrbitPoint& at = located.at;
         const Eigen::Index n = m_tracer.dimension();
         const int minimal = minimal_period(std::vector<double>(at.z.data(), at.z.data() + n),
                                            at.shot, m_o.orbit.tolerance);
-        m_result.special.push_back({type, at.z[n], value_error, m_period, minimal, at.F_m,
-                                    m_tracer.force_error(at), m_branch, contact});
+        double force_error = m_tracer.force_error(at);
+        if (located.other) {
+            const OrbitPoint& other = *located.other;
+            // Next to a branch point the bisection's corrector can slide onto the branch born
+            // there, whose F_m parts from this one's as the square root of the distance: the
+            // point's F_m is known to the spread of the bracket's ends (at Fig 13's 2.76206,
+            // 2.5e-6 where the branch moves 6e-9 across the bracket; the review of 2026-11-27).
+            force_error = std::max(force_error, std::abs(other.F_m - at.F_m));
+        }
+        m_result.special.push_back({type, at.z[n], located.value_error, m_period, minimal, at.F_m,
+                                    force_error, m_branch, contact});
     }
 
     /// A loss of stability next to -1 that is not smooth (at a grazing corner the multiplier
@@ -553,14 +653,14 @@ private:
         // A multiplier through +1 turns the branch back (a fold) or, where it goes on, meets
         // another branch (a pitchfork: the mirror symmetry of MODEL.md §5 makes them generic).
         if ((fold_test(a) > 0) != (fold_test(b) > 0))
-            add(SpecialPointType::fold, locate(a, b, ds, fold_test));
+            add(SpecialPointType::fold, locate_fold(a, b, ds));
         else if ((branch_test(a) > 0) != (branch_test(b) > 0))
             add(SpecialPointType::branch_point, locate(a, b, ds, branch_test));
         const auto ta = torus_test(a), tb = torus_test(b);
         const bool torus = ta && tb && (*ta > 0) != (*tb > 0);
         if ((doubling_test(a) > 0) != (doubling_test(b) > 0)) {
-            const auto located = locate(a, b, ds, doubling_test);
-            const OrbitPoint& at = located.first;
+            const Located located = locate(a, b, ds, doubling_test);
+            const OrbitPoint& at = located.at;
             add(SpecialPointType::period_doubling, located);
             // The doubled orbit lies where the k-orbit is unstable.
             const Eigen::Index n = m_tracer.dimension();
@@ -601,6 +701,8 @@ private:
     const ContinuationOptions& m_o;
     int m_period;
     int m_branch;
+    // Whether the last step shortened itself at a corner (cuts_corner()).
+    bool m_cut_corner = false;
     ContinuationResult& m_result;
     TracedOrbits& m_traced;
 };

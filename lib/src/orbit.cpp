@@ -199,6 +199,17 @@ check_run(const Dynamics& dyn, const RunOptions& run, const std::vector<double>&
 
 } // namespace
 
+namespace {
+
+/// The scheme an orbit found on `scheme` is checked against (its F_m's and its largest
+/// multiplier's errors): rk8pd, or rkf45 for an orbit found on rk8pd, at check_tolerance.
+Scheme checking_scheme(Scheme scheme) {
+    return scheme == Scheme::rk8pd ? Scheme::rkf45 : Scheme::rk8pd;
+}
+constexpr double check_tolerance = 1e-10;
+
+} // namespace
+
 std::optional<double> orbit_force_error(const Dynamics& dyn, Scheme scheme, int period,
                                         const std::vector<double>& x,
                                         const std::vector<double>& monodromy, double F_m,
@@ -206,8 +217,8 @@ std::optional<double> orbit_force_error(const Dynamics& dyn, Scheme scheme, int 
     RunOptions run;
     run.periods = period;
     run.transient_periods = 0;
-    run.scheme = scheme == Scheme::rk8pd ? Scheme::rkf45 : Scheme::rk8pd;
-    run.tolerance = 1e-10;
+    run.scheme = checking_scheme(scheme);
+    run.tolerance = check_tolerance;
     run.stop_at_steady_state = false;
     run.estimate_error = false;
     run.max_work = max_work;
@@ -296,17 +307,43 @@ DampedStep damped_step(const Dynamics& dyn, const OrbitOptions& options, const V
     return DampedStep::stalled;
 }
 
-/// The error of an orbit's largest multiplier modulus: its change under one more Newton step,
-/// x + (I - M)^-1 (P(x) - x). The multiplier moves with the state to first order, and the step
-/// takes the state's error to its square: two mirror orbits of Nm = 1 (identical multipliers)
-/// read -0.396456210 and -0.396456152 as exponents, "+- 0". NaN where the step or its shooting
-/// fails, or beyond 1000 dimensions (a second dense eigensolve of a long row costs minutes).
+/// The largest modulus of a shooting's Floquet multipliers.
+double largest_modulus(const ShootingResult& s, Eigen::Index dim) {
+    const Eigen::EigenSolver<Matrix> solver(Eigen::Map<const Matrix>(s.monodromy.data(), dim, dim),
+                                            false);
+    return solver.eigenvalues().cwiseAbs().maxCoeff();
+}
+
+/// The error of an orbit's largest multiplier modulus, the larger of two changes.
+/// - Under one more Newton step, x + (I - M)^-1 (P(x) - x): the multiplier moves with the state
+///   to first order, and the step takes the state's error to its square. Two mirror orbits of
+///   Nm = 1 (identical multipliers) read -0.396456210 and -0.396456152 as exponents, "+- 0".
+/// - Where the F_m error is estimated too, on another scheme shot from the same state (exact,
+///   or checking_scheme() for an orbit on exact): the integration's own part. Fig 13's period-2 orbit at f_r = 2.3 read
+///   0.5918509858164 +- 7.7e-14 on exact, 0.59185098431 +- 1.4e-13 on rk8pd, where an
+///   independent implementation found 0.5918509858375 (the review of 2026-11-27).
+/// NaN where the Newton step or its shooting fails, or beyond 1000 dimensions (a second dense
+/// eigensolve of a long row costs minutes).
 double largest_multiplier_error(const Dynamics& dyn, const OrbitOptions& options,
                                 const std::vector<double>& x, const ShootingResult& s,
                                 double max_multiplier, const ProgressCallback& keep_going) {
     constexpr double nan = std::numeric_limits<double>::quiet_NaN();
     const auto dim = static_cast<Eigen::Index>(x.size());
     if (dim > 1000) return nan;
+    double scheme_error = 0.0;
+    // At the orbit's own tolerance: rk8pd at check_tolerance moved it by 9e-8 there. Against
+    // the exact scheme where it can run: rk8pd and rkf45 place their switches on one
+    // interpolant between the same outputs, and agreed to 3e-13 where both were 1.5e-9 off.
+    OrbitOptions check = options;
+    const bool exact_can = dyn.chain().law == ContactLaw::linear &&
+                           dyn.ground_motion().is_harmonic() && !exact_refusal(dyn);
+    check.scheme = options.scheme != Scheme::exact && exact_can ? Scheme::exact
+                                                                : checking_scheme(options.scheme);
+    if (options.estimate_force_error && shooting_work(dyn, check) <= options.max_work) {
+        const ShootingResult other = shoot(dyn, check, x, keep_going);
+        if (other.finite && !other.cancelled)
+            scheme_error = std::abs(largest_modulus(other, dim) - max_multiplier);
+    }
     const Matrix a =
         Matrix::Identity(dim, dim) - Eigen::Map<const Matrix>(s.monodromy.data(), dim, dim);
     const Vector step = a.fullPivLu().solve(as_vector(s.end_state) - as_vector(x));
@@ -316,11 +353,8 @@ double largest_multiplier_error(const Dynamics& dyn, const OrbitOptions& options
         next[static_cast<std::size_t>(i)] += step[i];
     const ShootingResult t = shoot(dyn, options, next, keep_going);
     if (!t.finite || t.cancelled) return nan;
-    const Eigen::EigenSolver<Matrix> solver(Eigen::Map<const Matrix>(t.monodromy.data(), dim, dim),
-                                            false);
-    const double moved = solver.eigenvalues().cwiseAbs().maxCoeff();
-    return std::max(std::abs(moved - max_multiplier),
-                    std::numeric_limits<double>::epsilon() * max_multiplier);
+    return std::max({std::abs(largest_modulus(t, dim) - max_multiplier), scheme_error,
+                     std::numeric_limits<double>::epsilon() * max_multiplier});
 }
 
 /// A converged orbit's max_multiplier_error, and its F_m_error where options ask.

@@ -344,3 +344,23 @@ TEST_CASE("a contact that opens and closes again between two switches is one mor
     }
     CHECK(exact.per_contact[4].impacts == 2);
 }
+
+TEST_CASE("the largest multiplier's error covers an independent implementation's value") {
+    // Fig 13's period-2 orbit at f_r = 2.3. An implementation written from MODEL.md alone (RK4
+    // with every switch located to round-off, converged to 5e-13 in |mu|; the review of
+    // 2026-11-27) finds |mu| = 0.5918509858375. The bars used to count only one more Newton
+    // step: 7.7e-14 on exact (2.1e-11 off) and 1.4e-13 on rk8pd (1.5e-9 off). The allowance
+    // 3e-11 is the reference's own distance from the exact scheme.
+    const Dynamics dyn = row({5, 60, 0.5, 0.06, 2.3});
+    for (const Scheme scheme : {Scheme::exact, Scheme::rk8pd}) {
+        OrbitOptions o;
+        o.period = 2;
+        o.scheme = scheme;
+        const PeriodicOrbit orbit = find_periodic_orbit_after(dyn, o, {}, 200);
+        REQUIRE(orbit.status == OrbitStatus::converged);
+        const double off = std::abs(orbit.max_multiplier - 0.5918509858375);
+        MESSAGE(to_string(scheme) << ": " << orbit.max_multiplier << " +- "
+                                  << orbit.max_multiplier_error << ", off by " << off);
+        CHECK(off <= orbit.max_multiplier_error + 3e-11);
+    }
+}

@@ -319,9 +319,9 @@ double largest_modulus(const ShootingResult& s, Eigen::Index dim) {
 ///   to first order, and the step takes the state's error to its square. Two mirror orbits of
 ///   Nm = 1 (identical multipliers) read -0.396456210 and -0.396456152 as exponents, "+- 0".
 /// - Where the F_m error is estimated too, on another scheme shot from the same state (exact,
-///   or checking_scheme() for an orbit on exact): the integration's own part. Fig 13's period-2 orbit at f_r = 2.3 read
-///   0.5918509858164 +- 7.7e-14 on exact, 0.59185098431 +- 1.4e-13 on rk8pd, where an
-///   independent implementation found 0.5918509858375 (the review of 2026-11-27).
+///   or checking_scheme() for an orbit on exact): the integration's own part. Fig 13's period-2
+///   orbit at f_r = 2.3 read 0.5918509858164 +- 7.7e-14 on exact, 0.59185098431 +- 1.4e-13 on
+///   rk8pd, where an independent implementation found 0.5918509858375 (the review of 2026-11-27).
 /// NaN where the Newton step or its shooting fails, or beyond 1000 dimensions (a second dense
 /// eigensolve of a long row costs minutes).
 double largest_multiplier_error(const Dynamics& dyn, const OrbitOptions& options,

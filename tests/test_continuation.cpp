@@ -555,3 +555,17 @@ TEST_CASE("a line in fc that ends beyond the exact scheme's stiffest contacts is
                          doctest::Contains("scheme: exact takes contacts"), std::invalid_argument);
     CHECK_FALSE(asked);
 }
+
+TEST_CASE("branches found and not traced for max_branches are listed, not dropped") {
+    // --follow-doublings with --max-branches 1 wrote what a run without it wrote, and said
+    // nothing of the two period-2 branches it found (the probe of 2026-11-27).
+    ContinuationOptions o = one_branch(2.15, 2.6, 1);
+    o.follow_doublings = true;
+    const ContinuationResult r = continue_orbits(fig13_row, o);
+    REQUIRE(r.branch_end.size() == 1);
+    REQUIRE(r.unfollowed.size() == 2);
+    CHECK(r.unfollowed.front().rfind("period 2 from f_r = 2.25", 0) == 0);
+    o.max_branches = 12;
+    o.to = 2.3;
+    CHECK(continue_orbits(fig13_row, o).unfollowed.empty());
+}

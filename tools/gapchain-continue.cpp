@@ -164,6 +164,13 @@ void print_summary(const ContinuationResult& r, const ContinueArguments& a) {
     std::printf("\n");
     for (std::size_t b = 0; b < r.branch_end.size(); ++b)
         std::printf("  branch %zu ended: %s\n", b, r.branch_end[b].c_str());
+    if (!r.unfollowed.empty()) {
+        std::printf("  %zu branch(es) found and not followed (--max-branches %d reached):",
+                    r.unfollowed.size(), a.options.max_branches);
+        for (std::size_t i = 0; i < r.unfollowed.size(); ++i)
+            std::printf("%s %s", i == 0 ? "" : ";", r.unfollowed[i].c_str());
+        std::printf("\n");
+    }
     for (const auto& s : r.special) {
         std::printf("  %-16s %s = %.8f +- %.1e  (period %d, F_m %.5g %s, branch %d",
                     std::string(to_string(s.type)).c_str(), a.param.c_str(), s.value, s.value_error,

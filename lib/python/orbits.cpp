@@ -65,7 +65,8 @@ minimal_period, and state: one row of 2 Nm values per point, the orbit's state a
 special (dict of columns type ("fold", "period_doubling", "neimark_sacker", "grazing",
 "branch_point"), value, period, F_m, F_m_error, branch, contact (-1 unless grazing), value_error (the
 special point lies within it of value), minimal_period),
-branch_end (why each branch ended), shootings, cancelled, wall_time_s.)";
+branch_end (why each branch ended), unfollowed (branches found and not traced because
+max_branches was reached, where each would start), shootings, cancelled, wall_time_s.)";
 
 py::dict orbit_py(const py::object& scene_arg, int period, long transient, double tolerance,
                   int max_iterations, const std::string& scheme, const py::kwargs& keys) {
@@ -148,6 +149,7 @@ py::dict continuation_dict(const ContinuationResult& r) {
     d["points"] = points;
     d["special"] = special;
     d["branch_end"] = r.branch_end;
+    d["unfollowed"] = r.unfollowed;
     d["shootings"] = r.shootings;
     d["cancelled"] = r.cancelled;
     d["wall_time_s"] = r.wall_time_s;

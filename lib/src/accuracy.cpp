@@ -94,10 +94,14 @@ std::vector<Scheme> unsplit_schemes(const WorkPrecisionOptions& o) {
 /// The reference run's plan: the exact propagator at half its default interval.
 StepPlan reference_plan_for(const Dynamics& dyn) {
     // The reference is the exact propagator: a row it cannot take has no reference.
-    if (const auto refusal = exact_refusal(dyn))
+    if (auto refusal = exact_refusal(dyn)) {
+        // Its advice to take another scheme does not apply: the study needs this one.
+        if (const auto advice = refusal->rfind("; use "); advice != std::string::npos)
+            refusal->erase(advice);
         throw std::invalid_argument("model: a work-precision study's reference is the exact "
-                                    "propagator; " +
+                                    "propagator, which cannot run this row: " +
                                     *refusal);
+    }
     StepPlan plan = plan_step(dyn, Scheme::exact, 1e-12);
     plan.steps_per_period *= 2;
     plan.step /= 2;

@@ -896,6 +896,13 @@ ContinuationResult continue_orbits(const ReducedParameters& base,
                 pending.push_back({*x, p, 2 * next.period, side});
         }
     }
+    // Said, not dropped: a run capped by max_branches looked complete (the review of
+    // 2026-11-27: --follow-doublings --max-branches 1 wrote what no --follow-doublings did).
+    if (!result.cancelled)
+        for (const PendingBranch& left : pending)
+            result.unfollowed.push_back("period " + std::to_string(left.period) + " from " +
+                                        std::string(to_string(options.parameter)) + " = " +
+                                        detail::format_number(left.p));
     result.wall_time_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - clock).count();
     return result;

@@ -67,13 +67,22 @@ json chain_json(const Scene& scene) {
             {"contact_damping", scene.row->contact_damping}};
 }
 
+/// The scene's five numbers, null where an array replaced one: it did not run (the chain says
+/// what did).
+json scene_parameters_json(const Scene& scene) {
+    json j = parameters_json(scene.reduced);
+    if (scene.clearance_array) j["e_r"] = nullptr;
+    if (scene.damping_array) j["eps"] = nullptr;
+    return j;
+}
+
 /// What ran: the reduced parameters and run options, and what the five numbers do not say, so
 /// that a result read alone (after --set on arrays, a scatter, a start) names the row and the
 /// start it ran.
 // A once-through run (Lyapunov) lists only the run keys it reads (scene.hpp's
 // once_through_run_keys); the tool refuses the others.
 void add_provenance(json& j, const Scene& scene, bool once_through = false) {
-    j["parameters"] = parameters_json(scene.reduced);
+    j["parameters"] = scene_parameters_json(scene);
     j["parameters"].update({{"periods", scene.run.periods},
                             {"transient_periods", scene.run.transient_periods == auto_transient
                                                       ? json("auto")
@@ -83,9 +92,6 @@ void add_provenance(json& j, const Scene& scene, bool once_through = false) {
         j["parameters"].update({{"accuracy_mode", to_string(scene.run.accuracy_mode)},
                                 {"estimate_error", scene.run.estimate_error},
                                 {"multistability_check", scene.run.multistability_check}});
-    // A number an array replaced did not run: the chain says what did.
-    if (scene.clearance_array) j["parameters"]["e_r"] = nullptr;
-    if (scene.damping_array) j["parameters"]["eps"] = nullptr;
     if (scene.row) j["chain"] = chain_json(scene);
     if (std::any_of(scene.initial.begin(), scene.initial.end(), [](double x) { return x != 0.0; }))
         j["initial"] = scene.initial;
@@ -712,8 +718,7 @@ std::string to_json(const PeriodicOrbit& orbit, const Scene& scene) {
     j["scheme"] = std::string(to_string(orbit.scheme));
     j["integration_tolerance"] = orbit.integration_tolerance;
     j["wall_time_s"] = orbit.wall_time_s;
-    const ReducedParameters& p = scene.reduced;
-    j["parameters"] = parameters_json(p);
+    j["parameters"] = scene_parameters_json(scene);
     // The five numbers do not name a row of arrays or a scatter (its eps was not what ran).
     if (scene.row) j["chain"] = chain_json(scene);
     j["scene"] = scene.source;
@@ -797,7 +802,7 @@ std::string psd_csv(const Psd& psd, double f_r) {
 std::string to_json(const AnalyticEstimates& a, const Scene& scene) {
     json j;
     const ReducedParameters& p = scene.reduced;
-    j["parameters"] = parameters_json(p);
+    j["parameters"] = scene_parameters_json(scene);
     j["eq20_amplitude"] = a.amplitude;
     j["impacts"] = a.impacts;
     j["eq21_wall_contact_frequency"] = a.wall_contact_frequency;

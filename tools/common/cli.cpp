@@ -161,8 +161,10 @@ void Outputs::file(const std::string& path, const std::string& flag) {
                                     "socket), which the write would replace; give a file name");
     const fs::path folder = fs::absolute(path).parent_path();
     if (!fs::is_directory(folder, ec))
-        throw std::invalid_argument(flag + ": " + path + ": the folder " + folder.string() +
-                                    " does not exist");
+        throw std::invalid_argument(flag + ": " + path + ": " +
+                                    (fs::exists(folder, ec)
+                                         ? folder.string() + " is not a directory"
+                                         : "the folder " + folder.string() + " does not exist"));
     check_distinct(path, flag);
     check_writable_parent(path, flag, path);
     m_paths.emplace_back(path, flag);

@@ -88,9 +88,12 @@ struct ContinuationResult {
     std::vector<BranchPoint> points;     ///< in the order computed, branch by branch
     std::vector<SpecialPoint> special;   ///< in the order found
     std::vector<std::string> branch_end; ///< per branch, why it ended
-    long shootings = 0;                  ///< k-period integrations with the tangent flow
-    bool cancelled = false;              ///< the progress callback asked to stop
-    double wall_time_s = 0.0;            ///< [s]
+    /// Branches found (a doubling's, a restart's) and not traced because max_branches was
+    /// reached: where each would have started ("period 2 from f_r = 2.25398")
+    std::vector<std::string> unfollowed;
+    long shootings = 0;       ///< k-period integrations with the tangent flow
+    bool cancelled = false;   ///< the progress callback asked to stop
+    double wall_time_s = 0.0; ///< [s]
 };
 
 /// Throws std::invalid_argument naming the first option outside its range.

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <stdexcept>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -74,8 +75,16 @@ TEST_CASE("a work-precision study runs only the schemes asked for, within run.ma
     o.max_work = 3e10;
     CHECK_THROWS_WITH_AS(
         work_precision(Dynamics::paper_row({65, 50, 0.5, 0.3, 1.1}), o),
-        doctest::Contains("reference is the exact propagator; exact takes rows of up to 64 bodies"),
+        doctest::Contains("reference is the exact propagator, which cannot run this row: exact "
+                          "takes rows of up to 64 bodies"),
         std::invalid_argument);
+    // And it does not advise another scheme, which cannot serve as the reference.
+    try {
+        (void)work_precision(Dynamics::paper_row({65, 50, 0.5, 0.3, 1.1}), o);
+        FAIL("the 65-body row was accepted");
+    } catch (const std::invalid_argument& e) {
+        CHECK(std::string(e.what()).find("use rk4") == std::string::npos);
+    }
 }
 
 TEST_CASE("a work-precision study reports its fraction done and stops when progress says so") {

@@ -569,3 +569,22 @@ TEST_CASE("branches found and not traced for max_branches are listed, not droppe
     o.to = 2.3;
     CHECK(continue_orbits(fig13_row, o).unfollowed.empty());
 }
+
+TEST_CASE("the progress of a branch that turns back at a fold never goes back") {
+    // From 3.0 up, Fig 13's period-1 family folds at 3.3044 and walks back down: its fraction
+    // of the line fell (46.8 -> 33.9 % on the whole line, the probe of 2026-11-27).
+    std::vector<double> fractions;
+    const ContinuationOptions o = one_branch(3.0, 3.4, 1);
+    const ContinuationResult r = continue_orbits(fig13_row, o, {}, [&](double f) {
+        fractions.push_back(f);
+        return true;
+    });
+    double top = 0.0;
+    for (const auto& q : r.points)
+        top = std::max(top, q.value);
+    REQUIRE(top > 3.3);
+    REQUIRE(r.points.back().value < 3.25); // it did walk back
+    REQUIRE(!fractions.empty());
+    for (std::size_t i = 1; i < fractions.size(); ++i)
+        CHECK(fractions[i] >= fractions[i - 1]);
+}

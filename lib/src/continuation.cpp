@@ -853,12 +853,14 @@ ContinuationResult continue_orbits(const ReducedParameters& base,
                                    const ProgressCallback& progress) {
     const auto clock = std::chrono::steady_clock::now();
     const ReducedParameters start = checked_start(base, options);
-    // The first branch reports its fraction; transient runs and later branches repeat the last
-    // one, so that every part of the call can be cancelled.
+    // The first branch reports its fraction, the farthest it has come (a branch that turns at
+    // a fold walks back: Fig 13's went from 46.8 to 33.9 %, the probe of 2026-11-27);
+    // transient runs and later branches repeat it, so that every part of the call can be
+    // cancelled.
     double last_fraction = 0.0;
     const ProgressCallback first_branch = [&](double f) {
-        last_fraction = f;
-        return !progress || progress(f);
+        last_fraction = std::max(last_fraction, f);
+        return !progress || progress(last_fraction);
     };
     const ProgressCallback keep_going = [&](double) {
         return !progress || progress(last_fraction);

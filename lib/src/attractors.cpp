@@ -591,7 +591,15 @@ void characterise(const Dynamics& dyn, const ReducedParameters& p, const Attract
             // pi / eps = 0.031 per unit time; at f_r = 1e4, 60 periods span 0.006 time units
             // and a 300-period tangent run measured +0.24). Nor is one whose runs the row's
             // damping has not had time to act on (outlasts_decay).
-            a.settled = a.F_m > 0.0 && a.lambda_max >= -margin && outlasts_decay(dyn, o.run, reach);
+            // A torus's exponent is 0: one whose error exceeds the threshold cannot tell a torus
+            // from chaos or from the approach to an orbit. On Fig 13's row at f_r = 3.2 over
+            // 1500 periods the group on its way to the period-15 orbit read -0.011 +- 0.075 and
+            // was listed as a torus (the probe of 2026-11-27); the torus there reads
+            // -0.0007 +- 0.015.
+            const bool exponent_known =
+                a.regime != Regime::quasi_periodic || a.lambda_max_error <= o.chaos_threshold;
+            a.settled = a.F_m > 0.0 && a.lambda_max >= -margin && exponent_known &&
+                        outlasts_decay(dyn, o.run, reach);
         },
         [](long) { return true; });
 }

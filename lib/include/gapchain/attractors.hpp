@@ -102,7 +102,9 @@ struct Attractor {
     Regime regime = Regime::periodic; ///< periodic, quasi-periodic or chaotic (or no-contact)
     int period = 0;                   ///< minimal period [forcing periods]; 0 if not periodic
     /// False for a non-periodic group whose lambda_max is negative beyond max(chaos_threshold,
-    /// 3 errors) (its runs were still converging to a stable orbit when they ended), that never
+    /// 3 errors) (its runs were still converging to a stable orbit when they ended), that is
+    /// not chaotic and whose lambda_max's error exceeds chaos_threshold (a torus, chaos and
+    /// an approach not told apart), that never
     /// touched (the damped linear row has one attractor, a periodic one), or whose runs last
     /// less than four decay times of the contact-free row from the box's farthest start (eps
     /// near 0, or a center far from rest): its F_m is a transient's (raise run.periods). Shown

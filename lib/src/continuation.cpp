@@ -824,6 +824,17 @@ struct PendingBranch {
     double direction;
 };
 
+/// The branches still pending when max_branches ended the call, into result.unfollowed: said,
+/// not dropped (the probe of 2026-11-27: --follow-doublings --max-branches 1 wrote what a run
+/// without --follow-doublings did, and looked complete).
+void list_unfollowed(const std::deque<PendingBranch>& pending, const ContinuationOptions& options,
+                     ContinuationResult& result) {
+    for (const PendingBranch& left : pending)
+        result.unfollowed.push_back("period " + std::to_string(left.period) + " from " +
+                                    std::string(to_string(options.parameter)) + " = " +
+                                    detail::format_number(left.p));
+}
+
 /// The row at options.from, once the options, both ends of the line and the row's size are
 /// checked (std::invalid_argument naming the first bad one).
 ReducedParameters checked_start(const ReducedParameters& base, const ContinuationOptions& options) {
@@ -898,13 +909,7 @@ ContinuationResult continue_orbits(const ReducedParameters& base,
                 pending.push_back({*x, p, 2 * next.period, side});
         }
     }
-    // Said, not dropped: a run capped by max_branches looked complete (the review of
-    // 2026-11-27: --follow-doublings --max-branches 1 wrote what no --follow-doublings did).
-    if (!result.cancelled)
-        for (const PendingBranch& left : pending)
-            result.unfollowed.push_back("period " + std::to_string(left.period) + " from " +
-                                        std::string(to_string(options.parameter)) + " = " +
-                                        detail::format_number(left.p));
+    if (!result.cancelled) list_unfollowed(pending, options, result);
     result.wall_time_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - clock).count();
     return result;

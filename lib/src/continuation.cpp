@@ -448,15 +448,13 @@ private:
         return bracket_width(br) + (std::isfinite(s) ? std::abs(t_lo * s) : 0.0);
     }
 
-    /// Bisection on the arclength fraction of the step a -> a + ds t until located(bracket)
-    /// (or the corrector fails).
+    /// Bisection of the bracket a, b of a step of length ds (Newton from its chord's midpoint
+    /// on the hyperplane normal to a's tangent) until located(bracket), or the corrector fails.
     template <class Test, class Done>
     Bracket bisect(const OrbitPoint& a, const OrbitPoint& b, double ds, Test test, Done located) {
-        double s_lo = 0.0, s_hi = 1.0;
         const bool sign_lo = test(a) > 0;
         Bracket br{a, b};
         for (int it = 0; it < 60 && !located(br); ++it) {
-            const double s = 0.5 * (s_lo + s_hi);
             // From the chord between the bracket's ends, both on the branch: a guess on a's
             // tangent line lies off it by the branch's curvature, and next to a branch point
             // Newton went from there onto the branch born there (Fig 13's 2.76206 reported an
@@ -468,13 +466,7 @@ private:
             // of the parameter).
             if (!mid) mid = m_tracer.correct_at_value(guess);
             if (!mid || !near(*mid, guess, ds)) break;
-            if ((test(*mid) > 0) == sign_lo) {
-                s_lo = s;
-                br.lo = std::move(*mid);
-            } else {
-                s_hi = s;
-                br.hi = std::move(*mid);
-            }
+            ((test(*mid) > 0) == sign_lo ? br.lo : br.hi) = std::move(*mid);
         }
         return br;
     }
@@ -533,7 +525,7 @@ private:
     Located locate_fold(const OrbitPoint& a, const OrbitPoint& b, double ds) {
         // The parameter stands still at a fold while the orbit moves on: its F_m is known to
         // the spread of the bracket's ends, which a bracket narrow in the parameter alone left
-        // at up to 1e-3 on the e_r line below.
+        // at up to 1e-3 on Fig 13's e_r line (docs/orbits.md).
         const auto located = [this](const Bracket& br) {
             return fold_width(br) <= m_o.locate_tolerance &&
                    std::abs(br.hi.F_m - br.lo.F_m) <= 1e-9 * std::max(1.0, br.lo.F_m);
@@ -541,8 +533,8 @@ private:
         Bracket br = bisect(a, b, ds, fold_test, located);
         const bool lo_closer = std::abs(fold_test(br.lo)) < std::abs(fold_test(br.hi));
         // The branch's points are solved to the orbit tolerance, and the fold sits on them to
-        // about that: on the e_r line below, the exact scheme's and rk8pd's folds differed by
-        // up to 1.4e-12 with brackets of 1e-14.
+        // about that: on Fig 13's e_r line, the exact scheme's and rk8pd's folds differed by up
+        // to 1.4e-12 with brackets of 1e-14.
         const Eigen::Index n = m_tracer.dimension();
         const double floor = m_o.orbit.tolerance * (1.0 + std::abs(br.lo.z[n]));
         return {lo_closer ? br.lo : br.hi, std::max(fold_width(br), floor),

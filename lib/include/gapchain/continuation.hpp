@@ -73,14 +73,18 @@ struct SpecialPoint {
     SpecialPointType type = SpecialPointType::fold;
     double value = 0.0; ///< the parameter
     /// The special point lies within value_error of `value` (the width of the final bracket,
-    /// whose one end is the reported orbit): <= locate_tolerance when located.
+    /// whose one end is the reported orbit; for a fold, which lies past both ends, also twice
+    /// how far the branch turns beyond them, and at least the orbit tolerance times
+    /// (1 + |value|)): <= locate_tolerance when located.
     double value_error = 0.0;
     int period = 1;         ///< k of the branch it lies on
     int minimal_period = 1; ///< the orbit's minimal period there (see BranchPoint)
     double F_m = 0.0;       ///< F_m of the orbit there
-    double F_m_error = 0.0; ///< its error [reduced force], as BranchPoint::F_m_error
-    int branch = 0;         ///< branch index
-    int contact = -1;       ///< the contact j = 0..Nm of a grazing, else -1
+    /// its error [reduced force]: BranchPoint::F_m_error's, or the difference between the F_m
+    /// of the final bracket's two ends where that is larger
+    double F_m_error = 0.0;
+    int branch = 0;   ///< branch index
+    int contact = -1; ///< the contact j = 0..Nm of a grazing, else -1
 };
 
 /// Branches and special points.

@@ -801,7 +801,6 @@ std::string psd_csv(const Psd& psd, double f_r) {
 
 std::string to_json(const AnalyticEstimates& a, const Scene& scene) {
     json j;
-    const ReducedParameters& p = scene.reduced;
     j["parameters"] = scene_parameters_json(scene);
     j["eq20_amplitude"] = a.amplitude;
     j["impacts"] = a.impacts;

@@ -288,8 +288,7 @@ Scheme tangent_run_scheme(const Dynamics& dyn, Scheme requested) {
     // orbit (Newton: -2.88). The exact propagator is as fast or faster on short rows (0.18 s
     // against 0.21 s at fc = 2000); on longer ones its set-up per contact state costs more than
     // it saves (Table 4's 46-body chaotic row: minutes against seconds).
-    if (requested == Scheme::automatic && dyn.chain().law == ContactLaw::linear &&
-        dyn.ground_motion().is_harmonic() && dyn.bodies() <= 10 && !exact_refusal(dyn))
+    if (requested == Scheme::automatic && dyn.bodies() <= 10 && exact_can_run(dyn))
         return Scheme::exact;
     return requested;
 }

@@ -197,10 +197,6 @@ check_run(const Dynamics& dyn, const RunOptions& run, const std::vector<double>&
     return std::make_pair(F_m, planned.state());
 }
 
-} // namespace
-
-namespace {
-
 /// The scheme an orbit found on `scheme` is checked against (its F_m's and its largest
 /// multiplier's errors): rk8pd, or rkf45 for an orbit found on rk8pd, at check_tolerance.
 Scheme checking_scheme(Scheme scheme) {
@@ -335,10 +331,9 @@ double largest_multiplier_error(const Dynamics& dyn, const OrbitOptions& options
     // the exact scheme where it can run: rk8pd and rkf45 place their switches on one
     // interpolant between the same outputs, and agreed to 3e-13 where both were 1.5e-9 off.
     OrbitOptions check = options;
-    const bool exact_can = dyn.chain().law == ContactLaw::linear &&
-                           dyn.ground_motion().is_harmonic() && !exact_refusal(dyn);
-    check.scheme = options.scheme != Scheme::exact && exact_can ? Scheme::exact
-                                                                : checking_scheme(options.scheme);
+    check.scheme = options.scheme != Scheme::exact && exact_can_run(dyn)
+                       ? Scheme::exact
+                       : checking_scheme(options.scheme);
     if (options.estimate_force_error && shooting_work(dyn, check) <= options.max_work) {
         const ShootingResult other = shoot(dyn, check, x, keep_going);
         if (other.finite && !other.cancelled)

@@ -80,6 +80,11 @@ std::optional<std::string> exact_refusal(const Dynamics& dyn) {
     return std::nullopt;
 }
 
+bool exact_can_run(const Dynamics& dyn) {
+    return dyn.chain().law == ContactLaw::linear && dyn.ground_motion().is_harmonic() &&
+           !exact_refusal(dyn);
+}
+
 Scheme choose_scheme(double tolerance, int bodies) {
     detail::require_range("run.tolerance", tolerance, 0.0, 1.0, detail::Bound::open_low);
     // From the work-precision studies of docs/accuracy.md: rk4 (with steps split at contact

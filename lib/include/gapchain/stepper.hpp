@@ -34,6 +34,10 @@ inline constexpr double exact_resonance_tolerance = 1e-8;
 /// callers prefix the key that chose exact.
 std::optional<std::string> exact_refusal(const Dynamics& dyn);
 
+/// Whether the exact scheme can take the row dyn at all: the linear contact law, harmonic
+/// forcing, and no exact_refusal().
+bool exact_can_run(const Dynamics& dyn);
+
 /// Integration schemes. `automatic` resolves to the scheme measured fastest for the accuracy.
 enum class Scheme {
     automatic,          ///< "auto": chosen by choose_scheme()

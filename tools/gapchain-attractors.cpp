@@ -131,8 +131,9 @@ void print_center(const AttractorOptions& o) {
 }
 
 void print_set(const AttractorSet& s, const AttractorOptions& o) {
-    std::printf("%zu attractor(s) from %ld starts (%ld failed), %.2f s on %d thread(s)\n",
-                s.attractors.size(), o.samples, s.failed, s.wall_time_s, s.threads_used);
+    std::printf("%s from %ld starts (%ld failed), %.2f s on %d thread(s)\n",
+                cli::attractor_count(s).c_str(), o.samples, s.failed, s.wall_time_s,
+                s.threads_used);
     print_center(o);
     for (const auto& a : s.attractors) {
         std::printf("  #%d %-14s", a.id, std::string(regime_label(a)).c_str());
@@ -150,9 +151,11 @@ void print_set(const AttractorSet& s, const AttractorOptions& o) {
     }
     cli::print_transients(s.transients);
     if (s.F_m_max_id >= 0)
-        std::printf("design value F_m_max = %.6g (attractor #%d)\n", s.F_m_max, s.F_m_max_id);
+        std::printf(
+            "design value F_m_max = %.6g (%s #%d)\n", s.F_m_max,
+            s.any_settled() ? "attractor" : "unsettled group, nothing settled:", s.F_m_max_id);
     if (s.unsettled > 0)
-        std::printf("warning: %d of them unsettled%s\n", s.unsettled, unsettled_reason(o).c_str());
+        std::printf("warning: %d group(s) unsettled%s\n", s.unsettled, unsettled_reason(o).c_str());
 }
 
 void run_point(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs) {

@@ -149,7 +149,7 @@ void print_design(const Scene& scene, const SimulationResult& r, const DesignVal
     const AttractorSet& set = d.search;
     // The run starts at the scene's initial state; the search's box stays around rest.
     std::printf(
-        "design value over %zu attractor(s) from %ld starts%s (%.2f s): ", set.attractors.size(),
+        "design value over %s from %ld starts%s (%.2f s): ", cli::attractor_count(set).c_str(),
         o.samples, scene.initial.empty() ? "" : " around rest", set.wall_time_s);
     if (set.F_m_max_id < 0) {
         std::printf("no attractor found (every start failed)\n");

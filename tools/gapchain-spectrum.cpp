@@ -28,6 +28,12 @@ void print_spectrum(const RowSpectrumOptions& o, const RowSpectrum& s) {
                 s.psd.segments == 1 ? "" : "s");
     std::printf("broadband share %.4f (power away from m/n f_r, n <= %d)\n",
                 s.content.broadband_share, o.order);
+    // The Nyquist frequency in forcing harmonics is half the samples per period.
+    std::printf("aliased share %.2g (power between %g f_r and twice that, measured at twice the "
+                "rate)%s\n",
+                s.aliased_share, o.samples_per_period / 2.0,
+                s.aliased_share > 1e-3 ? ": the spectrum is aliased, raise --samples-per-period"
+                                       : "");
     for (std::size_t i = 0; i < std::min<std::size_t>(8, s.content.peaks.size()); ++i) {
         const SpectralPeak& p = s.content.peaks[i];
         const std::string error = std::isfinite(p.power_error)

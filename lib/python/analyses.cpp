@@ -87,9 +87,11 @@ window    "hann" or "rectangular";  order  largest subharmonic order n labelled,
 Returns a dict: frequency ((n,) cycles per reduced time unit), f_over_f_r, density
 (signal^2 per unit frequency), df, segment (the length used), segments, broadband_share (power away from m/n f_r, [0, 1]),
 peaks (dict of columns frequency, frequency_error (df / 2), power, power_error (the larger of
-its standard error over the Welch segments and 2 run.tolerance x power; NaN with a single
-segment), numerator,
-denominator, label), sample_rate, status, wall_time_s.)";
+its standard error over the Welch segments and 2 run.tolerance x power, plus how much the power
+moves when the rate is doubled; NaN with a single segment), numerator, denominator, label),
+aliased_share (the share of the power between the Nyquist frequency and twice it, measured at
+twice the rate, [0, 1]; above 1e-3, raise samples_per_period), sample_rate, status,
+wall_time_s.)";
 
 constexpr const char* lyapunov_doc =
     R"(lyapunov(scene=None, *, count=0, progress=None, **keys) -> dict
@@ -299,6 +301,7 @@ py::dict spectrum_py(const py::object& scene_arg, const std::string& variable,
     d["segment"] = s.segment;
     d["segments"] = s.psd.segments;
     d["broadband_share"] = s.content.broadband_share;
+    d["aliased_share"] = s.aliased_share;
     d["peaks"] = peaks_dict(s.content);
     d["sample_rate"] = s.sample_rate;
     return d;

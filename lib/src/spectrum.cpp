@@ -131,7 +131,7 @@ private:
     // out of memory.
     static int validated_length(const std::vector<double>& signal, const PsdOptions& o) {
         detail::require_range("sample_rate", o.sample_rate, 0.0, 1e12, detail::Bound::open_low);
-        detail::require_range("segment_length", o.segment_length, 8, 1 << 24);
+        detail::require_range("segment_length", o.segment_length, 8, 1 << 25);
         detail::require_range("overlap", o.overlap, 0.0, 0.95);
         if (signal.size() < static_cast<std::size_t>(o.segment_length))
             throw std::invalid_argument(

@@ -447,6 +447,15 @@ std::string row_title(const ReducedParameters& p, const std::string& swept) {
     return title;
 }
 
+std::string attractor_count(const AttractorSet& set) {
+    // Counting unsettled groups as attractors told a user that a contact-free row at eps = 100
+    // (one attractor, its runs too short to reach it) had twelve.
+    const long settled = static_cast<long>(set.attractors.size()) - set.unsettled;
+    std::string text = std::to_string(settled) + " attractor(s)";
+    if (set.unsettled > 0) text += " and " + std::to_string(set.unsettled) + " unsettled group(s)";
+    return text;
+}
+
 void print_transients(const TransientLifetime& t) {
     if (std::isnan(t.lifetime)) return;
     std::printf("transients: half last beyond %.0f periods; beyond, lifetime %.3g +- %.2g periods "

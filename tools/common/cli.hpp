@@ -159,6 +159,10 @@ void require_sets_read(const SceneArguments& args, const std::string& tool,
 // where fewer than 10 end beyond the median.
 void print_transients(const TransientLifetime& t);
 
+// "2 attractor(s)", or "0 attractor(s) and 12 unsettled group(s)": an unsettled group is a
+// transient's, not an attractor (gapchain-attractors and gapchain-sim --attractors).
+std::string attractor_count(const AttractorSet& set);
+
 // The row's reduced numbers for a figure's title ("Nm=5 fc=60 eps=0.5 e_r=0.06 f_r=3"), without
 // the swept one (its values are on the x axis).
 std::string row_title(const ReducedParameters& p, const std::string& swept = "");

@@ -47,7 +47,9 @@ Signal record_signal(const Dynamics& dyn, const RunOptions& options,
 /// it (one set of rules and limits for both).
 struct RowSpectrumOptions {
     std::string variable = "u1"; ///< a state variable: u1..uNm, v1..vNm, g0..gNm or F0..FNm
-    int samples_per_period = 32; ///< samples per forcing period, 2 .. 100000
+    /// Samples per forcing period, 2 .. 100000. The run records twice as many, to measure the
+    /// aliasing (RowSpectrum::aliased_share); the spectrum is that of every other sample
+    int samples_per_period = 32;
     /// Welch segment [samples], 16 .. 2^24 and at most those recorded; 0: the largest power of
     /// two up to 4096 that the record holds (a shipped scene's 100 periods hold 3201 samples)
     int segment = 0;
@@ -63,9 +65,15 @@ struct RowSpectrum {
     double sample_rate = 0; ///< [samples per unit reduced time]
     Psd psd;                ///< Welch PSD of the variable
     /// Peaks and broadband share; each peak's power_error is the larger of its standard
-    /// error over the segments (band_power_errors()) and 2 run.tolerance x power, NaN with a single
+    /// error over the segments (band_power_errors()) and 2 run.tolerance x power, plus its
+    /// aliasing error (how much its power moves when the rate is doubled); NaN with a single
     /// segment
     SpectralContent content;
+    /// Share of the variable's power between the Nyquist frequency (samples_per_period / 2
+    /// forcing harmonics) and twice it, measured on the record taken at twice the rate, [0, 1]:
+    /// power the asked rate folds onto lower frequencies (aliasing). Above 1e-3 the spectrum's
+    /// shape is the sampling's as much as the row's: raise samples_per_period
+    double aliased_share = 0.0;
     double wall_time_s = 0.0; ///< the run and the PSD [s]
 };
 

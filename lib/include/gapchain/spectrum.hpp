@@ -19,7 +19,7 @@ Window parse_window(std::string_view name);
 /// Welch options.
 struct PsdOptions {
     double sample_rate = 1.0;  ///< samples per unit reduced time, > 0
-    int segment_length = 4096; ///< samples per segment, 8 .. 2^24 (any size; powers of 2 fastest)
+    int segment_length = 4096; ///< samples per segment, 8 .. 2^25 (any size; powers of 2 fastest)
     double overlap = 0.5;      ///< fraction of a segment shared with the next, [0, 0.95]
     Window window = Window::hann; ///< taper applied to each segment
     bool remove_mean = true;      ///< subtract the signal's mean first

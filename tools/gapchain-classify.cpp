@@ -168,26 +168,29 @@ int main(int argc, char** argv) {
         ->needs(map)
         ->capture_default_str();
     app.add_flag("--no-plot", no_plot, "Write the CSV only")->needs(map);
-    return cli::run(app, argc, argv, [&] {
-        require_sets_read(scene_args, map_flag);
-        const Scene scene = cli::load(scene_args);
-        require_paper_row(scene, "gapchain-classify");
-        take_run_settings(scene, o);
-        validate(o);
-        cli::Outputs outputs({scene_args.path});
-        if (out.empty() && app.get_option("--out")->count() > 0)
-            throw std::invalid_argument("--out: must name a file (or, with --map, a folder); "
-                                        "leave it out to print the summary only");
-        if (!map_flag) {
-            outputs.file(out, "--out");
-            return classify_point(scene.reduced, o, out, outputs);
-        }
-        if (out.empty()) out = "map";
-        outputs.folder(out, "--out", {"map.csv", "map.gp", "regimes.png", "force.png"});
-        const std::vector<double> e_r =
-            parse_range(e_r_range, "--e_r", scene.reduced, SweptParameter::e_r);
-        const std::vector<double> f_r =
-            parse_range(f_r_range, "--f_r", scene.reduced, SweptParameter::f_r);
-        classify_map(scene.reduced, o, out, e_r, f_r, threads, !no_plot, outputs);
-    });
+    return cli::run(
+        app, argc, argv,
+        [&] {
+            require_sets_read(scene_args, map_flag);
+            const Scene scene = cli::load(scene_args);
+            require_paper_row(scene, "gapchain-classify");
+            take_run_settings(scene, o);
+            validate(o);
+            cli::Outputs outputs({scene_args.path});
+            if (out.empty() && app.get_option("--out")->count() > 0)
+                throw std::invalid_argument("--out: must name a file (or, with --map, a folder); "
+                                            "leave it out to print the summary only");
+            if (!map_flag) {
+                outputs.file(out, "--out");
+                return classify_point(scene.reduced, o, out, outputs);
+            }
+            if (out.empty()) out = "map";
+            outputs.folder(out, "--out", {"map.csv", "map.gp", "regimes.png", "force.png"});
+            const std::vector<double> e_r =
+                parse_range(e_r_range, "--e_r", scene.reduced, SweptParameter::e_r);
+            const std::vector<double> f_r =
+                parse_range(f_r_range, "--f_r", scene.reduced, SweptParameter::f_r);
+            classify_map(scene.reduced, o, out, e_r, f_r, threads, !no_plot, outputs);
+        },
+        {{"run.periods", "--transient / --record"}});
 }

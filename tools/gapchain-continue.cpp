@@ -235,7 +235,8 @@ int main(int argc, char** argv) {
                         outputs.keep();
                         print_summary(r, a);
                     },
-                    {{"transient_periods", "--transient"},
+                    {{"run.periods", "--transient"},
+                     {"transient_periods", "--transient"},
                      {"scheme", "--scheme"},
                      {"max_points", "--max-points"},
                      {"max_branches", "--max-branches"},

@@ -112,7 +112,8 @@ int main(int argc, char** argv) {
                         outputs.keep();
                         print_orbit(orbit);
                     },
-                    {{"transient_periods", "--from-transient"},
+                    {{"run.periods", "--from-transient"},
+                     {"transient_periods", "--from-transient"},
                      {"period", "--period"},
                      {"max_iterations", "--max-iterations"},
                      {"tolerance", "--tolerance"},

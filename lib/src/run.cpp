@@ -622,8 +622,8 @@ const StepPlan& affordable(const Dynamics& dyn, const RunOptions& options, const
                             : ")")
                  : std::string()) +
             " x " + std::to_string(options.periods) + " periods",
-        "fewer periods (run.periods, or --transient / --record / --from-transient), a higher "
-        "excitation.f_r, or a larger run.max_work");
+        // A tool whose runs take their periods from a flag names it in place of the key.
+        "fewer periods (run.periods), a higher excitation.f_r, or a larger run.max_work");
     return plan;
 }
 

@@ -567,6 +567,13 @@ const FlagNames common_flag_names = {
 };
 
 std::string with_flag_names(std::string message, const FlagNames& names) {
+    // A field in parentheses is advice on what to change ("fewer periods (run.periods)"): a
+    // tool whose runs take their periods from a flag named run.periods there though the user
+    // could not set it (gapchain-orbit's --from-transient).
+    for (const auto& [field, flag] : names)
+        for (auto at = message.find('(' + field + ')'); at != std::string::npos;
+             at = message.find('(' + field + ')', at + flag.size() + 2))
+            message.replace(at + 1, field.size(), flag);
     for (const FlagNames* list : {&names, &common_flag_names})
         for (const auto& [field, flag] : *list)
             if (message.rfind(field + ":", 0) == 0) return flag + message.substr(field.size());

@@ -173,7 +173,8 @@ std::string plus_minus(double error, const char* format);
 // The library names its own fields in messages ("segment_length: ..."); a tool lists, for
 // each, the flag the user wrote ({"segment_length", "--segment"}) so that messages name it.
 // Fields most tools share ("transient_periods" -> "--transient", "tolerance", "threads", ...)
-// are translated by cli::run without a list.
+// are translated by cli::run without a list. A listed field in parentheses anywhere in a
+// message, advice on what to change ("fewer periods (run.periods)"), is translated too.
 using FlagNames = std::vector<std::pair<std::string, std::string>>;
 
 // Parses the command line and runs body, mapping every error to one line on stderr and an exit

@@ -102,6 +102,17 @@ TEST_CASE("a row spectrum's options are refused naming the option and its range"
     CHECK(refusal(o, run).empty());
     o.segment = 100 * 32 + 2;
     CHECK(refusal(o, run).find("segment: must be at most the recorded samples 3201") == 0);
+    // A segment as long as the record runs: the record at twice the rate, one sample short of
+    // twice the segment, was refused by the PSD after the run.
+    {
+        o.segment = 100 * 32 + 1;
+        RunOptions whole = run;
+        whole.stop_at_steady_state = false;
+        const RowSpectrum s = row_spectrum(Dynamics::paper_row({2, 100, 0.1, 1e3, 1.3}), whole, o);
+        CHECK(s.psd.segments == 1);
+        CHECK(s.aliased_share >= 0.0);
+        CHECK(s.aliased_share < 1e-6); // a contact-free row: one cosine
+    }
     CHECK(refusal(RowSpectrumOptions{}).empty());
     // 1e5 periods x 1e5 samples: 1e10 doubles, refused before the run, not after it.
     o = {};

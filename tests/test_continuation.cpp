@@ -588,3 +588,29 @@ TEST_CASE("the progress of a branch that turns back at a fold never goes back") 
     for (std::size_t i = 1; i < fractions.size(); ++i)
         CHECK(fractions[i] >= fractions[i - 1]);
 }
+
+TEST_CASE("a branch point the walk steps across onto the other branch is listed once") {
+    // mirror-pair.json: one body between two walls. An independent shooting code (exact
+    // propagator, switches to round-off; 2026-11-27) puts the symmetric orbit's supercritical
+    // pitchfork at f_r = 1.2161160180, a stable mirror pair below it. Walking up the pair, the
+    // step across it lands on the symmetric orbit (unstable below, stable above), and both the
+    // bracket across the two branches and the next one along the symmetric orbit hold the
+    // point: it was listed at 1.21611595 +- 1.9e-8 (6.5e-8 off) and 1.21611623 +- 6.0e-7.
+    ContinuationOptions o;
+    o.from = 1.2;
+    o.to = 1.3;
+    o.max_branches = 1;
+    const ContinuationResult r = continue_orbits({1, 100, 0.1, 0.6, 1.2}, o);
+    int listed = 0;
+    for (const auto& s : r.special) {
+        if (s.type != SpecialPointType::branch_point) continue;
+        ++listed;
+        CAPTURE(s.value);
+        CAPTURE(s.value_error);
+        CHECK(std::abs(s.value - 1.2161160180) <= s.value_error);
+        CHECK(s.value_error < 1e-5);
+        // Both branches meet there with the symmetric orbit's F_m, 0.779849.
+        CHECK(std::abs(s.F_m - 0.779849) <= s.F_m_error + 1e-6);
+    }
+    CHECK(listed == 1);
+}

@@ -621,8 +621,38 @@ private:
             // 2.5e-6 where the branch moves 6e-9 across the bracket; the review of 2026-11-27).
             force_error = std::max(force_error, std::abs(other.F_m - at.F_m));
         }
-        m_result.special.push_back({type, at.z[n], located.value_error, m_period, minimal, at.F_m,
-                                    force_error, m_branch, contact});
+        SpecialPoint point{type,        at.z[n],  located.value_error,
+                           m_period,    minimal,  at.F_m,
+                           force_error, m_branch, contact};
+        if (!merged_with_listed(point)) m_result.special.push_back(point);
+    }
+
+    /// Whether point is one this branch listed already, the two intervals value +- value_error
+    /// overlapping; the listed one then covers both. Where a walk steps across a branch point
+    /// from one branch onto the other crossing there, the bracket across the step and the
+    /// next one along the other branch both hold it: on mirror-pair.json the pitchfork at
+    /// 1.2161160 (an independent shooting code, 2026-11-27) was listed at 1.21611595 +- 1.9e-8
+    /// (from the bracket across the two branches) and 1.21611623 +- 6.0e-7.
+    bool merged_with_listed(const SpecialPoint& point) {
+        for (SpecialPoint& listed : m_result.special) {
+            if (listed.branch != point.branch || listed.type != point.type ||
+                listed.contact != point.contact ||
+                std::abs(listed.value - point.value) > listed.value_error + point.value_error)
+                continue;
+            const double lo =
+                std::min(listed.value - listed.value_error, point.value - point.value_error);
+            const double hi =
+                std::max(listed.value + listed.value_error, point.value + point.value_error);
+            // The wider one's orbit is kept, and its interval widened to cover both.
+            const SpecialPoint& kept = point.value_error > listed.value_error ? point : listed;
+            const double F_m_error =
+                std::max(listed.F_m_error, point.F_m_error) + std::abs(listed.F_m - point.F_m);
+            listed = kept;
+            listed.value_error = std::max(hi - listed.value, listed.value - lo);
+            listed.F_m_error = F_m_error;
+            return true;
+        }
+        return false;
     }
 
     /// A loss of stability next to -1 that is not smooth (at a grazing corner the multiplier

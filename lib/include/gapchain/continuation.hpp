@@ -89,8 +89,11 @@ struct SpecialPoint {
 
 /// Branches and special points.
 struct ContinuationResult {
-    std::vector<BranchPoint> points;     ///< in the order computed, branch by branch
-    std::vector<SpecialPoint> special;   ///< in the order found
+    std::vector<BranchPoint> points; ///< in the order computed, branch by branch
+    /// In the order found; one a branch finds again (same type and contact, the intervals
+    /// value +- value_error overlapping, as where a step crosses a branch point onto the other
+    /// branch there) is listed once, its interval and F_m_error covering both
+    std::vector<SpecialPoint> special;
     std::vector<std::string> branch_end; ///< per branch, why it ended
     /// Branches found (a doubling's, a restart's) and not traced because max_branches was
     /// reached: where each would have started ("period 2 from f_r = 2.25398")

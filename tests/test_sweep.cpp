@@ -69,7 +69,10 @@ TEST_CASE("a study with \"attractors\": F_m_max over the starts is never below t
     REQUIRE(results[0].F_m_max);
     CHECK(*results[0].F_m_max >= results[0].simulation.F_m);
     CHECK(*results[0].F_m_max == doctest::Approx(0.3853).epsilon(1e-3));
-    CHECK(results[0].attractors_found >= 2);
+    // The torus settles; the runs towards the period-15 orbit (basin 0.9 over 5000 periods,
+    // docs/attractors.md) do not within 600 periods: an unsettled group, counted apart.
+    CHECK(results[0].attractors_found >= 1);
+    CHECK(results[0].attractors_found + results[0].attractors_unsettled >= 2);
     // The design value carries its error into the row, CSV and Python: the torus's F_m is its
     // run's sample maximum, with that run's spread (> 0, a few per mille at most here).
     CHECK(results[0].F_m_max_error > 0.0);

@@ -236,6 +236,7 @@ int main(int argc, char** argv) {
                         print_summary(r, a);
                     },
                     {{"run.periods", "--transient"},
+                     {"(excitation.f_r)", "(excitation.f_r, or --from / --to with --param f_r)"},
                      {"transient_periods", "--transient"},
                      {"scheme", "--scheme"},
                      {"max_points", "--max-points"},

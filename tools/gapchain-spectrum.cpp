@@ -26,8 +26,9 @@ void print_spectrum(const RowSpectrumOptions& o, const RowSpectrum& s) {
     std::printf("gapchain-spectrum: %s, %ld samples at %g per unit time, %d segment%s\n",
                 o.variable.c_str(), s.samples, s.sample_rate, s.psd.segments,
                 s.psd.segments == 1 ? "" : "s");
-    std::printf("broadband share %.4f (power away from m/n f_r, n <= %d)\n",
-                s.content.broadband_share, o.order);
+    std::printf("broadband share %.4f %s (power away from m/n f_r, n <= %d)\n",
+                s.content.broadband_share,
+                cli::plus_minus(s.content.broadband_share_error, "%.2g").c_str(), o.order);
     // The Nyquist frequency in forcing harmonics is half the samples per period.
     std::printf("aliased share %.2g (power between %g f_r and twice that, measured at twice the "
                 "rate)%s\n",

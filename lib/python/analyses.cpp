@@ -86,6 +86,7 @@ window    "hann" or "rectangular";  order  largest subharmonic order n labelled,
 
 Returns a dict: frequency ((n,) cycles per reduced time unit), f_over_f_r, density
 (signal^2 per unit frequency), df, segment (the length used), segments, broadband_share (power away from m/n f_r, [0, 1]),
+broadband_share_error (the segments' spread of it plus aliased_share; NaN with one segment),
 peaks (dict of columns frequency, frequency_error (df / 2), power, power_error (the larger of
 its standard error over the Welch segments and 2 run.tolerance x power, plus how much the power
 moves when the rate is doubled; NaN with a single segment), numerator, denominator, label),
@@ -301,6 +302,7 @@ py::dict spectrum_py(const py::object& scene_arg, const std::string& variable,
     d["segment"] = s.segment;
     d["segments"] = s.psd.segments;
     d["broadband_share"] = s.content.broadband_share;
+    d["broadband_share_error"] = s.content.broadband_share_error;
     d["aliased_share"] = s.aliased_share;
     d["peaks"] = peaks_dict(s.content);
     d["sample_rate"] = s.sample_rate;

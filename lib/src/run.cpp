@@ -623,7 +623,8 @@ const StepPlan& affordable(const Dynamics& dyn, const RunOptions& options, const
                  : std::string()) +
             " x " + std::to_string(options.periods) + " periods",
         // A tool whose runs take their periods from a flag names it in place of the key.
-        "fewer periods (run.periods), a higher excitation.f_r, or a larger run.max_work");
+        "fewer periods (run.periods), a higher forcing frequency (excitation.f_r), or a larger "
+        "run.max_work");
     return plan;
 }
 

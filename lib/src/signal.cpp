@@ -189,6 +189,11 @@ RowSpectrum row_spectrum(const Dynamics& dyn, const RunOptions& run, const RowSp
     const std::vector<double> spread = band_power_errors(signal.values, po, bands);
     std::vector<double> aliasing;
     measure_aliasing(fine, signal.values, po, r, aliasing);
+    // Folded power lands anywhere, on the fractions or between them: the share moves by at
+    // most the share folded.
+    r.content.broadband_share_error =
+        broadband_share_error(signal.values, po, dyn.ground_motion().f_r(), o.order) +
+        r.aliased_share;
     // A power is an amplitude squared: the samples' relative error run.tolerance moves it by
     // twice that. The segments' spread is the sampling error; a periodic record has none.
     for (std::size_t i = 0; i < bands.size(); ++i) {

@@ -172,6 +172,37 @@ Psd welch_psd(const std::vector<double>& signal, const PsdOptions& o) {
     return psd;
 }
 
+namespace {
+
+/// The variance of the mean of `count` overlapping segments against that of independent ones,
+/// Welch (1967) eq. (12): 1 + 2 sum_k (1 - k / count) rho(k). The record's length in whole
+/// segments instead (independent segments only) overstated it 1.3-1.4 times at Hann's half
+/// overlap.
+double overlap_inflation(const WelchSegments& segments, int count) {
+    double inflation = 1.0;
+    for (int k = 1; k < count; ++k) {
+        const double rho = segments.correlation(k);
+        if (rho == 0.0) break;
+        inflation += 2.0 * (1.0 - static_cast<double>(k) / count) * rho;
+    }
+    return inflation;
+}
+
+/// Marks every bin (of `bins`, df apart) within `width` bins of some m/n f_r, n <= max_order.
+std::vector<char> near_fractions(int bins, double df, double f_r, int max_order, int width) {
+    std::vector<char> near(static_cast<std::size_t>(bins), 0);
+    const double f_max = (bins - 1) * df;
+    for (int q = 1; q <= max_order; ++q)
+        for (int m = 1; m * f_r / q <= f_max + width * df; ++m) {
+            const int centre = static_cast<int>(std::lround(m * f_r / q / df));
+            for (int k = std::max(1, centre - width); k <= std::min(bins - 1, centre + width); ++k)
+                near[static_cast<std::size_t>(k)] = 1;
+        }
+    return near;
+}
+
+} // namespace
+
 std::vector<double> band_power_errors(const std::vector<double>& signal, const PsdOptions& o,
                                       const std::vector<std::pair<int, int>>& bands) {
     WelchSegments segments(signal, o);
@@ -197,18 +228,42 @@ std::vector<double> band_power_errors(const std::vector<double>& signal, const P
     });
     std::vector<double> errors(bands.size(), std::numeric_limits<double>::quiet_NaN());
     if (count < 2) return errors;
-    // The variance of the mean of `count` overlapping segments, Welch (1967) eq. (12):
-    // (1 / count) (1 + 2 sum_k (1 - k / count) rho(k)). The record's length in whole segments
-    // instead (independent segments only) overstated it 1.3-1.4 times at Hann's half overlap.
-    double inflation = 1.0;
-    for (int k = 1; k < count; ++k) {
-        const double rho = segments.correlation(k);
-        if (rho == 0.0) break;
-        inflation += 2.0 * (1.0 - static_cast<double>(k) / count) * rho;
-    }
+    const double inflation = overlap_inflation(segments, count);
     for (std::size_t b = 0; b < bands.size(); ++b)
         errors[b] = std::sqrt(squares[b] / (count - 1) * inflation / count);
     return errors;
+}
+
+double broadband_share_error(const std::vector<double>& signal, const PsdOptions& o, double f_r,
+                             int max_order, int width) {
+    WelchSegments segments(signal, o);
+    const std::vector<char> near = near_fractions(
+        o.segment_length / 2 + 1, o.sample_rate / o.segment_length, f_r, max_order, width);
+    // Each segment's power away from the fractions (a) and in all (t), bins 1 and up.
+    std::vector<double> away, total;
+    segments.each([&](const std::vector<double>& density) {
+        double a = 0.0, t = 0.0;
+        for (std::size_t k = 1; k < density.size(); ++k) {
+            t += density[k];
+            if (!near[k]) a += density[k];
+        }
+        away.push_back(a);
+        total.push_back(t);
+    });
+    const auto count = static_cast<int>(away.size());
+    const double mean_total = std::accumulate(total.begin(), total.end(), 0.0) / count;
+    if (count < 2 || mean_total <= 0.0) return std::numeric_limits<double>::quiet_NaN();
+    const double share = std::accumulate(away.begin(), away.end(), 0.0) / count / mean_total;
+    // The share is a ratio of means: to first order its error is the standard error of the
+    // mean of (a - share t) / mean(t) over the segments.
+    double mean = 0.0, squares = 0.0;
+    for (int k = 0; k < count; ++k) {
+        const double z = (away[k] - share * total[k]) / mean_total;
+        const double delta = z - mean;
+        mean += delta / (k + 1);
+        squares += delta * (z - mean);
+    }
+    return std::sqrt(squares / (count - 1) * overlap_inflation(segments, count) / count);
 }
 
 std::string SpectralPeak::label() const {
@@ -225,15 +280,7 @@ SpectralContent spectral_content(const Psd& psd, double f_r, int max_order, int 
     const auto bins = static_cast<int>(psd.density.size());
     SpectralContent c;
     if (bins < 3) return c;
-    // Mark every bin within `width` of some m/n f_r.
-    std::vector<char> near(bins, 0);
-    const double f_max = psd.frequency.back();
-    for (int q = 1; q <= max_order; ++q)
-        for (int m = 1; m * f_r / q <= f_max + width * psd.df; ++m) {
-            const int centre = static_cast<int>(std::lround(m * f_r / q / psd.df));
-            for (int k = std::max(1, centre - width); k <= std::min(bins - 1, centre + width); ++k)
-                near[k] = 1;
-        }
+    const std::vector<char> near = near_fractions(bins, psd.df, f_r, max_order, width);
     double total = 0.0, away = 0.0, largest = 0.0;
     for (int k = 1; k < bins; ++k) {
         total += psd.density[k];

@@ -618,6 +618,7 @@ def test_spectrum_default_segment_fits_a_shipped_scene():
     # At 32 samples a period u1 of Fig 13's row folds back almost nothing, its contact force
     # (a short pulse) far more; at 8 a period the force's spectrum is mostly folded.
     assert 0 <= r["aliased_share"] < 1e-6
+    assert 0 <= r["broadband_share_error"] < 1e-3  # two segments of a periodic row
     assert gapchain.spectrum(scene, variable="F1")["aliased_share"] > 1e-4
     assert gapchain.spectrum(scene, variable="F1", samples_per_period=8)["aliased_share"] > 1e-2
     with pytest.raises(ValueError, match="^segment: must be 0 .* got 8$"):

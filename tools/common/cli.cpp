@@ -567,13 +567,18 @@ const FlagNames common_flag_names = {
 };
 
 std::string with_flag_names(std::string message, const FlagNames& names) {
-    // A field in parentheses is advice on what to change ("fewer periods (run.periods)"): a
-    // tool whose runs take their periods from a flag named run.periods there though the user
-    // could not set it (gapchain-orbit's --from-transient).
-    for (const auto& [field, flag] : names)
-        for (auto at = message.find('(' + field + ')'); at != std::string::npos;
-             at = message.find('(' + field + ')', at + flag.size() + 2))
-            message.replace(at + 1, field.size(), flag);
+    // A field in parentheses is advice on what to change ("fewer periods (run.periods)"):
+    // gapchain-orbit, whose runs take their periods from --from-transient, advised run.periods,
+    // a key it does not read.
+    // An entry written in parentheses itself is replaced as written.
+    for (const auto& [field, flag] : names) {
+        const bool literal = field.front() == '(';
+        const std::string from = literal ? field : '(' + field + ')';
+        const std::string to = literal ? flag : '(' + flag + ')';
+        for (auto at = message.find(from); at != std::string::npos;
+             at = message.find(from, at + to.size()))
+            message.replace(at, from.size(), to);
+    }
     for (const FlagNames* list : {&names, &common_flag_names})
         for (const auto& [field, flag] : *list)
             if (message.rfind(field + ":", 0) == 0) return flag + message.substr(field.size());

@@ -174,7 +174,8 @@ std::string plus_minus(double error, const char* format);
 // each, the flag the user wrote ({"segment_length", "--segment"}) so that messages name it.
 // Fields most tools share ("transient_periods" -> "--transient", "tolerance", "threads", ...)
 // are translated by cli::run without a list. A listed field in parentheses anywhere in a
-// message, advice on what to change ("fewer periods (run.periods)"), is translated too.
+// message, advice on what to change ("fewer periods (run.periods)"), is translated too; an
+// entry written in parentheses ({"(excitation.f_r)", "(--from)"}) is replaced only there.
 using FlagNames = std::vector<std::pair<std::string, std::string>>;
 
 // Parses the command line and runs body, mapping every error to one line on stderr and an exit

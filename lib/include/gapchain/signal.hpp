@@ -64,15 +64,18 @@ struct RowSpectrum {
     int segment = 0;        ///< Welch segment used [samples]
     double sample_rate = 0; ///< [samples per unit reduced time]
     Psd psd;                ///< Welch PSD of the variable
-    /// Peaks and broadband share; each peak's power_error is the larger of its standard
-    /// error over the segments (band_power_errors()) and 2 run.tolerance x power, plus its
+    /// Peaks and broadband share (its error: the segments' spread, broadband_share_error(),
+    /// plus aliased_share; NaN with a single segment); each peak's power_error is the larger of its
+    /// standard error over the segments (band_power_errors()) and 2 run.tolerance x power, plus its
     /// aliasing error (how much its power moves when the rate is doubled); NaN with a single
     /// segment
     SpectralContent content;
     /// Share of the variable's power between the Nyquist frequency (samples_per_period / 2
     /// forcing harmonics) and twice it, measured on the record taken at twice the rate, [0, 1]:
     /// power the asked rate folds onto lower frequencies (aliasing). Above 1e-3 the spectrum's
-    /// shape is the sampling's as much as the row's: raise samples_per_period
+    /// shape is the sampling's as much as the row's: raise samples_per_period. A lower bound:
+    /// power above twice the Nyquist frequency folds in the record at twice the rate too and
+    /// is not seen (at 2 samples per period, most of it)
     double aliased_share = 0.0;
     double wall_time_s = 0.0; ///< the run and the PSD [s]
 };

@@ -59,6 +59,9 @@ struct SpectralPeak {
 struct SpectralContent {
     std::vector<SpectralPeak> peaks; ///< local maxima above 1e-6 of the largest, by power
     double broadband_share = 0.0;    ///< power away from every m/n f_r (n <= max_order), [0, 1]
+    /// Its estimated error, >= 0: broadband_share_error() where the caller sets it; NaN where
+    /// not estimated (spectral_content() alone, or fewer than 2 segments)
+    double broadband_share_error = std::numeric_limits<double>::quiet_NaN();
 };
 
 /// The sampling error of each band's power in welch_psd(signal, options): the band (bins
@@ -70,6 +73,15 @@ struct SpectralContent {
 /// error at round-off: what remains is the integration's.
 std::vector<double> band_power_errors(const std::vector<double>& signal, const PsdOptions& options,
                                       const std::vector<std::pair<int, int>>& bands);
+
+/// The sampling error of the broadband share that spectral_content() reads off
+/// welch_psd(signal, options) with the same f_r, max_order and width: the share is a ratio of
+/// mean powers over the segments, and its standard error follows from each segment's power
+/// away from the fractions and in all (first order in their spread, with Welch's correction
+/// for overlapping segments as in band_power_errors()). NaN with fewer than 2 segments or no
+/// power.
+double broadband_share_error(const std::vector<double>& signal, const PsdOptions& options,
+                             double f_r, int max_order = 4, int width = 1);
 
 /// Finds the peaks of psd and measures its broadband share: power more than `width` bins away
 /// from every frequency m/n f_r with 1 <= n <= max_order (f_r > 0, max_order >= 1).

@@ -90,9 +90,9 @@ struct SweepPointResult {
     std::optional<Classification> regime; ///< if the study keeps the regime
     std::optional<double> F_m_max;        ///< design value over the attractors (attractors > 0)
     double F_m_max_error = 0.0;           ///< its error (NaN where not estimated)
-    int attractors_found = 0;             ///< attractors found (attractors > 0)
-    int attractors_unsettled = 0;         ///< of them unsettled: F_m_max may be a transient's
-    std::optional<double> F_m_newton;     ///< F_m in newtons, for physical scenes
+    int attractors_found = 0; ///< attractors found (attractors > 0), unsettled groups not counted
+    int attractors_unsettled = 0;     ///< of them unsettled: F_m_max may be a transient's
+    std::optional<double> F_m_newton; ///< F_m in newtons, for physical scenes
     /// F_m_error in newtons, for physical scenes where F_m_error was estimated [N, >= 0]
     std::optional<double> F_m_error_newton;
     /// F_m_max and F_m_max_error in newtons, for physical scenes with attractors > 0 [N]

@@ -35,6 +35,10 @@ void print_spectrum(const RowSpectrumOptions& o, const RowSpectrum& s) {
                 s.aliased_share, o.samples_per_period / 2.0,
                 s.aliased_share > 1e-3 ? ": the spectrum is aliased, raise --samples-per-period"
                                        : "");
+    if (s.sampled_range_share < 0.5)
+        std::printf("warning: the samples miss %s's peaks: their range is %.2g of its range at "
+                    "the run's steps; raise --samples-per-period\n",
+                    o.variable.c_str(), s.sampled_range_share);
     for (std::size_t i = 0; i < std::min<std::size_t>(8, s.content.peaks.size()); ++i) {
         const SpectralPeak& p = s.content.peaks[i];
         const std::string error = std::isfinite(p.power_error)

@@ -91,7 +91,9 @@ peaks (dict of columns frequency, frequency_error (df / 2), power, power_error (
 its standard error over the Welch segments and 2 run.tolerance x power, plus how much the power
 moves when the rate is doubled; NaN with a single segment), numerator, denominator, label),
 aliased_share (the share of the power between the Nyquist frequency and twice it, measured at
-twice the rate, [0, 1]; above 1e-3, raise samples_per_period), sample_rate, status,
+twice the rate, [0, 1]; above 1e-3, raise samples_per_period), sampled_range_share (the
+samples' range over the variable's range at every step, [0, 1]; well below 1 the samples miss
+its peaks), sample_rate, status,
 wall_time_s.)";
 
 constexpr const char* lyapunov_doc =
@@ -304,6 +306,7 @@ py::dict spectrum_py(const py::object& scene_arg, const std::string& variable,
     d["broadband_share"] = s.content.broadband_share;
     d["broadband_share_error"] = s.content.broadband_share_error;
     d["aliased_share"] = s.aliased_share;
+    d["sampled_range_share"] = s.sampled_range_share;
     d["peaks"] = peaks_dict(s.content);
     d["sample_rate"] = s.sample_rate;
     return d;

@@ -2,6 +2,7 @@
 
 #include "detail/check.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -20,12 +21,16 @@ void SignalRecorder::on_step(const StepView& step) {
     if (m_out.values.empty()) {
         m_out.t0 = step.t0;
         m_out.values.push_back(m_variable.value(m_dyn, step.t0, step.y0));
+        m_out.step_min = m_out.step_max = m_out.values.back();
     }
+    const double value = m_variable.value(m_dyn, step.t1, step.y1);
+    m_out.step_min = std::min(m_out.step_min, value);
+    m_out.step_max = std::max(m_out.step_max, value);
     // Only step ends on the sampling grid count; split pieces end elsewhere.
     const double k = (step.t1 - m_out.t0) / m_interval;
     if (std::abs(k - std::round(k)) < 1e-6 &&
         std::lround(k) == static_cast<long>(m_out.values.size()))
-        m_out.values.push_back(m_variable.value(m_dyn, step.t1, step.y1));
+        m_out.values.push_back(value);
 }
 
 Signal record_signal(const Dynamics& dyn, const RunOptions& options,
@@ -171,6 +176,11 @@ RowSpectrum row_spectrum(const Dynamics& dyn, const RunOptions& run, const RowSp
     const Signal fine = record_signal(dyn, run, spectrum_variable(o.variable, dyn),
                                       2 * o.samples_per_period, r.outcome, initial, progress);
     const Signal signal = every_other(fine);
+    if (!signal.values.empty() && fine.step_max > fine.step_min) {
+        const auto [least, largest] =
+            std::minmax_element(signal.values.begin(), signal.values.end());
+        r.sampled_range_share = (*largest - *least) / (fine.step_max - fine.step_min);
+    }
     r.samples = static_cast<long>(signal.values.size());
     r.sample_rate = signal.sample_rate;
     if (r.outcome.status != RunStatus::completed) return finish();

@@ -8,6 +8,7 @@
 #include "gapchain/run.hpp"
 #include "gapchain/spectrum.hpp"
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,10 @@ struct Signal {
     std::vector<double> values; ///< samples, the first at the end of the transient
     double sample_rate = 0.0;   ///< samples per unit reduced time
     double t0 = 0.0;            ///< reduced time of the first sample
+    /// The variable's least and largest value at every step end of the recorded window (the
+    /// samples among them): what the run saw between the samples
+    double step_min = std::numeric_limits<double>::infinity();
+    double step_max = -std::numeric_limits<double>::infinity();
 };
 
 /// Observer that appends `variable` every `every`-th step end of the grid (while recording).
@@ -77,6 +82,11 @@ struct RowSpectrum {
     /// power above twice the Nyquist frequency folds in the record at twice the rate too and
     /// is not seen (at 2 samples per period, most of it)
     double aliased_share = 0.0;
+    /// The samples' range (largest less least) over the variable's range at every step end of
+    /// the recorded window, [0, 1] (1 for a variable that never moves). Well below 1 the
+    /// samples miss its peaks, which aliasing alone need not show: at 7 samples per period the
+    /// contact force of Fig 5's row was sampled between its impacts, all zeros
+    double sampled_range_share = 1.0;
     double wall_time_s = 0.0; ///< the run and the PSD [s]
 };
 

@@ -20,6 +20,15 @@ std::string refusal(const RowSpectrumOptions& o, const RunOptions& run = {}) {
     return "";
 }
 
+/// A run of `periods` forcing periods, the first `transient` discarded, to its end.
+RunOptions full_run(long periods, long transient) {
+    RunOptions run;
+    run.periods = periods;
+    run.transient_periods = transient;
+    run.stop_at_steady_state = false;
+    return run;
+}
+
 } // namespace
 
 TEST_CASE("a contact-free row's spectrum is one line at the forcing frequency") {
@@ -27,10 +36,7 @@ TEST_CASE("a contact-free row's spectrum is one line at the forcing frequency") 
     // discarded start-up.
     const double f_r = 1.3;
     const Dynamics dyn = Dynamics::paper_row({2, 100, 0.1, 1e3, f_r});
-    RunOptions run;
-    run.periods = 400;
-    run.transient_periods = 200;
-    run.stop_at_steady_state = false;
+    const RunOptions run = full_run(400, 200);
     RowSpectrumOptions o;
     o.segment = 1024;
     const RowSpectrum s = row_spectrum(dyn, run, o);
@@ -55,10 +61,7 @@ TEST_CASE("the default segment is the largest power of two up to 4096 the record
     // The shipped scenes record 100 periods (3201 samples at 32 a period): a fixed 4096 was
     // refused on every one of them.
     const Dynamics dyn = Dynamics::paper_row({2, 100, 0.1, 1e3, 1.3});
-    RunOptions run;
-    run.periods = 100;
-    run.transient_periods = 0;
-    run.stop_at_steady_state = false;
+    RunOptions run = full_run(100, 0);
     const RowSpectrum s = row_spectrum(dyn, run, RowSpectrumOptions{});
     REQUIRE(s.outcome.status == RunStatus::completed);
     CHECK(s.samples == 3201);
@@ -128,10 +131,7 @@ TEST_CASE("a peak's power error covers what a low sampling rate folds onto it") 
     // Before the aliasing check the peaks' errors were the segments' spread and the tolerance
     // alone: u_1's 2 f_r read 0.0069373 +- 1.4e-6 where 1024 samples a period give 0.0069335.
     const Dynamics dyn = Dynamics::paper_row({5, 100, 0.5, 0.5, 1.0});
-    RunOptions run;
-    run.periods = 300;
-    run.transient_periods = 100;
-    run.stop_at_steady_state = false;
+    const RunOptions run = full_run(300, 100);
     for (const char* variable : {"u1", "F1"}) {
         CAPTURE(variable);
         RowSpectrumOptions coarse;
@@ -168,10 +168,7 @@ TEST_CASE("samples that miss a variable's peaks say so") {
     // sample of the contact force falls between impacts (all zeros, and the record at twice
     // the rate too, so the aliased share reads 0); the steps between them see every impact.
     const Dynamics dyn = Dynamics::paper_row({5, 100, 0.5, 0.5, 1.0});
-    RunOptions run;
-    run.periods = 200;
-    run.transient_periods = 100;
-    run.stop_at_steady_state = false;
+    const RunOptions run = full_run(200, 100);
     RowSpectrumOptions o;
     o.variable = "F1";
     o.samples_per_period = 8;

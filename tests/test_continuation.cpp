@@ -83,7 +83,11 @@ TEST_CASE("a cancel inside a shooting ends the continuation as cancelled") {
     CHECK(r.branch_end.back() == "cancelled");
 }
 
-TEST_CASE("Fig 13's fold at f_r = 2.762 is located to 1e-6 from two different starts") {
+// At f_r = 2.762 the period-1 family has a pitchfork (MODEL.md §5's mirror symmetry). The walk
+// from 2.70 lands on the branch born there, which runs up to it and back down as its own mirror
+// image: a turn that keeps the count of multipliers outside the unit circle (mirror images
+// have the same ones), listed as a branch point since session 47 (a fold before).
+TEST_CASE("Fig 13's pitchfork at f_r = 2.762 is located to 1e-6 from two different starts") {
     const ReducedParameters p{5, 60, 0.5, 0.06, 3.0};
     ContinuationOptions o;
     o.to = 2.9;
@@ -92,12 +96,12 @@ TEST_CASE("Fig 13's fold at f_r = 2.762 is located to 1e-6 from two different st
         o.from = from;
         const ContinuationResult r = continue_orbits(p, o);
         for (const auto& s : r.special)
-            if (s.type == SpecialPointType::fold && std::abs(s.value - 2.762) < 0.01)
+            if (s.type == SpecialPointType::branch_point && std::abs(s.value - 2.762) < 0.01)
                 return s.value;
         return 0.0;
     };
     const double a = fold_near(2.70), b = fold_near(2.73);
-    MESSAGE("fold from 2.70: " << a << ", from 2.73: " << b);
+    MESSAGE("branch point from 2.70: " << a << ", from 2.73: " << b);
     REQUIRE(a > 0.0);
     REQUIRE(b > 0.0);
     CHECK(std::abs(a - b) < 2e-6);
@@ -105,6 +109,8 @@ TEST_CASE("Fig 13's fold at f_r = 2.762 is located to 1e-6 from two different st
 
 namespace {
 const ReducedParameters fig13_row{5, 60, 0.5, 0.06, 3.0};
+/// data/scenes/mirror-pair.json: one body between two walls.
+const ReducedParameters mirror_pair_row{1, 100, 0.1, 0.6, 1.2};
 
 /// One branch of period k along Fig 13's line from `from` to `to` in f_r.
 ContinuationOptions one_branch(double from, double to, int k) {
@@ -180,14 +186,15 @@ TEST_CASE("a branch walked down ends on its end value with no fold there") {
     CHECK(r.special.empty());
 }
 
-TEST_CASE("the fold at f_r = 2.762 located walking through it in both directions") {
-    // Forward: up the sheet the transient lands on, through the fold, back down the other.
+TEST_CASE("the pitchfork's turn at f_r = 2.762 located walking through it in both directions") {
+    // Forward: up the sheet the transient lands on, through the turn, back down its mirror.
     ContinuationOptions o = one_branch(2.70, 2.9, 1);
     o.max_points = 400;
     const ContinuationResult forward = continue_orbits(fig13_row, o);
     const auto fold_of = [](const ContinuationResult& r) {
         for (const auto& s : r.special)
-            if (s.type == SpecialPointType::fold && std::abs(s.value - 2.762) < 0.01) return s;
+            if (s.type == SpecialPointType::branch_point && std::abs(s.value - 2.762) < 0.01)
+                return s;
         return SpecialPoint{};
     };
     const SpecialPoint a = fold_of(forward);
@@ -596,11 +603,7 @@ TEST_CASE("a branch point the walk steps across onto the other branch is listed 
     // step across it lands on the symmetric orbit (unstable below, stable above), and both the
     // bracket across the two branches and the next one along the symmetric orbit hold the
     // point: it was listed at 1.21611595 +- 1.9e-8 (6.5e-8 off) and 1.21611623 +- 6.0e-7.
-    ContinuationOptions o;
-    o.from = 1.2;
-    o.to = 1.3;
-    o.max_branches = 1;
-    const ContinuationResult r = continue_orbits({1, 100, 0.1, 0.6, 1.2}, o);
+    const ContinuationResult r = continue_orbits(mirror_pair_row, one_branch(1.2, 1.3, 1));
     int listed = 0;
     for (const auto& s : r.special) {
         if (s.type != SpecialPointType::branch_point) continue;
@@ -610,6 +613,31 @@ TEST_CASE("a branch point the walk steps across onto the other branch is listed 
         CHECK(std::abs(s.value - 1.2161160180) <= s.value_error);
         CHECK(s.value_error < 1e-5);
         // Both branches meet there with the symmetric orbit's F_m, 0.779849.
+        CHECK(std::abs(s.F_m - 0.779849) <= s.F_m_error + 1e-6);
+    }
+    CHECK(listed == 1);
+}
+
+TEST_CASE(
+    "a branch turning at a pitchfork into its mirror image lists a branch point, not a fold") {
+    // mirror-pair.json walked in short steps up the stable mirror pair: it turns at the
+    // symmetric orbit's pitchfork (1.2161160180, F_m 0.779849: an independent shooting code)
+    // into its mirror image, its multiplier touching +1 from below. Listed as a fold at
+    // 1.21611613 +- 2.9e-8 (1.1e-7 off) before; the fold test and the branch test also split
+    // it into a fold and a branch point where the multiplier read 1 + 1e-7.
+    ContinuationOptions o = one_branch(1.214, 1.2165, 1);
+    o.step = 0.002;
+    o.max_step = 0.004;
+    o.max_points = 400;
+    const ContinuationResult r = continue_orbits(mirror_pair_row, o);
+    int listed = 0;
+    for (const auto& s : r.special) {
+        CHECK(s.type != SpecialPointType::fold);
+        if (s.type != SpecialPointType::branch_point) continue;
+        ++listed;
+        CAPTURE(s.value);
+        CHECK(std::abs(s.value - 1.2161160180) <= s.value_error);
+        CHECK(s.value_error < 1e-5);
         CHECK(std::abs(s.F_m - 0.779849) <= s.F_m_error + 1e-6);
     }
     CHECK(listed == 1);

@@ -81,6 +81,11 @@ public:
         return std::abs(a.multipliers.front()) < 1.0 &&
                with_value(m_base, m_o.parameter, p).eps > 0.0;
     }
+    /// Whether the row at a is damped (eps > 0): undamped, every multiplier lies on the unit
+    /// circle (det M = 1) and a turn tells nothing by them.
+    [[nodiscard]] bool damped(const OrbitPoint& a) const {
+        return with_value(m_base, m_o.parameter, a.z[dimension()]).eps > 0.0;
+    }
     /// The error of the F_m of the orbit at a (orbit_force_error()); NaN where not estimated.
     double force_error(const OrbitPoint& a) {
         const Eigen::Index n = dimension();
@@ -211,6 +216,20 @@ int multipliers_below_minus_one(const OrbitPoint& a) {
     int count = 0;
     for (const auto& mu : a.multipliers)
         count += mu.real() < -1.0 && std::abs(mu.imag()) <= 1e-9 * std::abs(mu) ? 1 : 0;
+    return count;
+}
+/// Multipliers outside the unit circle. A fold changes their number (a multiplier crosses +1
+/// as the branch turns; at a grazing corner, one or more jump across): every fold of Fig 13's
+/// line and of the e_r line does. A turn that keeps it is a branch point seen from a branch
+/// born there: on mirror-pair.json the stable mirror pair runs up to the symmetric orbit's
+/// pitchfork at 1.2161160 and back down as its mirror image, its multiplier touching +1 from
+/// below (0.9999961 at 1.21611577, an independent shooting code); it was listed as a fold.
+/// A multiplier within 1e-6 of the circle counts as on it: next to the pitchfork the pair's
+/// multiplier read 1 + 1e-7 at one end of a step and the turn was listed as a fold again.
+int outside_unit_circle(const OrbitPoint& a) {
+    int count = 0;
+    for (const auto& mu : a.multipliers)
+        count += std::abs(mu) > 1.0 + 1e-6 ? 1 : 0;
     return count;
 }
 double branch_test(const OrbitPoint& a) {
@@ -517,7 +536,46 @@ private:
         OrbitPoint at;
         double value_error;
         std::optional<OrbitPoint> other;
+        double F_m_spread = 0.0; ///< a further bound on the error of at's F_m
     };
+
+    /// The error of the F_m of the orbit found at a branch point's turn (between a and b):
+    /// along the branch born there F_m parts from the branch point's as the distance s from
+    /// it (one contact's force grows, its mirror's falls), F_m = F + k |s|, while the value
+    /// turns as p = p* - c s^2. A turn placed to within value_error lies within
+    /// sqrt(value_error / c) of it, k and c read off the step's ends; at most their own F_m
+    /// spread, the turn lying between them. Without it the pair's F_m at mirror-pair.json's
+    /// turn read 0.77987 +- 9e-6 where the pitchfork's is 0.779849.
+    double turn_force_error(const OrbitPoint& a, const Located& turn, const OrbitPoint& b) const {
+        const Eigen::Index n = m_tracer.dimension();
+        const OrbitPoint& x = turn.at;
+        double error = 0.0;
+        for (const OrbitPoint* y : {&a, &b}) {
+            const double spread = std::abs(y->F_m - x.F_m);
+            const double s = (y->z - x.z).norm();
+            const double c = std::abs(y->z[n] - x.z[n]) / (s * s);
+            const double bound = spread / s * std::sqrt(turn.value_error / c);
+            error = std::max(error, std::isfinite(bound) ? std::min(bound, spread) : spread);
+        }
+        return error;
+    }
+
+    /// How far the turn of the parabola through a, x and b (the parameter against the chord
+    /// length from a) lies from x's value. Next to a branch point Newton's matrix is nearly
+    /// singular and the tangents that place a turn are not resolved, but the orbits' values
+    /// are: on mirror-pair.json (steps of 5e-4) the turn was placed at 1.21611613 +- 2.9e-8,
+    /// 1.1e-7 below the pitchfork (1.2161160180, an independent shooting code).
+    double vertex_gap(const OrbitPoint& a, const OrbitPoint& x, const OrbitPoint& b) const {
+        const Eigen::Index n = m_tracer.dimension();
+        const double s1 = (x.z - a.z).norm(), s2 = s1 + (b.z - x.z).norm();
+        const double p0 = a.z[n], p1 = x.z[n], p2 = b.z[n];
+        // Divided differences: p = p0 + d1 s + c s (s - s1).
+        const double d1 = (p1 - p0) / s1, d2 = (p2 - p1) / (s2 - s1);
+        const double c = (d2 - d1) / s2;
+        const double b1 = d1 - c * s1; // p = p0 + b1 s + c s^2
+        const double vertex = p0 - b1 * b1 / (4.0 * c);
+        return std::isfinite(vertex) ? std::abs(vertex - p1) : 0.0;
+    }
 
     /// The fold between a and b: bisection in arclength alone, where the branch is regular
     /// (Newton at a fixed value, as bisect_in_value() takes it, is singular at a fold, and
@@ -621,6 +679,7 @@ private:
             // 2.5e-6 where the branch moves 6e-9 across the bracket; the review of 2026-11-27).
             force_error = std::max(force_error, std::abs(other.F_m - at.F_m));
         }
+        force_error = std::max(force_error, located.F_m_spread);
         SpecialPoint point{type,        at.z[n],  located.value_error,
                            m_period,    minimal,  at.F_m,
                            force_error, m_branch, contact};
@@ -674,9 +733,16 @@ private:
     void detect(const OrbitPoint& a, const OrbitPoint& b, double ds) {
         // A multiplier through +1 turns the branch back (a fold) or, where it goes on, meets
         // another branch (a pitchfork: the mirror symmetry of MODEL.md §5 makes them generic).
-        if ((fold_test(a) > 0) != (fold_test(b) > 0))
-            add(SpecialPointType::fold, locate_fold(a, b, ds));
-        else if ((branch_test(a) > 0) != (branch_test(b) > 0))
+        if ((fold_test(a) > 0) != (fold_test(b) > 0)) {
+            Located turn = locate_fold(a, b, ds);
+            if (m_tracer.damped(a) && outside_unit_circle(a) == outside_unit_circle(b)) {
+                turn.value_error = std::max(turn.value_error, vertex_gap(a, turn.at, b));
+                turn.F_m_spread = turn_force_error(a, turn, b);
+                add(SpecialPointType::branch_point, turn);
+            } else {
+                add(SpecialPointType::fold, turn);
+            }
+        } else if ((branch_test(a) > 0) != (branch_test(b) > 0))
             add(SpecialPointType::branch_point, locate(a, b, ds, branch_test));
         const auto ta = torus_test(a), tb = torus_test(b);
         const bool torus = ta && tb && (*ta > 0) != (*tb > 0);

@@ -17,11 +17,16 @@ namespace gapchain {
 
 /// Kinds of special points.
 enum class SpecialPointType {
-    fold,            ///< a multiplier +1 where the branch turns back in the parameter
+    /// The branch turns back in the parameter, a multiplier crossing +1 (or, at a grazing
+    /// corner, multipliers jumping across the unit circle): their count outside it changes
+    fold,
     period_doubling, ///< a multiplier -1
     neimark_sacker,  ///< a complex pair crosses the unit circle
     grazing,         ///< a contact's closings per orbit change
-    branch_point,    ///< a multiplier +1 where the branch goes on: another branch meets it
+    /// A multiplier +1 where another branch meets this one: this branch goes on through it,
+    /// or (a branch born at a pitchfork of a mirror-symmetric orbit) turns there into its own
+    /// mirror image, the count of multipliers outside the unit circle unchanged
+    branch_point,
 };
 
 /// Name of a kind, as written in results ("fold", "period_doubling", ...).

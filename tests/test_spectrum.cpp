@@ -233,3 +233,19 @@ TEST_CASE("a periodic record's power error is at round-off; one segment has none
     CHECK_THROWS_AS(band_power_errors(off, o, {{3, 1}}), std::invalid_argument);
     CHECK_THROWS_AS(band_power_errors(off, o, {{0, 257}}), std::invalid_argument);
 }
+
+TEST_CASE("a line at the Nyquist frequency is a peak") {
+    // The last bin has no right neighbour; at 2 samples per period the forcing's own line sits
+    // there, and spectral_content() listed no peak at all.
+    PsdOptions o;
+    o.sample_rate = 2.0;
+    o.segment_length = 64;
+    o.window = Window::rectangular;
+    std::vector<double> x(256);
+    for (std::size_t i = 0; i < x.size(); ++i)
+        x[i] = (i % 2 == 0 ? 1.0 : -1.0); // cos(pi i): the forcing f_r = 1 at 2 samples a period
+    const SpectralContent c = spectral_content(welch_psd(x, o), 1.0);
+    REQUIRE(c.peaks.size() == 1);
+    CHECK(c.peaks.front().frequency == doctest::Approx(1.0));
+    CHECK(c.peaks.front().label() == "1 f_r");
+}

@@ -288,9 +288,13 @@ SpectralContent spectral_content(const Psd& psd, double f_r, int max_order, int 
         largest = std::max(largest, psd.density[k]);
     }
     c.broadband_share = total > 0.0 ? away / total : 0.0;
-    for (int k = 1; k + 1 < bins; ++k) {
+    // The last bin (the Nyquist frequency) has no right neighbour: at 2 samples per period the
+    // forcing's own line sits there, and was not listed.
+    for (int k = 1; k < bins; ++k) {
         const double d = psd.density[k];
-        if (d <= psd.density[k - 1] || d < psd.density[k + 1] || d < 1e-6 * largest) continue;
+        if (d <= psd.density[k - 1] || (k + 1 < bins && d < psd.density[k + 1]) ||
+            d < 1e-6 * largest)
+            continue;
         SpectralPeak p;
         p.frequency = psd.frequency[k];
         p.frequency_error = 0.5 * psd.df;

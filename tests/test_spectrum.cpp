@@ -249,3 +249,17 @@ TEST_CASE("a line at the Nyquist frequency is a peak") {
     CHECK(c.peaks.front().frequency == doctest::Approx(1.0));
     CHECK(c.peaks.front().label() == "1 f_r");
 }
+
+TEST_CASE("the broadband share's error refuses what the share refuses") {
+    PsdOptions o;
+    o.segment_length = 16;
+    const std::vector<double> x(64, 1.0);
+    // f_r = 0 marked fractions m / n f_r forever.
+    CHECK_THROWS_WITH_AS(broadband_share_error(x, o, 0.0), doctest::Contains("f_r"),
+                         std::invalid_argument);
+    CHECK_THROWS_WITH_AS(broadband_share_error(x, o, 1.0, 0), doctest::Contains("max_order"),
+                         std::invalid_argument);
+    CHECK_THROWS_WITH_AS(broadband_share_error(x, o, 1.0, 4, -1), doctest::Contains("width"),
+                         std::invalid_argument);
+    CHECK(std::isnan(broadband_share_error(x, o, 1.0))); // a constant: no power
+}

@@ -77,9 +77,7 @@ public:
     /// row (at eps = 0 det M = 1 and a largest multiplier a hair below 1 is round-off, as in
     /// find_periodic_orbit()).
     [[nodiscard]] bool stable(const OrbitPoint& a) const {
-        const double p = a.z[dimension()];
-        return std::abs(a.multipliers.front()) < 1.0 &&
-               with_value(m_base, m_o.parameter, p).eps > 0.0;
+        return std::abs(a.multipliers.front()) < 1.0 && damped(a);
     }
     /// Whether the row at a is damped (eps > 0): undamped, every multiplier lies on the unit
     /// circle (det M = 1) and a turn tells nothing by them.
@@ -733,6 +731,8 @@ private:
     void detect(const OrbitPoint& a, const OrbitPoint& b, double ds) {
         // A multiplier through +1 turns the branch back (a fold) or, where it goes on, meets
         // another branch (a pitchfork: the mirror symmetry of MODEL.md §5 makes them generic).
+        // A turn where none crosses is a pitchfork seen from the branch born there, which
+        // turns into its own mirror image (outside_unit_circle()).
         if ((fold_test(a) > 0) != (fold_test(b) > 0)) {
             Located turn = locate_fold(a, b, ds);
             if (m_tracer.damped(a) && outside_unit_circle(a) == outside_unit_circle(b)) {

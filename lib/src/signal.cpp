@@ -125,7 +125,8 @@ double band_power(const Psd& psd, int first, int last) {
 // so the power moves by up to P_mirror + 2 sqrt(P P_mirror); the fine record's own folds, a
 // step further up, show in how much the power moved between the two rates. On Fig 5's row at
 // 32 samples per period the larger of the two covered the error against 2048 samples per
-// period at every peak of u1, v1 and F1, by 1.1 to 4.6x on u1 (docs/chaos.md).
+// period at every peak of u1, v1 and F1, by 1.1 to 4.6x on u1; at 64 a second reader found
+// F1's (flagged aliased) up to 2.3x short and v1's 1.1x short at 11-12 f_r (docs/chaos.md).
 void measure_aliasing(const Signal& fine, const std::vector<double>& coarse, const PsdOptions& po,
                       RowSpectrum& r, std::vector<double>& aliasing) {
     PsdOptions fo = po;

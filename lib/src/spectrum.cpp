@@ -188,8 +188,17 @@ double overlap_inflation(const WelchSegments& segments, int count) {
     return inflation;
 }
 
+/// Throws std::invalid_argument naming f_r, max_order or width out of range (f_r = 0 would
+/// mark fractions forever).
+void require_fractions(double f_r, int max_order, int width) {
+    detail::require_range("f_r", f_r, 0.0, 1e12, detail::Bound::open_low);
+    detail::require_range("max_order", max_order, 1, 1000);
+    detail::require_range("width", width, 0, 1000);
+}
+
 /// Marks every bin (of `bins`, df apart) within `width` bins of some m/n f_r, n <= max_order.
 std::vector<char> near_fractions(int bins, double df, double f_r, int max_order, int width) {
+    require_fractions(f_r, max_order, width);
     std::vector<char> near(static_cast<std::size_t>(bins), 0);
     const double f_max = (bins - 1) * df;
     for (int q = 1; q <= max_order; ++q)
@@ -251,8 +260,9 @@ double broadband_share_error(const std::vector<double>& signal, const PsdOptions
         total.push_back(t);
     });
     const auto count = static_cast<int>(away.size());
+    if (count < 2) return std::numeric_limits<double>::quiet_NaN();
     const double mean_total = std::accumulate(total.begin(), total.end(), 0.0) / count;
-    if (count < 2 || mean_total <= 0.0) return std::numeric_limits<double>::quiet_NaN();
+    if (mean_total <= 0.0) return std::numeric_limits<double>::quiet_NaN();
     const double share = std::accumulate(away.begin(), away.end(), 0.0) / count / mean_total;
     // The share is a ratio of means: to first order its error is the standard error of the
     // mean of (a - share t) / mean(t) over the segments.
@@ -274,9 +284,7 @@ std::string SpectralPeak::label() const {
 
 SpectralContent spectral_content(const Psd& psd, double f_r, int max_order, int width,
                                  int max_peaks) {
-    detail::require_range("f_r", f_r, 0.0, 1e12, detail::Bound::open_low);
-    detail::require_range("max_order", max_order, 1, 1000);
-    detail::require_range("width", width, 0, 1000);
+    require_fractions(f_r, max_order, width);
     const auto bins = static_cast<int>(psd.density.size());
     SpectralContent c;
     if (bins < 3) return c;

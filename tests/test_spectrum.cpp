@@ -129,6 +129,16 @@ TEST_CASE("bad input is refused") {
 
 namespace {
 
+/// amplitude sin(2 pi cycles i) plus unit white noise, i = 0 .. samples - 1 (cycles per sample).
+std::vector<double> sine_in_noise(double amplitude, double cycles, std::size_t samples,
+                                  std::mt19937& gen) {
+    std::normal_distribution<double> noise(0.0, 1.0);
+    std::vector<double> x(samples);
+    for (std::size_t i = 0; i < samples; ++i)
+        x[i] = amplitude * std::sin(2 * pi * cycles * i) + noise(gen);
+    return x;
+}
+
 /// The sample standard deviation of values (at least 2).
 double sample_spread(const std::vector<double>& values) {
     const double mean = std::accumulate(values.begin(), values.end(), 0.0) / values.size();
@@ -148,12 +158,9 @@ TEST_CASE("a peak's power error is the scatter an independent record of the sign
     o.segment_length = 256;
     const double f = 2.0; // on a bin: df = 0.125
     std::mt19937 gen(3);
-    std::normal_distribution<double> noise(0.0, 1.0);
     std::vector<double> powers, errors;
     for (int record = 0; record < 200; ++record) {
-        std::vector<double> x(256 * 16);
-        for (std::size_t i = 0; i < x.size(); ++i)
-            x[i] = 0.3 * std::sin(2 * pi * f * i / o.sample_rate) + noise(gen);
+        const std::vector<double> x = sine_in_noise(0.3, f / o.sample_rate, 256 * 16, gen);
         const Psd psd = welch_psd(x, o);
         const SpectralContent c = spectral_content(psd, f);
         REQUIRE_FALSE(c.peaks.empty());
@@ -184,12 +191,9 @@ TEST_CASE("the broadband share's error is the scatter an independent record show
     o.segment_length = 256;
     const double f = 2.0;
     std::mt19937 gen(5);
-    std::normal_distribution<double> noise(0.0, 1.0);
     std::vector<double> shares, errors;
     for (int record = 0; record < 200; ++record) {
-        std::vector<double> x(256 * 16);
-        for (std::size_t i = 0; i < x.size(); ++i)
-            x[i] = std::sin(2 * pi * f * i / o.sample_rate) + noise(gen);
+        const std::vector<double> x = sine_in_noise(1.0, f / o.sample_rate, 256 * 16, gen);
         const SpectralContent c = spectral_content(welch_psd(x, o), f);
         CHECK(std::isnan(c.broadband_share_error)); // spectral_content() alone does not
         shares.push_back(c.broadband_share);

@@ -205,7 +205,7 @@ std::string to_json(const SimulationResult& r, const Scene& scene, const DesignV
               {"seed", options.seed},
               {"box", options.box},
               {"center", box_center(options, scene.reduced.Nm)},
-              {"attractors", static_cast<long>(set.attractors.size()) - set.unsettled},
+              {"attractors", set.attractor_count()},
               {"unsettled", set.unsettled},
               {"failed", set.failed},
               {"F_m_max", design.F_m_max},
@@ -560,7 +560,7 @@ nlohmann::ordered_json attractor_set_json(const AttractorSet& set, const Attract
     j["unsettled"] = set.unsettled;
     // An unsettled group is a transient's, not an attractor: the count is of settled ones, as
     // the tools' headline says; "attractors" lists every group.
-    j["attractor_count"] = static_cast<long>(set.attractors.size()) - set.unsettled;
+    j["attractor_count"] = set.attractor_count();
     j["group_count"] = set.attractors.size();
     auto list = nlohmann::ordered_json::array();
     for (const auto& a : set.attractors)

@@ -160,8 +160,7 @@ SweepPointResult run_point(const Study& s, const SweepPointFactory& make_point, 
         r.F_m_max = design.F_m_max;
         r.F_m_max_error = design.F_m_max_error;
         r.multistable = multistable(r.simulation, design);
-        r.attractors_found =
-            static_cast<int>(design.search.attractors.size()) - design.search.unsettled;
+        r.attractors_found = design.search.attractor_count();
         r.attractors_unsettled = design.search.unsettled;
         if (in.physical) {
             r.F_m_max_newton = force_in_newtons(design.F_m_max, *in.physical);

@@ -450,8 +450,7 @@ std::string row_title(const ReducedParameters& p, const std::string& swept) {
 std::string attractor_count(const AttractorSet& set) {
     // Counting unsettled groups as attractors told a user that a contact-free row at eps = 100
     // (one attractor, its runs too short to reach it) had twelve.
-    const long settled = static_cast<long>(set.attractors.size()) - set.unsettled;
-    std::string text = std::to_string(settled) + " attractor(s)";
+    std::string text = std::to_string(set.attractor_count()) + " attractor(s)";
     if (set.unsettled > 0) text += " and " + std::to_string(set.unsettled) + " unsettled group(s)";
     return text;
 }

@@ -234,8 +234,10 @@ struct AttractorSet {
     bool cancelled = false;           ///< progress asked to stop; nothing was grouped
     /// Whether some group settled on an attractor (F_m_max is then an attractor's, not a
     /// transient's).
-    [[nodiscard]] bool any_settled() const {
-        return unsettled < static_cast<int>(attractors.size());
+    [[nodiscard]] bool any_settled() const { return attractor_count() > 0; }
+    /// Settled groups: the attractors found (an unsettled group is a transient's)
+    [[nodiscard]] int attractor_count() const {
+        return static_cast<int>(attractors.size()) - unsettled;
     }
 };
 

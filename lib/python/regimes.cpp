@@ -37,7 +37,9 @@ Returns a dict: regime, period (forcing periods; 0 if not periodic or longer tha
 lambda_max (largest Lyapunov exponent per unit reduced time; a Newton-confirmed orbit's
 from its largest multiplier, error 0) and lambda_max_error (None where too few periods were
 averaged for it),
-distinct_points, section_points, broadband_share ([0, 1]), F_m (a Newton-confirmed orbit's,
+distinct_points, section_points, broadband_share ([0, 1]; 0 where the run settled) and
+broadband_share_error (its Welch segments' spread plus the aliased share; None where the
+record was too short to read it), F_m (a Newton-confirmed orbit's,
 else the record's maximum), F_m_error (tolerance * F_m on a periodic state, else the recorded
 halves' spread, at least that; covering the record's maximum too), stopped_at_steady_state,
 newton_confirmed, max_multiplier (0 unless confirmed), periods_run, scheme (the one the run
@@ -55,7 +57,8 @@ transient, record, confirm  as in classify().
 
 Returns a dict: e_r ((rows,)), f_r ((cols,)), and (rows x cols) arrays regime (str), code
 (0 no-contact, 1 periodic, 2 quasi-periodic, 3 chaotic), period, F_m, F_m_error, lambda_max,
-lambda_max_error (NaN where not estimated), distinct_points, broadband_share, status;
+lambda_max_error (NaN where not estimated), distinct_points, broadband_share,
+broadband_share_error (NaN where not estimated), status;
 wall_time_s, threads_used,
 cancelled.)";
 
@@ -131,6 +134,8 @@ py::dict regime_map_dict(const RegimeMap& m) {
         grid<double>(m, [](const C& c) { return estimated_or_nan(c.lambda_max_error); });
     d["distinct_points"] = grid<int>(m, [](const C& c) { return c.distinct_points; });
     d["broadband_share"] = grid<double>(m, [](const C& c) { return c.broadband_share; });
+    d["broadband_share_error"] =
+        grid<double>(m, [](const C& c) { return c.broadband_share_error; });
     d["status"] = strings(m.cells, [](const C& c) {
                       return to_string(c.status);
                   }).attr("reshape")(m.e_r.size(), m.f_r.size());

@@ -13,8 +13,11 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <limits>
 #include <optional>
 #include <stdexcept>
+#include <tuple>
+#include <utility>
 
 namespace gapchain {
 
@@ -43,16 +46,17 @@ void validate(const ClassifyOptions& o) {
                           detail::Bound::open_low);
     detail::require_range("samples_per_period", o.samples_per_period, 4, 4096);
     detail::require_range("chaos_threshold", o.chaos_threshold, 0.0, 1e6);
-    // The recorded samples of u_1 (8 bytes each) and section points (~64 bytes each) are held
-    // in memory (per thread in a map): refuse up front what would end in bad_alloc.
-    const double bytes = static_cast<double>(o.record_periods) * (8.0 * o.samples_per_period + 64);
+    // The recorded samples of u_1 (8 bytes each, twice samples_per_period a period) and section
+    // points (~64 bytes each) are held in memory (per thread in a map): refuse up front what
+    // would end in bad_alloc.
+    const double per_period = 16.0 * o.samples_per_period + 64;
+    const double bytes = static_cast<double>(o.record_periods) * per_period;
     if (bytes > 4e9)
         throw std::invalid_argument(
             "record_periods: " + std::to_string(o.record_periods) +
             " recorded periods hold about " + detail::format_number(std::ceil(bytes * 1e-9)) +
             " GB of samples; at most 4 GB (about " +
-            detail::format_number(std::floor(4e9 / (8.0 * o.samples_per_period + 64))) +
-            " periods here)");
+            detail::format_number(std::floor(4e9 / per_period)) + " periods here)");
 }
 
 namespace {
@@ -72,20 +76,26 @@ int distinct_values(std::vector<double> v, double tolerance) {
 /// The evidence of phase 2 (recording) that decides a non-periodic label.
 struct RecordedEvidence {
     std::vector<SectionPoint> section;
-    Signal u1;
+    Signal u1; ///< at twice samples_per_period
     long impacts = 0;
 };
 
-/// Share of u_1's spectral power away from the forcing's harmonics and subharmonics.
-double broadband_share(const Signal& u1, double f_r) {
-    if (u1.values.size() < 256) return 0.0;
+/// Share of u_1's spectral power away from the forcing's harmonics and subharmonics, and its
+/// error, from u_1 recorded at twice the asked rate: the share is read on every other sample;
+/// its error is the segments' spread (broadband_share_error()) plus the power the asked rate
+/// folds back (aliased_share()), which can land away from the fractions. Too short a record
+/// (fewer than 256 asked samples) is not read: 0, error NaN.
+std::pair<double, double> broadband_reading(const Signal& fine, double f_r) {
+    const Signal u1 = every_other(fine);
+    if (u1.values.size() < 256) return {0.0, std::numeric_limits<double>::quiet_NaN()};
     PsdOptions po;
     po.sample_rate = u1.sample_rate;
     int length = 256;
     while (2 * length <= static_cast<int>(u1.values.size()) / 4)
         length *= 2;
     po.segment_length = length;
-    return spectral_content(welch_psd(u1.values, po), f_r).broadband_share;
+    const double share = spectral_content(welch_psd(u1.values, po), f_r).broadband_share;
+    return {share, broadband_share_error(u1.values, po, f_r) + aliased_share(fine.values, po)};
 }
 
 /// The label of a run that did not settle: lambda_max clearly positive (chaos), clearly
@@ -93,7 +103,7 @@ double broadband_share(const Signal& u1, double f_r) {
 /// indistinguishable from 0 (a torus).
 void label_unsettled(const ClassifyOptions& o, const RecordedEvidence& evidence, double f_r,
                      Classification& c) {
-    c.broadband_share = broadband_share(evidence.u1, f_r);
+    std::tie(c.broadband_share, c.broadband_share_error) = broadband_reading(evidence.u1, f_r);
     // The repetition test reads the record's second half: an attracting orbit the run is still
     // approaching (a multiplier of 0.73 per 3 periods on Nm = 3, fc = 200, e_r = 0.03, f_r = 5.5)
     // repeats there to period_tolerance, and a torus or chaos does not repeat in either half.
@@ -232,7 +242,7 @@ void require_map_work(const ReducedParameters& base, std::size_t rows,
         const Dynamics dyn = Dynamics::paper_row({base.Nm, base.fc, base.eps, base.e_r, f});
         body_steps +=
             static_cast<double>(rows) *
-            run_work(dyn, plan_run(dyn, classify_run_options(dyn, o), o.samples_per_period),
+            run_work(dyn, plan_run(dyn, classify_run_options(dyn, o), 2 * o.samples_per_period),
                      periods);
     }
     detail::require_work(body_steps, o.max_work, "this map runs up to",
@@ -250,7 +260,8 @@ Classification classify(const ReducedParameters& p, const ClassifyOptions& o,
     validate(p);
     const Dynamics dyn = Dynamics::paper_row(p);
     const RunOptions run_options = classify_run_options(dyn, o);
-    PlannedRun planned(dyn, run_options, o.initial, o.samples_per_period);
+    // u_1 is recorded at twice the asked rate (broadband_reading()).
+    PlannedRun planned(dyn, run_options, o.initial, 2 * o.samples_per_period);
 
     // Phase 1, settling: up to transient_periods, stopped as soon as a periodic steady state
     // is found. The tangent vector rides along; for a periodic point its average over this
@@ -282,7 +293,7 @@ Classification classify(const ReducedParameters& p, const ClassifyOptions& o,
     RecordedEvidence evidence;
     PoincareSampler sampler(dyn, SectionSpec{},
                             [&](const SectionPoint& s) { evidence.section.push_back(s); });
-    SignalRecorder recorder(dyn, SectionVariable{}, dyn.period() / o.samples_per_period,
+    SignalRecorder recorder(dyn, SectionVariable{}, dyn.period() / (2 * o.samples_per_period),
                             evidence.u1);
     Observer* recording[] = {&forces, &tangent, &sampler, &recorder};
     const RunOutcome outcome = planned.run({record, 0, t}, recording, keep_going);

@@ -757,6 +757,8 @@ json classification_json(const Classification& c) {
     j["distinct_points"] = c.distinct_points;
     j["section_points"] = c.section_points;
     j["broadband_share"] = c.broadband_share;
+    j["broadband_share_error"] =
+        std::isfinite(c.broadband_share_error) ? json(c.broadband_share_error) : json(nullptr);
     j["stopped_at_steady_state"] = c.stopped_at_steady_state;
     j["newton_confirmed"] = c.newton_confirmed;
     if (c.newton_confirmed) j["max_multiplier"] = c.max_multiplier;
@@ -779,7 +781,7 @@ std::string map_csv(const RegimeMap& map) {
     std::ostringstream os;
     os.precision(10);
     os << "e_r,f_r,regime,code,period,F_m,lambda_max,lambda_max_error,distinct_points,broadband_"
-          "share,F_m_error\n";
+          "share,F_m_error,broadband_share_error\n";
     for (std::size_t i = 0; i < map.e_r.size(); ++i)
         for (std::size_t k = 0; k < map.f_r.size(); ++k) {
             const Classification& c = map.cells[i * map.f_r.size() + k];
@@ -787,8 +789,9 @@ std::string map_csv(const RegimeMap& map) {
                << static_cast<int>(c.regime) << ',' << c.period << ',' << c.F_m << ','
                << c.lambda_max << ',';
             write_if_finite(os, c.lambda_max_error);
-            os << ',' << c.distinct_points << ',' << c.broadband_share << ',' << c.F_m_error
-               << '\n';
+            os << ',' << c.distinct_points << ',' << c.broadband_share << ',' << c.F_m_error << ',';
+            write_if_finite(os, c.broadband_share_error);
+            os << '\n';
         }
     return os.str();
 }

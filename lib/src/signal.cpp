@@ -99,9 +99,6 @@ void validate(const RowSpectrumOptions& o, const Dynamics& dyn, const RunOptions
             " GB); at most 2.5e8: fewer samples per period or fewer periods");
 }
 
-namespace {
-
-// The asked record: every other sample of the one taken at twice the rate.
 Signal every_other(const Signal& fine) {
     Signal coarse;
     coarse.sample_rate = fine.sample_rate / 2.0;
@@ -110,6 +107,8 @@ Signal every_other(const Signal& fine) {
         coarse.values.push_back(fine.values[i]);
     return coarse;
 }
+
+namespace {
 
 double band_power(const Psd& psd, int first, int last) {
     double power = 0.0;
@@ -129,22 +128,15 @@ double band_power(const Psd& psd, int first, int last) {
 // F1's (flagged aliased) up to 2.3x short and v1's 1.1x short at 11-12 f_r (docs/chaos.md).
 void measure_aliasing(const Signal& fine, const std::vector<double>& coarse, const PsdOptions& po,
                       RowSpectrum& r, std::vector<double>& aliasing) {
-    PsdOptions fo = po;
-    fo.sample_rate *= 2.0;
-    fo.segment_length *= 2;
-    // Twice the asked hop exactly (an odd segment's hop is rounded): segments start at the
-    // same times.
-    const double hop = std::max(1.0, std::round(po.segment_length * (1.0 - po.overlap)));
-    fo.overlap = 1.0 - hop / po.segment_length;
+    PsdOptions fo = doubled_rate_options(po);
     const auto held = static_cast<int>(fine.values.size());
     if (held < fo.segment_length) {
         // One segment as long as the record (2 S - 1 fine samples against 2 S): the share is
         // read on the whole fine record; the peaks' errors are unknown with one segment anyway.
         fo.segment_length = held - 1;
         const Psd whole = welch_psd(fine.values, fo);
-        const int last = static_cast<int>(whole.density.size()) - 1;
-        const double total = band_power(whole, 1, last);
-        r.aliased_share = total > 0.0 ? band_power(whole, last / 2 + 1, last) / total : 0.0;
+        r.aliased_share =
+            power_share_above(whole, (static_cast<int>(whole.density.size()) - 1) / 2);
         aliasing.assign(r.content.peaks.size(), std::numeric_limits<double>::quiet_NaN());
         return;
     }
@@ -154,10 +146,7 @@ void measure_aliasing(const Signal& fine, const std::vector<double>& coarse, con
     // (2 S - 1 samples against S): compare both without it.
     if (fine_psd.segments != compared.segments)
         compared = welch_psd(std::vector<double>(coarse.begin(), coarse.end() - 1), po);
-    const int nyquist = po.segment_length / 2;
-    const int last = static_cast<int>(fine_psd.density.size()) - 1;
-    const double total = band_power(fine_psd, 1, last);
-    r.aliased_share = total > 0.0 ? band_power(fine_psd, nyquist + 1, last) / total : 0.0;
+    r.aliased_share = power_share_above(fine_psd, po.segment_length / 2);
     for (const SpectralPeak& p : r.content.peaks) {
         const double fine_power = band_power(fine_psd, p.first_bin, p.last_bin);
         const double mirror =

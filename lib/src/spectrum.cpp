@@ -276,6 +276,31 @@ double broadband_share_error(const std::vector<double>& signal, const PsdOptions
     return std::sqrt(squares / (count - 1) * overlap_inflation(segments, count) / count);
 }
 
+PsdOptions doubled_rate_options(const PsdOptions& o) {
+    PsdOptions fine = o;
+    fine.sample_rate *= 2.0;
+    fine.segment_length *= 2;
+    // Twice the asked hop exactly (an odd segment's hop is rounded): segments start at the
+    // same times.
+    const double hop = std::max(1.0, std::round(o.segment_length * (1.0 - o.overlap)));
+    fine.overlap = 1.0 - hop / o.segment_length;
+    return fine;
+}
+
+double power_share_above(const Psd& psd, int bin) {
+    double above = 0.0, total = 0.0;
+    for (std::size_t k = 1; k < psd.density.size(); ++k) {
+        total += psd.density[k];
+        if (static_cast<int>(k) > bin) above += psd.density[k];
+    }
+    return total > 0.0 ? above / total : 0.0;
+}
+
+double aliased_share(const std::vector<double>& fine, const PsdOptions& asked) {
+    return power_share_above(welch_psd(fine, doubled_rate_options(asked)),
+                             asked.segment_length / 2);
+}
+
 std::string SpectralPeak::label() const {
     if (denominator == 0) return "-";
     if (denominator == 1) return std::to_string(numerator) + " f_r";

@@ -680,3 +680,16 @@ def test_a_sweep_over_Nm_pads_per_body_with_nan():
     assert s["per_body"].shape == (2, 3, 2)
     assert s["per_body"][1, 0].tolist() == one["per_body"][0].tolist()
     assert np.all(np.isnan(s["per_body"][1, 1:])) and np.all(np.isnan(s["per_body_error"][1, 1:]))
+
+
+def test_classify_gives_the_broadband_share_error():
+    # Fig 13's row at f_r = 3.3 is chaotic: its share (0.037) is read, with the segments'
+    # spread plus the aliased share as its error; a map gives the same field per cell.
+    scene = os.path.join(os.environ.get("GAPCHAIN_SCENES", ""), "fig13.json")
+    r = gapchain.classify(scene, **{"excitation.f_r": 3.3})
+    assert r["regime"] == "chaotic"
+    assert 0 < r["broadband_share_error"] < r["broadband_share"] / 5
+    m = gapchain.regime_map(scene, e_r=[0.06], f_r=[3.0, 3.3], threads=1)
+    assert m["broadband_share_error"].shape == (1, 2)
+    assert m["broadband_share_error"][0, 0] == 0  # settled: not read
+    assert m["broadband_share_error"][0, 1] == pytest.approx(r["broadband_share_error"])

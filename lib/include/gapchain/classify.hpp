@@ -38,9 +38,11 @@ struct ClassifyOptions {
     int max_period = 16;
     double period_tolerance = 1e-6; ///< section points closer than this (relative) are one
     double steady_tolerance = 1e-9; ///< state repeat tolerance for an early periodic stop
-    int samples_per_period = 16;    ///< samples of u_1 per period for the spectrum, >= 4
-    double chaos_threshold = 0.02;  ///< lambda_max must exceed this [1 / reduced time] and three
-                                    ///< standard errors to count as chaos
+    /// Samples of u_1 per period for the spectrum, 4 .. 4096; the run records twice as many,
+    /// to measure what the asked rate folds back (Classification::broadband_share_error)
+    int samples_per_period = 16;
+    double chaos_threshold = 0.02; ///< lambda_max must exceed this [1 / reduced time] and three
+                                   ///< standard errors to count as chaos
     /// Confirm a periodic regime by Newton shooting (orbit.hpp) from the final state: the
     /// period becomes the orbit's minimal period, and its largest Floquet multiplier is given.
     bool confirm_by_newton = true;
@@ -65,7 +67,13 @@ struct Classification {
                                    ///< multiplier's error (max_multiplier_error)
     int distinct_points = 0;       ///< distinct stroboscopic points among those recorded
     int section_points = 0;        ///< stroboscopic points recorded
-    double broadband_share = 0.0;  ///< spectral power of u_1 away from m/n f_r (n <= 4)
+    /// Share of u_1's spectral power away from m/n f_r (n <= 4), [0, 1]; read only where the
+    /// run did not settle (0 on a periodic steady state, or a record of fewer than 256 samples)
+    double broadband_share = 0.0;
+    /// Its estimated error, >= 0: the Welch segments' spread (broadband_share_error() of
+    /// spectrum.hpp) plus the aliased share; 0 where the share was not read for a settled
+    /// state, NaN where the record was too short to read it
+    double broadband_share_error = 0.0;
     /// Max reduced force: over the orbit Newton confirmed (newton_confirmed), else over the
     /// recorded periods.
     double F_m = 0.0;

@@ -25,6 +25,9 @@ struct Signal {
     double step_max = -std::numeric_limits<double>::infinity();
 };
 
+/// The record at half fine's rate: its samples 0, 2, 4, ... (the same t0).
+Signal every_other(const Signal& fine);
+
 /// Observer that appends `variable` every `every`-th step end of the grid (while recording).
 class SignalRecorder final : public Observer {
 public:

@@ -83,6 +83,22 @@ std::vector<double> band_power_errors(const std::vector<double>& signal, const P
 double broadband_share_error(const std::vector<double>& signal, const PsdOptions& options,
                              double f_r, int max_order = 4, int width = 1);
 
+/// Welch options for the same signal sampled at twice options' rate: twice the samples per
+/// segment and exactly twice the hop, so that its segments cover the same stretches of time
+/// and its bins up to options' Nyquist frequency are options' bins.
+PsdOptions doubled_rate_options(const PsdOptions& options);
+
+/// Share of psd's power (bins 1 and up) in the bins above `bin`, [0, 1]; 0 with no power. On
+/// the PSD of a record at twice the asked rate (doubled_rate_options()) with bin the asked
+/// Nyquist bin (asked segment_length / 2), it is the power the asked rate folds onto lower
+/// frequencies: the aliased share.
+double power_share_above(const Psd& psd, int bin);
+
+/// The aliased share of the record `asked` takes every other sample of: power_share_above() of
+/// welch_psd(fine, doubled_rate_options(asked)) at the asked Nyquist bin. fine holds at least
+/// 2 asked.segment_length samples.
+double aliased_share(const std::vector<double>& fine, const PsdOptions& asked);
+
 /// Finds the peaks of psd and measures its broadband share: power more than `width` bins away
 /// from every frequency m/n f_r with 1 <= n <= max_order (f_r > 0, max_order >= 1).
 SpectralContent spectral_content(const Psd& psd, double f_r, int max_order = 4, int width = 1,

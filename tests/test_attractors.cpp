@@ -658,6 +658,31 @@ TEST_CASE("transient lifetimes: an exponential tail is measured, censored or not
     CHECK_THROWS_AS(transient_lifetime({17}, {-3}), std::invalid_argument);
 }
 
+TEST_CASE("a torus whose 300-period exponent cannot tell it from chaos is read longer, and "
+          "counts in the design value") {
+    // Fig 13's row at f_r = 2.76: rest and 95 % of the starts reach a torus (born at the
+    // Neimark-Sacker point 2.77011 of the symmetric orbit), one mirror orbit the others. Its
+    // 300-period exponent read -0.0016 +- 0.036, above the 0.02 that tells a torus from chaos:
+    // it was listed unsettled and the design value was the orbit's 0.427435. A second reader's
+    // classify() from rest, 20000 periods of settling, gave the torus F_m 0.429947 +- 4.3e-5
+    // (2026-11-27).
+    AttractorOptions o;
+    o.samples = 12;
+    o.run.periods = 1500;
+    o.run.transient_periods = 1000;
+    const AttractorSet set = find_attractors({5, 60, 0.5, 0.06, 2.76}, o);
+    const auto torus = std::find_if(set.attractors.begin(), set.attractors.end(),
+                                    [](const Attractor& a) { return a.period == 0; });
+    REQUIRE(torus != set.attractors.end());
+    CHECK(torus->settled);
+    CHECK(torus->regime == Regime::quasi_periodic);
+    CHECK(torus->lambda_max_error <= o.chaos_threshold);
+    CHECK(std::abs(torus->lambda_max) < o.chaos_threshold);
+    CHECK(set.F_m_max_id == torus->id);
+    CHECK(std::abs(set.F_m_max - 0.429947) < set.F_m_max_error + 4.3e-5);
+    CHECK(set.unsettled == 0);
+}
+
 TEST_CASE("runs still converging to an orbit are an unsettled group, not a quasi-periodic "
           "attractor") {
     // Issue 19's Nm = 2 row: 40 periods (and up to 160 more to confirm) end inside the chaotic

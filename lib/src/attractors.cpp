@@ -546,6 +546,50 @@ double box_reach(const AttractorOptions& o, const StateScale& scale) {
     return center + o.box;
 }
 
+/// What a tangent run tells of a group that did not settle on an orbit.
+enum class ExponentReading {
+    chaos,    ///< lambda_max above the chaos threshold and three errors
+    torus,    ///< within three errors of 0, the error a quarter of the threshold at most
+    approach, ///< more than three errors below 0: the runs are converging to an orbit
+    undecided ///< none of these within 64 lyapunov_periods and run.max_work
+};
+
+/// lambda_max, its error and the regime of a group that did not settle on an orbit, from a
+/// tangent run on it (from a.state), taken 4, 16 and 64 times longer while undecided.
+ExponentReading read_exponent(const Dynamics& dyn, const AttractorOptions& o, Attractor& a) {
+    RunOptions run = o.run;
+    run.stop_at_steady_state = false;
+    // A torus's exponent is 0, an orbit's below, and the error falls as one over the root of
+    // the run's length: a reading within the errors of 0 is taken longer until they are small.
+    // On Fig 13's row at f_r = 3.2 over 1500 periods the group on its way to the period-15
+    // orbit (lambda_max -0.0155) read -0.011 +- 0.075 over 300 periods and -0.014 +- 0.014
+    // over 1200; the torus there reads -0.0007 +- 0.015. At f_r = 2.75 the torus read
+    // -0.0016 +- 0.036 over 300 periods and was unsettled however long the search ran (a
+    // second reader, 2026-11-27). The threshold guards chaos only: a torus's finite-time
+    // exponent is not biased upwards below it.
+    for (long periods = o.lyapunov_periods;; periods *= 4) {
+        run.periods = periods;
+        run.transient_periods = periods / 10;
+        const LyapunovResult l = chain_lyapunov(dyn, run, 1, a.state);
+        a.lambda_max = l.exponents.empty() ? 0.0 : l.exponents.front();
+        a.lambda_max_error = l.errors.empty() ? 0.0 : l.errors.front();
+        const double sigma3 = 3.0 * a.lambda_max_error;
+        const bool chaos = a.lambda_max > std::max(o.chaos_threshold, sigma3);
+        a.regime = a.F_m == 0.0 ? Regime::no_contact
+                   : chaos      ? Regime::chaotic
+                                : Regime::quasi_periodic;
+        if (chaos) return ExponentReading::chaos;
+        if (a.lambda_max < -sigma3) return ExponentReading::approach;
+        if (a.lambda_max_error <= o.chaos_threshold / 4.0) return ExponentReading::torus;
+        RunOptions longer = run;
+        longer.periods = 4 * periods;
+        if (a.F_m == 0.0 || longer.periods > 64 * o.lyapunov_periods ||
+            run_work(dyn, plan_run(dyn, tangent_run_options(dyn, longer)),
+                     static_cast<double>(longer.periods), 1) > o.run.max_work)
+            return ExponentReading::undecided;
+    }
+}
+
 /// lambda_max and the regime of each attractor: from the multipliers of a confirmed orbit,
 /// else from a tangent run on the attractor; reach is box_reach() (outlasts_decay()).
 void characterise(const Dynamics& dyn, const ReducedParameters& p, const AttractorOptions& o,
@@ -573,17 +617,7 @@ void characterise(const Dynamics& dyn, const ReducedParameters& p, const Attract
                 a.lambda_max = a.lambda_max_error = std::numeric_limits<double>::quiet_NaN();
                 return;
             }
-            RunOptions run = o.run;
-            run.periods = o.lyapunov_periods;
-            run.transient_periods = o.lyapunov_periods / 10;
-            run.stop_at_steady_state = false;
-            const LyapunovResult l = chain_lyapunov(dyn, run, 1, a.state);
-            a.lambda_max = l.exponents.empty() ? 0.0 : l.exponents.front();
-            a.lambda_max_error = l.errors.empty() ? 0.0 : l.errors.front();
-            const double margin = std::max(o.chaos_threshold, 3.0 * a.lambda_max_error);
-            a.regime = a.F_m == 0.0            ? Regime::no_contact
-                       : a.lambda_max > margin ? Regime::chaotic
-                                               : Regime::quasi_periodic;
+            const ExponentReading reading = read_exponent(dyn, o, a);
             // A torus has lambda_max = 0 and chaos > 0: a clearly negative one is the approach
             // to a stable orbit that the runs did not reach. A group that never touched is the
             // linear damped row's transient whatever its exponent: that row has one attractor,
@@ -591,14 +625,8 @@ void characterise(const Dynamics& dyn, const ReducedParameters& p, const Attract
             // pi / eps = 0.031 per unit time; at f_r = 1e4, 60 periods span 0.006 time units
             // and a 300-period tangent run measured +0.24). Nor is one whose runs the row's
             // damping has not had time to act on (outlasts_decay).
-            // A torus's exponent is 0: one whose error exceeds the threshold cannot tell a torus
-            // from chaos or from the approach to an orbit. On Fig 13's row at f_r = 3.2 over
-            // 1500 periods the group on its way to the period-15 orbit read -0.011 +- 0.075 and
-            // was listed as a torus (the probe of 2026-11-27); the torus there reads
-            // -0.0007 +- 0.015.
-            const bool exponent_known =
-                a.regime != Regime::quasi_periodic || a.lambda_max_error <= o.chaos_threshold;
-            a.settled = a.F_m > 0.0 && a.lambda_max >= -margin && exponent_known &&
+            a.settled = a.F_m > 0.0 &&
+                        (reading == ExponentReading::chaos || reading == ExponentReading::torus) &&
                         outlasts_decay(dyn, o.run, reach);
         },
         [](long) { return true; });

@@ -67,12 +67,15 @@ struct AttractorOptions {
     /// true and its multistability_check as false whatever they say: each start needs its
     /// F_m_error to be grouped, and the search itself replaces the twin.
     RunOptions run;
-    int section_points = 200;        ///< stroboscopic points kept of a run that does not settle,
-                                     ///< 20 .. 100000; a run recording fewer periods keeps
-                                     ///< them all (one point per recorded period)
-    double overlap_factor = 3.0;     ///< nearest-neighbour test factor, 1 .. 100
-    long lyapunov_periods = 300;     ///< periods of the lambda_max run of a non-periodic attractor,
-                                     ///< 10 .. 1e6
+    int section_points = 200;    ///< stroboscopic points kept of a run that does not settle,
+                                 ///< 20 .. 100000; a run recording fewer periods keeps
+                                 ///< them all (one point per recorded period)
+    double overlap_factor = 3.0; ///< nearest-neighbour test factor, 1 .. 100
+    /// Periods of the lambda_max run of a non-periodic group, 10 .. 1e6; taken 4, 16 and 64
+    /// times longer (within run.max_work) while it cannot tell a torus (within three errors of
+    /// 0, the error at most chaos_threshold / 4) from chaos or from the approach to an orbit
+    /// (more than three errors below 0)
+    long lyapunov_periods = 300;
     double chaos_threshold = 0.02;   ///< lambda_max above this and 3 errors: chaotic [1 / time]
     std::optional<BasinSlice> slice; ///< also run the starts of this slice
     int threads = 0;                 ///< OpenMP threads (0: all); results do not depend on it

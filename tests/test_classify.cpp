@@ -331,8 +331,8 @@ TEST_CASE("a chaotic point's broadband share error covers the scatter of indepen
         scatter += (s - mean) * (s - mean) / (shares.size() - 1);
     scatter = std::sqrt(scatter);
     MESSAGE("shares' scatter " << scatter << ", mean stated error " << mean_error);
-    // Neither blind nor inflated: within a factor 3 of the scatter (measured 0.0017 against
-    // 0.0022).
+    // Neither blind nor inflated: within a factor 3 of the scatter (measured 0.0024 against
+    // 0.0027).
     CHECK(mean_error > scatter / 3.0);
     CHECK(mean_error < 3.0 * scatter);
     for (std::size_t i = 0; i < shares.size(); ++i)

@@ -23,9 +23,21 @@ std::string short_number(double x) {
 }
 
 void print_spectrum(const RowSpectrumOptions& o, const RowSpectrum& s) {
-    std::printf("gapchain-spectrum: %s, %ld samples at %g per unit time, %d segment%s\n",
+    std::printf("gapchain-spectrum: %s, %ld samples at %g per unit time, %d segment%s of %g "
+                "periods\n",
                 o.variable.c_str(), s.samples, s.sample_rate, s.psd.segments,
-                s.psd.segments == 1 ? "" : "s");
+                s.psd.segments == 1 ? "" : "s", s.segment_periods);
+    if (!s.whole_periods)
+        std::printf("note: a segment of %g periods puts m/n f_r (n <= %d) between bins, where "
+                    "the lines leak; the errors include how far the readings move on whole "
+                    "periods (--segment a multiple of %d)\n",
+                    s.segment_periods, o.order, whole_period_unit(o.order) * o.samples_per_period);
+    if (s.content.fraction_bin_share > 0.5)
+        std::printf("warning: a segment of %g periods resolves f_r / %g: %.0f %% of the bins lie "
+                    "next to some m/n f_r and the broadband share reads the rest only; a longer "
+                    "--segment (at least %d samples)\n",
+                    s.segment_periods, s.segment_periods, 100.0 * s.content.fraction_bin_share,
+                    whole_period_unit(o.order) * 4 * o.samples_per_period);
     std::printf("broadband share %.4f %s (power away from m/n f_r, n <= %d)\n",
                 s.content.broadband_share,
                 cli::plus_minus(s.content.broadband_share_error, "%.2g").c_str(), o.order);
@@ -67,8 +79,8 @@ void add_options(CLI::App& app, SpectrumArguments& a) {
         ->check(cli::range(2, 100000))
         ->capture_default_str();
     app.add_option("--segment", a.spectrum.segment,
-                   "Welch segment length (samples, >= 16; 0: the largest power of two up to "
-                   "4096 the record holds)")
+                   "Welch segment length (samples, >= 16; 0: whole forcing periods, a multiple "
+                   "of 12 (lcm(1..order) up to 60), up to 128, that the record holds twice)")
         ->check(cli::range(0, 1 << 24))
         ->capture_default_str();
     app.add_option("--window", a.window, "hann or rectangular")

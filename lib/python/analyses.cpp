@@ -80,13 +80,17 @@ run.transient_periods, peaks labelled as (sub)harmonics m/n f_r: gapchain-spectr
 
 variable  u1..uNm, v1..vNm, g0..gNm or F0..FNm;  samples_per_period  2 .. 100000
 segment   Welch segment length in samples, 16 .. 2^24 and at most the recorded samples; 0 (the
-          default): the largest power of two up to 4096 the record holds
+          default): a whole number of forcing periods, a multiple of 12 (of lcm(1..order)
+          up to 60), up to 128 periods, that the record holds twice at half overlap
 window    "hann" or "rectangular";  order  largest subharmonic order n labelled, 1 .. 64
 (the limits of gapchain-spectrum: both use RowSpectrumOptions)
 
 Returns a dict: frequency ((n,) cycles per reduced time unit), f_over_f_r, density
 (signal^2 per unit frequency), df, segment (the length used), segments, broadband_share (power away from m/n f_r, [0, 1]),
-broadband_share_error (the segments' spread of it plus aliased_share; NaN with one segment),
+broadband_share_error (the segments' spread of it plus aliased_share, plus the leakage where
+the segment is not whole periods; NaN with one segment), fraction_bin_share (the share of bins
+next to some m/n f_r: above 0.5 the segment holds too few periods for the broadband share),
+segment_periods, whole_periods (False: lines leak, the errors include it),
 peaks (dict of columns frequency, frequency_error (df / 2), power, power_error (the larger of
 its standard error over the Welch segments and 2 run.tolerance x power, plus how much the power
 moves when the rate is doubled; NaN with a single segment), numerator, denominator, label),
@@ -306,6 +310,9 @@ py::dict spectrum_py(const py::object& scene_arg, const std::string& variable,
     d["broadband_share"] = s.content.broadband_share;
     d["broadband_share_error"] = s.content.broadband_share_error;
     d["aliased_share"] = s.aliased_share;
+    d["fraction_bin_share"] = s.content.fraction_bin_share;
+    d["segment_periods"] = s.segment_periods;
+    d["whole_periods"] = s.whole_periods;
     d["sampled_range_share"] = s.sampled_range_share;
     d["peaks"] = peaks_dict(s.content);
     d["sample_rate"] = s.sample_rate;

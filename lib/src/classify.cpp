@@ -85,15 +85,16 @@ struct RecordedEvidence {
 /// its error is the segments' spread (broadband_share_error()) plus the power the asked rate
 /// folds back (aliased_share()), which can land away from the fractions. Too short a record
 /// (fewer than 256 asked samples) is not read: 0, error NaN.
-std::pair<double, double> broadband_reading(const Signal& fine, double f_r) {
+std::pair<double, double> broadband_reading(const Signal& fine, double f_r,
+                                            int samples_per_period) {
     const Signal u1 = every_other(fine);
     if (u1.values.size() < 256) return {0.0, std::numeric_limits<double>::quiet_NaN()};
     PsdOptions po;
     po.sample_rate = u1.sample_rate;
-    int length = 256;
-    while (2 * length <= static_cast<int>(u1.values.size()) / 4)
-        length *= 2;
-    po.segment_length = length;
+    // Whole periods, as gapchain-spectrum's default: the lines fall on bins and do not leak
+    // into the share; four segments at least, for its error.
+    po.segment_length =
+        whole_period_segment(static_cast<long>(u1.values.size()), samples_per_period, 4, 4);
     const double share = spectral_content(welch_psd(u1.values, po), f_r).broadband_share;
     return {share, broadband_share_error(u1.values, po, f_r) + aliased_share(fine.values, po)};
 }
@@ -103,7 +104,8 @@ std::pair<double, double> broadband_reading(const Signal& fine, double f_r) {
 /// indistinguishable from 0 (a torus).
 void label_unsettled(const ClassifyOptions& o, const RecordedEvidence& evidence, double f_r,
                      Classification& c) {
-    std::tie(c.broadband_share, c.broadband_share_error) = broadband_reading(evidence.u1, f_r);
+    std::tie(c.broadband_share, c.broadband_share_error) =
+        broadband_reading(evidence.u1, f_r, o.samples_per_period);
     // The repetition test reads the record's second half: an attracting orbit the run is still
     // approaching (a multiplier of 0.73 per 3 periods on Nm = 3, fc = 200, e_r = 0.03, f_r = 5.5)
     // repeats there to period_tolerance, and a torus or chaos does not repeat in either half.

@@ -276,6 +276,32 @@ double broadband_share_error(const std::vector<double>& signal, const PsdOptions
     return std::sqrt(squares / (count - 1) * overlap_inflation(segments, count) / count);
 }
 
+int whole_period_unit(int max_order) {
+    detail::require_range("max_order", max_order, 1, 1 << 20);
+    int unit = 1;
+    for (int n = 2; n <= max_order; ++n) {
+        const int next = std::lcm(unit, n);
+        if (next > 128) break;
+        unit = next;
+    }
+    return unit;
+}
+
+int whole_period_segment(long samples, int samples_per_period, int max_order, int min_segments) {
+    detail::require_range("samples_per_period", samples_per_period, 1, 1 << 24);
+    detail::require_range("min_segments", min_segments, 1, 1 << 20);
+    const long unit = whole_period_unit(max_order);
+    const long periods = (samples - 1) / samples_per_period; // whole periods recorded
+    // k segments at half overlap span (k + 1) / 2 segments.
+    const long fit = 2 * periods / (min_segments + 1);
+    long chosen = std::max(unit, 128 / unit * unit);
+    while (chosen > unit && chosen > fit)
+        chosen -= unit;
+    if (chosen > periods) chosen = periods;
+    const long segment = std::max(16L, chosen * samples_per_period);
+    return static_cast<int>(std::min(segment, std::max(16L, samples)));
+}
+
 PsdOptions doubled_rate_options(const PsdOptions& o) {
     PsdOptions fine = o;
     fine.sample_rate *= 2.0;
@@ -321,6 +347,8 @@ SpectralContent spectral_content(const Psd& psd, double f_r, int max_order, int 
         largest = std::max(largest, psd.density[k]);
     }
     c.broadband_share = total > 0.0 ? away / total : 0.0;
+    c.fraction_bin_share =
+        static_cast<double>(std::count(near.begin() + 1, near.end(), char{1})) / (bins - 1);
     // The last bin (the Nyquist frequency) has no right neighbour: at 2 samples per period the
     // forcing's own line sits there, and was not listed.
     for (int k = 1; k < bins; ++k) {

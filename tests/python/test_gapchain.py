@@ -613,8 +613,9 @@ def test_spectrum_default_segment_fits_a_shipped_scene():
     # A fixed 4096-sample segment was refused on every shipped scene (3201 samples recorded).
     scene = os.path.join(os.environ.get("GAPCHAIN_SCENES", ""), "fig13.json")
     r = gapchain.spectrum(scene)
-    assert r["segment"] == 2048 and r["segments"] == 2
-    assert r["df"] == pytest.approx(r["sample_rate"] / 2048)
+    assert r["segment"] == 1920 and r["segments"] == 2  # 60 whole periods
+    assert r["segment_periods"] == 60 and r["whole_periods"]
+    assert r["df"] == pytest.approx(r["sample_rate"] / 1920)
     # At 32 samples a period u1 of Fig 13's row folds back almost nothing, its contact force
     # (a short pulse) far more; at 8 a period the force's spectrum is mostly folded.
     assert 0 <= r["aliased_share"] < 1e-6

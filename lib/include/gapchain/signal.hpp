@@ -58,8 +58,9 @@ struct RowSpectrumOptions {
     /// Samples per forcing period, 2 .. 100000. The run records twice as many, to measure the
     /// aliasing (RowSpectrum::aliased_share); the spectrum is that of every other sample
     int samples_per_period = 32;
-    /// Welch segment [samples], 16 .. 2^24 and at most those recorded; 0: the largest power of
-    /// two up to 4096 that the record holds (a shipped scene's 100 periods hold 3201 samples)
+    /// Welch segment [samples], 16 .. 2^24 and at most those recorded; 0:
+    /// whole_period_segment() (a shipped scene's 100 periods at 32 samples a period: 60
+    /// periods, 1920 samples, 2 segments)
     int segment = 0;
     Window window = Window::hann; ///< segment taper
     int order = 4;                ///< largest subharmonic order n labelled (m/n f_r), 1 .. 64
@@ -67,9 +68,16 @@ struct RowSpectrumOptions {
 
 /// The recorded signal's size, its PSD and its reading against f_r.
 struct RowSpectrum {
-    RunOutcome outcome;     ///< the run (psd and content are empty unless it completed)
-    long samples = 0;       ///< samples recorded
-    int segment = 0;        ///< Welch segment used [samples]
+    RunOutcome outcome; ///< the run (psd and content are empty unless it completed)
+    long samples = 0;   ///< samples recorded
+    int segment = 0;    ///< Welch segment used [samples]
+    double segment_periods =
+        0.0; ///< forcing periods a segment holds (segment / samples_per_period)
+    /// The segment holds a whole multiple of whole_period_unit(order) periods: every m/n f_r
+    /// falls on a bin. Otherwise the lines leak; the broadband share's and the peaks' errors
+    /// add how much they move on the longest whole segment the asked one holds (NaN where
+    /// none of 16 samples fits)
+    bool whole_periods = true;
     double sample_rate = 0; ///< [samples per unit reduced time]
     Psd psd;                ///< Welch PSD of the variable
     /// Peaks and broadband share (its error: the segments' spread, broadband_share_error(),

@@ -59,6 +59,10 @@ struct SpectralPeak {
 struct SpectralContent {
     std::vector<SpectralPeak> peaks; ///< local maxima above 1e-6 of the largest, by power
     double broadband_share = 0.0;    ///< power away from every m/n f_r (n <= max_order), [0, 1]
+    /// Share of the bins (1 and up) within `width` bins of some m/n f_r, [0, 1]: the part of
+    /// the spectrum the broadband share does not read. Above 1/2 the segment holds too few
+    /// forcing periods to tell a line from broadband power (a chaotic row read 0 at 2 periods)
+    double fraction_bin_share = 0.0;
     /// Its estimated error, >= 0: broadband_share_error() where the caller sets it; NaN where
     /// not estimated (spectral_content() alone, or fewer than 2 segments)
     double broadband_share_error = std::numeric_limits<double>::quiet_NaN();
@@ -82,6 +86,19 @@ std::vector<double> band_power_errors(const std::vector<double>& signal, const P
 /// power.
 double broadband_share_error(const std::vector<double>& signal, const PsdOptions& options,
                              double f_r, int max_order = 4, int width = 1);
+
+/// Forcing periods a Welch segment holds whole so that every m/n f_r with n <= max_order falls
+/// on a bin (and a line leaks no power beyond its neighbours under the Hann window):
+/// lcm(1, ..., n) for the largest n <= max_order where that is at most 128; 12 for max_order
+/// 4, 60 from 5 on (subharmonics of order 7 and up then fall between bins). max_order >= 1.
+int whole_period_unit(int max_order);
+
+/// The default Welch segment [samples] for a record of `samples` samples taken
+/// samples_per_period times a forcing period (>= 1): a multiple of whole_period_unit(max_order)
+/// periods, the most up to 128 periods (or one unit, if longer) that leaves min_segments
+/// segments at half overlap; one unit if the record holds fewer; the record's whole periods if
+/// it holds less than a unit; at least 16 samples and at most `samples`.
+int whole_period_segment(long samples, int samples_per_period, int max_order, int min_segments = 2);
 
 /// Welch options for the same signal sampled at twice options' rate: twice the samples per
 /// segment and exactly twice the hop, so that its segments cover the same stretches of time

@@ -642,3 +642,33 @@ TEST_CASE(
     }
     CHECK(listed == 1);
 }
+
+TEST_CASE("a restart beyond a branch's end traces the skipped stretch back") {
+    // From 2.7 the mirror pair's branch turns at the pitchfork (2.762) and the walk restarts a
+    // step (0.01) beyond, at 2.772, on the symmetric orbit. Walking on from there only, the
+    // symmetric orbit's Neimark-Sacker point at 2.77011 was not listed; with a step of 0.002,
+    // or walking down from 2.8, it was (2.77011171, a helper's probe, 2026-11-27).
+    ContinuationOptions up;
+    up.from = 2.7;
+    up.to = 2.8;
+    ContinuationOptions down = up;
+    std::swap(down.from, down.to);
+    auto neimark_sacker = [](const ContinuationResult& r) -> std::optional<SpecialPoint> {
+        for (const auto& s : r.special)
+            if (s.type == SpecialPointType::neimark_sacker && std::abs(s.value - 2.7701) < 1e-3)
+                return s;
+        return std::nullopt;
+    };
+    const ContinuationResult r = continue_orbits(fig13_row, up);
+    const auto found = neimark_sacker(r);
+    REQUIRE(found);
+    CHECK(std::any_of(r.branch_end.begin(), r.branch_end.end(), [](const std::string& why) {
+        return why.find("where the branch before it ended") != std::string::npos;
+    }));
+    const auto reference = neimark_sacker(continue_orbits(fig13_row, down));
+    REQUIRE(reference);
+    MESSAGE("up " << found->value << " +- " << found->value_error << ", down " << reference->value
+                  << " +- " << reference->value_error);
+    CHECK(std::abs(found->value - reference->value) <= found->value_error + reference->value_error);
+    CHECK(std::abs(found->value - 2.77011171) <= found->value_error + 1e-7);
+}

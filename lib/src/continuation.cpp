@@ -10,6 +10,7 @@
 #include <cmath>
 #include <deque>
 #include <optional>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 
@@ -910,6 +911,9 @@ struct PendingBranch {
     double p;
     int period;
     double direction;
+    /// Where a walk back from a restart stops (the farthest value of the branch before it),
+    /// traced over [until, p] only; none for a walk over the whole line
+    std::optional<double> until = std::nullopt;
 };
 
 /// The branches still pending when max_branches ended the call, into result.unfollowed: said,
@@ -975,7 +979,12 @@ ContinuationResult continue_orbits(const ReducedParameters& base,
          ++branch) {
         const PendingBranch next = pending.front();
         pending.pop_front();
-        BranchTracer tracer(base, options, next.period, keep_going);
+        ContinuationOptions walked = options;
+        if (next.until) {
+            walked.from = next.p;
+            walked.to = *next.until;
+        }
+        BranchTracer tracer(base, walked, next.period, keep_going);
         std::optional<OrbitPoint> first = first_point(tracer, next.x, next.p, next.direction);
         if (!first) { // a cancelled tracer's corrections all fail
             result.cancelled = tracer.cancelled();
@@ -983,13 +992,30 @@ ContinuationResult continue_orbits(const ReducedParameters& base,
                                                          : "the first point did not converge");
             continue;
         }
-        BranchWalk walk(tracer, options, next.period, branch, result, traced);
+        BranchWalk walk(tracer, walked, next.period, branch, result, traced);
         walk.walk(std::move(*first), branch == 0 ? first_branch : keep_going);
         result.shootings += tracer.shootings();
-        if (!walk.reached_end && !result.cancelled && next.period == options.period)
+        if (next.until && walk.reached_end) {
+            std::ostringstream why;
+            why.precision(7);
+            why << "reached " << to_string(options.parameter) << " = " << *next.until
+                << ", where the branch before it ended (traced back from its restart at " << next.p
+                << ")";
+            result.branch_end.back() = why.str();
+        }
+        if (!walk.reached_end && !result.cancelled && next.period == options.period && !next.until)
             if (auto restart =
-                    restart_beyond(base, options, initial, walk.farthest, keep_going, result))
+                    restart_beyond(base, options, initial, walk.farthest, keep_going, result)) {
+                // The restart lies a step or more beyond the farthest point: its orbit is
+                // traced back to that point as well as on, or the stretch between is skipped.
+                // On Fig 13's row from 2.7 (default step 0.01) the branch restarted at 2.772
+                // after the pitchfork at 2.762 and the symmetric orbit's Neimark-Sacker point
+                // at 2.77011 was missing; found with a step of 0.002 (a helper's probe,
+                // 2026-11-27).
                 pending.push_front({restart->first, restart->second, options.period, direction});
+                pending.push_front(
+                    {restart->first, restart->second, options.period, -direction, walk.farthest});
+            }
         if (result.cancelled || !options.follow_doublings) continue; // the loop's test ends it
         for (const auto& [at, side] : walk.doublings) {
             double p = 0.0;

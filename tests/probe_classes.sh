@@ -256,6 +256,12 @@ expect 22 2 "--e_r requires --map" "$bin/gapchain-classify" fig5.json --e_r 0:1:
 expect 22 2 "--grid excludes --Nm" "$bin/gapchain-modes" --grid --Nm 7 --out g22
 expect 22 2 "--grid excludes --csv" "$bin/gapchain-modes" --grid --csv x.csv --out g22
 expect 22 2 "SCENE" "$bin/gapchain-sim" ""
+# A flag takes no value: --no-plot=0 turned it off and --no-plot=7 on (session 48's probe).
+expect 22 2 "^gapchain-spectrum: --no-plot: a flag takes no value" "$bin/gapchain-spectrum" fig5.json --no-plot=7 --out sp22
+one_line 22
+absent 22 sp22
+expect 22 2 "--follow-doublings: a flag takes no value" "$bin/gapchain-continue" fig5.json --from 1 --to 1.1 --follow-doublings=0 --out c22
+absent 22 c22
 verdict 22
 
 # 23. The small ones.

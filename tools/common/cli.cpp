@@ -590,6 +590,11 @@ namespace {
 
 /// A message as one readable line: a 50,000-digit --seed was echoed whole (50 KB of stderr).
 std::string readable(const std::string& message) {
+    static const std::regex flag_value("^(\\S+) was given a disallowed flag override$");
+    std::smatch flag;
+    if (std::regex_match(message, flag, flag_value))
+        return "--" + flag[1].str() + ": a flag takes no value (give --" + flag[1].str() +
+               " alone, or leave it out)";
     if (message.size() <= 400) return message;
     return message.substr(0, 300) + " ... " + message.substr(message.size() - 80);
 }
@@ -614,12 +619,22 @@ void require_decimal_numbers(CLI::App& app) {
         require_decimal_numbers(*sub);
 }
 
+// A flag takes no value: CLI11 reads "--no-plot=0" as off and "--no-plot=7" as on (a helper's
+// probe, 2026-11-27). Only "=true", the flag's own meaning, stays accepted.
+void refuse_flag_values(CLI::App& app) {
+    for (CLI::Option* option : app.get_options())
+        if (option->get_expected_max() == 0) option->disable_flag_override();
+    for (CLI::App* sub : app.get_subcommands({}))
+        refuse_flag_values(*sub);
+}
+
 } // namespace
 
 int run(CLI::App& app, int argc, char** argv, const std::function<void()>& body,
         const FlagNames& flag_names) {
     app.set_version_flag("--version", std::string(GAPCHAIN_VERSION));
     require_decimal_numbers(app);
+    refuse_flag_values(app);
     std::signal(SIGINT, on_signal);
     std::signal(SIGTERM, on_signal);
     try {

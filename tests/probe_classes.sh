@@ -299,6 +299,13 @@ absent 24 o24.json c24 a24
 printf 'a,b,c\n1,2,3\n' > overlay.csv
 expect 24 2 "--overlay" "$bin/gapchain-continue" "$scenes/fig13.json" --from 2.8 --to 3 --overlay overlay.csv --out c24
 one_line 24
+# Rows cut short, with extra fields or another direction were drawn as they came (session 48).
+mkdir -p ov24
+printf '{"parameter": "f_r", "base": {"Nm": 5, "fc": 60, "eps": 0.5, "e_r": 0.06, "f_r": 3}}\n' >ov24/bifurcation.json
+for row in '2.9,up,0.4' '2.9,up,0.4,0.001,1,100,completed,x' '2.9,sideways,0.4,0.001,1,100,completed'; do
+    printf 'value,direction,F_m,F_m_error,period,points,status\n%s\n' "$row" >ov24/summary.csv
+    expect 24 2 "--overlay: row 2 of .* needs 7 fields as its header, a finite value, a direction up or down" "$bin/gapchain-continue" "$scenes/fig13.json" --from 2.8 --to 3 --overlay ov24/summary.csv --out c24
+done
 expect 24 1 "no orbit found" "$bin/gapchain-continue" "$scenes/fig13.json" --no-plot --param eps --from 0 --to 0.5 --out c24
 absent 24 c24
 # The messages name the flag, the real bounds and the real value.

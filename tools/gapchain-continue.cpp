@@ -41,21 +41,34 @@ void check_overlay(const std::string& path) {
         throw std::invalid_argument("--overlay: expected a gapchain-bifurcation summary.csv "
                                     "(header value,direction,F_m,...), got \"" +
                                     path + "\"");
+    // Every row as the header has it: a row cut short, one with extra fields or a direction
+    // other than up and down was drawn as it came (a helper's probe, 2026-11-27).
+    const auto fields = [](const std::string& text) {
+        return static_cast<long>(std::count(text.begin(), text.end(), ',')) + 1;
+    };
+    const long header_fields = fields(line);
     long rows = 0;
     for (long row = 2; std::getline(in, line); ++row) {
         if (line.empty()) continue;
         ++rows;
         const auto first = line.find(','), second = line.find(',', first + 1);
+        const auto third = line.find(',', second + 1);
         double value = NAN, force = NAN;
         try {
             value = std::stod(line.substr(0, first));
-            force = std::stod(line.substr(second + 1));
+            force = std::stod(line.substr(second + 1, third - second - 1));
         } catch (const std::exception&) {
         }
-        if (first == std::string::npos || second == std::string::npos || !std::isfinite(value) ||
-            !std::isfinite(force))
-            throw std::invalid_argument("--overlay: row " + std::to_string(row) + " of " + path +
-                                        " needs a finite value and F_m, got \"" + line + "\"");
+        const std::string direction =
+            first == std::string::npos ? "" : line.substr(first + 1, second - first - 1);
+        if (fields(line) != header_fields || (direction != "up" && direction != "down") ||
+            !std::isfinite(value) || !std::isfinite(force) || force < 0.0)
+            throw std::invalid_argument(
+                "--overlay: row " + std::to_string(row) + " of " + path + " needs " +
+                std::to_string(header_fields) +
+                " fields as its header, a finite value, a direction up or down and a finite F_m "
+                ">= 0, got \"" +
+                line + "\"");
     }
     if (rows == 0) throw std::invalid_argument("--overlay: " + path + " has a header but no rows");
 }

@@ -948,6 +948,42 @@ ReducedParameters checked_start(const ReducedParameters& base, const Continuatio
     return start;
 }
 
+/// The options a pending branch is walked with: the line's, or for a walk back from a restart
+/// the stretch from its start back to where the branch before it ended.
+ContinuationOptions walked_options(const ContinuationOptions& options, const PendingBranch& next) {
+    ContinuationOptions walked = options;
+    if (next.until) {
+        walked.from = next.p;
+        walked.to = *next.until;
+    }
+    return walked;
+}
+
+/// How a walk back from a restart ended when it got there.
+std::string back_to(const ContinuationOptions& options, const PendingBranch& next) {
+    std::ostringstream why;
+    why.precision(7);
+    why << "reached " << to_string(options.parameter) << " = " << *next.until
+        << ", where the branch before it ended (traced back from its restart at " << next.p << ")";
+    return why.str();
+}
+
+/// A restart beyond `farthest`, where a branch of the line's period turned back or ended short
+/// of the end, queued first: traced on to the end, and back to `farthest`, or the stretch in
+/// between is skipped. On Fig 13's row from 2.7 (default step 0.01) the branch restarted at
+/// 2.772 after the pitchfork at 2.762 and the symmetric orbit's Neimark-Sacker point at 2.77011
+/// was missing; found with a step of 0.002 (a helper's probe, 2026-11-27).
+void queue_restart(const ReducedParameters& base, const ContinuationOptions& options,
+                   const std::vector<double>& initial, double farthest,
+                   const ProgressCallback& keep_going, ContinuationResult& result,
+                   std::deque<PendingBranch>& pending) {
+    const auto restart = restart_beyond(base, options, initial, farthest, keep_going, result);
+    if (!restart) return;
+    const double direction = options.to > options.from ? 1.0 : -1.0;
+    pending.push_front({restart->first, restart->second, options.period, direction});
+    pending.push_front({restart->first, restart->second, options.period, -direction, farthest});
+}
+
 } // namespace
 
 ContinuationResult continue_orbits(const ReducedParameters& base,
@@ -979,11 +1015,7 @@ ContinuationResult continue_orbits(const ReducedParameters& base,
          ++branch) {
         const PendingBranch next = pending.front();
         pending.pop_front();
-        ContinuationOptions walked = options;
-        if (next.until) {
-            walked.from = next.p;
-            walked.to = *next.until;
-        }
+        const ContinuationOptions walked = walked_options(options, next);
         BranchTracer tracer(base, walked, next.period, keep_going);
         std::optional<OrbitPoint> first = first_point(tracer, next.x, next.p, next.direction);
         if (!first) { // a cancelled tracer's corrections all fail
@@ -995,27 +1027,9 @@ ContinuationResult continue_orbits(const ReducedParameters& base,
         BranchWalk walk(tracer, walked, next.period, branch, result, traced);
         walk.walk(std::move(*first), branch == 0 ? first_branch : keep_going);
         result.shootings += tracer.shootings();
-        if (next.until && walk.reached_end) {
-            std::ostringstream why;
-            why.precision(7);
-            why << "reached " << to_string(options.parameter) << " = " << *next.until
-                << ", where the branch before it ended (traced back from its restart at " << next.p
-                << ")";
-            result.branch_end.back() = why.str();
-        }
+        if (next.until && walk.reached_end) result.branch_end.back() = back_to(options, next);
         if (!walk.reached_end && !result.cancelled && next.period == options.period && !next.until)
-            if (auto restart =
-                    restart_beyond(base, options, initial, walk.farthest, keep_going, result)) {
-                // The restart lies a step or more beyond the farthest point: its orbit is
-                // traced back to that point as well as on, or the stretch between is skipped.
-                // On Fig 13's row from 2.7 (default step 0.01) the branch restarted at 2.772
-                // after the pitchfork at 2.762 and the symmetric orbit's Neimark-Sacker point
-                // at 2.77011 was missing; found with a step of 0.002 (a helper's probe,
-                // 2026-11-27).
-                pending.push_front({restart->first, restart->second, options.period, direction});
-                pending.push_front(
-                    {restart->first, restart->second, options.period, -direction, walk.farthest});
-            }
+            queue_restart(base, options, initial, walk.farthest, keep_going, result, pending);
         if (result.cancelled || !options.follow_doublings) continue; // the loop's test ends it
         for (const auto& [at, side] : walk.doublings) {
             double p = 0.0;

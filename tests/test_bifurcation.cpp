@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 using namespace gapchain;
 
@@ -143,6 +144,38 @@ TEST_CASE("SectionRepeats, one point at a time, answers as the pairwise definiti
             repeats.add(p);
         CHECK(repeats.period(1e-6) == by_pairs(x, 8, 1e-6));
     }
+}
+
+TEST_CASE("a spiral onto an orbit is read as the orbit's period, not as its returns'") {
+    // Points a r^n e^(2 pi i n theta) closing in on 0 (the orbit): with theta near 1/3 they come
+    // back near their start every 3 periods (r^3 e^(2 pi i 3 theta) is near 1) while lag 1 is
+    // still wider than the tolerance. Fig 13's row at f_r = 2.7715 did that (|mu| 0.966,
+    // rotation 0.3255) and the diagram read period 3; Newton finds the symmetric orbit,
+    // period 1.
+    const double r = 0.966, theta = 0.3255, tol = 1e-6;
+    for (const double a : {2e-6, 4e-6}) {
+        CAPTURE(a);
+        SectionRepeats repeats(16);
+        for (int n = 0; n < 100; ++n) {
+            const double radius = a * std::pow(r, n), angle = 2.0 * std::numbers::pi * theta * n;
+            repeats.add({radius * std::cos(angle), radius * std::sin(angle)});
+        }
+        REQUIRE(repeats.period(tol) == 3); // the returns alone
+        CHECK(repeats.period(tol, true) == 1);
+    }
+    // A true period-3 orbit keeps its period: its points stand apart.
+    SectionRepeats cycle(16);
+    for (int n = 0; n < 30; ++n)
+        cycle.add({std::cos(2.0 * std::numbers::pi * n / 3.0),
+                   std::sin(2.0 * std::numbers::pi * n / 3.0)});
+    CHECK(cycle.period(tol, true) == 3);
+    // And the row itself: period 1, as gapchain-orbit finds it (minimal period 1).
+    BifurcationOptions o;
+    o.from = o.to = 2.7715430861723447;
+    o.steps = 1;
+    const BifurcationResult row = bifurcation(fig13, o);
+    REQUIRE(row.rows.size() == 1);
+    CHECK(row.rows[0].period == 1);
 }
 
 TEST_CASE("the diagram's period is the section state's, whatever variable it plots") {

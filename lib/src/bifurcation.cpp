@@ -81,7 +81,9 @@ BifurcationRow diagram_row(const ReducedParameters& p, const BifurcationOptions&
     row.status = planned.run(observers, keep_going).status;
     y = planned.state();
     row.F_m = forces.max_force();
-    row.period = repeats.period(o.period_tolerance);
+    // A diagram has no Newton step to confirm a period (classify() has): a cycle's points
+    // must be distinct, or the row is closing in on an orbit of the shorter period.
+    row.period = repeats.period(o.period_tolerance, true);
     row.F_m_error = forces.window_error(o.tolerance, row.period > 0);
     return row;
 }

@@ -202,11 +202,22 @@ void SectionRepeats::add(const std::vector<double>& values) {
     ++m_count;
 }
 
-int SectionRepeats::period(double tolerance) const {
+int SectionRepeats::period(double tolerance, bool distinct_cycle) const {
     detail::require_range("period_tolerance", tolerance, 0.0, 1.0, detail::Bound::open_low);
     const double tol = tolerance * (1.0 + m_scale);
-    for (int k = 1; k <= m_max_period && 2L * k <= m_count; ++k)
-        if (m_largest_difference[static_cast<std::size_t>(k)] <= tol) return k;
+    for (int k = 1; k <= m_max_period && 2L * k <= m_count; ++k) {
+        if (m_largest_difference[static_cast<std::size_t>(k)] > tol) continue;
+        if (!distinct_cycle) return k;
+        const std::vector<double>& last = m_recent.back();
+        for (int j = 1; j < k; ++j) {
+            const std::vector<double>& earlier = m_recent[m_recent.size() - 1 - j];
+            double difference = 0.0;
+            for (std::size_t c = 0; c < last.size(); ++c)
+                difference = std::max(difference, std::abs(last[c] - earlier[c]));
+            if (difference <= tol) return j;
+        }
+        return k;
+    }
     return 0;
 }
 

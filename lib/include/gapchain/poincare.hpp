@@ -107,8 +107,15 @@ public:
     explicit SectionRepeats(int max_period);
     /// The next point's values (the same count each time).
     void add(const std::vector<double>& values);
-    /// detect_period()'s answer for the points added so far, at tolerance (> 0).
-    [[nodiscard]] int period(double tolerance) const;
+    /// detect_period()'s answer for the points added so far, at tolerance (> 0). With
+    /// distinct_cycle a period k > 1 also needs the last point to differ from each of the k - 1
+    /// before it by more than the tolerance (k distinct points); where the last point is within
+    /// it of the one j < k before (the first such j), the answer is j, the orbit the record
+    /// closed in on: a slow spiral onto a period-1 orbit whose rotation is near 1/k comes back
+    /// near its start every k periods while its points close in on one (Fig 13's row at
+    /// f_r = 2.7715: |mu| 0.966, rotation 0.3255, read as period 3; an approach to a period-2
+    /// orbit with a multiplier near -1 read as period 4 at 3.90-3.92).
+    [[nodiscard]] int period(double tolerance, bool distinct_cycle = false) const;
 
 private:
     int m_max_period;

@@ -3,6 +3,7 @@
 #include "gapchain/lyapunov.hpp"
 #include "gapchain/orbit.hpp"
 #include "gapchain/report.hpp"
+#include "gapchain/signal.hpp"
 
 #include <doctest/doctest.h>
 
@@ -115,9 +116,7 @@ TEST_CASE("a periodic label is confirmed by Newton: the period-3 orbit the repet
     CHECK(c.period == 3);
     CHECK(c.max_multiplier == doctest::Approx(0.7313).epsilon(1e-3));
     o.confirm_by_newton = false;
-    const int read = classify(p, o).period; // the repetition test alone
-    MESSAGE("the repetition test alone reads period " << read);
-    CHECK((read == 3 || read == 6));
+    CHECK(classify(p, o).period == 6); // the repetition test alone, as before
 }
 
 TEST_CASE("a confirmed orbit's lambda_max is its Floquet exponent, as an independent tangent "
@@ -306,9 +305,13 @@ TEST_CASE("a record too short for lambda_max's error is refused, not labelled") 
                                 << " +- " << c.lambda_max_error);
 }
 
-TEST_CASE("a chaotic point's broadband share error covers the scatter of independent records") {
+TEST_CASE("a chaotic point's broadband share error covers the scatter of independent records "
+          "and the share of long segments") {
     // Fig 13's row at f_r = 3.3 (chaotic): five 300-period records, each after a different
-    // settling, are five independent readings of the same share.
+    // settling, are five independent readings of the same share. Their error also holds the
+    // move on segments of half the periods: the share rises with the segments' length towards
+    // the continuous spectrum's (0.039 at 60 periods, 0.0445 at 120, 0.0475 at 480), which a
+    // 4000-period record cut into 480-period segments gives here as the reference.
     const ReducedParameters p{5, 60, 0.5, 0.06, 3.3};
     std::vector<double> shares, errors;
     for (long transient : {100, 400, 700, 1000, 1300}) {
@@ -330,14 +333,25 @@ TEST_CASE("a chaotic point's broadband share error covers the scatter of indepen
     for (double s : shares)
         scatter += (s - mean) * (s - mean) / (shares.size() - 1);
     scatter = std::sqrt(scatter);
-    MESSAGE("shares' scatter " << scatter << ", mean stated error " << mean_error);
-    // Neither blind nor inflated: within a factor 3 of the scatter (measured 0.0024 against
-    // 0.0027).
-    CHECK(mean_error > scatter / 3.0);
-    CHECK(mean_error < 3.0 * scatter);
-    for (std::size_t i = 0; i < shares.size(); ++i)
+    const Dynamics dyn = Dynamics::paper_row(p);
+    RunOptions run;
+    run.periods = 4200;
+    run.transient_periods = 200;
+    run.stop_at_steady_state = false;
+    RowSpectrumOptions long_segments;
+    long_segments.samples_per_period = 16;
+    long_segments.segment = 480 * 16;
+    const double reference = row_spectrum(dyn, run, long_segments).content.broadband_share;
+    MESSAGE("shares' scatter " << scatter << ", mean stated error " << mean_error << ", mean share "
+                               << mean << ", 480-period segments " << reference);
+    CHECK(mean_error > scatter / 3.0); // not blind to the records' scatter
+    for (std::size_t i = 0; i < shares.size(); ++i) {
+        // Two errors: the error is a standard error plus bias estimates (measured: 0.0071 and
+        // 0.0077 off against 0.0056 and 0.0050 stated for two of the five records).
+        CHECK(std::abs(shares[i] - reference) <= 2.0 * errors[i]);
         for (std::size_t j = i + 1; j < shares.size(); ++j)
             CHECK(std::abs(shares[i] - shares[j]) < 3.0 * std::hypot(errors[i], errors[j]));
+    }
 }
 
 TEST_CASE("a settled point reads no broadband share, with no error") {

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <numeric>
 #include <string>
 
 namespace {
@@ -20,6 +21,27 @@ std::string short_number(double x) {
     char text[32];
     std::snprintf(text, sizeof text, "%.2g", x);
     return text;
+}
+
+// Where a longer segment is the cure: the periods it needs (each m/n f_r, n <= order, in
+// [0, f_r) takes three bins, and they should leave well over half the bins), and whether the record
+// holds them.
+std::string longer_segment_advice(const RowSpectrumOptions& o, const RowSpectrum& s) {
+    long fractions = 1; // 0 f_r, then the reduced m/n in (0, 1)
+    for (int n = 2; n <= o.order; ++n)
+        for (int m = 1; m < n; ++m)
+            fractions += std::gcd(m, n) == 1 ? 1 : 0;
+    const long unit = whole_period_unit(o.order);
+    const long periods = (8 * fractions + unit - 1) / unit * unit;
+    const double samples = static_cast<double>(periods) * o.samples_per_period;
+    if (samples > static_cast<double>(1 << 24))
+        return "a lower --order (" + std::to_string(periods) +
+               " periods a segment would be needed)";
+    const std::string segment = "--segment " + std::to_string(static_cast<long>(samples)) + " (" +
+                                std::to_string(periods) + " periods)";
+    if (samples > static_cast<double>(s.samples))
+        return segment + ", with a longer record (run.periods)";
+    return segment;
 }
 
 void print_spectrum(const RowSpectrumOptions& o, const RowSpectrum& s) {
@@ -34,10 +56,10 @@ void print_spectrum(const RowSpectrumOptions& o, const RowSpectrum& s) {
                     s.segment_periods, o.order, whole_period_unit(o.order) * o.samples_per_period);
     if (s.content.fraction_bin_share > 0.5)
         std::printf("warning: a segment of %g periods resolves f_r / %g: %.0f %% of the bins lie "
-                    "next to some m/n f_r and the broadband share reads the rest only; a longer "
-                    "--segment (at least %d samples)\n",
+                    "next to some m/n f_r and the broadband share reads the rest only; "
+                    "%s\n",
                     s.segment_periods, s.segment_periods, 100.0 * s.content.fraction_bin_share,
-                    whole_period_unit(o.order) * 4 * o.samples_per_period);
+                    longer_segment_advice(o, s).c_str());
     std::printf("broadband share %.4f %s (power away from m/n f_r, n <= %d)\n",
                 s.content.broadband_share,
                 cli::plus_minus(s.content.broadband_share_error, "%.2g").c_str(), o.order);
@@ -53,9 +75,11 @@ void print_spectrum(const RowSpectrumOptions& o, const RowSpectrum& s) {
                     o.variable.c_str(), s.sampled_range_share);
     for (std::size_t i = 0; i < std::min<std::size_t>(8, s.content.peaks.size()); ++i) {
         const SpectralPeak& p = s.content.peaks[i];
-        const std::string error = std::isfinite(p.power_error)
-                                      ? " +- " + short_number(p.power_error)
-                                      : std::string(" (error: one segment, not estimated)");
+        const std::string error =
+            std::isfinite(p.power_error) ? " +- " + short_number(p.power_error)
+            : s.psd.segments < 2         ? std::string(" (error: one segment, not estimated)")
+                                         : std::string(" (error not estimated: the lines' leakage "
+                                                               "is not measured)");
         std::printf("  peak %-10s f = %.5f +- %.2g  power %.3g%s\n", p.label().c_str(), p.frequency,
                     p.frequency_error, p.power, error.c_str());
     }

@@ -83,8 +83,10 @@ struct RecordedEvidence {
 /// Share of u_1's spectral power away from the forcing's harmonics and subharmonics, and its
 /// error, from u_1 recorded at twice the asked rate: the share is read on every other sample;
 /// its error is the segments' spread (broadband_share_error()) plus the power the asked rate
-/// folds back (aliased_share()), which can land away from the fractions. Too short a record
-/// (fewer than 256 asked samples) is not read: 0, error NaN.
+/// folds back (aliased_share()), which can land away from the fractions, plus the move on
+/// segments of half the periods (broadband_share_resolution_error()). Too short a record
+/// (fewer than 256 asked samples, or segments so short that most bins lie next to some m/n
+/// f_r) is not read: 0, error NaN.
 std::pair<double, double> broadband_reading(const Signal& fine, double f_r,
                                             int samples_per_period) {
     const Signal u1 = every_other(fine);
@@ -95,8 +97,13 @@ std::pair<double, double> broadband_reading(const Signal& fine, double f_r,
     // into the share; four segments at least, for its error.
     po.segment_length =
         whole_period_segment(static_cast<long>(u1.values.size()), samples_per_period, 4, 4);
-    const double share = spectral_content(welch_psd(u1.values, po), f_r).broadband_share;
-    return {share, broadband_share_error(u1.values, po, f_r) + aliased_share(fine.values, po)};
+    const SpectralContent content = spectral_content(welch_psd(u1.values, po), f_r);
+    // Segments of few periods leave the share little to read (20 recorded periods read
+    // 0.000 +- 3e-5 on a chaotic row whose share is 0.04, a second reader found).
+    if (content.fraction_bin_share > 0.5) return {0.0, std::numeric_limits<double>::quiet_NaN()};
+    return {content.broadband_share,
+            broadband_share_error(u1.values, po, f_r) + aliased_share(fine.values, po) +
+                broadband_share_resolution_error(u1.values, po, f_r, 4, samples_per_period)};
 }
 
 /// The label of a run that did not settle: lambda_max clearly positive (chaos), clearly

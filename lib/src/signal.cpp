@@ -184,7 +184,9 @@ double measure_leakage(const std::vector<double>& signal, const PsdOptions& po,
     whole.segment_length = r.segment / unit * unit;
     if (whole.segment_length < 16)
         whole.segment_length = r.segment / o.samples_per_period * o.samples_per_period;
-    if (whole.segment_length < 16) {
+    // A segment of whole periods shorter than one unit is its own fallback: its leakage is
+    // not measured, not 0.
+    if (whole.segment_length < 16 || whole.segment_length == r.segment) {
         leakage.assign(leakage.size(), std::numeric_limits<double>::quiet_NaN());
         return std::numeric_limits<double>::quiet_NaN();
     }
@@ -241,9 +243,10 @@ RowSpectrum row_spectrum(const Dynamics& dyn, const RunOptions& run, const RowSp
     std::vector<double> leakage(bands.size(), 0.0);
     const double leaked_share =
         measure_leakage(signal.values, po, o, dyn.ground_motion().f_r(), r, leakage);
+    const double f_r = dyn.ground_motion().f_r();
     r.content.broadband_share_error =
-        broadband_share_error(signal.values, po, dyn.ground_motion().f_r(), o.order) +
-        r.aliased_share + leaked_share;
+        broadband_share_error(signal.values, po, f_r, o.order) + r.aliased_share + leaked_share +
+        broadband_share_resolution_error(signal.values, po, f_r, o.order, o.samples_per_period);
     // A power is an amplitude squared: the samples' relative error run.tolerance moves it by
     // twice that. The segments' spread is the sampling error; a periodic record has none.
     for (std::size_t i = 0; i < bands.size(); ++i) {

@@ -276,6 +276,20 @@ double broadband_share_error(const std::vector<double>& signal, const PsdOptions
     return std::sqrt(squares / (count - 1) * overlap_inflation(segments, count) / count);
 }
 
+double broadband_share_resolution_error(const std::vector<double>& signal, const PsdOptions& o,
+                                        double f_r, int max_order, int samples_per_period) {
+    const int unit = whole_period_unit(max_order) * samples_per_period;
+    PsdOptions half = o;
+    half.segment_length = o.segment_length / 2 / unit * unit;
+    if (half.segment_length < 16)
+        half.segment_length = o.segment_length / 2 / samples_per_period * samples_per_period;
+    if (half.segment_length < std::max(16, samples_per_period))
+        return std::numeric_limits<double>::quiet_NaN();
+    const double share = spectral_content(welch_psd(signal, o), f_r, max_order).broadband_share;
+    return std::abs(share -
+                    spectral_content(welch_psd(signal, half), f_r, max_order).broadband_share);
+}
+
 int whole_period_unit(int max_order) {
     detail::require_range("max_order", max_order, 1, 1 << 20);
     int unit = 1;

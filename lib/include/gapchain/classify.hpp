@@ -67,11 +67,15 @@ struct Classification {
                                    ///< multiplier's error (max_multiplier_error)
     int distinct_points = 0;       ///< distinct stroboscopic points among those recorded
     int section_points = 0;        ///< stroboscopic points recorded
-    /// Share of u_1's spectral power away from m/n f_r (n <= 4), [0, 1]; read only where the
-    /// run did not settle (0 on a periodic steady state, or a record of fewer than 256 samples)
+    /// Share of u_1's spectral power away from m/n f_r (n <= 4), [0, 1], on Welch segments of
+    /// whole periods (whole_period_segment(), four at least); read only where the run did not
+    /// settle (0 on a periodic steady state, or a record too short: fewer than 256 samples, or
+    /// segments of so few periods that most bins lie next to some m/n f_r, about 70 recorded
+    /// periods or fewer)
     double broadband_share = 0.0;
     /// Its estimated error, >= 0: the Welch segments' spread (broadband_share_error() of
-    /// spectrum.hpp) plus the aliased share; 0 where the share was not read for a settled
+    /// spectrum.hpp) plus the aliased share plus its move on segments of half the periods
+    /// (broadband_share_resolution_error()); 0 where the share was not read for a settled
     /// state, NaN where the record was too short to read it
     double broadband_share_error = 0.0;
     /// Max reduced force: over the orbit Newton confirmed (newton_confirmed), else over the

@@ -116,9 +116,10 @@ void print_settling(const Attractor& a, const AttractorOptions& o) {
 // Why a group is unsettled (Attractor::settled), for the warnings of both modes. A group still
 // converging may also be an orbit longer than the steady-state watch looks for.
 std::string unsettled_reason(const AttractorOptions& o) {
-    return " (their runs ended still converging: lambda_max < 0, or its error above the chaos "
-           "threshold 0.02, no contact, or shorter than four decay times of the row; their F_m "
-           "is a transient's); raise run.periods, or "
+    return " (their runs ended still converging: lambda_max more than three errors below 0, or "
+           "neither chaos nor a torus after a tangent run 64 times as long, no contact, or "
+           "shorter than four decay times of the row; their F_m is a transient's); raise "
+           "run.periods, or "
            "run.max_steady_period (now " +
            std::to_string(o.run.max_steady_period) + ") if their orbits may be longer";
 }

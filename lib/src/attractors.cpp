@@ -580,7 +580,8 @@ ExponentReading read_exponent(const Dynamics& dyn, const AttractorOptions& o, At
                                 : Regime::quasi_periodic;
         if (chaos) return ExponentReading::chaos;
         if (a.lambda_max < -sigma3) return ExponentReading::approach;
-        if (a.lambda_max_error <= o.chaos_threshold / 4.0) return ExponentReading::torus;
+        if (a.lambda_max <= sigma3 && a.lambda_max_error <= o.chaos_threshold / 4.0)
+            return ExponentReading::torus;
         RunOptions longer = run;
         longer.periods = 4 * periods;
         if (a.F_m == 0.0 || longer.periods > 64 * o.lyapunov_periods ||

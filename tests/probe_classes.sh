@@ -302,7 +302,7 @@ one_line 24
 # Rows cut short, with extra fields or another direction were drawn as they came (session 48).
 mkdir -p ov24
 printf '{"parameter": "f_r", "base": {"Nm": 5, "fc": 60, "eps": 0.5, "e_r": 0.06, "f_r": 3}}\n' >ov24/bifurcation.json
-for row in '2.9,up,0.4' '2.9,up,0.4,0.001,1,100,completed,x' '2.9,sideways,0.4,0.001,1,100,completed'; do
+for row in '2.9,up,0.4' '2.9,up,0.4,0.001,1,100,completed,x' '2.9,sideways,0.4,0.001,1,100,completed' '2.9x,up,0.4,0.001,1,100,completed' '2.9,up,0.4abc,0.001,1,100,completed'; do
     printf 'value,direction,F_m,F_m_error,period,points,status\n%s\n' "$row" >ov24/summary.csv
     expect 24 2 "--overlay: row 2 of .* needs 7 fields as its header, a finite value, a direction up or down" "$bin/gapchain-continue" "$scenes/fig13.json" --from 2.8 --to 3 --overlay ov24/summary.csv --out c24
 done

@@ -671,4 +671,12 @@ TEST_CASE("a restart beyond a branch's end traces the skipped stretch back") {
                   << " +- " << reference->value_error);
     CHECK(std::abs(found->value - reference->value) <= found->value_error + reference->value_error);
     CHECK(std::abs(found->value - 2.77011171) <= found->value_error + 1e-7);
+    // A step beyond that lies past the end value restarts at the end value, walked back only:
+    // with --to 2.771 nothing was traced beyond the pitchfork (a second reader, 2026-11-27).
+    ContinuationOptions short_line = up;
+    short_line.to = 2.771;
+    const auto near_end = neimark_sacker(continue_orbits(fig13_row, short_line));
+    REQUIRE(near_end);
+    CHECK(std::abs(near_end->value - reference->value) <=
+          near_end->value_error + reference->value_error);
 }

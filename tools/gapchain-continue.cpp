@@ -53,12 +53,18 @@ void check_overlay(const std::string& path) {
         ++rows;
         const auto first = line.find(','), second = line.find(',', first + 1);
         const auto third = line.find(',', second + 1);
-        double value = NAN, force = NAN;
-        try {
-            value = std::stod(line.substr(0, first));
-            force = std::stod(line.substr(second + 1, third - second - 1));
-        } catch (const std::exception&) {
-        }
+        // The whole field must be the number: stod reads "2.9x" as 2.9.
+        const auto number = [](const std::string& field) {
+            std::size_t used = 0;
+            try {
+                const double x = std::stod(field, &used);
+                return used == field.size() ? x : NAN;
+            } catch (const std::exception&) {
+                return static_cast<double>(NAN);
+            }
+        };
+        const double value = number(line.substr(0, first));
+        const double force = number(line.substr(second + 1, third - second - 1));
         const std::string direction =
             first == std::string::npos ? "" : line.substr(first + 1, second - first - 1);
         if (fields(line) != header_fields || (direction != "up" && direction != "down") ||

@@ -859,8 +859,12 @@ restart_beyond(const ReducedParameters& base, const ContinuationOptions& options
     OrbitOptions orbit = options.orbit;
     orbit.period = options.period;
     for (double offset : {options.step, options.max_step}) {
-        const double p = farthest + direction * offset;
-        if ((p - options.from) * (p - options.to) >= 0.0) return std::nullopt;
+        // A step past the end value restarts at it, to be walked back only: the stretch up to
+        // it was skipped (--to 2.771 on Fig 13's row lost the symmetric orbit's Neimark-Sacker
+        // point at 2.77011, a second reader found).
+        double p = farthest + direction * offset;
+        if ((p - options.to) * direction >= 0.0) p = options.to;
+        if ((p - options.from) * direction <= 0.0) return std::nullopt;
         const ReducedParameters q = with_value(base, options.parameter, p);
         const Dynamics dyn = Dynamics::paper_row(q);
         const PeriodicOrbit again =
@@ -871,6 +875,7 @@ restart_beyond(const ReducedParameters& base, const ContinuationOptions& options
             result.cancelled = true;
             return std::nullopt;
         }
+        if (p == options.to) break;
     }
     return std::nullopt;
 }
@@ -980,7 +985,8 @@ void queue_restart(const ReducedParameters& base, const ContinuationOptions& opt
     const auto restart = restart_beyond(base, options, initial, farthest, keep_going, result);
     if (!restart) return;
     const double direction = options.to > options.from ? 1.0 : -1.0;
-    pending.push_front({restart->first, restart->second, options.period, direction});
+    if (restart->second != options.to) // at the end value there is nothing left to walk on to
+        pending.push_front({restart->first, restart->second, options.period, direction});
     pending.push_front({restart->first, restart->second, options.period, -direction, farthest});
 }
 

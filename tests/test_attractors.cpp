@@ -95,6 +95,7 @@ TEST_CASE("mirror-image orbits are two attractors of equal F_m and equal basin f
     CHECK(b.period == 1);
     CHECK(a.newton_confirmed);
     CHECK(b.newton_confirmed);
+    CHECK(set.confirmation_periods == 0); // no non-periodic group to confirm
     // The mirror u -> -u(t + T/2) maps one orbit onto the other (MODEL.md §5).
     const std::vector<double> mirrored_a = half_period_later(mirror_pair, a.state);
     CHECK(-mirrored_a[0] == doctest::Approx(b.state[0]).epsilon(1e-7));
@@ -244,6 +245,9 @@ TEST_CASE("Fig 13's line at f_r = 3.2: the torus of F_m 0.385 coexists with a we
     for (const auto& a : set.attractors)
         weakest = std::min(weakest, a.F_m);
     CHECK(weakest < 0.75 * set.F_m_max);
+    // The torus is non-periodic: its first member ran on, at least one run length (to 10).
+    CHECK(set.confirmation_periods >= o.run.periods);
+    CHECK(set.confirmation_periods <= 10 * o.run.periods);
 }
 
 TEST_CASE("design value: a run from rest that reaches the weaker of Fig 13's attractors at "

@@ -113,6 +113,16 @@ void print_settling(const Attractor& a, const AttractorOptions& o) {
                     a.F_m_runs);
 }
 
+/// How long a non-periodic attractor was seen to last: no finite run tells a chaotic set from a
+/// chaotic transient that outlasts it (Fig 13's row at f_r = 3.2 with 600-period runs lists
+/// a chaotic group that 5000-period runs see land on a period-15 orbit, docs/attractors.md).
+void print_lasting(const Attractor& a, const AttractorSet& s, const AttractorOptions& o) {
+    if (a.period != 0 || !a.settled) return;
+    std::printf("     non-periodic through its starts' %ld periods and %ld more on its first "
+                "member; a transient longer than that is not ruled out\n",
+                o.run.periods, s.confirmation_periods);
+}
+
 // Why a group is unsettled (Attractor::settled), for the warnings of both modes. A group still
 // converging may also be an orbit longer than the steady-state watch looks for.
 std::string unsettled_reason(const AttractorOptions& o) {
@@ -149,6 +159,7 @@ void print_set(const AttractorSet& s, const AttractorOptions& o) {
             std::printf("lambda_max not computed (orbit not confirmed by Newton)");
         std::printf("  basin %.3f +- %.3f\n", a.basin_fraction, a.basin_fraction_error);
         print_settling(a, o);
+        print_lasting(a, s, o);
     }
     cli::print_transients(s.transients);
     if (s.F_m_max_id >= 0)

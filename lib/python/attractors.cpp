@@ -42,7 +42,8 @@ from_period, the median length; lifetime beyond it and lifetime_error, NaN with 
 ending beyond it; ended; censored, still going when their runs ended; rate_ratio and its error,
 the later half's ending rate over the earlier's; constant_rate, "untested", "consistent" or
 "rejected"; periods_until_1_percent, NaN unless consistent),
-failed, amplitude (A), center (the box's center: 2 Nm reduced values), and with grid: slice_x, slice_y and slice_attractor
+failed, confirmation_periods (how far each non-periodic group's first member ran on beyond
+run.periods to confirm it; 0: none), amplitude (A), center (the box's center: 2 Nm reduced values), and with grid: slice_x, slice_y and slice_attractor
 (resolution x resolution, rows along y); wall_time_s, cancelled.)";
 
 constexpr const char* basin_fractions_doc =
@@ -141,6 +142,7 @@ py::dict set_dict(const AttractorSet& s) {
                  py::arg("constant_rate") = std::string(to_string(t.constant_rate)),
                  py::arg("periods_until_1_percent") = t.periods_until(0.01));
     d["failed"] = s.failed;
+    d["confirmation_periods"] = s.confirmation_periods;
     d["amplitude"] = s.amplitude;
     if (!s.slice_first.empty()) {
         d["slice_x"] = array(s.slice_first);

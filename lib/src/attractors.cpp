@@ -947,6 +947,9 @@ AttractorSet find_attractors(const ReducedParameters& p, const AttractorOptions&
                              periodic_transients(outcomes, labels, o.samples, set.attractors,
                                                  o.run.periods, o.run.max_steady_period),
                              orbit_reached);
+    if (std::any_of(set.attractors.begin(), set.attractors.end(),
+                    [](const Attractor& a) { return a.period == 0; }))
+        set.confirmation_periods = continued;
     if (!confirm_non_periodic(dyn, scale, o, continued, set.attractors, labels, at_end)) {
         set.attractors.clear();
         set.cancelled = true;

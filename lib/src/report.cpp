@@ -591,6 +591,7 @@ nlohmann::ordered_json attractor_set_json(const AttractorSet& set, const Attract
     j["transients"] = transients_json(set.transients);
     j["samples"] = o.samples;
     j["failed"] = set.failed;
+    j["confirmation_periods"] = set.confirmation_periods;
     j["seed"] = o.seed;
     j["box"] = o.box;
     // Rest written out, so a reader need not know the default.

@@ -227,7 +227,11 @@ struct AttractorSet {
     std::vector<double> sample_F_m; ///< per random start: its run's F_m (0 if its run failed)
     /// How long the transients of the random starts that reached a periodic attractor lasted
     TransientLifetime transients;
-    long failed = 0;                  ///< starts whose run failed (non-finite)
+    long failed = 0; ///< starts whose run failed (non-finite)
+    /// Periods each non-periodic group's first member was run on beyond its run.periods to
+    /// confirm it (0: no such group). A group still non-periodic after both stands: no finite
+    /// run rules out a transient longer than that
+    long confirmation_periods = 0;
     std::vector<int> slice_attractor; ///< resolution^2, second axis slowest; -1: failed
     std::vector<double> slice_first;  ///< the slice's x values
     std::vector<double> slice_second; ///< the slice's y values

@@ -173,7 +173,7 @@ double power_between(const Psd& psd, double low, double high) {
 // of 2026-11-27). The same record cut into the longest whole segment that the asked one holds
 // reads them without that spread: the difference is the leakage's error, of the share
 // (returned) and of each peak (its power over the same frequencies). 0 for a whole segment;
-// NaN where no whole segment of 16 samples fits.
+// NaN where no shorter whole segment of 16 samples fits.
 double measure_leakage(const std::vector<double>& signal, const PsdOptions& po,
                        const RowSpectrumOptions& o, double f_r, RowSpectrum& r,
                        std::vector<double>& leakage) {
@@ -238,12 +238,11 @@ RowSpectrum row_spectrum(const Dynamics& dyn, const RunOptions& run, const RowSp
     const std::vector<double> spread = band_power_errors(signal.values, po, bands);
     std::vector<double> aliasing;
     measure_aliasing(fine, signal.values, po, r, aliasing);
+    const double f_r = dyn.ground_motion().f_r();
+    std::vector<double> leakage(bands.size(), 0.0);
+    const double leaked_share = measure_leakage(signal.values, po, o, f_r, r, leakage);
     // Folded power lands anywhere, on the fractions or between them: the share moves by at
     // most the share folded.
-    std::vector<double> leakage(bands.size(), 0.0);
-    const double leaked_share =
-        measure_leakage(signal.values, po, o, dyn.ground_motion().f_r(), r, leakage);
-    const double f_r = dyn.ground_motion().f_r();
     r.content.broadband_share_error =
         broadband_share_error(signal.values, po, f_r, o.order) + r.aliased_share + leaked_share +
         broadband_share_resolution_error(signal.values, po, f_r, o.order, o.samples_per_period);

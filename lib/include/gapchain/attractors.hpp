@@ -76,7 +76,9 @@ struct AttractorOptions {
     /// 0, the error at most chaos_threshold / 4) from chaos or from the approach to an orbit
     /// (more than three errors below 0)
     long lyapunov_periods = 300;
-    double chaos_threshold = 0.02;   ///< lambda_max above this and 3 errors: chaotic [1 / time]
+    /// lambda_max above this and 3 errors: chaotic [1 / time], 0 .. 1e3; a torus needs an
+    /// error of a quarter of it at most (at 0 no group reads as a torus)
+    double chaos_threshold = 0.02;
     std::optional<BasinSlice> slice; ///< also run the starts of this slice
     int threads = 0;                 ///< OpenMP threads (0: all); results do not depend on it
 };

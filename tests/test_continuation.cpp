@@ -663,7 +663,7 @@ TEST_CASE("a restart beyond a branch's end traces the skipped stretch back") {
     const auto found = neimark_sacker(r);
     REQUIRE(found);
     CHECK(std::any_of(r.branch_end.begin(), r.branch_end.end(), [](const std::string& why) {
-        return why.find("where the branch before it ended") != std::string::npos;
+        return why.find("where the branch it restarts ended") != std::string::npos;
     }));
     const auto reference = neimark_sacker(continue_orbits(fig13_row, down));
     REQUIRE(reference);

@@ -927,9 +927,10 @@ struct PendingBranch {
 void list_unfollowed(const std::deque<PendingBranch>& pending, const ContinuationOptions& options,
                      ContinuationResult& result) {
     for (const PendingBranch& left : pending)
-        result.unfollowed.push_back("period " + std::to_string(left.period) + " from " +
-                                    std::string(to_string(options.parameter)) + " = " +
-                                    detail::format_number(left.p));
+        result.unfollowed.push_back(
+            "period " + std::to_string(left.period) + " from " +
+            std::string(to_string(options.parameter)) + " = " + detail::format_number(left.p) +
+            (left.until ? " back to " + detail::format_number(*left.until) : std::string()));
 }
 
 /// The row at options.from, once the options, both ends of the line and the row's size are
@@ -954,7 +955,7 @@ ReducedParameters checked_start(const ReducedParameters& base, const Continuatio
 }
 
 /// The options a pending branch is walked with: the line's, or for a walk back from a restart
-/// the stretch from its start back to where the branch before it ended.
+/// the stretch from its start back to where the branch it restarts ended.
 ContinuationOptions walked_options(const ContinuationOptions& options, const PendingBranch& next) {
     ContinuationOptions walked = options;
     if (next.until) {
@@ -969,7 +970,8 @@ std::string back_to(const ContinuationOptions& options, const PendingBranch& nex
     std::ostringstream why;
     why.precision(7);
     why << "reached " << to_string(options.parameter) << " = " << *next.until
-        << ", where the branch before it ended (traced back from its restart at " << next.p << ")";
+        << ", where the branch it restarts ended (traced back from the restart at " << next.p
+        << ")";
     return why.str();
 }
 
@@ -984,10 +986,12 @@ void queue_restart(const ReducedParameters& base, const ContinuationOptions& opt
                    std::deque<PendingBranch>& pending) {
     const auto restart = restart_beyond(base, options, initial, farthest, keep_going, result);
     if (!restart) return;
+    // The walk on comes first: where max_branches leaves room for one, the line reaches its
+    // end and the walk back is listed as not followed.
     const double direction = options.to > options.from ? 1.0 : -1.0;
+    pending.push_front({restart->first, restart->second, options.period, -direction, farthest});
     if (restart->second != options.to) // at the end value there is nothing left to walk on to
         pending.push_front({restart->first, restart->second, options.period, direction});
-    pending.push_front({restart->first, restart->second, options.period, -direction, farthest});
 }
 
 } // namespace

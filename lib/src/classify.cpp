@@ -103,7 +103,8 @@ std::pair<double, double> broadband_reading(const Signal& fine, double f_r,
     if (content.fraction_bin_share > 0.5) return {0.0, std::numeric_limits<double>::quiet_NaN()};
     return {content.broadband_share,
             broadband_share_error(u1.values, po, f_r) + aliased_share(fine.values, po) +
-                broadband_share_resolution_error(u1.values, po, f_r, 4, samples_per_period)};
+                broadband_share_resolution_error(u1.values, po, content.broadband_share, f_r, 4,
+                                                 samples_per_period)};
 }
 
 /// The label of a run that did not settle: lambda_max clearly positive (chaos), clearly

@@ -177,16 +177,13 @@ double power_between(const Psd& psd, double low, double high) {
 double measure_leakage(const std::vector<double>& signal, const PsdOptions& po,
                        const RowSpectrumOptions& o, double f_r, RowSpectrum& r,
                        std::vector<double>& leakage) {
-    const int unit = whole_period_unit(o.order) * o.samples_per_period;
-    r.whole_periods = r.segment % unit == 0;
+    r.whole_periods = r.segment % (whole_period_unit(o.order) * o.samples_per_period) == 0;
     if (r.whole_periods) return 0.0;
     PsdOptions whole = po;
-    whole.segment_length = r.segment / unit * unit;
-    if (whole.segment_length < 16)
-        whole.segment_length = r.segment / o.samples_per_period * o.samples_per_period;
+    whole.segment_length = whole_segment_within(r.segment, o.samples_per_period, o.order);
     // A segment of whole periods shorter than one unit is its own fallback: its leakage is
     // not measured, not 0.
-    if (whole.segment_length < 16 || whole.segment_length == r.segment) {
+    if (whole.segment_length == 0 || whole.segment_length == r.segment) {
         leakage.assign(leakage.size(), std::numeric_limits<double>::quiet_NaN());
         return std::numeric_limits<double>::quiet_NaN();
     }
@@ -245,7 +242,8 @@ RowSpectrum row_spectrum(const Dynamics& dyn, const RunOptions& run, const RowSp
     // most the share folded.
     r.content.broadband_share_error =
         broadband_share_error(signal.values, po, f_r, o.order) + r.aliased_share + leaked_share +
-        broadband_share_resolution_error(signal.values, po, f_r, o.order, o.samples_per_period);
+        broadband_share_resolution_error(signal.values, po, r.content.broadband_share, f_r, o.order,
+                                         o.samples_per_period);
     // A power is an amplitude squared: the samples' relative error run.tolerance moves it by
     // twice that. The segments' spread is the sampling error; a periodic record has none.
     for (std::size_t i = 0; i < bands.size(); ++i) {

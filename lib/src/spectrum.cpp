@@ -277,17 +277,20 @@ double broadband_share_error(const std::vector<double>& signal, const PsdOptions
 }
 
 double broadband_share_resolution_error(const std::vector<double>& signal, const PsdOptions& o,
-                                        double f_r, int max_order, int samples_per_period) {
-    const int unit = whole_period_unit(max_order) * samples_per_period;
+                                        double share, double f_r, int max_order,
+                                        int samples_per_period) {
     PsdOptions half = o;
-    half.segment_length = o.segment_length / 2 / unit * unit;
-    if (half.segment_length < 16)
-        half.segment_length = o.segment_length / 2 / samples_per_period * samples_per_period;
-    if (half.segment_length < std::max(16, samples_per_period))
-        return std::numeric_limits<double>::quiet_NaN();
-    const double share = spectral_content(welch_psd(signal, o), f_r, max_order).broadband_share;
+    half.segment_length = whole_segment_within(o.segment_length / 2, samples_per_period, max_order);
+    if (half.segment_length == 0) return std::numeric_limits<double>::quiet_NaN();
     return std::abs(share -
                     spectral_content(welch_psd(signal, half), f_r, max_order).broadband_share);
+}
+
+int whole_segment_within(int length, int samples_per_period, int max_order) {
+    const int unit = whole_period_unit(max_order) * samples_per_period;
+    int segment = length / unit * unit;
+    if (segment < 16) segment = length / samples_per_period * samples_per_period;
+    return segment < 16 ? 0 : segment;
 }
 
 int whole_period_unit(int max_order) {

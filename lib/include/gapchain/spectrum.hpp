@@ -93,6 +93,11 @@ double broadband_share_error(const std::vector<double>& signal, const PsdOptions
 /// 4, 60 from 5 on (subharmonics of order 7 and up then fall between bins). max_order >= 1.
 int whole_period_unit(int max_order);
 
+/// The longest segment [samples] of at most `length` that holds a multiple of
+/// whole_period_unit(max_order) periods, else of whole periods, of samples_per_period samples
+/// each (>= 1); 0 where that is under 16 samples.
+int whole_segment_within(int length, int samples_per_period, int max_order);
+
 /// The default Welch segment [samples] for a record of `samples` samples taken
 /// samples_per_period times a forcing period (>= 1): a multiple of whole_period_unit(max_order)
 /// periods, the most up to 128 periods (or one unit, if longer) that leaves min_segments
@@ -100,18 +105,17 @@ int whole_period_unit(int max_order);
 /// it holds less than a unit; at least 16 samples and at most `samples`.
 int whole_period_segment(long samples, int samples_per_period, int max_order, int min_segments = 2);
 
-/// How much the broadband share of welch_psd(signal, options) (spectral_content() with f_r,
-/// max_order and width 1) moves on segments of half as many forcing periods (a multiple of
-/// whole_period_unit(max_order) periods where one fits, else whole periods; options'
-/// segment holding samples_per_period samples a period). The share counts the power more than
-/// a bin away from every m/n f_r, a band of f_r / (the segment's periods) that narrows as
-/// segments lengthen, so the share rises towards that of the spectrum's continuous part; if it
-/// falls as one over the segment's periods, the move is what this segment misses (Fig 13's row
-/// at f_r = 3.3: 0.039 at 60 periods, 0.0445 at 120, 0.0475 at 480). NaN where the half
-/// segment holds fewer than 16 samples or less than a period.
+/// How much `share`, the broadband share of welch_psd(signal, options) (spectral_content() with
+/// f_r, max_order and width 1), moves on segments of half as many forcing periods
+/// (whole_segment_within() half of options' segment, which holds samples_per_period samples a
+/// period). The share counts the power more than a bin away from every m/n f_r, a band of
+/// f_r / (the segment's periods) that narrows as segments lengthen, so the share rises towards
+/// that of the spectrum's continuous part; if it falls as one over the segment's periods, the
+/// move is what this segment misses (Fig 13's row at f_r = 3.3: 0.039 at 60 periods, 0.0445 at
+/// 120, 0.0475 at 480). NaN where no whole half segment of 16 samples fits.
 double broadband_share_resolution_error(const std::vector<double>& signal,
-                                        const PsdOptions& options, double f_r, int max_order,
-                                        int samples_per_period);
+                                        const PsdOptions& options, double share, double f_r,
+                                        int max_order, int samples_per_period);
 
 /// Welch options for the same signal sampled at twice options' rate: twice the samples per
 /// segment and exactly twice the hop, so that its segments cover the same stretches of time

@@ -104,6 +104,11 @@ TEST_CASE("the default segment is whole periods, a multiple of 12, up to 128, he
     CHECK(whole_period_segment(481, 32, 4) == 12 * 32);     // 15 periods, not 1.5 x 12: one unit
     CHECK(whole_period_segment(161, 32, 4) == 5 * 32);      // less than a unit: what it holds
     CHECK(whole_period_segment(17, 2, 4) == 16);            // 8 periods, 16 samples
+    CHECK(whole_segment_within(2000, 30, 4) == 1800);       // 5 units of 12 periods
+    CHECK(whole_segment_within(320, 32, 4) == 320);         // under a unit: whole periods
+    CHECK(whole_segment_within(15, 1, 4) == 0);             // under 16 samples
+    CHECK_THROWS_WITH_AS(whole_segment_within(100, 0, 4), doctest::Contains("samples_per_period"),
+                         std::invalid_argument);
     run.periods = 1; // 9 samples cannot hold the shortest segment
     RowSpectrumOptions few;
     few.samples_per_period = 8;

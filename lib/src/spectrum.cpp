@@ -287,6 +287,8 @@ double broadband_share_resolution_error(const std::vector<double>& signal, const
 }
 
 int whole_segment_within(int length, int samples_per_period, int max_order) {
+    detail::require_range("samples_per_period", samples_per_period, 1, 1 << 24);
+    detail::require_range("length", length, 0, 1 << 30);
     const int unit = whole_period_unit(max_order) * samples_per_period;
     int segment = length / unit * unit;
     if (segment < 16) segment = length / samples_per_period * samples_per_period;

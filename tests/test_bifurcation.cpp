@@ -169,13 +169,71 @@ TEST_CASE("a spiral onto an orbit is read as the orbit's period, not as its retu
         cycle.add({std::cos(2.0 * std::numbers::pi * n / 3.0),
                    std::sin(2.0 * std::numbers::pi * n / 3.0)});
     CHECK(cycle.period(tol, true) == 3);
-    // And the row itself: period 1, as gapchain-orbit finds it (minimal period 1).
+    // And the row itself: period 1, as gapchain-orbit finds it (minimal period 1), from its
+    // section points alone as well as from Newton's confirmation.
     BifurcationOptions o;
     o.from = o.to = 2.7715430861723447;
     o.steps = 1;
-    const BifurcationResult row = bifurcation(fig13, o);
-    REQUIRE(row.rows.size() == 1);
-    CHECK(row.rows[0].period == 1);
+    for (const bool newton : {false, true}) {
+        CAPTURE(newton);
+        o.confirm_by_newton = newton;
+        const BifurcationResult row = bifurcation(fig13, o);
+        REQUIRE(row.rows.size() == 1);
+        CHECK(row.rows[0].period == 1);
+        CHECK(row.rows[0].newton_confirmed == newton);
+    }
+}
+
+TEST_CASE("a periodic row's F_m is its orbit's, within its error of an independent scheme") {
+    // Fig 13's row where the contact barely closes (4.119) and where the orbit's multiplier is
+    // near 1 (2.47, |mu| 0.915): rk4 at the default tolerance read 0.00363071 +- 3.6e-7 and
+    // 0.587975 +- 5.9e-5 over its window, 73 and 4.6 of those errors from the orbit. The
+    // reference is a plain rk8pd run at 1e-10 from rest, no Newton and no exact propagator.
+    for (const double f_r : {4.119, 2.47}) {
+        CAPTURE(f_r);
+        BifurcationOptions o;
+        o.from = o.to = f_r;
+        o.steps = 1;
+        o.scheme = Scheme::rk4;
+        BifurcationOptions reference = o;
+        reference.scheme = Scheme::rk8pd;
+        reference.tolerance = 1e-10;
+        reference.confirm_by_newton = false;
+        reference.transient_periods = 400;
+        const BifurcationRow ref = bifurcation(fig13, reference).rows.at(0);
+        REQUIRE(ref.period > 0);
+        const BifurcationRow row = bifurcation(fig13, o).rows.at(0);
+        REQUIRE(row.newton_confirmed);
+        CHECK(row.period == ref.period);
+        CHECK(row.max_multiplier < 1.0);
+        CHECK(std::abs(row.F_m - ref.F_m) <= 1e-6 * ref.F_m);
+        // The bar covers the window's reading on rk4, which is its scheme's truncation error.
+        o.confirm_by_newton = false;
+        const BifurcationRow window = bifurcation(fig13, o).rows.at(0);
+        CHECK(std::abs(window.F_m - ref.F_m) > window.F_m_error); // the old bar did not hold
+        CHECK(row.F_m_error >= std::abs(window.F_m - row.F_m));
+        CHECK(row.F_m_error < 1e-2 * row.F_m);
+        CHECK(std::isnan(window.max_multiplier));
+    }
+}
+
+TEST_CASE("a slow approach read as a multiple of the period reads the orbit's minimal period") {
+    // Fig 13's row at 4.1092: its last rk4 cycle of 4 periods had distinct points, but the
+    // exact scheme's section and Newton both read 2 (|mu| 0.83).
+    BifurcationOptions o;
+    o.from = o.to = 4.10921843687;
+    o.steps = 1;
+    o.scheme = Scheme::rk4;
+    o.confirm_by_newton = false;
+    // Only a note: which cell of a slow approach still reads the multiple moves between builds.
+    WARN(bifurcation(fig13, o).rows.at(0).period == 4);
+    o.scheme = Scheme::exact;
+    CHECK(bifurcation(fig13, o).rows.at(0).period == 2);
+    o.scheme = Scheme::rk4;
+    o.confirm_by_newton = true;
+    const BifurcationRow row = bifurcation(fig13, o).rows.at(0);
+    CHECK(row.newton_confirmed);
+    CHECK(row.period == 2);
 }
 
 TEST_CASE("the diagram's period is the section state's, whatever variable it plots") {

@@ -330,18 +330,30 @@ void bench_plans(const ReducedParameters& p, int starts) {
     }
 }
 
+// The diagram with and without Newton's confirmation of its periodic rows, in the same run.
 void bench_bifurcation(int threads) {
-    BifurcationOptions o;
-    o.threads = threads;
     const ReducedParameters fig13{5, 60, 0.5, 0.06, 3.0};
-    const BifurcationResult r = bifurcation(fig13, o);
-    int periodic = 0;
-    for (const auto& row : r.rows)
-        periodic += row.period > 0;
-    std::printf("Fig 13 diagram: %d values x (%ld + %ld) periods, %d threads: %.3f s wall "
-                "(%d periodic rows)\n",
-                o.steps, o.transient_periods, o.record_periods, r.threads_used, r.wall_time_s,
-                periodic);
+    double plain_time = 0.0;
+    for (const bool newton : {false, true}) {
+        BifurcationOptions o;
+        o.threads = threads;
+        o.confirm_by_newton = newton;
+        const BifurcationResult r = bifurcation(fig13, o);
+        int periodic = 0, confirmed = 0;
+        for (const auto& row : r.rows) {
+            periodic += row.period > 0;
+            confirmed += row.newton_confirmed;
+        }
+        std::printf("Fig 13 diagram: %d values x (%ld + %ld) periods, %d threads: %.3f s wall "
+                    "(%d periodic rows, %d confirmed by Newton)",
+                    o.steps, o.transient_periods, o.record_periods, r.threads_used, r.wall_time_s,
+                    periodic, confirmed);
+        if (newton)
+            std::printf(", %.2fx the time without\n", r.wall_time_s / plain_time);
+        else
+            std::printf("\n");
+        plain_time = r.wall_time_s;
+    }
 }
 
 void bench_modes(int Nm, int count) {

@@ -35,7 +35,7 @@ rel_error ((f_ka - f_k) / f_k), residual, shapes (Nm x modes float64, column k t
 mode k), method, status ("converged", ...), iterations, wall_time_s.)";
 
 constexpr const char* bifurcation_doc =
-    R"(bifurcation(scene=None, *, param="f_r", from_=2.0, to=4.5, steps=500, mode="independent", transient=200, record=100, variable="u1", phase=0.0, threads=0, progress=None, **keys) -> dict
+    R"(bifurcation(scene=None, *, param="f_r", from_=2.0, to=4.5, steps=500, mode="independent", transient=200, record=100, variable="u1", phase=0.0, threads=0, confirm=True, progress=None, **keys) -> dict
 
 Bifurcation diagram of the paper's uniform row over one parameter: at each value a transient
 is discarded, then the stroboscopic section points (phase in [0, 1) of the forcing period) of
@@ -46,6 +46,8 @@ mode      "independent" (each value from the scene's initial state, default rest
           parallel) or "continuation" (from from_ to to and back, from it; a leg is "up" where the value grows)
 transient discarded periods per value, >= 0;  record  recorded periods per value, >= 1
 variable  u1..uNm, v1..vNm, g0..gNm, F0..FNm;  threads OpenMP threads (0: all cores)
+confirm   confirm a periodic row's orbit by Newton on the exact scheme (its F_m, minimal
+          period and multipliers replace the window's; gapchain-bifurcation --no-newton is False)
 progress  callable(fraction of values done)
 scene, **keys  the row (Nm, fc, eps, e_r, f_r; of the run section scheme, tolerance and
           max_work are used) and its initial state. None is the paper's default row (fc 100,
@@ -53,8 +55,11 @@ scene, **keys  the row (Nm, fc, eps, e_r, f_r; of the run section scheme, tolera
           data/scenes/fig13.json here.
 
 Returns a dict of columns, one row per value and direction: value, direction ("up"/"down"),
-F_m, F_m_error (the recorded halves' spread of F_m, at least tolerance * F_m), period (0: not
-periodic), points (section points recorded), status; and "section": a dict
+F_m (over the orbit Newton confirmed, else over the recorded periods), F_m_error (the recorded
+halves' spread of F_m, at least tolerance * F_m; on a confirmed orbit at least the recorded
+maximum's difference from it), period (0: not periodic; the orbit's minimal period where
+confirmed), points (section points recorded), status, newton_confirmed, max_multiplier (the
+confirmed orbit's largest |Floquet multiplier|, NaN unless confirmed); and "section": a dict
 of columns value, direction, t (reduced time), point (the variable) of every section point;
 wall_time_s, threads_used, cancelled.)";
 
@@ -185,6 +190,8 @@ py::dict bifurcation_dict(const BifurcationResult& r) {
     d["period"] = column<int>(r.rows, [](const Row& w) { return w.period; });
     d["points"] = column<long>(r.rows, [](const Row& w) { return w.points.size(); });
     d["status"] = strings(r.rows, [](const Row& w) { return to_string(w.status); });
+    d["newton_confirmed"] = column<bool>(r.rows, [](const Row& w) { return w.newton_confirmed; });
+    d["max_multiplier"] = column<double>(r.rows, [](const Row& w) { return w.max_multiplier; });
     d["section"] = section_points_dict(r);
     d["wall_time_s"] = r.wall_time_s;
     d["threads_used"] = r.threads_used;
@@ -194,7 +201,7 @@ py::dict bifurcation_dict(const BifurcationResult& r) {
 
 py::dict bifurcation_py(const py::object& scene_arg, const std::string& param, double from,
                         double to, int steps, const std::string& mode, long transient, long record,
-                        const std::string& variable, double phase, int threads,
+                        const std::string& variable, double phase, int threads, bool confirm,
                         const py::object& progress, const py::kwargs& keys) {
     refuse_run_keys(keys, "bifurcation", run_settings_keys,
                     "each value runs transient, then record periods");
@@ -209,6 +216,7 @@ py::dict bifurcation_py(const py::object& scene_arg, const std::string& param, d
     o.section.phase = phase;
     o.threads = threads;
     take_run_settings(scene, o);
+    o.confirm_by_newton = confirm;
     validate(o, scene.reduced);
     Call call(progress);
     const BifurcationResult r =
@@ -364,7 +372,7 @@ void register_analyses(py::module_& m) {
           py::arg("steps") = b.steps, py::arg("mode") = "independent",
           py::arg("transient") = b.transient_periods, py::arg("record") = b.record_periods,
           py::arg("variable") = "u1", py::arg("phase") = 0.0, py::arg("threads") = 0,
-          py::arg("progress") = py::none());
+          py::arg("confirm") = b.confirm_by_newton, py::arg("progress") = py::none());
     m.def("poincare", &poincare_py, poincare_doc, py::arg("scene") = py::none(), py::kw_only(),
           py::arg("section") = "stroboscopic", py::arg("phase") = 0.0, py::arg("trigger") = "u1",
           py::arg("level") = 0.0, py::arg("direction") = "up",

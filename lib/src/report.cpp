@@ -353,10 +353,15 @@ std::string points_csv(const BifurcationResult& result, const SectionSpec& secti
 std::string summary_csv(const BifurcationResult& result) {
     std::ostringstream os;
     os.precision(12);
-    os << "value,direction,F_m,F_m_error,period,points,status\n";
-    for (const auto& row : result.rows)
+    os << "value,direction,F_m,F_m_error,period,points,status,newton_confirmed,max_multiplier\n";
+    for (const auto& row : result.rows) {
         os << row.value << ',' << to_string(row.direction) << ',' << row.F_m << ',' << row.F_m_error
-           << ',' << row.period << ',' << row.points.size() << ',' << to_string(row.status) << '\n';
+           << ',' << row.period << ',' << row.points.size() << ',' << to_string(row.status) << ','
+           << (row.newton_confirmed ? 1 : 0) << ',';
+        // Not confirmed: an empty field, never "nan".
+        write_if_finite(os, row.max_multiplier);
+        os << '\n';
+    }
     return os.str();
 }
 
@@ -366,10 +371,18 @@ std::string to_json(const BifurcationResult& r, const BifurcationOptions& o,
     j["parameter"] = to_string(o.parameter);
     j["columns"] = {{"value", "the value of " + std::string(to_string(o.parameter))},
                     {"point", "the section variable " + o.section.record.front().name()},
-                    {"period", "forcing periods per cycle of the section; 0 = not periodic"},
+                    {"period", "forcing periods per cycle of the section (the orbit's minimal "
+                               "period where Newton confirmed it); 0 = not periodic"},
+                    {"F_m", "largest force over the orbit Newton confirmed, else over the "
+                            "recorded periods"},
                     {"F_m_error",
                      "|max over the first half - max over the second half of the recorded "
-                     "periods| (sampling spread), at least tolerance * F_m"}};
+                     "periods| (sampling spread), at least tolerance * F_m; on a confirmed "
+                     "orbit at least |recorded maximum - orbit's|"},
+                    {"newton_confirmed", "1: Newton on the exact scheme converged on the "
+                                         "row's periodic orbit"},
+                    {"max_multiplier", "largest |Floquet multiplier| of the confirmed orbit; "
+                                       "empty unless confirmed"}};
     // The scheme that ran: auto resolves by the row and the tolerance, and on an fc line the
     // exact propagator can refuse one end (fc = 1e9) and take the other: "rk4 to exact".
     const auto resolved = [&](double value) {

@@ -99,6 +99,12 @@ def test_result_arrays_have_their_shapes_and_dtypes():
     b = gapchain.bifurcation(Nm=5, fc=60, eps=0.5, e_r=0.06, from_=2.9, to=3.2, steps=2,
                              transient=100, record=40)
     assert b["F_m_error"].shape == (2,) and np.all(b["F_m_error"] >= 1e-4 * b["F_m"])
+    # 2.9 is period 1, confirmed by Newton with its multiplier; 3.2 is chaotic from rest.
+    assert b["newton_confirmed"].tolist() == [True, False]
+    assert b["max_multiplier"][0] < 1.0 and np.isnan(b["max_multiplier"][1])
+    plain = gapchain.bifurcation(Nm=5, fc=60, eps=0.5, e_r=0.06, from_=2.9, to=2.9, steps=1,
+                                 transient=100, record=40, confirm=False)
+    assert plain["newton_confirmed"].tolist() == [False]
 
 
 def test_modes_match_the_paper_approximation_formula():
@@ -381,6 +387,7 @@ def test_an_argument_of_the_wrong_type_is_named_in_one_line():
              (gapchain.orbit, {"period": 3.0}, "period: must be an integer, got 3.0"),
              (gapchain.classify, {"transient": None}, "transient: must be an integer, got None"),
              (gapchain.classify, {"confirm": None}, "confirm: must be True or False, got None"),
+             (gapchain.bifurcation, {"confirm": None}, "confirm: must be True or False, got None"),
              (gapchain.simulate, {"trajectory": "yes"}, "trajectory: must be True or False"),
              (gapchain.regime_map, {"e_r": [0.1, "x"], "f_r": [1.0]},
               "e_r: must be a list of numbers"),

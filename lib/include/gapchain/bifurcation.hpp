@@ -8,6 +8,7 @@
 #include "gapchain/run.hpp"
 #include "gapchain/stepper.hpp"
 
+#include <limits>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -47,7 +48,12 @@ struct BifurcationOptions {
     double max_work = RunOptions{}.max_work;
     double period_tolerance = 1e-6; ///< relative tolerance telling section points apart
     int max_period = 16;            ///< largest period detected, >= 1
-    int threads = 0;                ///< OpenMP threads for independent mode (0: all)
+    /// A periodic value's orbit is confirmed by Newton on the exact scheme from the run's end
+    /// (confirm_periodic_orbit()): its minimal period, multipliers and F_m replace the
+    /// window's readings. Rows the exact scheme refuses, or whose shooting exceeds max_work,
+    /// keep the window's.
+    bool confirm_by_newton = true;
+    int threads = 0; ///< OpenMP threads for independent mode (0: all)
     /// Start of every value (independent mode) or of the first (continuation mode): 2 Nm
     /// reduced numbers (u then v, relative to the ground), finite; empty: rest.
     std::vector<double> initial;
@@ -61,13 +67,23 @@ struct BifurcationRow {
     double value = 0.0; ///< parameter value
     SweepDirection direction = SweepDirection::up;
     std::vector<SectionPoint> points; ///< the recorded section points, in time order
-    double F_m = 0.0;                 ///< max reduced force over the recorded periods
+    /// Max reduced force, >= 0: over the orbit Newton confirmed (newton_confirmed), else over
+    /// the recorded periods.
+    double F_m = 0.0;
     /// Error estimate of F_m, >= 0: the sampling spread |max over the first half - max over the
     /// second half of the recorded periods| (the error of a run that never settles) and, on a
     /// value not periodic, MaxForceTracker::tail_spread(), at least tolerance * F_m (the
-    /// accuracy each run is held to, docs/accuracy.md). No extra run.
+    /// accuracy each run is held to, docs/accuracy.md); on a confirmed orbit also at least the
+    /// recorded maximum's difference from the orbit's (the row's scheme's truncation error, or
+    /// a start-up still in the window).
     double F_m_error = 0.0;
-    int period = 0; ///< detected period in forcing periods (0: not periodic)
+    /// Period in forcing periods (0: not periodic): the orbit's minimal period where Newton
+    /// confirmed it, else the section's (SectionRepeats).
+    int period = 0;
+    bool newton_confirmed = false; ///< Newton converged on the row's periodic orbit
+    /// Largest Floquet multiplier modulus of the confirmed orbit (its minimal-period map);
+    /// NaN unless newton_confirmed.
+    double max_multiplier = std::numeric_limits<double>::quiet_NaN();
     RunStatus status = RunStatus::completed; ///< how the run ended
 };
 

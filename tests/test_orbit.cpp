@@ -364,3 +364,30 @@ TEST_CASE("the largest multiplier's error covers an independent implementation's
         CHECK(off <= orbit.max_multiplier_error + 3e-11);
     }
 }
+
+TEST_CASE("a confirmation that converges on an orbit far from the run's state is refused") {
+    // Fig 13's row at f_r = 3: from the run's end state Newton confirms the period-1 orbit.
+    // From a state 0.05 away in u_1 it converges on the same orbit, but a run there is not on
+    // it: the confirmation is refused.
+    const Dynamics dyn = row({5, 60, 0.5, 0.06, 3.0});
+    const std::vector<double> end = settled(dyn, 300);
+    const auto near = confirm_periodic_orbit(dyn, 1, end, 1e12);
+    REQUIRE(near.has_value());
+    CHECK(near->status == OrbitStatus::converged);
+    double distance = 0.0;
+    for (std::size_t i = 0; i < end.size(); ++i)
+        distance = std::max(distance, std::abs(end[i] - near->state[i]));
+    CHECK(distance < confirmation_distance);
+    std::vector<double> away = end;
+    away[0] += 0.05;
+    // Newton alone converges from there, on the same orbit: the distance is what refuses.
+    OrbitOptions plain;
+    plain.tolerance = 1e-9;
+    const PeriodicOrbit search = find_periodic_orbit(dyn, plain, away);
+    REQUIRE(search.status == OrbitStatus::converged);
+    CHECK(std::abs(search.state[0] - near->state[0]) < 1e-8);
+    const auto far = confirm_periodic_orbit(dyn, 1, away, 1e12);
+    REQUIRE(far.has_value());
+    CHECK(far->status == OrbitStatus::not_converged);
+    CHECK(far->message.find("not the orbit the run is on") != std::string::npos);
+}

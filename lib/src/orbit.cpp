@@ -471,7 +471,24 @@ std::optional<PeriodicOrbit> confirm_periodic_orbit(const Dynamics& dyn, int per
     options.max_iterations = 12;
     options.max_work = max_work;
     if (exact_refusal(dyn) || shooting_work(dyn, options) > max_work) return std::nullopt;
-    return find_minimal_periodic_orbit(dyn, options, state);
+    PeriodicOrbit orbit = find_minimal_periodic_orbit(dyn, options, state);
+    if (orbit.status != OrbitStatus::converged) return orbit;
+    // Newton from a run that merely passed near a cycle (a slow approach read as periodic) can
+    // converge on an unstable orbit nearby; the run is not on it.
+    double distance = 0.0, size = 0.0;
+    for (std::size_t i = 0; i < state.size(); ++i) {
+        distance = std::max(distance, std::abs(state[i] - orbit.state[i]));
+        size = std::max(size, std::abs(state[i]));
+    }
+    distance /= 1.0 + size;
+    if (distance > confirmation_distance) {
+        orbit.status = OrbitStatus::not_converged;
+        orbit.message = "Newton converged on an orbit " + detail::format_number(distance) +
+                        " (relative) from the run's state, above " +
+                        detail::format_number(confirmation_distance) +
+                        ": not the orbit the run is on";
+    }
+    return orbit;
 }
 
 PeriodicOrbit find_periodic_orbit_after(const Dynamics& dyn, const OrbitOptions& options,

@@ -262,6 +262,10 @@ one_line 22
 absent 22 sp22
 expect 22 2 "--follow-doublings: a flag takes no value" "$bin/gapchain-continue" fig5.json --from 1 --to 1.1 --follow-doublings=0 --out c22
 absent 22 c22
+# An empty value ran as the bare flag: --no-plot= plotted nothing and said nothing.
+expect 22 2 "^gapchain-bifurcation: --no-plot: a flag takes no value" "$bin/gapchain-bifurcation" fig5.json --no-plot= --steps 2 --out b22
+one_line 22
+absent 22 b22
 verdict 22
 
 # 23. The small ones.

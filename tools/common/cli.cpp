@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <regex>
 #include <system_error>
 #include <unistd.h>
@@ -628,6 +629,25 @@ void refuse_flag_values(CLI::App& app) {
         refuse_flag_values(*sub);
 }
 
+/// The flag an argument "--name=" gives an empty value, if any (CLI11 reads it as the bare
+/// flag, so "--no-plot=" ran as --no-plot); searched in app and its subcommands.
+std::optional<std::string> flag_given_empty_value(CLI::App& app, int argc, char** argv) {
+    std::vector<CLI::App*> apps{&app};
+    for (CLI::App* sub : app.get_subcommands({}))
+        apps.push_back(sub);
+    for (int i = 1; i < argc; ++i) {
+        const std::string argument = argv[i];
+        if (argument == "--") break;
+        if (argument.rfind("--", 0) != 0 || argument.empty() || argument.back() != '=') continue;
+        const std::string name = argument.substr(0, argument.size() - 1);
+        for (CLI::App* a : apps) {
+            const CLI::Option* option = a->get_option_no_throw(name);
+            if (option != nullptr && option->get_expected_max() == 0) return name.substr(2);
+        }
+    }
+    return std::nullopt;
+}
+
 } // namespace
 
 int run(CLI::App& app, int argc, char** argv, const std::function<void()>& body,
@@ -637,6 +657,11 @@ int run(CLI::App& app, int argc, char** argv, const std::function<void()>& body,
     refuse_flag_values(app);
     std::signal(SIGINT, on_signal);
     std::signal(SIGTERM, on_signal);
+    if (const auto flag = flag_given_empty_value(app, argc, argv)) {
+        std::cerr << app.get_name() << ": "
+                  << readable(*flag + " was given a disallowed flag override") << " (see --help)\n";
+        return static_cast<int>(ExitCode::bad_input);
+    }
     try {
         app.parse(argc, argv);
     } catch (const CLI::Success& e) {

@@ -217,9 +217,41 @@ TEST_CASE("a periodic row's F_m is its orbit's, within its error of an independe
     }
 }
 
-TEST_CASE("a slow approach read as a multiple of the period reads the orbit's minimal period") {
-    // Fig 13's row at 4.1092: its last rk4 cycle of 4 periods had distinct points, but the
-    // exact scheme's section and Newton both read 2 (|mu| 0.83).
+TEST_CASE("a periodic row Newton does not confirm keeps a bar that covers an independent run") {
+    // Fig 13's row at fc = 950: rk4 settles on period 2, and Newton on the 2-period map from
+    // there converged on the unstable period-1 orbit (|mu| 1.05), which had replaced the row's
+    // F_m (0.698866 +- 1.1e-4 against rk8pd's 0.699712). At f_r = 2.1253 rk4 reads period 5
+    // where Newton does not converge and rk8pd does not settle: its tolerance bar (1.1e-4) was
+    // 19 times short.
+    struct Case {
+        SweptParameter parameter;
+        double value;
+    };
+    for (const Case c : {Case{SweptParameter::fc, 950.0}, Case{SweptParameter::f_r, 2.125250501}}) {
+        CAPTURE(c.value);
+        BifurcationOptions o;
+        o.parameter = c.parameter;
+        o.from = o.to = c.value;
+        o.steps = 1;
+        o.scheme = Scheme::rk4;
+        const BifurcationRow row = bifurcation(fig13, o).rows.at(0);
+        CHECK(row.period > 0);
+        CHECK_FALSE(row.newton_confirmed);
+        CHECK(std::isnan(row.max_multiplier));
+        BifurcationOptions reference = o;
+        reference.scheme = Scheme::rk8pd;
+        reference.tolerance = 1e-10;
+        reference.confirm_by_newton = false;
+        const BifurcationRow ref = bifurcation(fig13, reference).rows.at(0);
+        CHECK(std::abs(row.F_m - ref.F_m) <= row.F_m_error);
+        CHECK(row.F_m_error > 5.0 * o.tolerance * row.F_m); // the tolerance alone did not hold
+        CHECK(row.F_m_error < 0.01 * row.F_m);
+    }
+}
+
+TEST_CASE("a spurious rk4 period doubling reads the exact orbit's minimal period") {
+    // Fig 13's row at 4.1092: rk4 settles on a period-4 orbit of its own (by period 28, for
+    // thousands of periods), where the exact scheme's section and Newton both read 2 (|mu| 0.83).
     BifurcationOptions o;
     o.from = o.to = 4.10921843687;
     o.steps = 1;

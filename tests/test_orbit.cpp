@@ -391,3 +391,22 @@ TEST_CASE("a confirmation that converges on an orbit far from the run's state is
     CHECK(far->status == OrbitStatus::not_converged);
     CHECK(far->message.find("not the orbit the run is on") != std::string::npos);
 }
+
+TEST_CASE("a confirmation that converges on an unstable orbit is refused") {
+    // Fig 13's row at fc = 950, just past a period doubling: the run settles on period 2, and
+    // Newton on the 2-period map from its end converges on the period-1 orbit the doubling left
+    // unstable, close by. A run does not settle on an unstable orbit.
+    const Dynamics dyn = row({5, 950, 0.5, 0.06, 3.0});
+    const std::vector<double> end = settled(dyn, 300);
+    OrbitOptions plain;
+    plain.period = 2;
+    plain.tolerance = 1e-9;
+    plain.max_iterations = 12;
+    const PeriodicOrbit search = find_minimal_periodic_orbit(dyn, plain, end);
+    REQUIRE(search.status == OrbitStatus::converged);
+    REQUIRE(search.max_multiplier > confirmation_max_multiplier);
+    const auto confirmed = confirm_periodic_orbit(dyn, 2, end, 1e12);
+    REQUIRE(confirmed.has_value());
+    CHECK(confirmed->status == OrbitStatus::not_converged);
+    CHECK(confirmed->message.find("unstable orbit") != std::string::npos);
+}

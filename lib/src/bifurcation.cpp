@@ -52,8 +52,9 @@ SectionSpec state_section(const SectionSpec& o, int Nm, std::vector<std::size_t>
 /// tolerance * F_m does not bound: on Fig 13's row rk4 at the default tolerance read 0.00363071
 /// +- 3.6e-7 at f_r = 4.119, where the orbit's is 0.00365717 (the contact barely closes, and a
 /// small penetration is the difference of two displacements each held to the tolerance), and
-/// 0.587975 +- 5.9e-5 at 2.47 against 0.588247. Its minimal period settles a slow approach
-/// still read as a multiple (4.1092 read 4, the orbit's period is 2).
+/// 0.587975 +- 5.9e-5 at 2.47 against 0.588247. Its minimal period is the exact dynamics': at
+/// 4.1092 rk4 settles on a period-4 orbit of its own (a spurious doubling), the exact orbit has
+/// period 2.
 void confirm_row_orbit(const Dynamics& dyn, const std::vector<double>& end_state,
                        const BifurcationOptions& o, BifurcationRow& row) {
     const auto found = confirm_periodic_orbit(dyn, row.period, end_state, o.max_work);
@@ -68,6 +69,33 @@ void confirm_row_orbit(const Dynamics& dyn, const std::vector<double>& end_state
     row.F_m = found->F_m;
 }
 
+/// A periodic row Newton did not confirm keeps its window's F_m; its bar covers twice the
+/// difference from the same window run from the same start on a finer plan (twice the steps of
+/// a fixed-step scheme, a hundredth of an adaptive scheme's tolerance): rk4's period-5 cell at
+/// f_r = 2.1253 on Fig 13's row read 1.140344 +- 1.1e-4, where the exact scheme never settles
+/// and reads 1.142547. A cancelled comparison cancels the row.
+void bound_by_finer_run(const Dynamics& dyn, const RunOptions& options, const StepPlan& plan,
+                        const std::vector<double>& start, const ProgressCallback& keep_going,
+                        BifurcationRow& row) {
+    StepPlan finer = plan;
+    if (traits(plan.scheme).adaptive) {
+        finer.tolerance = std::max(1e-12, plan.tolerance / 100.0);
+    } else {
+        finer.steps_per_period = 2 * plan.steps_per_period;
+        finer.step = dyn.period() / finer.steps_per_period;
+    }
+    PlannedRun comparison(dyn, options, finer, start);
+    MaxForceTracker forces(dyn);
+    Observer* observers[] = {&forces};
+    const RunStatus status = comparison.run(observers, keep_going).status;
+    if (status == RunStatus::cancelled) {
+        row.status = status;
+        return;
+    }
+    if (status == RunStatus::completed)
+        row.F_m_error = std::max(row.F_m_error, 2.0 * std::abs(row.F_m - forces.max_force()));
+}
+
 /// One value: run transient + record periods from y (empty: rest; updated to the end state);
 /// keep_going may stop it (status cancelled).
 BifurcationRow diagram_row(const ReducedParameters& p, const BifurcationOptions& o,
@@ -80,6 +108,7 @@ BifurcationRow diagram_row(const ReducedParameters& p, const BifurcationOptions&
     options.scheme = o.scheme;
     options.tolerance = o.tolerance;
     options.max_work = o.max_work;
+    const std::vector<double> start = y;
     PlannedRun planned(dyn, options, y);
     BifurcationRow row;
     row.value = value;
@@ -103,12 +132,15 @@ BifurcationRow diagram_row(const ReducedParameters& p, const BifurcationOptions&
     row.status = planned.run(observers, keep_going).status;
     y = planned.state();
     row.F_m = forces.max_force();
-    // A diagram has no Newton step to confirm a period (classify() has): a cycle's points
-    // must be distinct, or the row is closing in on an orbit of the shorter period.
+    // A cycle's points must be distinct, or the row is closing in on an orbit of the shorter
+    // period (Newton, where it runs, starts from the period read here).
     row.period = repeats.period(o.period_tolerance, true);
     row.F_m_error = forces.window_error(o.tolerance, row.period > 0);
-    if (o.confirm_by_newton && row.period > 0 && row.status == RunStatus::completed)
+    if (o.confirm_by_newton && row.period > 0 && row.status == RunStatus::completed) {
         confirm_row_orbit(dyn, y, o, row);
+        if (!row.newton_confirmed)
+            bound_by_finer_run(dyn, options, planned.plan(), start, keep_going, row);
+    }
     return row;
 }
 

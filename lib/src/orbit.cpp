@@ -487,6 +487,13 @@ std::optional<PeriodicOrbit> confirm_periodic_orbit(const Dynamics& dyn, int per
                         " (relative) from the run's state, above " +
                         detail::format_number(confirmation_distance) +
                         ": not the orbit the run is on";
+    } else if (orbit.max_multiplier > confirmation_max_multiplier) {
+        // Just past a period doubling the new orbit lies close to the old one, which is a
+        // fixed point of the doubled map too: Newton can converge on either.
+        orbit.status = OrbitStatus::not_converged;
+        orbit.message = "Newton converged on an unstable orbit (largest |multiplier| " +
+                        detail::format_number(orbit.max_multiplier) +
+                        "): not the orbit the run settled on";
     }
     return orbit;
 }

@@ -399,6 +399,13 @@ std::string to_json(const BifurcationResult& r, const BifurcationOptions& o,
     for (const auto& row : r.rows)
         largest_error = std::max(largest_error, row.F_m_error);
     j["max_F_m_error"] = largest_error;
+    // Whether periodic rows were confirmed by Newton (not --no-newton), and how many were.
+    j["newton_confirmation"] = o.confirm_by_newton;
+    j["periodic_rows"] = std::count_if(r.rows.begin(), r.rows.end(),
+                                       [](const BifurcationRow& row) { return row.period > 0; });
+    j["newton_confirmed_rows"] =
+        std::count_if(r.rows.begin(), r.rows.end(),
+                      [](const BifurcationRow& row) { return row.newton_confirmed; });
     j["from"] = o.from;
     j["to"] = o.to;
     j["steps"] = o.steps;

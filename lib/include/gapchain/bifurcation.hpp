@@ -50,8 +50,9 @@ struct BifurcationOptions {
     int max_period = 16;            ///< largest period detected, >= 1
     /// A periodic value's orbit is confirmed by Newton on the exact scheme from the run's end
     /// (confirm_periodic_orbit()): its minimal period, multipliers and F_m replace the
-    /// window's readings. Rows the exact scheme refuses, or whose shooting exceeds max_work,
-    /// keep the window's.
+    /// window's readings. Rows the exact scheme refuses, whose shooting exceeds max_work, or
+    /// where Newton does not converge on a stable orbit near the run's state keep the window's,
+    /// and run the window again on a finer plan (BifurcationRow::F_m_error).
     bool confirm_by_newton = true;
     int threads = 0; ///< OpenMP threads for independent mode (0: all)
     /// Start of every value (independent mode) or of the first (continuation mode): 2 Nm
@@ -75,7 +76,9 @@ struct BifurcationRow {
     /// value not periodic, MaxForceTracker::tail_spread(), at least tolerance * F_m (the
     /// accuracy each run is held to, docs/accuracy.md); on a confirmed orbit also at least the
     /// recorded maximum's difference from the orbit's (the row's scheme's truncation error, or
-    /// a start-up still in the window).
+    /// a start-up still in the window); on a periodic row Newton did not confirm (with
+    /// confirm_by_newton) also at least twice its difference from the same window on a finer
+    /// plan (twice the steps, or a hundredth of an adaptive scheme's tolerance).
     double F_m_error = 0.0;
     /// Period in forcing periods (0: not periodic): the orbit's minimal period where Newton
     /// confirmed it, else the section's (SectionRepeats).

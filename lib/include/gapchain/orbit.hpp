@@ -151,13 +151,20 @@ PeriodicOrbit find_minimal_periodic_orbit(const Dynamics& dyn, const OrbitOption
 /// orbit).
 inline constexpr double confirmation_distance = 1e-2;
 
+/// The largest multiplier modulus an orbit a run settled on may have: a run does not settle on
+/// an unstable orbit, and an undamped row's orbits are neutral (|mu| = 1 to round-off).
+inline constexpr double confirmation_max_multiplier = 1.0 + 1e-6;
+
 /// Newton's confirmation of a run's periodic steady state of `period` periods, from state (the
 /// run's end, a period boundary): find_minimal_periodic_orbit() on the exact scheme to 1e-9 in
 /// at most 12 iterations. Nothing where the exact scheme refuses the row or one shooting exceeds
 /// max_work [body-steps]: the caller keeps its run's label unconfirmed rather than failing after
 /// its runs (classify, the attractor search, a bifurcation diagram). Otherwise the search's
-/// result, converged or not; an orbit farther than confirmation_distance from state is reported
-/// not_converged, with the distance in its message.
+/// result, converged or not. An orbit that is not the run's is reported not_converged, with
+/// the reason in its message: one farther than confirmation_distance from state, or one whose
+/// largest multiplier exceeds confirmation_max_multiplier (Fig 13's row at fc = 950: rk4 settles
+/// on period 2, and Newton on the 2-period map from there converged on the unstable period-1
+/// orbit, |mu| 1.05, from which the period-2 orbit was born).
 std::optional<PeriodicOrbit> confirm_periodic_orbit(const Dynamics& dyn, int period,
                                                     const std::vector<double>& state,
                                                     double max_work);

@@ -360,3 +360,28 @@ TEST_CASE("a settled point reads no broadband share, with no error") {
     CHECK(c.broadband_share == 0.0);
     CHECK(c.broadband_share_error == 0.0);
 }
+
+TEST_CASE("a record that may hold a lightly damped row's start-up says so") {
+    // Nm 3, fc 200, eps 0.001, e_r 0.1, f_r 1.5: after the default 100 periods the record read
+    // chaotic with F_m 2.64 +- 0.31, where records after 3000 and 6000 periods read 4.1-4.7
+    // (a reviewer's probe): the contact-free start-up decays as exp(-2 pi eps t), to 1e-4 in
+    // ln(1e4) / (2 pi 0.001) = 1466 reduced time units, 2199 forcing periods at f_r = 1.5.
+    const ReducedParameters light{3, 200, 0.001, 0.1, 1.5};
+    ClassifyOptions o;
+    const Classification short_transient = classify(light, o);
+    REQUIRE(short_transient.regime == Regime::chaotic);
+    const long expected = static_cast<long>(
+        std::ceil(1.5 * std::log(1.0 / o.tolerance) / (2.0 * std::numbers::pi * 0.001)));
+    CHECK(std::abs(short_transient.start_up_periods - expected) <= 1);
+    CHECK(short_transient.start_up_in_record);
+    o.transient_periods = 3000;
+    const Classification long_transient = classify(light, o);
+    CHECK_FALSE(long_transient.start_up_in_record);
+    // The flag was warranted: the short record's F_m lies beyond its bar from the long one's.
+    CHECK(std::abs(long_transient.F_m - short_transient.F_m) > short_transient.F_m_error);
+    // A periodic point is not flagged, whatever its damping's start-up.
+    const Classification periodic = classify({3, 200, 0.2, 0.1, 1.5}, ClassifyOptions{});
+    REQUIRE(periodic.regime == Regime::periodic);
+    CHECK(periodic.start_up_periods == 0);
+    CHECK_FALSE(periodic.start_up_in_record);
+}

@@ -81,6 +81,12 @@ void classify_point(const ReducedParameters& p, const ClassifyOptions& o, const 
                 c.broadband_share, cli::plus_minus(c.broadband_share_error, "%.2g").c_str());
     std::printf("  F_m = %.6g +- %.2g, %ld periods (%s), %.3f s\n", c.F_m, c.F_m_error,
                 c.periods_run, std::string(to_string(c.scheme_used)).c_str(), c.wall_time_s);
+    if (c.start_up_in_record)
+        std::printf("note: this row's start-up takes %s%ld periods to decay to run.tolerance, "
+                    "more than the %ld discarded: the record may be the start-up's, not the "
+                    "regime's; raise --transient\n",
+                    c.start_up_periods >= 1'000'000'000 ? "more than " : "", c.start_up_periods,
+                    o.transient_periods);
 }
 
 void classify_map(const ReducedParameters& p, const ClassifyOptions& o, const std::string& out,

@@ -42,7 +42,9 @@ broadband_share_error (its Welch segments' spread plus the aliased share; None w
 record was too short to read it), F_m (a Newton-confirmed orbit's,
 else the record's maximum), F_m_error (tolerance * F_m on a periodic state, else the recorded
 halves' spread, at least that; covering the record's maximum too), stopped_at_steady_state,
-newton_confirmed, max_multiplier (0 unless confirmed), periods_run, scheme (the one the run
+start_up_periods and start_up_in_record (on a quasi-periodic or chaotic label: the periods the
+contact-free start-up takes to decay, and whether that exceeds the discarded ones, so that the
+record may be the start-up's; raise transient), newton_confirmed, max_multiplier (0 unless confirmed), periods_run, scheme (the one the run
 took: "exact" where the Lyapunov spectrum takes it), status, wall_time_s, parameters.)";
 
 constexpr const char* regime_map_doc =

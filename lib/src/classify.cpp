@@ -319,6 +319,12 @@ Classification classify(const ReducedParameters& p, const ClassifyOptions& o,
     label_regime(o, evidence, p.f_r, steady.period(), c);
     if (!periodic_state) drop_tail_if_periodic(forces, o.tolerance, c);
     if (newton_confirms(o, c)) confirm_periodic(dyn, planned.state(), o.max_work, c);
+    // As gapchain-sim says it: a lightly damped row's start-up outlasts the default transient,
+    // and its record then labels the start-up.
+    if (c.regime == Regime::quasi_periodic || c.regime == Regime::chaotic) {
+        c.start_up_periods = start_up_decay_periods(dyn, o.tolerance);
+        c.start_up_in_record = o.transient_periods < c.start_up_periods;
+    }
     c.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return c;
 }

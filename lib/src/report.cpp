@@ -781,6 +781,8 @@ json classification_json(const Classification& c) {
     j["broadband_share_error"] =
         std::isfinite(c.broadband_share_error) ? json(c.broadband_share_error) : json(nullptr);
     j["stopped_at_steady_state"] = c.stopped_at_steady_state;
+    j["start_up_periods"] = c.start_up_periods;
+    j["start_up_in_record"] = c.start_up_in_record;
     j["newton_confirmed"] = c.newton_confirmed;
     if (c.newton_confirmed) j["max_multiplier"] = c.max_multiplier;
     j["periods_run"] = c.periods_run;

@@ -261,6 +261,14 @@ void require_map_work(const ReducedParameters& base, std::size_t rows,
                          "fewer cells, a shorter record or settling, or raise run.max_work");
 }
 
+/// As gapchain-sim says it: a lightly damped row's start-up outlasts the default transient,
+/// and its record then labels the start-up (a settled label cannot be the start-up's).
+void flag_start_up(const Dynamics& dyn, const ClassifyOptions& o, Classification& c) {
+    if (c.regime != Regime::quasi_periodic && c.regime != Regime::chaotic) return;
+    c.start_up_periods = start_up_decay_periods(dyn, o.tolerance);
+    c.start_up_in_record = o.transient_periods < c.start_up_periods;
+}
+
 } // namespace
 
 Classification classify(const ReducedParameters& p, const ClassifyOptions& o,
@@ -319,12 +327,7 @@ Classification classify(const ReducedParameters& p, const ClassifyOptions& o,
     label_regime(o, evidence, p.f_r, steady.period(), c);
     if (!periodic_state) drop_tail_if_periodic(forces, o.tolerance, c);
     if (newton_confirms(o, c)) confirm_periodic(dyn, planned.state(), o.max_work, c);
-    // As gapchain-sim says it: a lightly damped row's start-up outlasts the default transient,
-    // and its record then labels the start-up.
-    if (c.regime == Regime::quasi_periodic || c.regime == Regime::chaotic) {
-        c.start_up_periods = start_up_decay_periods(dyn, o.tolerance);
-        c.start_up_in_record = o.transient_periods < c.start_up_periods;
-    }
+    flag_start_up(dyn, o, c);
     c.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return c;
 }

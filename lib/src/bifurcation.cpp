@@ -73,7 +73,9 @@ void confirm_row_orbit(const Dynamics& dyn, const std::vector<double>& end_state
 /// difference from the same window run from the same start on a finer plan (twice the steps of
 /// a fixed-step scheme, a hundredth of an adaptive scheme's tolerance): rk4's period-5 cell at
 /// f_r = 2.1253 on Fig 13's row read 1.140344 +- 1.1e-4, where the exact scheme never settles
-/// and reads 1.142547. A cancelled comparison cancels the row.
+/// and reads 1.142547. A cancelled comparison cancels the row; one beyond max_work on its own
+/// (a single row of more than half of it) is not run, rather than fail the diagram after its
+/// runs.
 void bound_by_finer_run(const Dynamics& dyn, const RunOptions& options, const StepPlan& plan,
                         const std::vector<double>& start, const ProgressCallback& keep_going,
                         BifurcationRow& row) {
@@ -84,6 +86,7 @@ void bound_by_finer_run(const Dynamics& dyn, const RunOptions& options, const St
         finer.steps_per_period = 2 * plan.steps_per_period;
         finer.step = dyn.period() / finer.steps_per_period;
     }
+    if (run_work(dyn, finer, static_cast<double>(options.periods)) > options.max_work) return;
     PlannedRun comparison(dyn, options, finer, start);
     MaxForceTracker forces(dyn);
     Observer* observers[] = {&forces};

@@ -473,8 +473,8 @@ std::optional<PeriodicOrbit> confirm_periodic_orbit(const Dynamics& dyn, int per
     if (exact_refusal(dyn) || shooting_work(dyn, options) > max_work) return std::nullopt;
     PeriodicOrbit orbit = find_minimal_periodic_orbit(dyn, options, state);
     if (orbit.status != OrbitStatus::converged) return orbit;
-    // Newton from a run that merely passed near a cycle (a slow approach read as periodic) can
-    // converge on an unstable orbit nearby; the run is not on it.
+    // Newton from a run's state can converge on an orbit the run is not on: a distant one, or
+    // an unstable one close by.
     double distance = 0.0, size = 0.0;
     for (std::size_t i = 0; i < state.size(); ++i) {
         distance = std::max(distance, std::abs(state[i] - orbit.state[i]));

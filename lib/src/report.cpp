@@ -378,7 +378,9 @@ std::string to_json(const BifurcationResult& r, const BifurcationOptions& o,
                     {"F_m_error",
                      "|max over the first half - max over the second half of the recorded "
                      "periods| (sampling spread), at least tolerance * F_m; on a confirmed "
-                     "orbit at least |recorded maximum - orbit's|"},
+                     "orbit at least |recorded maximum - orbit's|; on a periodic row left "
+                     "unconfirmed at least twice its difference from the window on a finer "
+                     "plan"},
                     {"newton_confirmed", "1: Newton on the exact scheme converged on the "
                                          "row's periodic orbit"},
                     {"max_multiplier", "largest |Floquet multiplier| of the confirmed orbit; "

@@ -24,6 +24,25 @@ std::string diagram_title(const gapchain::ReducedParameters& p, const std::strin
            " periods per value)";
 }
 
+// The periodic rows Newton did not confirm (the first few): their F_m and period are the
+// window's, their bar a finer run's difference (docs/bifurcation.md).
+void print_unconfirmed(const gapchain::BifurcationResult& r, const gapchain::BifurcationOptions& o,
+                       const std::string& param) {
+    if (!o.confirm_by_newton) return;
+    std::string listed;
+    int unconfirmed = 0;
+    for (const auto& row : r.rows)
+        if (row.period > 0 && !row.newton_confirmed && ++unconfirmed <= 5) {
+            char value[32];
+            std::snprintf(value, sizeof value, "%.6g", row.value);
+            listed += (listed.empty() ? "" : ", ") + std::string(value);
+        }
+    if (unconfirmed > 0)
+        std::printf("%d periodic row(s) not confirmed by Newton (window F_m, finer-run bar): %s = "
+                    "%s%s\n",
+                    unconfirmed, param.c_str(), listed.c_str(), unconfirmed > 5 ? ", ..." : "");
+}
+
 void print_summary(const gapchain::BifurcationResult& r, const gapchain::BifurcationOptions& o,
                    const std::string& param, const std::string& mode, const std::string& out,
                    bool plotted) {
@@ -47,6 +66,7 @@ void print_summary(const gapchain::BifurcationResult& r, const gapchain::Bifurca
         std::printf("max F_m = 0: no contact at any value; %d of %zu rows periodic (%d confirmed "
                     "by Newton)\n",
                     periodic, r.rows.size(), confirmed);
+    print_unconfirmed(r, o, param);
     std::printf("wrote %s/points.csv, summary.csv, bifurcation.json%s  (%.2f s on %d thread(s))\n",
                 out.c_str(), plotted ? ", bifurcation.png" : "", r.wall_time_s, r.threads_used);
 }

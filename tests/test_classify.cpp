@@ -385,3 +385,76 @@ TEST_CASE("a record that may hold a lightly damped row's start-up says so") {
     CHECK(periodic.start_up_periods == 0);
     CHECK_FALSE(periodic.start_up_in_record);
 }
+
+TEST_CASE("the twin flags a chaotic transient the record cannot tell from a torus; the twin "
+          "reaches the orbit a long run from rest reaches") {
+    // Nm 2, fc 15.70, eps 0.287, e_r 0.0615, f_r 3.642 (a reviewer's probe): from rest the record
+    // after 100 periods reads quasi-periodic, F_m 0.26, and the row settles on a period-2 orbit
+    // (F_m 0.0749) after about 500 periods; gapchain-sim's twin flagged it, classify had none.
+    const ReducedParameters row{2, 15.70, 0.287, 0.0615, 3.642};
+    const Classification c = classify(row, ClassifyOptions{});
+    REQUIRE(c.regime == Regime::quasi_periodic);
+    REQUIRE(c.twin_checked);
+    CHECK(c.twin_regime == Regime::periodic);
+    CHECK(c.start_dependent);
+    CHECK(c.F_m_error >= std::abs(c.F_m - c.F_m_twin));
+    // The reference: a run from rest that discards 1000 periods settles, and Newton confirms the
+    // orbit, on its own, without the twin.
+    ClassifyOptions settled;
+    settled.transient_periods = 1000;
+    const Classification reference = classify(row, settled);
+    REQUIRE(reference.regime == Regime::periodic);
+    REQUIRE(reference.newton_confirmed);
+    CHECK_FALSE(reference.twin_checked);
+    CHECK(c.twin_period == reference.period);
+    CHECK(c.F_m_twin == doctest::Approx(reference.F_m).epsilon(1e-6));
+    // The bar covers the orbit's F_m, which the record alone missed by 25 of its own bars.
+    CHECK(std::abs(c.F_m - reference.F_m) <= c.F_m_error + 1e-6 * reference.F_m);
+    ClassifyOptions alone;
+    alone.twin_check = false;
+    const Classification without = classify(row, alone);
+    CHECK_FALSE(without.twin_checked);
+    CHECK_FALSE(without.start_dependent);
+    CHECK(std::abs(without.F_m - reference.F_m) > 1.0 * without.F_m_error);
+    // The JSON says null where no twin ran.
+    CHECK(to_json(without, row).find("\"start_dependent\": null") != std::string::npos);
+    CHECK(to_json(c, row).find("\"start_dependent\": true") != std::string::npos);
+}
+
+TEST_CASE("on one chaos the twin agrees, and the error bars cover the scatter of independent "
+          "starts") {
+    // Fig 13's row at f_r = 3.3, inside its chaotic band (docs/bifurcation.md).
+    const ReducedParameters row{5, 60, 0.5, 0.06, 3.3};
+    std::vector<Classification> runs;
+    for (int k = 0; k < 6; ++k) {
+        ClassifyOptions o;
+        o.initial.assign(10, 0.0);
+        o.initial[0] = 1e-6 * k;
+        runs.push_back(classify(row, o));
+        const Classification& c = runs.back();
+        CAPTURE(k);
+        REQUIRE(c.regime == Regime::chaotic);
+        REQUIRE(c.twin_checked);
+        CHECK(c.twin_regime == Regime::chaotic);
+        CHECK_FALSE(c.start_dependent);
+        CHECK(c.lambda_max_error >= std::abs(c.lambda_max - c.lambda_max_twin));
+        CHECK(c.F_m_error >= std::abs(c.F_m - c.F_m_twin));
+    }
+    double lambda_mean = 0.0, F_m_mean = 0.0;
+    for (const auto& c : runs) {
+        lambda_mean += c.lambda_max / runs.size();
+        F_m_mean += c.F_m / runs.size();
+    }
+    for (const auto& c : runs) {
+        CHECK(std::abs(c.lambda_max - lambda_mean) <= 3.0 * c.lambda_max_error);
+        CHECK(std::abs(c.F_m - F_m_mean) <= 3.0 * c.F_m_error);
+    }
+}
+
+TEST_CASE("a settled label runs no twin") {
+    const ReducedParameters row{5, 60, 0.5, 0.06, 2.8};
+    const Classification c = classify(row, ClassifyOptions{});
+    REQUIRE(c.regime == Regime::periodic);
+    CHECK_FALSE(c.twin_checked);
+    CHECK_FALSE(c.start_dependent);
+}

@@ -87,6 +87,16 @@ void classify_point(const ReducedParameters& p, const ClassifyOptions& o, const 
                     "regime's; raise --transient\n",
                     c.start_up_periods >= 1'000'000'000 ? "more than " : "", c.start_up_periods,
                     o.transient_periods);
+    if (c.twin_checked)
+        std::printf("  twin (start moved by 1e-8): %s, lambda_max = %+.4f, F_m = %.6g%s\n",
+                    std::string(to_string(c.twin_regime)).c_str(), c.lambda_max_twin, c.F_m_twin,
+                    c.start_dependent ? "" : " (agrees)");
+    if (c.start_dependent)
+        std::printf("note: the label depends on the start: a start moved by 1e-8 reads %s with "
+                    "F_m %.6g; a chaotic transient that outlasts --transient, coexisting "
+                    "attractors (gapchain-attractors), or a label at its rule's margin; raise "
+                    "--transient and --record\n",
+                    std::string(to_string(c.twin_regime)).c_str(), c.F_m_twin);
 }
 
 void classify_map(const ReducedParameters& p, const ClassifyOptions& o, const std::string& out,
@@ -139,6 +149,20 @@ void require_sets_read(const cli::SceneArguments& scene_args, bool map) {
                                  std::string("over --") + axis);
 }
 
+// The options of each point's runs: their lengths, and whether an unsettled label has a twin.
+void add_run_length_options(CLI::App& app, ClassifyOptions& o, bool& no_twin) {
+    app.add_option("--transient", o.transient_periods,
+                   "Settling periods (ended early by a steady state)")
+        ->check(cli::range(0L, 1'000'000'000L))
+        ->capture_default_str();
+    app.add_option("--record", o.record_periods, "Recorded periods for non-periodic motion")
+        ->check(cli::range(20L, 1'000'000'000L))
+        ->capture_default_str();
+    app.add_flag("--no-twin", no_twin,
+                 "No twin from a start moved by 1e-8 on quasi-periodic and chaotic labels "
+                 "(half their cost; start_dependent then unknown)");
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -162,13 +186,8 @@ int main(int argc, char** argv) {
     app.add_option("--f_r", f_r_range, "Map columns: from:to:count")
         ->needs(map)
         ->capture_default_str();
-    app.add_option("--transient", o.transient_periods,
-                   "Settling periods (ended early by a steady state)")
-        ->check(cli::range(0L, 1'000'000'000L))
-        ->capture_default_str();
-    app.add_option("--record", o.record_periods, "Recorded periods for non-periodic motion")
-        ->check(cli::range(20L, 1'000'000'000L))
-        ->capture_default_str();
+    bool no_twin = false;
+    add_run_length_options(app, o, no_twin);
     app.add_option("--threads", threads, "OpenMP threads for --map (0: all)")
         ->check(cli::range(0, 4096))
         ->needs(map)
@@ -181,6 +200,7 @@ int main(int argc, char** argv) {
             const Scene scene = cli::load(scene_args);
             require_paper_row(scene, "gapchain-classify");
             take_run_settings(scene, o);
+            o.twin_check = !no_twin;
             validate(o);
             cli::Outputs outputs({scene_args.path});
             if (out.empty() && app.get_option("--out")->count() > 0)

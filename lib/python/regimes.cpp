@@ -22,7 +22,7 @@ double estimated_or_nan(double error) {
 }
 
 constexpr const char* classify_doc =
-    R"(classify(scene=None, *, transient=100, record=300, confirm=True, **keys) -> dict
+    R"(classify(scene=None, *, transient=100, record=300, confirm=True, twin=True, **keys) -> dict
 
 Classify the paper's uniform row at one point as "no-contact", "periodic" (with its period),
 "quasi-periodic" or "chaotic", with the evidence: gapchain-classify in-process.
@@ -30,6 +30,8 @@ Classify the paper's uniform row at one point as "no-contact", "periodic" (with 
 transient  settling periods (ended early by a periodic steady state), >= 0
 record     periods of evidence for non-periodic motion, >= 20
 confirm    confirm a periodic regime by Newton shooting (period = the orbit's minimal period)
+twin       on a quasi-periodic or chaotic label, classify again from a start moved by 1e-8
+          (doubles such a point's cost): start_dependent says whether the label or F_m moved
 scene, **keys  the row (Nm, fc, eps, e_r, f_r; of the run section scheme, tolerance and
           max_work are used) and its initial state.
 
@@ -44,23 +46,27 @@ else the record's maximum), F_m_error (tolerance * F_m on a periodic state, else
 halves' spread, at least that; covering the record's maximum too), stopped_at_steady_state,
 start_up_periods and start_up_in_record (on a quasi-periodic or chaotic label: the periods the
 contact-free start-up takes to decay, and whether that exceeds the discarded ones, so that the
-record may be the start-up's; raise transient), newton_confirmed, max_multiplier (0 unless confirmed), periods_run, scheme (the one the run
+record may be the start-up's; raise transient), twin_checked, twin (regime, period, F_m,
+lambda_max of the run from a start moved by 1e-8; where it ran), start_dependent (None where no
+twin ran; True where the twin's label differs or its F_m lies beyond 3 error bars: F_m_error
+covers the difference, and lambda_max_error too where the labels agree), newton_confirmed, max_multiplier (0 unless confirmed), periods_run, scheme (the one the run
 took: "exact" where the Lyapunov spectrum takes it), status, wall_time_s, parameters.)";
 
 constexpr const char* regime_map_doc =
-    R"(regime_map(scene=None, *, e_r, f_r, transient=100, record=300, confirm=True, threads=0, progress=None, **keys) -> dict
+    R"(regime_map(scene=None, *, e_r, f_r, transient=100, record=300, confirm=True, twin=True, threads=0, progress=None, **keys) -> dict
 
 Classify every (e_r, f_r) of a grid around the scene's row, in parallel (Fig 2 of the paper):
 gapchain-classify --map in-process. Results do not depend on the thread count.
 
 e_r, f_r   the row and column values: sequences of numbers (e.g. numpy.linspace(0, 1.5, 30))
 threads    OpenMP threads (0: all cores);  progress  callable(fraction of cells done)
-transient, record, confirm  as in classify().
+transient, record, confirm, twin  as in classify().
 
 Returns a dict: e_r ((rows,)), f_r ((cols,)), and (rows x cols) arrays regime (str), code
 (0 no-contact, 1 periodic, 2 quasi-periodic, 3 chaotic), period, F_m, F_m_error, lambda_max,
 lambda_max_error (NaN where not estimated), distinct_points, broadband_share,
-broadband_share_error (NaN where not estimated), status;
+broadband_share_error (NaN where not estimated), twin_checked, start_dependent (False also
+where no twin ran), status;
 wall_time_s, threads_used,
 cancelled.)";
 
@@ -80,7 +86,8 @@ fc, eps, e_r, f_r, F_m, F_m_error (NaN: not estimated), status, multistable (boo
 False also where run.multistability_check was false, which the CSV leaves empty),
 steady_state_period (0: none), wall_time_s; with "per_body" kept, per_body (points x Nm x 2; a study over model.Nm pads shorter rows with
 NaN to the largest Nm) and per_body_error (the same shape; NaN where not estimated); with "regime" kept, regime,
-period, lambda_max, lambda_max_error; with "F_m_orbit" kept, F_m_orbit (NaN: did not settle)
+period, lambda_max, lambda_max_error, regime_start_dependent (bool; False also where no twin
+ran, which the CSV leaves empty); with "F_m_orbit" kept, F_m_orbit (NaN: did not settle)
 and maximum_in_transient (bool); with "attractors", F_m_max, F_m_max_error (NaN: not
 estimated), attractors and unsettled; F_m_newton and F_m_error_newton (NaN: not estimated) for
 physical scenes (and F_m_max_newton, F_m_max_error_newton with "attractors"); and cancelled.)";
@@ -88,21 +95,23 @@ physical scenes (and F_m_max_newton, F_m_max_error_newton with "attractors"); an
 // How classify() and regime_map() run, for the refusal of a run key they do not read.
 const std::string classify_runs = "it runs transient, then record periods";
 
-ClassifyOptions classify_options(const Scene& scene, long transient, long record, bool confirm) {
+ClassifyOptions classify_options(const Scene& scene, long transient, long record, bool confirm,
+                                 bool twin) {
     ClassifyOptions o;
     o.transient_periods = transient;
     o.record_periods = record;
     o.confirm_by_newton = confirm;
+    o.twin_check = twin;
     take_run_settings(scene, o);
     validate(o);
     return o;
 }
 
 py::dict classify_py(const py::object& scene_arg, long transient, long record, bool confirm,
-                     const py::kwargs& keys) {
+                     bool twin, const py::kwargs& keys) {
     refuse_run_keys(keys, "classify", run_settings_keys, classify_runs);
     const Scene scene = to_scene(scene_arg, keys);
-    const ClassifyOptions o = classify_options(scene, transient, record, confirm);
+    const ClassifyOptions o = classify_options(scene, transient, record, confirm, twin);
     Call call;
     const ReducedParameters& row = paper_row(scene, "classify");
     const Classification c = call.run([&] { return classify(row, o, call.callback()); });
@@ -138,6 +147,8 @@ py::dict regime_map_dict(const RegimeMap& m) {
     d["broadband_share"] = grid<double>(m, [](const C& c) { return c.broadband_share; });
     d["broadband_share_error"] =
         grid<double>(m, [](const C& c) { return c.broadband_share_error; });
+    d["twin_checked"] = grid<bool>(m, [](const C& c) { return c.twin_checked; });
+    d["start_dependent"] = grid<bool>(m, [](const C& c) { return c.start_dependent; });
     d["status"] = strings(m.cells, [](const C& c) {
                       return to_string(c.status);
                   }).attr("reshape")(m.e_r.size(), m.f_r.size());
@@ -149,12 +160,12 @@ py::dict regime_map_dict(const RegimeMap& m) {
 
 py::dict regime_map_py(const py::object& scene_arg, const std::vector<double>& e_r,
                        const std::vector<double>& f_r, long transient, long record, bool confirm,
-                       int threads, const py::object& progress, const py::kwargs& keys) {
+                       bool twin, int threads, const py::object& progress, const py::kwargs& keys) {
     refuse_run_keys(keys, "regime_map", run_settings_keys, classify_runs);
     for (const char* axis : {"e_r", "f_r"})
         refuse_swept_keys(keys, axis, "regime_map", std::string("over its ") + axis + " argument");
     const Scene scene = to_scene(scene_arg, keys);
-    const ClassifyOptions o = classify_options(scene, transient, record, confirm);
+    const ClassifyOptions o = classify_options(scene, transient, record, confirm, twin);
     Call call(progress);
     const ReducedParameters& row = paper_row(scene, "regime_map");
     const RegimeMap m =
@@ -206,6 +217,8 @@ void kept_columns(py::dict& d, const Study& study, const std::vector<SweepPointR
         d["lambda_max"] = column<double>(rows, [](const R& r) { return r.regime->lambda_max; });
         d["lambda_max_error"] = column<double>(
             rows, [](const R& r) { return estimated_or_nan(r.regime->lambda_max_error); });
+        d["regime_start_dependent"] =
+            column<bool>(rows, [](const R& r) { return r.regime->start_dependent; });
     }
     if (study.keep.orbit) {
         d["F_m_orbit"] = column<double>(rows, [](const R& r) {
@@ -293,11 +306,11 @@ void register_regimes(py::module_& m) {
     const ClassifyOptions o;
     m.def("classify", &classify_py, classify_doc, py::arg("scene") = py::none(), py::kw_only(),
           py::arg("transient") = o.transient_periods, py::arg("record") = o.record_periods,
-          py::arg("confirm") = o.confirm_by_newton);
+          py::arg("confirm") = o.confirm_by_newton, py::arg("twin") = o.twin_check);
     m.def("regime_map", &regime_map_py, regime_map_doc, py::arg("scene") = py::none(),
           py::kw_only(), py::arg("e_r"), py::arg("f_r"), py::arg("transient") = o.transient_periods,
           py::arg("record") = o.record_periods, py::arg("confirm") = o.confirm_by_newton,
-          py::arg("threads") = 0, py::arg("progress") = py::none());
+          py::arg("twin") = o.twin_check, py::arg("threads") = 0, py::arg("progress") = py::none());
     m.def("sweep", &sweep_py, sweep_doc, py::arg("study"), py::kw_only(), py::arg("threads") = 0,
           py::arg("progress") = py::none());
 }

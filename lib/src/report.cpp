@@ -785,6 +785,16 @@ json classification_json(const Classification& c) {
     j["stopped_at_steady_state"] = c.stopped_at_steady_state;
     j["start_up_periods"] = c.start_up_periods;
     j["start_up_in_record"] = c.start_up_in_record;
+    j["twin_checked"] = c.twin_checked;
+    if (c.twin_checked) {
+        j["twin"] = {{"regime", std::string(to_string(c.twin_regime))},
+                     {"period", c.twin_period},
+                     {"F_m", c.F_m_twin},
+                     {"lambda_max", c.lambda_max_twin}};
+        j["start_dependent"] = c.start_dependent;
+    } else {
+        j["start_dependent"] = nullptr;
+    }
     j["newton_confirmed"] = c.newton_confirmed;
     if (c.newton_confirmed) j["max_multiplier"] = c.max_multiplier;
     j["periods_run"] = c.periods_run;
@@ -806,7 +816,7 @@ std::string map_csv(const RegimeMap& map) {
     std::ostringstream os;
     os.precision(10);
     os << "e_r,f_r,regime,code,period,F_m,lambda_max,lambda_max_error,distinct_points,broadband_"
-          "share,F_m_error,broadband_share_error\n";
+          "share,F_m_error,broadband_share_error,start_dependent\n";
     for (std::size_t i = 0; i < map.e_r.size(); ++i)
         for (std::size_t k = 0; k < map.f_r.size(); ++k) {
             const Classification& c = map.cells[i * map.f_r.size() + k];
@@ -816,6 +826,8 @@ std::string map_csv(const RegimeMap& map) {
             write_if_finite(os, c.lambda_max_error);
             os << ',' << c.distinct_points << ',' << c.broadband_share << ',' << c.F_m_error << ',';
             write_if_finite(os, c.broadband_share_error);
+            os << ',';
+            if (c.twin_checked) os << (c.start_dependent ? 1 : 0);
             os << '\n';
         }
     return os.str();
@@ -891,10 +903,22 @@ std::string sweep_csv_header(const Study& study) {
     if (study.keep.steady_state) h += ",steady_state_period";
     if (study.keep.wall_time) h += ",wall_time_s";
     if (study.keep.orbit) h += ",F_m_orbit,maximum_in_transient";
-    if (study.keep.regime) h += ",regime,period,lambda_max,lambda_max_error";
+    if (study.keep.regime) h += ",regime,period,lambda_max,lambda_max_error,regime_start_dependent";
     if (study.keep.per_body) h += ",per_body,per_body_error";
     return h;
 }
+
+namespace {
+/// A sweep row's regime cells: regime,period,lambda_max,lambda_max_error,regime_start_dependent
+/// (with their leading commas).
+void write_regime_cells(std::ostream& os, const Classification& c) {
+    os << ',' << to_string(c.regime) << ',' << c.period << ',' << c.lambda_max << ',';
+    write_if_finite(os, c.lambda_max_error);
+    // Empty where no twin ran (a settled label), as multistable's cell: never 0 unchecked.
+    os << ',';
+    if (c.twin_checked) os << (c.start_dependent ? 1 : 0);
+}
+} // namespace
 
 std::string sweep_csv_row(const Study& study, const SweepPointResult& r) {
     std::ostringstream os;
@@ -937,11 +961,7 @@ std::string sweep_csv_row(const Study& study, const SweepPointResult& r) {
         if (s.F_m_orbit) os << *s.F_m_orbit;
         os << ',' << (s.maximum_in_transient ? 1 : 0);
     }
-    if (study.keep.regime && r.regime) {
-        os << ',' << to_string(r.regime->regime) << ',' << r.regime->period << ','
-           << r.regime->lambda_max << ',';
-        write_if_finite(os, r.regime->lambda_max_error);
-    }
+    if (study.keep.regime && r.regime) write_regime_cells(os, *r.regime);
     if (study.keep.per_body) {
         os << ',';
         for (std::size_t i = 0; i < s.per_body.size(); ++i)

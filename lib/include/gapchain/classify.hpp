@@ -46,6 +46,12 @@ struct ClassifyOptions {
     /// Confirm a periodic regime by Newton shooting (orbit.hpp) from the final state: the
     /// period becomes the orbit's minimal period, and its largest Floquet multiplier is given.
     bool confirm_by_newton = true;
+    /// On a quasi-periodic or chaotic label, classify again from a start moved by 1e-8 (the
+    /// twin, as gapchain-sim's multistability check): a chaotic transient that outlasts the
+    /// record, or coexisting attractors, give the twin another label or F_m (start_dependent),
+    /// and two samples of one chaos give lambda_max and F_m a spread their error bars cover.
+    /// Doubles the cost of such points; periodic and no-contact labels run no twin.
+    bool twin_check = true;
     /// Start of the run (of every cell of a map): 2 Nm reduced numbers (u then v, relative to
     /// the ground), finite; empty: rest.
     std::vector<double> initial;
@@ -64,7 +70,8 @@ struct Classification {
     double lambda_max = 0.0;
     double lambda_max_error = 0.0; ///< the average's standard error (inf if the window was too
                                    ///< short); for a confirmed orbit, from its largest
-                                   ///< multiplier's error (max_multiplier_error)
+                                   ///< multiplier's error (max_multiplier_error); at
+                                   ///< least the twin's difference (start_dependent)
     int distinct_points = 0;       ///< distinct stroboscopic points among those recorded
     int section_points = 0;        ///< stroboscopic points recorded
     /// Share of u_1's spectral power away from m/n f_r (n <= 4), [0, 1], on Welch segments of
@@ -85,7 +92,8 @@ struct Classification {
     /// accuracy the run is held to, tolerance * F_m; otherwise the sampling spread |max over the
     /// first half - max over the second half of the recorded periods| and the spread of the tail
     /// of its per-period maxima (MaxForceTracker::tail_spread()), at least that; for a
-    /// confirmed orbit also at least its difference from the recorded maximum.
+    /// confirmed orbit also at least its difference from the recorded maximum; where the twin
+    /// ran, at least its difference from the twin's F_m.
     double F_m_error = 0.0;
     /// On a point labelled quasi-periodic or chaotic: the periods the contact-free row's
     /// start-up takes to decay to the tolerance (start_up_decay_periods(); 1e9 where nothing
@@ -95,18 +103,32 @@ struct Classification {
     /// the regime (eps = 0.001: chaotic, F_m 2.64 +- 0.31 after 100 periods, 4.15 +- 0.31 after
     /// 6000); raise transient_periods.
     bool start_up_in_record = false;
+    /// The twin of options.twin_check ran (a quasi-periodic or chaotic label, a twin that
+    /// ran its course); the twin_ fields and start_dependent are then set.
+    bool twin_checked = false;
+    Regime twin_regime = Regime::no_contact; ///< the twin's label
+    int twin_period = 0;                     ///< the twin's period (as period)
+    double F_m_twin = 0.0;                   ///< the twin's F_m
+    double lambda_max_twin = 0.0;            ///< the twin's lambda_max [1 / reduced time]
+    /// The label depends on the start: the twin's label differs (a chaotic transient that
+    /// outlasts the record, coexisting attractors, or a label at the margin of its rule), or
+    /// its F_m differs by more than three times the larger of the two F_m_error. F_m_error covers
+    /// |F_m - F_m_twin| whenever the twin ran, and where the labels agree lambda_max_error
+    /// covers |lambda_max - lambda_max_twin| (the 10-block standard error alone read about 3x
+    /// small on intermittent chaos).
+    bool start_dependent = false;
     bool stopped_at_steady_state = false; ///< the run ended early on a periodic steady state
     bool newton_confirmed = false; ///< Newton converged on the periodic orbit (period is then its
                                    ///< minimal period)
     double max_multiplier = 0.0;   ///< largest Floquet multiplier modulus (when confirmed)
-    long periods_run = 0;          ///< periods integrated
+    long periods_run = 0;          ///< periods integrated (the twin's not included)
     Scheme scheme_used =
         Scheme::rk4; ///< the concrete scheme the run took (options.scheme resolved)
     /// The tolerance the run kept (options.tolerance, or max_tangent_run_tolerance where that
     /// is tighter and the scheme is not exact: the tangent vector needs it).
     double tolerance_used = 0.0;
     RunStatus status = RunStatus::completed;
-    double wall_time_s = 0.0; ///< [s]
+    double wall_time_s = 0.0; ///< [s], the twin's included
 };
 
 /// Classifies one point: one run with the max-force tracker, the steady-state detector, a

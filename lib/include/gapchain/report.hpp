@@ -159,11 +159,15 @@ std::string to_json(const PeriodicOrbit& orbit, const Scene& scene);
 std::string history_csv(const LyapunovResult& result);
 
 /// One classification as JSON: regime, period, lambda_max, lambda_max_error, F_m,
-/// distinct_points, section_points, broadband_share, periods_run, wall_time_s, parameters.
+/// distinct_points, section_points, broadband_share, twin_checked, twin (regime, period, F_m,
+/// lambda_max; where it ran), start_dependent (null where no twin ran), periods_run,
+/// wall_time_s, parameters.
 std::string to_json(const Classification& c, const ReducedParameters& p);
 
 /// A regime map as CSV: e_r,f_r,regime,code,period,F_m,lambda_max,lambda_max_error,
-/// distinct_points,broadband_share (code: 0 no-contact, 1 periodic, 2 quasi-periodic, 3 chaotic).
+/// distinct_points,broadband_share,F_m_error,broadband_share_error,start_dependent (code: 0
+/// no-contact, 1 periodic, 2 quasi-periodic, 3 chaotic; start_dependent 0/1 where the twin ran,
+/// else empty).
 std::string map_csv(const RegimeMap& map);
 
 /// A PSD as CSV: f, f_over_f_r, density.
@@ -182,7 +186,8 @@ std::string work_precision_csv(const WorkPrecision& study);
 
 /// Header line of a sweep's CSV: index, the axes, Nm,fc,eps,e_r,f_r, F_m, F_m_error, status,
 /// then the kept fields (steady_state_period, wall_time_s, regime,period,lambda_max,
-/// lambda_max_error, per_body as "left|right;left|right;...").
+/// lambda_max_error,regime_start_dependent (empty where no twin ran), per_body as
+/// "left|right;left|right;...").
 std::string sweep_csv_header(const Study& study);
 /// One CSV line (no newline) for a finished point.
 std::string sweep_csv_row(const Study& study, const SweepPointResult& result);
@@ -195,9 +200,11 @@ std::string study_json(const Study& study);
 /// day (an F_m_error nothing estimated is empty, not 0), 4 since 2026-11-26 (a point that never
 /// settles has an F_m_error of at least its per-period maxima's tail spread; multistable is
 /// empty where the check was off; "attractors" adds F_m_max_error), 5 since 2026-11-27 (the
-/// F_m_error of Hertz and Hunt-Crossley rows at order 1.5, 3-7 times wider). A CSV is resumed
-/// only by a build of the same version, so that no file mixes two meanings.
-inline constexpr int sweep_results_version = 5;
+/// F_m_error of Hertz and Hunt-Crossley rows at order 1.5, 3-7 times wider), 6 since
+/// 2026-11-27 later (a quasi-periodic or chaotic regime's lambda_max_error covers its twin's
+/// difference; regime_start_dependent added). A CSV is resumed only by a build of the same
+/// version, so that no file mixes two meanings.
+inline constexpr int sweep_results_version = 6;
 /// A hash (16 hex digits) of everything that decides a study's rows: the base scene, the axes
 /// and their values, the sampling, what is kept and results_version (sweep_results_version
 /// unless a test asks otherwise). Not the file name, nor a build of the same results version.

@@ -266,6 +266,34 @@ TEST_CASE("a spurious rk4 period doubling reads the exact orbit's minimal period
     const BifurcationRow row = bifurcation(fig13, o).rows.at(0);
     CHECK(row.newton_confirmed);
     CHECK(row.period == 2);
+    // The diagram draws the orbit's two points, not rk4's four: the same two a run on the
+    // exact scheme records (200 periods of it hold on the orbit to its slow approach, |mu| 0.83).
+    CHECK(row.points_from_orbit);
+    REQUIRE(row.points.size() == 2);
+    o.scheme = Scheme::exact;
+    o.confirm_by_newton = false;
+    o.transient_periods = 1000;
+    const BifurcationRow exact = bifurcation(fig13, o).rows.at(0);
+    REQUIRE(exact.period == 2);
+    for (const auto& p : row.points) {
+        double nearest = 1e300;
+        for (const auto& q : exact.points)
+            nearest = std::min(nearest, std::abs(p.values.at(0) - q.values.at(0)));
+        CHECK(nearest < 1e-8);
+    }
+    // Timed over the run's last cycle: the last point at the run's end, one period apart.
+    const double T = 1.0 / o.from;
+    CHECK(row.points.back().t == doctest::Approx(300 * T).epsilon(1e-12));
+    CHECK(row.points.back().t - row.points.front().t == doctest::Approx(T).epsilon(1e-12));
+    // A row whose window already had the orbit's period keeps its own points.
+    o.from = o.to = 3.0;
+    o.scheme = Scheme::rk4;
+    o.confirm_by_newton = true;
+    o.transient_periods = 200;
+    const BifurcationRow settled = bifurcation(fig13, o).rows.at(0);
+    CHECK(settled.newton_confirmed);
+    CHECK_FALSE(settled.points_from_orbit);
+    CHECK(settled.points.size() == 100);
 }
 
 TEST_CASE("the diagram's period is the section state's, whatever variable it plots") {

@@ -60,7 +60,9 @@ halves' spread of F_m, at least tolerance * F_m; on a confirmed orbit at least t
 maximum's difference from it; on a periodic row Newton did not confirm, with confirm=True, at
 least twice its difference from the same window on a finer plan), period (0: not periodic; the orbit's minimal period where
 confirmed), points (section points recorded), status, newton_confirmed, max_multiplier (the
-confirmed orbit's largest |Floquet multiplier|, NaN unless confirmed); and "section": a dict
+confirmed orbit's largest |Floquet multiplier|, NaN unless confirmed), points_from_orbit (the
+row's section points are one cycle of the confirmed orbit, whose minimal period was shorter
+than the window's); and "section": a dict
 of columns value, direction, t (reduced time), point (the variable) of every section point;
 wall_time_s, threads_used, cancelled.)";
 
@@ -193,6 +195,7 @@ py::dict bifurcation_dict(const BifurcationResult& r) {
     d["status"] = strings(r.rows, [](const Row& w) { return to_string(w.status); });
     d["newton_confirmed"] = column<bool>(r.rows, [](const Row& w) { return w.newton_confirmed; });
     d["max_multiplier"] = column<double>(r.rows, [](const Row& w) { return w.max_multiplier; });
+    d["points_from_orbit"] = column<bool>(r.rows, [](const Row& w) { return w.points_from_orbit; });
     d["section"] = section_points_dict(r);
     d["wall_time_s"] = r.wall_time_s;
     d["threads_used"] = r.threads_used;

@@ -47,6 +47,38 @@ SectionSpec state_section(const SectionSpec& o, int Nm, std::vector<std::size_t>
     return section;
 }
 
+/// The section of a diagram's runs (state_section()) and the indices of its plotted variables.
+struct PlottedSection {
+    SectionSpec spec;
+    std::vector<std::size_t> plotted;
+};
+
+/// The plotted values of a point of the state section, its time moved by t_shift.
+SectionPoint plotted_point(const SectionPoint& s, const PlottedSection& section, double t_shift) {
+    SectionPoint kept{s.t + t_shift, {}};
+    for (const std::size_t k : section.plotted)
+        kept.values.push_back(s.values[k]);
+    return kept;
+}
+
+/// One cycle of a confirmed orbit's section points, from its phase-0 state on the exact scheme
+/// (on which Newton converged), the times moved by t_shift.
+std::vector<SectionPoint> orbit_section_points(const Dynamics& dyn, const PeriodicOrbit& orbit,
+                                               const PlottedSection& section, double t_shift) {
+    RunOptions options;
+    options.periods = orbit.minimal_period;
+    options.transient_periods = 0;
+    options.scheme = Scheme::exact;
+    PlannedRun cycle(dyn, options, orbit.state);
+    std::vector<SectionPoint> points;
+    PoincareSampler sampler(dyn, section.spec, [&](const SectionPoint& s) {
+        points.push_back(plotted_point(s, section, t_shift));
+    });
+    Observer* observers[] = {&sampler};
+    cycle.run(observers);
+    return points;
+}
+
 /// A periodic row's orbit, confirmed by Newton on the exact scheme from the run's end state (a
 /// period boundary). Its F_m carries none of the row's scheme's truncation error, which
 /// tolerance * F_m does not bound: on Fig 13's row rk4 at the default tolerance read 0.00363071
@@ -55,11 +87,20 @@ SectionSpec state_section(const SectionSpec& o, int Nm, std::vector<std::size_t>
 /// 0.587975 +- 5.9e-5 at 2.47 against 0.588247. Its minimal period is the exact dynamics': at
 /// 4.1092 rk4 settles on a period-4 orbit of its own (a spurious doubling), the exact orbit has
 /// period 2.
-void confirm_row_orbit(const Dynamics& dyn, const std::vector<double>& end_state,
-                       const BifurcationOptions& o, BifurcationRow& row) {
+void confirm_row_orbit(const Dynamics& dyn, const std::vector<double>& end_state, double t_end,
+                       const BifurcationOptions& o, const PlottedSection& section,
+                       BifurcationRow& row) {
     const auto found = confirm_periodic_orbit(dyn, row.period, end_state, o.max_work);
     if (!found || found->status != OrbitStatus::converged) return;
     row.newton_confirmed = true;
+    // The window's points are then a cycle of the row's scheme that the exact dynamics do not
+    // have (rk4's four points at 4.1092, about an orbit of two): the diagram draws the orbit's,
+    // as the row reports its period, over the run's last cycle.
+    if (found->minimal_period < row.period) {
+        row.points = orbit_section_points(dyn, *found, section,
+                                          t_end - found->minimal_period * dyn.period());
+        row.points_from_orbit = true;
+    }
     row.period = found->minimal_period;
     row.max_multiplier = found->max_multiplier;
     // As classify() reports it: the orbit's F_m, with a bar that covers the recorded one, and
@@ -117,22 +158,20 @@ BifurcationRow diagram_row(const ReducedParameters& p, const BifurcationOptions&
     row.value = value;
     row.direction = direction;
     row.points.reserve(static_cast<std::size_t>(o.record_periods));
-    std::vector<std::size_t> plotted;
-    const SectionSpec section = state_section(o.section, p.Nm, plotted);
+    PlottedSection section;
+    section.spec = state_section(o.section, p.Nm, section.plotted);
     const auto state_size = static_cast<std::ptrdiff_t>(2 * p.Nm);
     SectionRepeats repeats(o.max_period);
-    PoincareSampler sampler(dyn, section, [&](const SectionPoint& s) {
+    PoincareSampler sampler(dyn, section.spec, [&](const SectionPoint& s) {
         repeats.add({s.values.begin(), s.values.begin() + state_size});
-        SectionPoint kept{s.t, {}};
-        for (const std::size_t k : plotted)
-            kept.values.push_back(s.values[k]);
-        row.points.push_back(std::move(kept));
+        row.points.push_back(plotted_point(s, section, 0.0));
     });
     // Split at the middle of the recorded periods: the halves' maxima give the sampling spread.
     const long split = o.record_periods >= 2 ? o.transient_periods + o.record_periods / 2 : -1;
     MaxForceTracker forces(dyn, split);
     Observer* observers[] = {&sampler, &forces};
-    row.status = planned.run(observers, keep_going).status;
+    const RunOutcome outcome = planned.run(observers, keep_going);
+    row.status = outcome.status;
     y = planned.state();
     row.F_m = forces.max_force();
     // A cycle's points must be distinct, or the row is closing in on an orbit of the shorter
@@ -140,7 +179,7 @@ BifurcationRow diagram_row(const ReducedParameters& p, const BifurcationOptions&
     row.period = repeats.period(o.period_tolerance, true);
     row.F_m_error = forces.window_error(o.tolerance, row.period > 0);
     if (o.confirm_by_newton && row.period > 0 && row.status == RunStatus::completed) {
-        confirm_row_orbit(dyn, y, o, row);
+        confirm_row_orbit(dyn, y, outcome.t_end, o, section, row);
         if (!row.newton_confirmed)
             bound_by_finer_run(dyn, options, planned.plan(), start, keep_going, row);
     }

@@ -353,14 +353,15 @@ std::string points_csv(const BifurcationResult& result, const SectionSpec& secti
 std::string summary_csv(const BifurcationResult& result) {
     std::ostringstream os;
     os.precision(12);
-    os << "value,direction,F_m,F_m_error,period,points,status,newton_confirmed,max_multiplier\n";
+    os << "value,direction,F_m,F_m_error,period,points,status,newton_confirmed,max_multiplier,"
+          "points_from_orbit\n";
     for (const auto& row : result.rows) {
         os << row.value << ',' << to_string(row.direction) << ',' << row.F_m << ',' << row.F_m_error
            << ',' << row.period << ',' << row.points.size() << ',' << to_string(row.status) << ','
            << (row.newton_confirmed ? 1 : 0) << ',';
         // Not confirmed: an empty field, never "nan".
         write_if_finite(os, row.max_multiplier);
-        os << '\n';
+        os << ',' << (row.points_from_orbit ? 1 : 0) << '\n';
     }
     return os.str();
 }
@@ -384,7 +385,10 @@ std::string to_json(const BifurcationResult& r, const BifurcationOptions& o,
                     {"newton_confirmed", "1: Newton on the exact scheme converged on the "
                                          "row's periodic orbit"},
                     {"max_multiplier", "largest |Floquet multiplier| of the confirmed orbit; "
-                                       "empty unless confirmed"}};
+                                       "empty unless confirmed"},
+                    {"points_from_orbit",
+                     "1: the row's points in points.csv are one cycle of the confirmed orbit "
+                     "(exact scheme), whose minimal period was shorter than the window's"}};
     // The scheme that ran: auto resolves by the row and the tolerance, and on an fc line the
     // exact propagator can refuse one end (fc = 1e9) and take the other: "rk4 to exact".
     const auto resolved = [&](double value) {
@@ -408,6 +412,9 @@ std::string to_json(const BifurcationResult& r, const BifurcationOptions& o,
     j["newton_confirmed_rows"] =
         std::count_if(r.rows.begin(), r.rows.end(),
                       [](const BifurcationRow& row) { return row.newton_confirmed; });
+    j["points_from_orbit_rows"] =
+        std::count_if(r.rows.begin(), r.rows.end(),
+                      [](const BifurcationRow& row) { return row.points_from_orbit; });
     j["from"] = o.from;
     j["to"] = o.to;
     j["steps"] = o.steps;

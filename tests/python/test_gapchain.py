@@ -105,6 +105,14 @@ def test_result_arrays_have_their_shapes_and_dtypes():
     plain = gapchain.bifurcation(Nm=5, fc=60, eps=0.5, e_r=0.06, from_=2.9, to=2.9, steps=1,
                                  transient=100, record=40, confirm=False)
     assert plain["newton_confirmed"].tolist() == [False]
+    # rk4 settles on a period-4 cycle of its own at 4.1092, about the exact period-2 orbit: the
+    # row's points are the orbit's two.
+    spurious = gapchain.bifurcation(Nm=5, fc=60, eps=0.5, e_r=0.06, from_=4.10921843687,
+                                    to=4.10921843687, steps=1, **{"run.scheme": "rk4"})
+    assert spurious["points_from_orbit"].tolist() == [True]
+    assert spurious["period"].tolist() == [2] and spurious["points"].tolist() == [2]
+    assert len(spurious["section"]["point"]) == 2
+    assert b["points_from_orbit"].tolist() == [False, False]
 
 
 def test_modes_match_the_paper_approximation_formula():

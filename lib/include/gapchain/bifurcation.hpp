@@ -67,7 +67,14 @@ void validate(const BifurcationOptions& options, const ReducedParameters& base);
 struct BifurcationRow {
     double value = 0.0; ///< parameter value
     SweepDirection direction = SweepDirection::up;
-    std::vector<SectionPoint> points; ///< the recorded section points, in time order
+    /// The recorded section points, in time order; where points_from_orbit, one cycle of the
+    /// confirmed orbit's instead.
+    std::vector<SectionPoint> points;
+    /// The points are one cycle of the orbit Newton confirmed, on the exact scheme, timed over
+    /// the run's last cycle: its minimal period was shorter than the window's (the row's scheme
+    /// settled on a cycle the exact dynamics do not have: rk4's period 4 at f_r = 4.1092 on
+    /// Fig 13's row, about an exact period-2 orbit).
+    bool points_from_orbit = false;
     /// Max reduced force, >= 0: over the orbit Newton confirmed (newton_confirmed), else over
     /// the recorded periods.
     double F_m = 0.0;

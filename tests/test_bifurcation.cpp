@@ -438,10 +438,11 @@ TEST_CASE("bifurcation and regime maps: a cancel stops a long value inside its r
     ClassifyOptions co;
     co.transient_periods = 10;
     co.record_periods = 1'000'000;
-    co.max_period = 1; // the chaotic point never settles: the record runs to its end
+    // Fig 13's chaotic point: it never settles, so the record runs to its end (the point above
+    // settles on period 1 after 25 periods, which stops the record).
     int calls = 0;
-    const RegimeMap map =
-        regime_map(base, {0.06}, {3.0}, co, 1, [&](double) { return ++calls < 2; });
+    const RegimeMap map = regime_map({5, 60.0, 0.5, 0.06, 3.3}, {0.06}, {3.3}, co, 1,
+                                     [&](double) { return ++calls < 2; });
     CHECK(map.cancelled);
     CHECK(map.cells.front().status == RunStatus::cancelled);
     CHECK(classify(base, co, [](double) { return false; }).status == RunStatus::cancelled);

@@ -1,6 +1,7 @@
 #include "gapchain/classify.hpp"
 
 #include "gapchain/lyapunov.hpp"
+#include "gapchain/observers.hpp"
 #include "gapchain/orbit.hpp"
 #include "gapchain/report.hpp"
 #include "gapchain/signal.hpp"
@@ -138,24 +139,40 @@ TEST_CASE("a confirmed orbit's lambda_max is its Floquet exponent, as an indepen
 }
 
 TEST_CASE("a confirmed orbit's F_m is the orbit's, its error bar covering the record's maximum") {
-    // No settling phase: the record starts at rest and takes the start-up's impacts.
+    // No settling phase: the record starts at rest and takes the start-up's impacts, then
+    // settles while recording.
     const ReducedParameters p{5, 60, 0.5, 0.06, 2.9};
     ClassifyOptions o;
     o.transient_periods = 0;
     o.record_periods = 40;
     const Classification confirmed = classify(p, o);
-    o.confirm_by_newton = false;
-    const Classification recorded = classify(p, o);
+    const Dynamics dyn = Dynamics::paper_row(p);
     OrbitOptions orbit_options;
-    const PeriodicOrbit orbit =
-        find_periodic_orbit_after(Dynamics::paper_row(p), orbit_options, {}, 200);
+    const PeriodicOrbit orbit = find_periodic_orbit_after(dyn, orbit_options, {}, 200);
     REQUIRE(orbit.status == OrbitStatus::converged);
     REQUIRE(confirmed.newton_confirmed);
-    MESSAGE("record " << recorded.F_m << ", orbit " << orbit.F_m << ", reported " << confirmed.F_m
-                      << " +- " << confirmed.F_m_error);
-    CHECK(std::abs(recorded.F_m - orbit.F_m) > 1e-3 * orbit.F_m); // the start-up's maximum
+    CHECK(confirmed.settled_in_record);
+    // The start-up's maximum, from a plain run of the same 40 periods from rest.
+    RunOptions plain;
+    plain.periods = 40;
+    plain.transient_periods = 0;
+    plain.scheme = Scheme::exact;
+    PlannedRun run(dyn, plain, {});
+    MaxForceTracker forces(dyn);
+    Observer* observers[] = {&forces};
+    REQUIRE(run.run(observers).status == RunStatus::completed);
+    const double start_up = forces.max_force();
+    MESSAGE("start-up " << start_up << ", orbit " << orbit.F_m << ", reported " << confirmed.F_m
+                        << " +- " << confirmed.F_m_error);
+    CHECK(std::abs(start_up - orbit.F_m) > 1e-3 * orbit.F_m); // the start-up's maximum
     CHECK(confirmed.F_m == doctest::Approx(orbit.F_m).epsilon(1e-9));
-    CHECK(confirmed.F_m_error >= (1 - 1e-9) * std::abs(recorded.F_m - orbit.F_m));
+    CHECK(confirmed.F_m_error >= (1 - 1e-9) * std::abs(start_up - orbit.F_m));
+    // Without Newton the label is the cycle's all the same, and so is its F_m.
+    o.confirm_by_newton = false;
+    const Classification recorded = classify(p, o);
+    CHECK(recorded.settled_in_record);
+    CHECK(recorded.F_m == doctest::Approx(orbit.F_m).epsilon(1e-6));
+    CHECK(recorded.F_m_error >= (1 - 1e-9) * std::abs(start_up - recorded.F_m));
 }
 
 TEST_CASE("a run that does not settle takes lambda_max from the tangent flow on the exact "
@@ -386,39 +403,66 @@ TEST_CASE("a record that may hold a lightly damped row's start-up says so") {
     CHECK_FALSE(periodic.start_up_in_record);
 }
 
-TEST_CASE("the twin flags a chaotic transient the record cannot tell from a torus; the twin "
-          "reaches the orbit a long run from rest reaches") {
-    // Nm 2, fc 15.70, eps 0.287, e_r 0.0615, f_r 3.642 (a reviewer's probe): from rest the record
-    // after 100 periods reads quasi-periodic, F_m 0.26, and the row settles on a period-2 orbit
-    // (F_m 0.0749) after about 500 periods; gapchain-sim's twin flagged it, classify had none.
-    const ReducedParameters row{2, 15.70, 0.287, 0.0615, 3.642};
-    const Classification c = classify(row, ClassifyOptions{});
-    REQUIRE(c.regime == Regime::quasi_periodic);
+TEST_CASE("the twin flags a chaotic transient that outlasts the record; the twin reaches the "
+          "orbit a long run reaches") {
+    // Nm 6, fc 324.45, eps 0.2399, e_r 0.2086, f_r 2.131 from u_1 = 6e-6: chaotic over the
+    // default record (F_m 0.79), a transient: the row settles on a period-1 orbit (F_m 0.628).
+    const ReducedParameters row{6, 324.45, 0.2399, 0.2086, 2.131};
+    ClassifyOptions o;
+    o.initial.assign(12, 0.0);
+    o.initial[0] = 6e-6;
+    const Classification c = classify(row, o);
+    REQUIRE(c.regime == Regime::chaotic);
+    CHECK_FALSE(c.settled_in_record);
+    REQUIRE(c.twin);
     REQUIRE(c.twin_checked);
-    CHECK(c.twin_regime == Regime::periodic);
+    CHECK(c.twin->regime == Regime::periodic);
     CHECK(c.start_dependent);
-    CHECK(c.F_m_error >= std::abs(c.F_m - c.F_m_twin));
-    // The reference: a run from rest that discards 1000 periods settles, and Newton confirms the
-    // orbit, on its own, without the twin.
-    ClassifyOptions settled;
-    settled.transient_periods = 1000;
+    CHECK(c.F_m_error >= std::abs(c.F_m - c.twin->F_m));
+    // The reference: the same start, run until it settles within the discarded periods; Newton
+    // confirms the orbit on its own, without a twin.
+    ClassifyOptions settled = o;
+    settled.transient_periods = 3000;
     const Classification reference = classify(row, settled);
     REQUIRE(reference.regime == Regime::periodic);
     REQUIRE(reference.newton_confirmed);
-    CHECK_FALSE(reference.twin_checked);
-    CHECK(c.twin_period == reference.period);
-    CHECK(c.F_m_twin == doctest::Approx(reference.F_m).epsilon(1e-6));
-    // The bar covers the orbit's F_m, which the record alone missed by 25 of its own bars.
-    CHECK(std::abs(c.F_m - reference.F_m) <= c.F_m_error + 1e-6 * reference.F_m);
-    ClassifyOptions alone;
+    CHECK_FALSE(reference.twin);
+    CHECK(c.twin->period == reference.period);
+    CHECK(c.twin->F_m == doctest::Approx(reference.F_m).epsilon(1e-6));
+    ClassifyOptions alone = o;
     alone.twin_check = false;
     const Classification without = classify(row, alone);
+    CHECK(without.regime == Regime::chaotic); // the label the twin flags
+    CHECK_FALSE(without.twin);
     CHECK_FALSE(without.twin_checked);
     CHECK_FALSE(without.start_dependent);
-    CHECK(std::abs(without.F_m - reference.F_m) > 1.0 * without.F_m_error);
     // The JSON says null where no twin ran.
     CHECK(to_json(without, row).find("\"start_dependent\": null") != std::string::npos);
     CHECK(to_json(c, row).find("\"start_dependent\": true") != std::string::npos);
+}
+
+TEST_CASE("a chaotic transient that ends while recording labels the steady state, not the "
+          "transient") {
+    // Nm 2, fc 15.70, eps 0.287, e_r 0.0615, f_r 3.642 from rest (a reviewer's probe): the record
+    // after 100 periods read quasi-periodic, F_m 0.263 +- 0.19, where the row settles on a
+    // period-2 orbit (F_m 0.0749) within the record.
+    const ReducedParameters row{2, 15.70, 0.287, 0.0615, 3.642};
+    const ClassifyOptions o;
+    const Classification c = classify(row, o);
+    CHECK(c.settled_in_record);
+    REQUIRE(c.regime == Regime::periodic);
+    CHECK(c.newton_confirmed);
+    CHECK_FALSE(c.twin); // a settled label has none
+    CHECK(c.periods_run < o.transient_periods + o.record_periods);
+    // The reference: a run that discards 1000 periods settles within them.
+    ClassifyOptions longer;
+    longer.transient_periods = 1000;
+    const Classification reference = classify(row, longer);
+    REQUIRE(reference.regime == Regime::periodic);
+    CHECK_FALSE(reference.settled_in_record);
+    CHECK(c.period == reference.period);
+    CHECK(c.F_m == doctest::Approx(reference.F_m).epsilon(1e-8));
+    CHECK(c.lambda_max == doctest::Approx(reference.lambda_max).epsilon(1e-6));
 }
 
 TEST_CASE("on one chaos the twin agrees, and the error bars cover the scatter of independent "
@@ -435,10 +479,10 @@ TEST_CASE("on one chaos the twin agrees, and the error bars cover the scatter of
         CAPTURE(k);
         REQUIRE(c.regime == Regime::chaotic);
         REQUIRE(c.twin_checked);
-        CHECK(c.twin_regime == Regime::chaotic);
+        CHECK(c.twin->regime == Regime::chaotic);
         CHECK_FALSE(c.start_dependent);
-        CHECK(c.lambda_max_error >= std::abs(c.lambda_max - c.lambda_max_twin));
-        CHECK(c.F_m_error >= std::abs(c.F_m - c.F_m_twin));
+        CHECK(c.lambda_max_error >= std::abs(c.lambda_max - c.twin->lambda_max));
+        CHECK(c.F_m_error >= std::abs(c.F_m - c.twin->F_m));
     }
     double lambda_mean = 0.0, F_m_mean = 0.0;
     for (const auto& c : runs) {
@@ -455,6 +499,7 @@ TEST_CASE("a settled label runs no twin") {
     const ReducedParameters row{5, 60, 0.5, 0.06, 2.8};
     const Classification c = classify(row, ClassifyOptions{});
     REQUIRE(c.regime == Regime::periodic);
+    CHECK_FALSE(c.twin);
     CHECK_FALSE(c.twin_checked);
     CHECK_FALSE(c.start_dependent);
 }

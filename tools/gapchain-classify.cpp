@@ -59,6 +59,28 @@ std::vector<double> parse_range(const std::string& text, const std::string& flag
     return linspace(from, to, count);
 }
 
+// The twin's reading, and what it says (a verdict only where it ran its course).
+void print_twin(const Classification& c) {
+    if (!c.twin) return;
+    const Classification& t = *c.twin;
+    if (!c.twin_checked) {
+        std::printf("note: the twin (start moved by 1e-8) ended %s: whether the label depends on "
+                    "the start is unknown\n",
+                    std::string(to_string(t.status)).c_str());
+        return;
+    }
+    std::printf("  twin (start moved by 1e-8): %s, lambda_max = %+.4f, F_m = %.6g%s\n",
+                std::string(to_string(t.regime)).c_str(), t.lambda_max, t.F_m,
+                c.start_dependent ? "" : " (no start dependence detected)");
+    if (c.start_dependent)
+        std::printf("note: the label depends on the start: a start moved by 1e-8 reads %s with "
+                    "F_m %.6g (%s); a chaotic transient that outlasts --transient, coexisting "
+                    "attractors (gapchain-attractors), or a label at its rule's margin; raise "
+                    "--transient and --record\n",
+                    std::string(to_string(t.regime)).c_str(), t.F_m,
+                    t.regime != c.regime ? "another label" : "F_m beyond three error bars");
+}
+
 void classify_point(const ReducedParameters& p, const ClassifyOptions& o, const std::string& out,
                     cli::Outputs& outputs) {
     // The run asks as it goes: a signal stops it (a long --record took a minute to notice).
@@ -87,16 +109,13 @@ void classify_point(const ReducedParameters& p, const ClassifyOptions& o, const 
                     "regime's; raise --transient\n",
                     c.start_up_periods >= 1'000'000'000 ? "more than " : "", c.start_up_periods,
                     o.transient_periods);
-    if (c.twin_checked)
-        std::printf("  twin (start moved by 1e-8): %s, lambda_max = %+.4f, F_m = %.6g%s\n",
-                    std::string(to_string(c.twin_regime)).c_str(), c.lambda_max_twin, c.F_m_twin,
-                    c.start_dependent ? "" : " (agrees)");
-    if (c.start_dependent)
-        std::printf("note: the label depends on the start: a start moved by 1e-8 reads %s with "
-                    "F_m %.6g; a chaotic transient that outlasts --transient, coexisting "
-                    "attractors (gapchain-attractors), or a label at its rule's margin; raise "
-                    "--transient and --record\n",
-                    std::string(to_string(c.twin_regime)).c_str(), c.F_m_twin);
+    if (c.settled_in_record)
+        std::printf("note: the state settled while recording, after more than the %ld discarded "
+                    "periods (%ld run): the label and F_m are the steady state's (the bar covers "
+                    "the record's maximum before); a transient that outlasts --transient may "
+                    "end elsewhere from other starts (gapchain-attractors)\n",
+                    o.transient_periods, c.periods_run);
+    print_twin(c);
 }
 
 void classify_map(const ReducedParameters& p, const ClassifyOptions& o, const std::string& out,
@@ -108,9 +127,13 @@ void classify_map(const ReducedParameters& p, const ClassifyOptions& o, const st
     outputs.create_folders();
     const std::string staged = outputs.staged(out);
     write_file_atomically(staged + "/map.csv", map_csv(m));
-    int counts[4] = {0, 0, 0, 0};
-    for (const auto& c : m.cells)
+    int counts[4] = {0, 0, 0, 0}, twins = 0, start_dependent = 0, settled_late = 0;
+    for (const auto& c : m.cells) {
         ++counts[static_cast<int>(c.regime)];
+        twins += c.twin_checked;
+        start_dependent += c.start_dependent;
+        settled_late += c.settled_in_record;
+    }
     char title[160];
     std::snprintf(title, sizeof title, "Nm=%d fc=%g eps=%g", p.Nm, p.fc, p.eps);
     // A map one cell wide or high (a line through the plane) is drawn as a strip of squares:
@@ -134,6 +157,9 @@ void classify_map(const ReducedParameters& p, const ClassifyOptions& o, const st
                 f_r.size(), m.threads_used, m.wall_time_s);
     std::printf("  no-contact %d, periodic %d, quasi-periodic %d, chaotic %d\n", counts[0],
                 counts[1], counts[2], counts[3]);
+    std::printf("  start-dependent %d of %d cells with a twin (map.csv's start_dependent); "
+                "%d settled while recording\n",
+                start_dependent, twins, settled_late);
     std::printf("wrote %s/map.csv%s\n", out.c_str(), plot ? ", regimes.png, force.png" : "");
 }
 
@@ -150,7 +176,7 @@ void require_sets_read(const cli::SceneArguments& scene_args, bool map) {
 }
 
 // The options of each point's runs: their lengths, and whether an unsettled label has a twin.
-void add_run_length_options(CLI::App& app, ClassifyOptions& o, bool& no_twin) {
+void add_point_run_options(CLI::App& app, ClassifyOptions& o, bool& no_twin) {
     app.add_option("--transient", o.transient_periods,
                    "Settling periods (ended early by a steady state)")
         ->check(cli::range(0L, 1'000'000'000L))
@@ -187,7 +213,7 @@ int main(int argc, char** argv) {
         ->needs(map)
         ->capture_default_str();
     bool no_twin = false;
-    add_run_length_options(app, o, no_twin);
+    add_point_run_options(app, o, no_twin);
     app.add_option("--threads", threads, "OpenMP threads for --map (0: all)")
         ->check(cli::range(0, 4096))
         ->needs(map)

@@ -46,10 +46,13 @@ else the record's maximum), F_m_error (tolerance * F_m on a periodic state, else
 halves' spread, at least that; covering the record's maximum too), stopped_at_steady_state,
 start_up_periods and start_up_in_record (on a quasi-periodic or chaotic label: the periods the
 contact-free start-up takes to decay, and whether that exceeds the discarded ones, so that the
-record may be the start-up's; raise transient), twin_checked, twin (regime, period, F_m,
-lambda_max of the run from a start moved by 1e-8; where it ran), start_dependent (None where no
-twin ran; True where the twin's label differs or its F_m lies beyond 3 error bars: F_m_error
-covers the difference, and lambda_max_error too where the labels agree), newton_confirmed, max_multiplier (0 unless confirmed), periods_run, scheme (the one the run
+record may be the start-up's; raise transient), settled_in_record (the state settled on a
+periodic steady state while recording: the label and F_m are its, the bar covers the record's
+maximum before), twin_checked, twin (where one ran: regime, period, F_m, F_m_error, lambda_max,
+lambda_max_error, newton_confirmed, settled_in_record, status of the classification from a
+start moved by 1e-8), start_dependent (None where no twin ran its course; True where the twin's
+label differs or its F_m lies beyond 3 error bars: F_m_error covers the difference, and
+lambda_max_error too where the labels agree; False is "not detected"), newton_confirmed, max_multiplier (0 unless confirmed), periods_run, scheme (the one the run
 took: "exact" where the Lyapunov spectrum takes it), status, wall_time_s, parameters.)";
 
 constexpr const char* regime_map_doc =

@@ -270,6 +270,50 @@ void flag_start_up(const Dynamics& dyn, const ClassifyOptions& o, Classification
     c.start_up_in_record = o.transient_periods < c.start_up_periods;
 }
 
+/// The observers of a record and what they keep: the forces (split in halves at `split`
+/// periods, -1: not split), the stroboscopic section and u_1 at twice the asked rate.
+struct Recording {
+    Recording(const Dynamics& dyn, const ClassifyOptions& o, long split)
+        : forces(dyn, split),
+          sampler(dyn, SectionSpec{},
+                  [this](const SectionPoint& s) { evidence.section.push_back(s); }),
+          recorder(dyn, SectionVariable{}, dyn.period() / (2 * o.samples_per_period), evidence.u1) {
+    }
+    RecordedEvidence evidence;
+    MaxForceTracker forces;
+    PoincareSampler sampler;
+    SignalRecorder recorder;
+};
+
+/// Whether a phase's outcome ends the classification (the run went non-finite or was
+/// cancelled), after adding its periods and status to c.
+bool phase_ends(const RunOutcome& outcome, Classification& c) {
+    c.periods_run += outcome.periods_done;
+    c.status = outcome.status;
+    return outcome.status == RunStatus::non_finite || outcome.status == RunStatus::cancelled;
+}
+
+/// The label of a record (of a cycle where the state settled, period), its evidence and
+/// checks into c: the exponent, the forces (the bar covering a transient's maximum before a
+/// settle in the record), the section, Newton from end_state and the start-up's flag.
+void label_recorded(const Dynamics& dyn, double f_r, const ClassifyOptions& o,
+                    const std::vector<double>& end_state, Recording& record,
+                    std::optional<int> period, const LyapunovResult& lyap, double transient_maximum,
+                    Classification& c) {
+    c.lambda_max = lyap.exponents.front();
+    c.lambda_max_error = lyap.errors.front();
+    take_forces(record.forces, o.tolerance, period.has_value(), record.evidence, c);
+    // The record's maximum before it settled was the transient's: the label's F_m is the
+    // cycle's, and its error bar covers the record's, as for a confirmed orbit (and as
+    // gapchain-sim's for a run that settled late).
+    c.F_m_error = std::max(c.F_m_error, transient_maximum - c.F_m);
+    count_section_points(record.evidence.section, o.period_tolerance, c);
+    label_regime(o, record.evidence, f_r, period, c);
+    if (!period) drop_tail_if_periodic(record.forces, o.tolerance, c);
+    if (newton_confirms(o, c)) confirm_periodic(dyn, end_state, o.max_work, c);
+    flag_start_up(dyn, o, c);
+}
+
 /// One classification of the row from `initial` (classify() without the twin).
 Classification classify_from(const Dynamics& dyn, double f_r, const ClassifyOptions& o,
                              const std::vector<double>& initial,
@@ -291,40 +335,44 @@ Classification classify_from(const Dynamics& dyn, double f_r, const ClassifyOpti
     if (o.transient_periods > 0) {
         Observer* settling[] = {&steady, &tangent};
         const RunOutcome first = planned.run({o.transient_periods, 0, 0.0}, settling, keep_going);
-        c.periods_run = first.periods_done;
-        c.status = first.status;
-        if (first.status == RunStatus::non_finite || first.status == RunStatus::cancelled) return c;
+        if (phase_ends(first, c)) return c;
         t = first.t_end;
     }
-    const LyapunovResult settling_lyap = tangent.result();
+    std::optional<int> period = steady.period();
+    LyapunovResult lyap = tangent.result();
 
-    // Phase 2, recording: one whole cycle of a periodic state, else record_periods, with the
-    // forces, the stroboscopic section, u_1 and (restarted averages of) the tangent vector.
-    const bool periodic_state = steady.period().has_value();
-    const long record = periodic_state ? *steady.period() : o.record_periods;
-    // An unsettled record is split in two: its halves' maxima give F_m's sampling spread.
-    const long split = !periodic_state && record >= 2 ? record / 2 : -1;
-    MaxForceTracker forces(dyn, split);
-    RecordedEvidence evidence;
-    PoincareSampler sampler(dyn, SectionSpec{},
-                            [&](const SectionPoint& s) { evidence.section.push_back(s); });
-    SignalRecorder recorder(dyn, SectionVariable{}, dyn.period() / (2 * o.samples_per_period),
-                            evidence.u1);
-    Observer* recording[] = {&forces, &tangent, &sampler, &recorder};
-    const RunOutcome outcome = planned.run({record, 0, t}, recording, keep_going);
-    c.periods_run += outcome.periods_done;
-    c.status = outcome.status;
-    if (outcome.status == RunStatus::non_finite || outcome.status == RunStatus::cancelled) return c;
-    const LyapunovResult lyap = periodic_state ? settling_lyap : tangent.result();
-    c.lambda_max = lyap.exponents.front();
-    c.lambda_max_error = lyap.errors.front();
-    take_forces(forces, o.tolerance, periodic_state, evidence, c);
-    count_section_points(evidence.section, o.period_tolerance, c);
-
-    label_regime(o, evidence, f_r, steady.period(), c);
-    if (!periodic_state) drop_tail_if_periodic(forces, o.tolerance, c);
-    if (newton_confirms(o, c)) confirm_periodic(dyn, planned.state(), o.max_work, c);
-    flag_start_up(dyn, o, c);
+    // Phase 2, recording record_periods where the state did not settle, with the forces, the
+    // section, u_1 and the tangent vector. A detector of its own keeps watching: a chaotic
+    // transient that outlasts the discarded periods can end while recording (Nm = 6,
+    // fc = 324.45, eps = 0.2399, e_r = 0.2086, f_r = 2.131 from u_1 = 1e-6 settles on period 1
+    // after about 400 periods), and the record would then label the transient.
+    std::optional<Recording> record;
+    double transient_maximum = 0.0;
+    if (!period) {
+        // Split in two: the halves' maxima give F_m's sampling spread.
+        record.emplace(dyn, o, o.record_periods / 2);
+        SteadyStateDetector watch(dyn.dimension(), o.max_period, o.steady_tolerance, 0,
+                                  natural_angular_frequency);
+        Observer* recording[] = {&record->forces, &tangent, &record->sampler, &record->recorder,
+                                 &watch};
+        const RunOutcome second = planned.run({o.record_periods, 0, t}, recording, keep_going);
+        if (phase_ends(second, c)) return c;
+        lyap = tangent.result();
+        if (second.status == RunStatus::steady_state) {
+            period = watch.period();
+            c.settled_in_record = true;
+            transient_maximum = record->forces.max_force();
+            t = second.t_end;
+            record.reset();
+        }
+    }
+    // A periodic state: one whole cycle of it.
+    if (period) {
+        record.emplace(dyn, o, -1);
+        Observer* cycle[] = {&record->forces, &record->sampler, &record->recorder};
+        if (phase_ends(planned.run({*period, 0, t}, cycle, keep_going), c)) return c;
+    }
+    label_recorded(dyn, f_r, o, planned.state(), *record, period, lyap, transient_maximum, c);
     return c;
 }
 
@@ -333,10 +381,6 @@ Classification classify_from(const Dynamics& dyn, double f_r, const ClassifyOpti
 /// answer depends on the start.
 void compare_with_twin(const Classification& twin, Classification& c) {
     c.twin_checked = true;
-    c.twin_regime = twin.regime;
-    c.twin_period = twin.period;
-    c.F_m_twin = twin.F_m;
-    c.lambda_max_twin = twin.lambda_max;
     const double difference = std::abs(twin.F_m - c.F_m);
     c.start_dependent =
         twin.regime != c.regime || difference > 3.0 * std::max(c.F_m_error, twin.F_m_error);
@@ -363,13 +407,14 @@ Classification classify(const ReducedParameters& p, const ClassifyOptions& o,
     // with 1000 discarded periods and settles on period 1 after 1036).
     const bool unsettled = c.regime == Regime::quasi_periodic || c.regime == Regime::chaotic;
     if (o.twin_check && unsettled && c.status == RunStatus::completed) {
-        const Classification twin = classify_from(
+        auto twin = std::make_shared<const Classification>(classify_from(
             dyn, p.f_r, o,
             detail::perturbed(o.initial.empty() ? std::vector<double>(dyn.dimension(), 0.0)
                                                 : o.initial),
-            keep_going);
-        if (twin.status == RunStatus::cancelled) c.status = RunStatus::cancelled;
-        if (twin.status == RunStatus::completed) compare_with_twin(twin, c);
+            keep_going));
+        if (twin->status == RunStatus::cancelled) c.status = RunStatus::cancelled;
+        if (twin->status == RunStatus::completed) compare_with_twin(*twin, c);
+        c.twin = std::move(twin);
     }
     c.wall_time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     return c;

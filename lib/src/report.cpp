@@ -366,29 +366,36 @@ std::string summary_csv(const BifurcationResult& result) {
     return os.str();
 }
 
+namespace {
+/// What each column of a diagram's CSVs holds, for bifurcation.json.
+json bifurcation_columns(const BifurcationOptions& o) {
+    return json(
+        {{"value", "the value of " + std::string(to_string(o.parameter))},
+         {"point", "the section variable " + o.section.record.front().name()},
+         {"period", "forcing periods per cycle of the section (the orbit's minimal "
+                    "period where Newton confirmed it); 0 = not periodic"},
+         {"F_m", "largest force over the orbit Newton confirmed, else over the "
+                 "recorded periods"},
+         {"F_m_error", "|max over the first half - max over the second half of the recorded "
+                       "periods| (sampling spread), at least tolerance * F_m; on a confirmed "
+                       "orbit at least |recorded maximum - orbit's|; on a periodic row left "
+                       "unconfirmed at least twice its difference from the window on a finer "
+                       "plan"},
+         {"newton_confirmed", "1: Newton on the exact scheme converged on the "
+                              "row's periodic orbit"},
+         {"max_multiplier", "largest |Floquet multiplier| of the confirmed orbit; "
+                            "empty unless confirmed"},
+         {"points_from_orbit",
+          "1: the row's points in points.csv are one cycle of the confirmed orbit "
+          "(exact scheme), whose minimal period was shorter than the window's"}});
+}
+} // namespace
+
 std::string to_json(const BifurcationResult& r, const BifurcationOptions& o,
                     const ReducedParameters& base) {
     json j;
     j["parameter"] = to_string(o.parameter);
-    j["columns"] = {{"value", "the value of " + std::string(to_string(o.parameter))},
-                    {"point", "the section variable " + o.section.record.front().name()},
-                    {"period", "forcing periods per cycle of the section (the orbit's minimal "
-                               "period where Newton confirmed it); 0 = not periodic"},
-                    {"F_m", "largest force over the orbit Newton confirmed, else over the "
-                            "recorded periods"},
-                    {"F_m_error",
-                     "|max over the first half - max over the second half of the recorded "
-                     "periods| (sampling spread), at least tolerance * F_m; on a confirmed "
-                     "orbit at least |recorded maximum - orbit's|; on a periodic row left "
-                     "unconfirmed at least twice its difference from the window on a finer "
-                     "plan"},
-                    {"newton_confirmed", "1: Newton on the exact scheme converged on the "
-                                         "row's periodic orbit"},
-                    {"max_multiplier", "largest |Floquet multiplier| of the confirmed orbit; "
-                                       "empty unless confirmed"},
-                    {"points_from_orbit",
-                     "1: the row's points in points.csv are one cycle of the confirmed orbit "
-                     "(exact scheme), whose minimal period was shorter than the window's"}};
+    j["columns"] = bifurcation_columns(o);
     // The scheme that ran: auto resolves by the row and the tolerance, and on an fc line the
     // exact propagator can refuse one end (fc = 1e9) and take the other: "rk4 to exact".
     const auto resolved = [&](double value) {
@@ -792,15 +799,21 @@ json classification_json(const Classification& c) {
     j["stopped_at_steady_state"] = c.stopped_at_steady_state;
     j["start_up_periods"] = c.start_up_periods;
     j["start_up_in_record"] = c.start_up_in_record;
+    j["settled_in_record"] = c.settled_in_record;
     j["twin_checked"] = c.twin_checked;
-    if (c.twin_checked) {
-        j["twin"] = {{"regime", std::string(to_string(c.twin_regime))},
-                     {"period", c.twin_period},
-                     {"F_m", c.F_m_twin},
-                     {"lambda_max", c.lambda_max_twin}};
-        j["start_dependent"] = c.start_dependent;
-    } else {
-        j["start_dependent"] = nullptr;
+    j["start_dependent"] = c.twin_checked ? json(c.start_dependent) : json(nullptr);
+    if (c.twin) {
+        const Classification& t = *c.twin;
+        j["twin"] = {{"regime", std::string(to_string(t.regime))},
+                     {"period", t.period},
+                     {"F_m", t.F_m},
+                     {"F_m_error", t.F_m_error},
+                     {"lambda_max", t.lambda_max},
+                     {"lambda_max_error",
+                      std::isfinite(t.lambda_max_error) ? json(t.lambda_max_error) : json(nullptr)},
+                     {"newton_confirmed", t.newton_confirmed},
+                     {"settled_in_record", t.settled_in_record},
+                     {"status", std::string(to_string(t.status))}};
     }
     j["newton_confirmed"] = c.newton_confirmed;
     if (c.newton_confirmed) j["max_multiplier"] = c.max_multiplier;

@@ -712,16 +712,22 @@ def test_classify_gives_the_broadband_share_error():
 
 
 def test_classify_twin_says_when_the_label_depends_on_the_start():
-    # A chaotic transient that outlasts the default record (Nm 2, fc 15.70: it settles on a
-    # period-2 orbit after about 500 periods): the twin from a start moved by 1e-8 settles.
-    row = {"Nm": 2, "fc": 15.70, "eps": 0.287, "e_r": 0.0615, "f_r": 3.642}
+    # A chaotic transient that outlasts the default record (Nm 6, from u_1 = 6e-6: it settles on
+    # a period-1 orbit after about 400 periods): the twin from a start moved by 1e-8 settles.
+    row = {"Nm": 6, "fc": 324.45, "eps": 0.2399, "e_r": 0.2086, "f_r": 2.131,
+           "initial.u": [6e-6, 0, 0, 0, 0, 0]}
     r = gapchain.classify(**row)
-    assert r["regime"] == "quasi-periodic" and r["twin_checked"] and r["start_dependent"]
-    assert r["twin"]["regime"] == "periodic" and r["twin"]["period"] == 2
+    assert r["regime"] == "chaotic" and r["twin_checked"] and r["start_dependent"]
+    assert r["twin"]["regime"] == "periodic" and r["twin"]["period"] == 1
+    assert r["twin"]["status"] == "completed" and r["twin"]["newton_confirmed"]
     assert r["F_m_error"] >= abs(r["F_m"] - r["twin"]["F_m"])
     alone = gapchain.classify(twin=False, **row)
-    assert not alone["twin_checked"] and alone["start_dependent"] is None
-    m = gapchain.regime_map(e_r=[0.0615], f_r=[3.642, 1.0], threads=1,
+    assert not alone["twin_checked"] and alone["start_dependent"] is None and "twin" not in alone
+    # A transient that ends within the record: the label is the steady state's.
+    settled = gapchain.classify(Nm=2, fc=15.70, eps=0.287, e_r=0.0615, f_r=3.642)
+    assert settled["regime"] == "periodic" and settled["settled_in_record"]
+    assert settled["twin_checked"] is False and "twin" not in settled
+    m = gapchain.regime_map(e_r=[0.2086], f_r=[2.131, 1.0], threads=1,
                             **{k: v for k, v in row.items() if k not in ("e_r", "f_r")})
     assert m["start_dependent"].tolist() == [[True, False]]
     assert m["twin_checked"].tolist() == [[True, False]]

@@ -12,6 +12,7 @@
 #include "gapchain/run.hpp"
 #include "gapchain/stepper.hpp"
 
+#include <memory>
 #include <string_view>
 #include <vector>
 
@@ -93,7 +94,7 @@ struct Classification {
     /// first half - max over the second half of the recorded periods| and the spread of the tail
     /// of its per-period maxima (MaxForceTracker::tail_spread()), at least that; for a
     /// confirmed orbit also at least its difference from the recorded maximum; where the twin
-    /// ran, at least its difference from the twin's F_m.
+    /// ran its course, at least its difference from the twin's F_m.
     double F_m_error = 0.0;
     /// On a point labelled quasi-periodic or chaotic: the periods the contact-free row's
     /// start-up takes to decay to the tolerance (start_up_decay_periods(); 1e9 where nothing
@@ -103,20 +104,26 @@ struct Classification {
     /// the regime (eps = 0.001: chaotic, F_m 2.64 +- 0.31 after 100 periods, 4.15 +- 0.31 after
     /// 6000); raise transient_periods.
     bool start_up_in_record = false;
-    /// The twin of options.twin_check ran (a quasi-periodic or chaotic label, a twin that
-    /// ran its course); the twin_ fields and start_dependent are then set.
+    /// The twin of options.twin_check, where one ran (a quasi-periodic or chaotic label): the
+    /// classification from a start moved by 1e-8 (u_1 by 1e-8 max(1, max_i |x0_i|)), itself
+    /// without a twin. Its status says whether it ran its course.
+    std::shared_ptr<const Classification> twin;
+    /// The twin ran its course (status completed), and start_dependent is its verdict. False
+    /// where no twin ran, or where it went non-finite or was cancelled (no verdict).
     bool twin_checked = false;
-    Regime twin_regime = Regime::no_contact; ///< the twin's label
-    int twin_period = 0;                     ///< the twin's period (as period)
-    double F_m_twin = 0.0;                   ///< the twin's F_m
-    double lambda_max_twin = 0.0;            ///< the twin's lambda_max [1 / reduced time]
     /// The label depends on the start: the twin's label differs (a chaotic transient that
     /// outlasts the record, coexisting attractors, or a label at the margin of its rule), or
-    /// its F_m differs by more than three times the larger of the two F_m_error. F_m_error covers
-    /// |F_m - F_m_twin| whenever the twin ran, and where the labels agree lambda_max_error
-    /// covers |lambda_max - lambda_max_twin| (the 10-block standard error alone read about 3x
-    /// small on intermittent chaos).
+    /// its F_m differs by more than three times the larger of the two F_m_error before either
+    /// covered the other. F_m_error covers |F_m - twin F_m| whenever the twin ran its course,
+    /// and where the labels agree lambda_max_error covers |lambda_max - twin lambda_max| (the
+    /// 10-block standard error alone read about 3x small on intermittent chaos). False is "not
+    /// detected", not a confirmation: a transient that outlasts both runs reads alike in both.
     bool start_dependent = false;
+    /// The state settled on a periodic steady state while recording, after more than
+    /// transient_periods (a slow approach, or a chaotic transient that outlasted them): the
+    /// label is the steady state's, from one cycle recorded after it (periods_run counts the
+    /// record up to there); F_m is the orbit's, not the transient's.
+    bool settled_in_record = false;
     bool stopped_at_steady_state = false; ///< the run ended early on a periodic steady state
     bool newton_confirmed = false; ///< Newton converged on the periodic orbit (period is then its
                                    ///< minimal period)

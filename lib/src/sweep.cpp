@@ -147,7 +147,9 @@ SweepPointResult run_point(const Study& s, const SweepPointFactory& make_point, 
         ClassifyOptions co;
         co.scheme = in.run.scheme;
         co.tolerance = in.run.tolerance;
-        r.regime = classify(in.reduced, co);
+        // Its runs (and a twin's, on an unsettled label) can be long: a cancel stops them too;
+        // a point stopped so is not written (run_sweep()).
+        r.regime = classify(in.reduced, co, keep_going);
     }
     if (s.attractor_starts > 0) {
         require_classifiable(in, "attractors");

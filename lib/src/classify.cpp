@@ -343,9 +343,10 @@ Classification classify_from(const Dynamics& dyn, double f_r, const ClassifyOpti
 
     // Phase 2, recording record_periods where the state did not settle, with the forces, the
     // section, u_1 and the tangent vector. A detector of its own keeps watching: a chaotic
-    // transient that outlasts the discarded periods can end while recording (Nm = 6,
-    // fc = 324.45, eps = 0.2399, e_r = 0.2086, f_r = 2.131 from u_1 = 1e-6 settles on period 1
-    // after about 400 periods), and the record would then label the transient.
+    // transient that outlasts the discarded periods can end while recording, and the record
+    // would then label the transient (Nm = 2, fc = 15.70, eps = 0.287, e_r = 0.0615,
+    // f_r = 3.642 from rest read quasi-periodic, F_m 0.263; it settles on period 2, F_m 0.0749,
+    // after 278 periods).
     std::optional<Recording> record;
     double transient_maximum = 0.0;
     if (!period) {
@@ -386,9 +387,9 @@ void compare_with_twin(const Classification& twin, Classification& c) {
         twin.regime != c.regime || difference > 3.0 * std::max(c.F_m_error, twin.F_m_error);
     c.F_m_error = std::max(c.F_m_error, difference);
     // Two records of one chaos (or torus) decorrelate within a few periods of the 1e-8 move:
-    // their exponents are two samples, and the blocks' standard error, which missed the spread of
-    // intermittent chaos by about 3x (fc = 1e6), is held to cover it. A twin of another label
-    // measured another motion: its exponent says nothing of this one's error.
+    // their exponents are two samples, and the blocks' standard error (which a reviewer's probe
+    // of gapchain-lyapunov found about 3x small on intermittent chaos) is held to cover it. A twin
+    // of another label measured another motion: its exponent says nothing of this one's error.
     if (twin.regime == c.regime && std::isfinite(c.lambda_max_error))
         c.lambda_max_error = std::max(c.lambda_max_error, std::abs(twin.lambda_max - c.lambda_max));
 }
@@ -403,8 +404,8 @@ Classification classify(const ReducedParameters& p, const ClassifyOptions& o,
     const Dynamics dyn = Dynamics::paper_row(p);
     Classification c = classify_from(dyn, p.f_r, o, o.initial, keep_going);
     // A settled label came from a state that repeats; only a record that never repeated can be
-    // a transient's (Nm = 6, fc = 324.45, eps = 0.2399, e_r = 0.2086, f_r = 2.131 read chaotic
-    // with 1000 discarded periods and settles on period 1 after 1036).
+    // a transient's (Nm = 6, fc = 324.45, eps = 0.2399, e_r = 0.2086, f_r = 2.131 from
+    // u_1 = 6e-6 reads chaotic over the whole default record and settles on period 1 later).
     const bool unsettled = c.regime == Regime::quasi_periodic || c.regime == Regime::chaotic;
     if (o.twin_check && unsettled && c.status == RunStatus::completed) {
         auto twin = std::make_shared<const Classification>(classify_from(

@@ -159,14 +159,17 @@ std::string to_json(const PeriodicOrbit& orbit, const Scene& scene);
 std::string history_csv(const LyapunovResult& result);
 
 /// One classification as JSON: regime, period, lambda_max, lambda_max_error, F_m,
-/// distinct_points, section_points, broadband_share, twin_checked, twin (regime, period, F_m,
-/// lambda_max; where it ran), start_dependent (null where no twin ran), periods_run,
+/// distinct_points, section_points, broadband_share, settled_in_record, twin_checked, twin
+/// (regime, period, F_m, F_m_error, lambda_max, lambda_max_error, newton_confirmed,
+/// settled_in_record, status; where one ran), start_dependent (null where no twin ran its
+/// course), periods_run,
 /// wall_time_s, parameters.
 std::string to_json(const Classification& c, const ReducedParameters& p);
 
 /// A regime map as CSV: e_r,f_r,regime,code,period,F_m,lambda_max,lambda_max_error,
 /// distinct_points,broadband_share,F_m_error,broadband_share_error,start_dependent (code: 0
-/// no-contact, 1 periodic, 2 quasi-periodic, 3 chaotic; start_dependent 0/1 where the twin ran,
+/// no-contact, 1 periodic, 2 quasi-periodic, 3 chaotic; start_dependent 0/1 where the twin ran
+/// its course,
 /// else empty).
 std::string map_csv(const RegimeMap& map);
 

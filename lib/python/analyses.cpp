@@ -59,7 +59,7 @@ F_m (over the orbit Newton confirmed, else over the recorded periods), F_m_error
 halves' spread of F_m, at least tolerance * F_m; on a confirmed orbit at least the recorded
 maximum's difference from it; on a periodic row Newton did not confirm, with confirm=True, at
 least twice its difference from the same window on a finer plan), period (0: not periodic; the orbit's minimal period where
-confirmed), points (section points recorded), status, newton_confirmed, max_multiplier (the
+confirmed), points (section points recorded; the orbit's where points_from_orbit), status, newton_confirmed, max_multiplier (the
 confirmed orbit's largest |Floquet multiplier|, NaN unless confirmed), points_from_orbit (the
 row's section points are one cycle of the confirmed orbit, whose minimal period was shorter
 than the window's); and "section": a dict

@@ -69,7 +69,7 @@ Returns a dict: e_r ((rows,)), f_r ((cols,)), and (rows x cols) arrays regime (s
 (0 no-contact, 1 periodic, 2 quasi-periodic, 3 chaotic), period, F_m, F_m_error, lambda_max,
 lambda_max_error (NaN where not estimated), distinct_points, broadband_share,
 broadband_share_error (NaN where not estimated), twin_checked, start_dependent (False also
-where no twin ran), status;
+where no twin ran), settled_in_record, status;
 wall_time_s, threads_used,
 cancelled.)";
 
@@ -152,6 +152,7 @@ py::dict regime_map_dict(const RegimeMap& m) {
         grid<double>(m, [](const C& c) { return c.broadband_share_error; });
     d["twin_checked"] = grid<bool>(m, [](const C& c) { return c.twin_checked; });
     d["start_dependent"] = grid<bool>(m, [](const C& c) { return c.start_dependent; });
+    d["settled_in_record"] = grid<bool>(m, [](const C& c) { return c.settled_in_record; });
     d["status"] = strings(m.cells, [](const C& c) {
                       return to_string(c.status);
                   }).attr("reshape")(m.e_r.size(), m.f_r.size());

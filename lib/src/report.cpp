@@ -836,7 +836,7 @@ std::string map_csv(const RegimeMap& map) {
     std::ostringstream os;
     os.precision(10);
     os << "e_r,f_r,regime,code,period,F_m,lambda_max,lambda_max_error,distinct_points,broadband_"
-          "share,F_m_error,broadband_share_error,start_dependent\n";
+          "share,F_m_error,broadband_share_error,start_dependent,settled_in_record\n";
     for (std::size_t i = 0; i < map.e_r.size(); ++i)
         for (std::size_t k = 0; k < map.f_r.size(); ++k) {
             const Classification& c = map.cells[i * map.f_r.size() + k];
@@ -848,7 +848,7 @@ std::string map_csv(const RegimeMap& map) {
             write_if_finite(os, c.broadband_share_error);
             os << ',';
             if (c.twin_checked) os << (c.start_dependent ? 1 : 0);
-            os << '\n';
+            os << ',' << (c.settled_in_record ? 1 : 0) << '\n';
         }
     return os.str();
 }

@@ -727,6 +727,8 @@ def test_classify_twin_says_when_the_label_depends_on_the_start():
     settled = gapchain.classify(Nm=2, fc=15.70, eps=0.287, e_r=0.0615, f_r=3.642)
     assert settled["regime"] == "periodic" and settled["settled_in_record"]
     assert settled["twin_checked"] is False and "twin" not in settled
+    ms = gapchain.regime_map(Nm=2, fc=15.70, eps=0.287, e_r=[0.0615], f_r=[3.642], threads=1)
+    assert ms["settled_in_record"].tolist() == [[True]] and ms["period"].tolist() == [[2]]
     m = gapchain.regime_map(e_r=[0.2086], f_r=[2.131, 1.0], threads=1,
                             **{k: v for k, v in row.items() if k not in ("e_r", "f_r")})
     assert m["start_dependent"].tolist() == [[True, False]]

@@ -90,7 +90,8 @@ struct Classification {
     /// recorded periods.
     double F_m = 0.0;
     /// Error estimate of F_m, >= 0: on a periodic state (recorded over one orbit cycle) the
-    /// accuracy the run is held to, tolerance * F_m; otherwise the sampling spread |max over the
+    /// accuracy the run is held to, tolerance * F_m, and after a settle in the record at least
+    /// the record's maximum's excess over it (settled_in_record); otherwise the sampling spread |max over the
     /// first half - max over the second half of the recorded periods| and the spread of the tail
     /// of its per-period maxima (MaxForceTracker::tail_spread()), at least that; for a
     /// confirmed orbit also at least its difference from the recorded maximum; where the twin
@@ -122,7 +123,10 @@ struct Classification {
     /// The state settled on a periodic steady state while recording, after more than
     /// transient_periods (a slow approach, or a chaotic transient that outlasted them): the
     /// label is the steady state's, from one cycle recorded after it (periods_run counts the
-    /// record up to there); F_m is the orbit's, not the transient's.
+    /// record up to there); F_m is the cycle's (the orbit's where Newton confirmed it), and its
+    /// error bar covers the record's maximum before the settle (the transient's, so it depends
+    /// on transient_periods); without Newton, lambda_max is a tangent average restarted at the
+    /// settle, over the cycle (its error infinite for fewer than 20 periods).
     bool settled_in_record = false;
     bool stopped_at_steady_state = false; ///< the run ended early on a periodic steady state
     bool newton_confirmed = false; ///< Newton converged on the periodic orbit (period is then its

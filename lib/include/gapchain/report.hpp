@@ -167,7 +167,8 @@ std::string history_csv(const LyapunovResult& result);
 std::string to_json(const Classification& c, const ReducedParameters& p);
 
 /// A regime map as CSV: e_r,f_r,regime,code,period,F_m,lambda_max,lambda_max_error,
-/// distinct_points,broadband_share,F_m_error,broadband_share_error,start_dependent (code: 0
+/// distinct_points,broadband_share,F_m_error,broadband_share_error,start_dependent,
+/// settled_in_record (code: 0
 /// no-contact, 1 periodic, 2 quasi-periodic, 3 chaotic; start_dependent 0/1 where the twin ran
 /// its course,
 /// else empty).

@@ -26,32 +26,33 @@ std::string_view to_string(SweepDirection d) {
 
 namespace {
 
-/// o's section recording the whole state first (u_1..u_Nm, v_1..v_Nm), then any plotted
-/// variable that is not part of it; plotted gets each plotted variable's index. The period is
-/// the state's, not the plotted variable's: a contact force is 0 at every section time where
-/// the contact is open (F0 read "period 1" on chaotic rows), and t never repeats.
-SectionSpec state_section(const SectionSpec& o, int Nm, std::vector<std::size_t>& plotted) {
-    SectionSpec section = o;
-    section.record.clear();
-    for (const auto kind : {SectionVariable::Kind::displacement, SectionVariable::Kind::velocity})
-        for (int i = 0; i < Nm; ++i)
-            section.record.push_back({kind, i});
-    for (const auto& v : o.record) {
-        const auto same = [&v](const SectionVariable& w) {
-            return w.kind == v.kind && w.index == v.index;
-        };
-        const auto at = std::find_if(section.record.begin(), section.record.end(), same);
-        plotted.push_back(static_cast<std::size_t>(at - section.record.begin()));
-        if (at == section.record.end()) section.record.push_back(v);
-    }
-    return section;
-}
-
-/// The section of a diagram's runs (state_section()) and the indices of its plotted variables.
+/// The section of a diagram's runs and the indices of its plotted variables in it.
 struct PlottedSection {
     SectionSpec spec;
     std::vector<std::size_t> plotted;
 };
+
+/// o's section recording the whole state first (u_1..u_Nm, v_1..v_Nm), then any plotted
+/// variable that is not part of it, with each plotted variable's index. The period is the
+/// state's, not the plotted variable's: a contact force is 0 at every section time where the
+/// contact is open (F0 read "period 1" on chaotic rows), and t never repeats.
+PlottedSection state_section(const SectionSpec& o, int Nm) {
+    PlottedSection section{o, {}};
+    std::vector<SectionVariable>& record = section.spec.record;
+    record.clear();
+    for (const auto kind : {SectionVariable::Kind::displacement, SectionVariable::Kind::velocity})
+        for (int i = 0; i < Nm; ++i)
+            record.push_back({kind, i});
+    for (const auto& v : o.record) {
+        const auto same = [&v](const SectionVariable& w) {
+            return w.kind == v.kind && w.index == v.index;
+        };
+        const auto at = std::find_if(record.begin(), record.end(), same);
+        section.plotted.push_back(static_cast<std::size_t>(at - record.begin()));
+        if (at == record.end()) record.push_back(v);
+    }
+    return section;
+}
 
 /// The plotted values of a point of the state section, its time moved by t_shift.
 SectionPoint plotted_point(const SectionPoint& s, const PlottedSection& section, double t_shift) {
@@ -158,8 +159,7 @@ BifurcationRow diagram_row(const ReducedParameters& p, const BifurcationOptions&
     row.value = value;
     row.direction = direction;
     row.points.reserve(static_cast<std::size_t>(o.record_periods));
-    PlottedSection section;
-    section.spec = state_section(o.section, p.Nm, section.plotted);
+    const PlottedSection section = state_section(o.section, p.Nm);
     const auto state_size = static_cast<std::ptrdiff_t>(2 * p.Nm);
     SectionRepeats repeats(o.max_period);
     PoincareSampler sampler(dyn, section.spec, [&](const SectionPoint& s) {

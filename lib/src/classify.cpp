@@ -322,8 +322,10 @@ bool record_cycle(const Dynamics& dyn, const ClassifyOptions& o, int period, dou
                   const ProgressCallback& keep_going, PlannedRun& planned,
                   std::optional<Recording>& record, LyapunovResult& lyap, Classification& c) {
     record.emplace(dyn, o, -1);
+    // A settle in the discarded periods keeps their average: no tangent vector rides along.
     TangentObserver restarted(dyn, 1, 0);
-    Observer* cycle[] = {&record->forces, &record->sampler, &record->recorder, &restarted};
+    std::vector<Observer*> cycle{&record->forces, &record->sampler, &record->recorder};
+    if (c.settled_in_record) cycle.push_back(&restarted);
     if (phase_ends(planned.run({period, 0, t}, cycle, keep_going), c)) return true;
     if (c.settled_in_record) lyap = restarted.result();
     return false;

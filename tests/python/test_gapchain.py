@@ -733,3 +733,34 @@ def test_classify_twin_says_when_the_label_depends_on_the_start():
                             **{k: v for k, v in row.items() if k not in ("e_r", "f_r")})
     assert m["start_dependent"].tolist() == [[True, False]]
     assert m["twin_checked"].tolist() == [[True, False]]
+
+
+def test_an_integer_beyond_its_cpp_type_names_the_keys_own_range():
+    # steps=2**33 said "must be an integer in [-2**31, 2**31)", the C++ type's range, not the
+    # key's. Every integer argument of every function is asked, at both signs, so that a new
+    # one whose range reaches the type's limit (the clamped retry would then run) fails here.
+    required = {"basin_fractions": dict(param="f_r", from_=1.0, to=1.1, steps=2),
+                "regime_map": dict(e_r=[0.1], f_r=[1.0]), "sweep": dict(study={"parameters": {"fc": [1]}}),
+                "attractors": dict(grid=("u1", "v1")), "simulate": dict(attractors=2)}
+    asked = 0
+    for name in gapchain._FUNCTIONS:
+        compiled = getattr(gapchain._gapchain, name)
+        try:
+            compiled(*([None] * 64))
+        except TypeError as error:
+            parameters = gapchain._signature(str(error))[0]
+        for parameter, kind in parameters:
+            if kind not in ("int", "Optional[int]") or parameter == "seed":
+                continue
+            for value in (2 ** 40, -2 ** 40, 2 ** 70):
+                kwargs = dict(required.get(name, {}), **{parameter: value})
+                with pytest.raises(ValueError) as raised:
+                    getattr(gapchain, name)(**kwargs)
+                message = str(raised.value)
+                assert message.startswith(parameter + ":"), (name, message)
+                assert "2**31" not in message and "2**63" not in message, (name, message)
+                assert message.endswith("got %d" % value), (name, message)
+                asked += 1
+    assert asked == 3 * 32  # 32 integer arguments in 13 functions
+    assert str(pytest.raises(ValueError, gapchain.bifurcation, steps=2 ** 33).value) == \
+        "steps: must be an integer in [1, 10000000], got 8589934592"

@@ -16,6 +16,7 @@ import functools as _functools
 import math as _math
 import numbers as _numbers
 import os as _os
+import re as _re
 import sys as _sys
 
 
@@ -174,6 +175,7 @@ def _out_of_range(name, parameters, args, kwargs):
             if parameter == "seed" and not 0 <= value <= 2 ** 62:
                 return ValueError, ("seed: must be an integer in [0, 2^62 = %d], got %r"
                                     % (2 ** 62, value))
+            # Where the library did not name its own range (_library_range()).
             if not -2 ** 63 <= value < 2 ** 63:
                 return ValueError, "%s: must be an integer in [-2**63, 2**63), got %r" % (
                     parameter, value)
@@ -181,6 +183,58 @@ def _out_of_range(name, parameters, args, kwargs):
                 return ValueError, "%s: must be an integer in [-2**31, 2**31), got %r" % (
                     parameter, value)
     return TypeError, "%s(): arguments of the wrong type; see help(gapchain.%s)" % (name, name)
+
+
+_INT32 = (-2 ** 31, 2 ** 31 - 1)
+
+
+def _beyond_int32(parameters, args, kwargs):
+    """(args, kwargs) with every integer argument beyond the 32-bit range clamped to it, and
+    {clamped value: given value}; empty where none is beyond it. pybind11 refuses such an
+    integer for a C++ int with a TypeError that names no range."""
+    names = [p for p, kind in parameters if kind in ("int", "Optional[int]")]
+    clamped, args, kwargs = {}, list(args), dict(kwargs)
+    positions = {p: i for i, (p, _) in enumerate(parameters)}
+
+    def clamp(value):
+        if getattr(value, "ndim", None) == 0 and hasattr(value, "item"):
+            value = value.item()
+        if not isinstance(value, _numbers.Integral) or _is_bool(value):
+            return value
+        inside = min(max(int(value), _INT32[0]), _INT32[1])
+        if inside != value:
+            clamped[inside] = value
+        return inside
+
+    for name in names:
+        if name == "seed":  # the library's own limit, named by _out_of_range()
+            continue
+        if name in kwargs:
+            kwargs[name] = clamp(kwargs[name])
+        elif positions[name] < len(args):
+            args[positions[name]] = clamp(args[positions[name]])
+    return args, kwargs, clamped
+
+
+def _library_range(function, parameters, args, kwargs):
+    """The library's own message for an integer argument beyond the 32-bit range, naming the
+    key's accepted range ("steps: must be an integer in [1, 10000000], got 8589934592"): the call
+    again with the integer clamped to that range, which every integer parameter's own range
+    refuses (a test asks each of them), and the given value put back into the message. None
+    where no integer was beyond it, or the library did not refuse the clamped call."""
+    args, kwargs, clamped = _beyond_int32(parameters, args, kwargs)
+    if not clamped:
+        return None
+    try:
+        function(*args, **kwargs)
+    except ValueError as error:
+        message = str(error)
+        for inside, given in clamped.items():
+            message = _re.sub(r"got %d$" % inside, "got %d" % given, message)
+        return message
+    except Exception:  # noqa: BLE001  (any other refusal: the type-range message stands)
+        return None
+    return None
 
 
 def _unencodable(value):
@@ -259,14 +313,23 @@ def _typed(function):
         except TypeError as error:
             if "incompatible function arguments" not in str(error):
                 raise
+            library = _library_range(function, parameters, args, kwargs)
+            if library:
+                raise ValueError(renamed_message(library, kwargs)) from None
             kind, message = _out_of_range(function.__name__, parameters, args, kwargs)
             raise kind(message) from None
         except ValueError as error:
-            for field, argument in renamed:
-                # A keyword of that very name (a scene key, transient_periods=...) keeps it.
-                if str(error).startswith(field) and field[:-1] not in kwargs:
-                    raise ValueError(argument + str(error)[len(field):]) from None
+            message = renamed_message(str(error), kwargs)
+            if message != str(error):
+                raise ValueError(message) from None
             raise
+
+    def renamed_message(message, kwargs):
+        for field, argument in renamed:
+            # A keyword of that very name (a scene key, transient_periods=...) keeps it.
+            if message.startswith(field) and field[:-1] not in kwargs:
+                return argument + message[len(field):]
+        return message
     return call
 
 

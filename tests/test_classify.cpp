@@ -277,6 +277,39 @@ TEST_CASE("a map of more than 1e6 cells, or beyond run.max_work at full length, 
     CHECK(regime_map(base, {0.1}, {3.0}, o, 1).cells.size() == 1);
 }
 
+/// The body-steps a refused map said it would run ("this map runs up to W body-steps").
+double refused_map_work(const ReducedParameters& base, const ClassifyOptions& o) {
+    try {
+        (void)regime_map(base, std::vector<double>(100, 0.1), std::vector<double>(100, 3.0), o, 1);
+    } catch (const std::invalid_argument& e) {
+        const std::string message = e.what();
+        const auto at = message.find("runs up to ");
+        REQUIRE(at != std::string::npos);
+        return std::stod(message.substr(at + 11));
+    }
+    FAIL("the map was not refused");
+    return 0.0;
+}
+
+TEST_CASE("a map's work limit counts the twin each unsettled cell may run") {
+    // A map of chaotic cells ran up to twice the work run.max_work let through: each cell that
+    // does not settle runs its twin, as long as itself.
+    const ReducedParameters base{5, 60, 0.5, 0.06, 3.0};
+    ClassifyOptions o;
+    o.record_periods = 100'000;
+    const double with_twins = refused_map_work(base, o);
+    o.twin_check = false;
+    const double without = refused_map_work(base, o);
+    CHECK(with_twins == doctest::Approx(2.0 * without).epsilon(1e-6));
+    // Between the two: refused with the twins, let through (up front) without them.
+    o.max_work = 1.5 * without / 10'000.0;
+    o.twin_check = true;
+    CHECK_THROWS_WITH_AS(regime_map(base, {0.1}, {3.0}, o, 1),
+                         doctest::Contains("each with its twin"), std::invalid_argument);
+    o.twin_check = false;
+    CHECK(regime_map(base, {0.1}, {3.0}, o, 1).cells.size() == 1);
+}
+
 TEST_CASE("a record whose samples the machine cannot hold is refused before the run") {
     ClassifyOptions o;
     o.record_periods = 500'000'000; // 16 samples of u_1 and a section point each: ~96 GB

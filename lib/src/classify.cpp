@@ -239,7 +239,8 @@ void label_regime(const ClassifyOptions& o, const RecordedEvidence& evidence, do
 /// studies are sweeps, resumable and sharded), or whose cells, each run to its full length
 /// (a periodic one stops sooner), exceed run.max_work together: a 3000 x 3000 map from Python
 /// and a 1000 x 1000 one of 100,000 recorded periods from the tool were accepted with
-/// estimates of days.
+/// estimates of days. A cell that does not settle runs its twin too, as long again: counted,
+/// so that a map of unsettled cells keeps to the limit.
 void require_map_work(const ReducedParameters& base, std::size_t rows,
                       const std::vector<double>& f_r, const ClassifyOptions& o) {
     const double cells = static_cast<double>(rows) * static_cast<double>(f_r.size());
@@ -256,10 +257,13 @@ void require_map_work(const ReducedParameters& base, std::size_t rows,
             run_work(dyn, plan_run(dyn, classify_run_options(dyn, o), 2 * o.samples_per_period),
                      periods);
     }
-    detail::require_work(body_steps, o.max_work, "this map runs up to",
+    const double runs_per_cell = o.twin_check ? 2.0 : 1.0;
+    detail::require_work(runs_per_cell * body_steps, o.max_work, "this map runs up to",
                          detail::format_number(cells) + " cells of " +
-                             detail::format_number(periods) + " periods at full length",
-                         "fewer cells, a shorter record or settling, or raise run.max_work");
+                             detail::format_number(periods) + " periods at full length" +
+                             (o.twin_check ? ", each with its twin" : ""),
+                         "fewer cells, a shorter record or settling, no twin, or raise "
+                         "run.max_work");
 }
 
 /// As gapchain-sim says it: a lightly damped row's start-up outlasts the default transient,

@@ -35,5 +35,7 @@ check negative "model.fc" "$dir/good.json" --set model.fc=-3
 check periods "run.periods" "$dir/good.json" --set run.periods=0
 check unreadable "cannot read" "$dir/missing.json"
 check option "see --help" "$dir/good.json" --no-such-option
+# A newline in the user's own text (here a file name) is escaped: it split the message.
+check newline 'no\\nsuch.json: cannot read' "$dir/no"$'\n'"such.json"
 [ "$fail" -eq 0 ] && echo "all bad-input checks passed"
 exit $fail

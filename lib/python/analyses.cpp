@@ -11,6 +11,7 @@
 #include <pybind11/stl.h>
 
 #include <chrono>
+#include <optional>
 
 namespace gapchain::python {
 
@@ -67,13 +68,14 @@ of columns value, direction, t (reduced time), point (the variable) of every sec
 wall_time_s, threads_used, cancelled.)";
 
 constexpr const char* poincare_doc =
-    R"(poincare(scene=None, *, section="stroboscopic", phase=0.0, trigger="u1", level=0.0, direction="up", record=("u1", "v1"), progress=None, **keys) -> dict
+    R"(poincare(scene=None, *, section="stroboscopic", phase=None, trigger=None, level=None, direction=None, record=("u1", "v1"), progress=None, **keys) -> dict
 
 Poincare section of the scene's run (run.periods after run.transient_periods), points located
 on the dense output between steps: gapchain-poincare in-process.
 
-section    "stroboscopic" (once per forcing period at phase in [0, 1)) or "event" (trigger
-           crossing level in direction "up", "down" or "both")
+section    "stroboscopic" (once per forcing period at phase in [0, 1), default 0) or "event"
+           (trigger crossing level in direction "up", "down" or "both"; defaults u1, 0, "up");
+           a keyword of the other kind of section is refused
 trigger    u1..uNm, v1..vNm or g0..gNm (event sections)
 record     names of the recorded values, each once: u1..uNm, v1..vNm, g0..gNm, F0..FNm or t
 
@@ -228,18 +230,33 @@ py::dict bifurcation_py(const py::object& scene_arg, const std::string& param, d
     return bifurcation_dict(r);
 }
 
-SectionSpec section_spec(const std::string& section, double phase, const std::string& trigger,
-                         double level, const std::string& direction,
+/// The section asked for. A keyword of the other kind of section is refused, as
+/// gapchain-poincare refuses its flag: poincare(level=0.3) on a stroboscopic section returned
+/// the section without it.
+SectionSpec section_spec(const std::string& section, const std::optional<double>& phase,
+                         const std::optional<std::string>& trigger,
+                         const std::optional<double>& level,
+                         const std::optional<std::string>& direction,
                          const std::vector<std::string>& record, int bodies) {
     SectionSpec spec;
     spec.kind = choice(section, "section", {"stroboscopic", "event"}) == 0
                     ? SectionSpec::Kind::stroboscopic
                     : SectionSpec::Kind::event;
-    spec.phase = phase;
-    spec.trigger = SectionVariable::parse(trigger, bodies, "trigger");
-    spec.level = level;
-    spec.direction =
-        static_cast<CrossingDirection>(choice(direction, "direction", {"up", "down", "both"}));
+    if (spec.kind == SectionSpec::Kind::stroboscopic) {
+        for (const auto& [name, given] :
+             {std::pair{"trigger", trigger.has_value()}, std::pair{"level", level.has_value()},
+              std::pair{"direction", direction.has_value()}})
+            if (given)
+                throw std::invalid_argument(std::string(name) +
+                                            ": applies to section=\"event\" only");
+    } else if (phase) {
+        throw std::invalid_argument("phase: applies to section=\"stroboscopic\" only");
+    }
+    spec.phase = phase.value_or(0.0);
+    spec.trigger = SectionVariable::parse(trigger.value_or("u1"), bodies, "trigger");
+    spec.level = level.value_or(0.0);
+    spec.direction = static_cast<CrossingDirection>(
+        choice(direction.value_or("up"), "direction", {"up", "down", "both"}));
     spec.record.clear();
     for (const auto& name : record)
         spec.record.push_back(SectionVariable::parse(name, bodies, "record"));
@@ -247,8 +264,10 @@ SectionSpec section_spec(const std::string& section, double phase, const std::st
     return spec;
 }
 
-py::dict poincare_py(const py::object& scene_arg, const std::string& section, double phase,
-                     const std::string& trigger, double level, const std::string& direction,
+py::dict poincare_py(const py::object& scene_arg, const std::string& section,
+                     const std::optional<double>& phase, const std::optional<std::string>& trigger,
+                     const std::optional<double>& level,
+                     const std::optional<std::string>& direction,
                      const std::vector<std::string>& record, const py::object& progress,
                      const py::kwargs& keys) {
     refuse_run_keys(keys, "poincare", once_through_run_keys, plain_run_reason);
@@ -378,8 +397,9 @@ void register_analyses(py::module_& m) {
           py::arg("variable") = "u1", py::arg("phase") = 0.0, py::arg("threads") = 0,
           py::arg("confirm") = b.confirm_by_newton, py::arg("progress") = py::none());
     m.def("poincare", &poincare_py, poincare_doc, py::arg("scene") = py::none(), py::kw_only(),
-          py::arg("section") = "stroboscopic", py::arg("phase") = 0.0, py::arg("trigger") = "u1",
-          py::arg("level") = 0.0, py::arg("direction") = "up",
+          py::arg("section") = "stroboscopic", py::arg("phase") = py::none(),
+          py::arg("trigger") = py::none(), py::arg("level") = py::none(),
+          py::arg("direction") = py::none(),
           py::arg("record") = std::vector<std::string>{"u1", "v1"},
           py::arg("progress") = py::none());
     m.def("spectrum", &spectrum_py, spectrum_doc, py::arg("scene") = py::none(), py::kw_only(),

@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <limits>
 
 namespace gapchain::python {
@@ -172,9 +173,19 @@ py::dict regime_map_py(const py::object& scene_arg, const std::vector<double>& e
     const ClassifyOptions o = classify_options(scene, transient, record, confirm, twin);
     Call call(progress);
     const ReducedParameters& row = paper_row(scene, "regime_map");
-    const RegimeMap m =
-        call.run([&] { return regime_map(row, e_r, f_r, o, threads, call.callback()); });
-    return regime_map_dict(m);
+    try {
+        return regime_map_dict(
+            call.run([&] { return regime_map(row, e_r, f_r, o, threads, call.callback()); }));
+    } catch (const std::invalid_argument& e) {
+        // The scene loaded, so a value the row refuses is one of the lists': named as the
+        // argument ("model.e_r: ..." read as the scene's key).
+        const std::string message = e.what();
+        for (const auto& [key, argument] :
+             {std::pair{"model.e_r:", "e_r:"}, std::pair{"excitation.f_r:", "f_r:"}})
+            if (message.rfind(key, 0) == 0)
+                throw std::invalid_argument(argument + message.substr(std::strlen(key)));
+        throw;
+    }
 }
 
 void axis_columns(py::dict& d, const Study& study, const std::vector<SweepPointResult>& rows) {

@@ -764,3 +764,37 @@ def test_an_integer_beyond_its_cpp_type_names_the_keys_own_range():
     assert asked == 3 * 32  # 32 integer arguments in 13 functions
     assert str(pytest.raises(ValueError, gapchain.bifurcation, steps=2 ** 33).value) == \
         "steps: must be an integer in [1, 10000000], got 8589934592"
+
+
+def test_a_keyword_of_the_other_kind_of_section_is_refused_and_messages_name_the_argument():
+    # poincare(level=0.3) on a stroboscopic section returned the section without it, as
+    # gapchain-poincare refuses --level there.
+    for kwargs, message in [(dict(level=0.3), r'^level: applies to section="event" only'),
+                            (dict(trigger="u3"), r'^trigger: applies to section="event"'),
+                            (dict(direction="down"), r'^direction: applies to section="event"'),
+                            (dict(section="event", phase=0.7),
+                             r'^phase: applies to section="stroboscopic" only')]:
+        with pytest.raises(ValueError, match=message):
+            gapchain.poincare(MIRROR_PAIR, **kwargs)
+    event = gapchain.poincare(MIRROR_PAIR, section="event", level=0.0, direction="up", **SHORT)
+    assert np.array_equal(event["t"], gapchain.poincare(MIRROR_PAIR, section="event", **SHORT)["t"])
+    # The argument, not the library's option behind it (section.level, model.e_r) ...
+    with pytest.raises(ValueError, match=r"^level: must be a finite number"):
+        gapchain.poincare(MIRROR_PAIR, section="event", level=math.nan)
+    with pytest.raises(ValueError, match=r"^record: u1 given twice"):
+        gapchain.poincare(MIRROR_PAIR, record=["u1", "u1"])
+    with pytest.raises(ValueError, match=r"^e_r: must be a finite number in \[0, 1000000\], got nan"):
+        gapchain.regime_map(MIRROR_PAIR, e_r=[math.nan], f_r=[1.0])
+    with pytest.raises(ValueError, match=r"^f_r: must be a finite number in \(0, 10000\]"):
+        gapchain.regime_map(MIRROR_PAIR, e_r=[0.1], f_r=[-1.0])
+    # ... but the scene's own key where the scene is wrong.
+    with pytest.raises(ValueError, match=r"^model.e_r: must be"):
+        gapchain.regime_map({"model": {"e_r": -1}}, e_r=[0.1], f_r=[1.0])
+    # One line, whatever the user's text holds: a newline split the message.
+    for function, kwargs in [(gapchain.spectrum, dict(variable="u\n1")),
+                             (gapchain.simulate, dict(scene="/tmp/no\nsuch.json")),
+                             (gapchain.bifurcation, dict(param="f\n_r")),
+                             (gapchain.poincare, dict(record=["u1", "v\n1"]))]:
+        with pytest.raises(ValueError) as raised:
+            function(**kwargs)
+        assert "\n" not in str(raised.value) and "\\n" in str(raised.value)

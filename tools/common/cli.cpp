@@ -596,8 +596,24 @@ std::string readable(const std::string& message) {
     if (std::regex_match(message, flag, flag_value))
         return "--" + flag[1].str() + ": a flag takes no value (give --" + flag[1].str() +
                " alone, or leave it out)";
-    if (message.size() <= 400) return message;
-    return message.substr(0, 300) + " ... " + message.substr(message.size() - 80);
+    // A newline in a user's text (a file name, a --variable) split the message over lines.
+    std::string line;
+    for (const char c : message) {
+        if (c == '\n')
+            line += "\\n";
+        else if (c == '\r')
+            line += "\\r";
+        else if (c == '\t')
+            line += "\\t";
+        else if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
+            char escaped[8];
+            std::snprintf(escaped, sizeof escaped, "\\x%02x", static_cast<unsigned char>(c));
+            line += escaped;
+        } else
+            line += c;
+    }
+    if (line.size() <= 400) return line;
+    return line.substr(0, 300) + " ... " + line.substr(line.size() - 80);
 }
 
 /// Every number option of app and its subcommands must be written in plain decimal. CLI11 reads

@@ -237,6 +237,12 @@ def _library_range(function, parameters, args, kwargs):
     return None
 
 
+def _one_line(message):
+    """message with its control characters escaped (a newline as \\n)."""
+    return "".join({"\n": "\\n", "\r": "\\r", "\t": "\\t"}.get(c, "\\x%02x" % ord(c))
+                   if ord(c) < 0x20 or ord(c) == 0x7f else c for c in message)
+
+
 def _unencodable(value):
     """Whether value (a str or os.PathLike) is text UTF-8 cannot encode: a lone surrogate, as
     os.fsdecode makes of undecodable file names."""
@@ -288,7 +294,9 @@ def _typed(function):
     renamed = [(field + ":", argument + ":") for field, argument in
                (("transient_periods", "transient"), ("record_periods", "record"),
                 ("from", "from_"), ("parameter", "param"), ("slice.resolution", "resolution"),
-                ("section.phase", "phase"), ("run.scheme", "scheme"), ("samples", "attractors"))
+                ("section.phase", "phase"), ("section.level", "level"),
+                ("section.trigger", "trigger"), ("section.record", "record"),
+                ("run.scheme", "scheme"), ("samples", "attractors"))
                if argument in (p for p, _ in parameters)]
 
     @_functools.wraps(function)
@@ -325,6 +333,9 @@ def _typed(function):
             raise
 
     def renamed_message(message, kwargs):
+        # One line, as the tools print it: a newline in the user's text (a variable, a path)
+        # split the message.
+        message = _one_line(message)
         for field, argument in renamed:
             # A keyword of that very name (a scene key, transient_periods=...) keeps it.
             if message.startswith(field) and field[:-1] not in kwargs:

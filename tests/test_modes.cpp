@@ -113,6 +113,16 @@ TEST_CASE("Spectra's highest modes of short rows agree with the dense solver, or
     }
 }
 
+TEST_CASE("a row of Hertz or Hunt-Crossley contacts has no linear-chain modes") {
+    for (const ContactLaw law : {ContactLaw::hertz, ContactLaw::hunt_crossley}) {
+        Chain c = row(5, 100.0);
+        c.law = law;
+        CHECK_THROWS_WITH_AS(modal_analysis(c, {}),
+                             doctest::Contains("model.contact_law: the linear chain's modes need"),
+                             std::invalid_argument);
+    }
+}
+
 TEST_CASE("eq (26) against the exact frequencies: the maxima MODEL.md §1 states") {
     // MODEL.md: over fc in [1, 2000] and Nm in [1, 20] the approximation is within 1.22 % for
     // f_1 and 2.60 % for the other modes (the paper claims < 1 % and < 3 %).

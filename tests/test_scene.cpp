@@ -429,3 +429,13 @@ TEST_CASE("model.contact_law selects the Hertz law; anything else is refused") {
     CHECK(error_of("{}", {"model.contact_law=hunt_crossley", "model.contact_damping=-1"})
               .find("model.contact_damping") != std::string::npos);
 }
+
+TEST_CASE("the keys a row's linear-chain modes do not read") {
+    for (const char* key :
+         {"model.eps", "model.C", "model.damping", "model.e_r", "model.e", "model.clearance",
+          "model.contact_damping", "excitation.f_r", "initial.u"})
+        CHECK(key_unread_by_modes(key));
+    for (const char* key : {"model.Nm", "model.fc", "model.Kc", "model.mass", "model.stiffness",
+                            "model.contact", "model.contact_law", "run.periods"})
+        CHECK_FALSE(key_unread_by_modes(key));
+}

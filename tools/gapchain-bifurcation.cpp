@@ -182,5 +182,5 @@ int main(int argc, char** argv) {
                         outputs.keep();
                         print_summary(r, a.options, a.param, a.mode, a.out_dir, plotted);
                     },
-                    {{"section.phase", "--phase"}});
+                    {{"section.phase", "--phase"}, {"variable", "--variable"}});
 }

@@ -153,12 +153,14 @@ void add_options(CLI::App& app, ModesArguments& a) {
 // The scene with --Nm and --fc applied as overrides.
 Scene load_row(ModesArguments& a) {
     cli::require_sets_read(a.scene, "gapchain-modes", {}, "its modes follow from the model alone");
-    // The forcing and the start change nothing either: a --set of them was taken and ignored.
+    // Nor do the forcing, the start, the damping or the clearances: a --set of them was taken
+    // and ignored.
     for (const std::string& set : a.scene.sets)
-        if (forcing_or_start_key(set.substr(0, set.find('='))))
+        if (key_unread_by_modes(scene_key(set.substr(0, set.find('=')))))
             throw SceneError("--set " + set.substr(0, set.find('=')) +
-                             ": gapchain-modes does not read it (its modes follow from the model "
-                             "alone); drop the --set");
+                             ": gapchain-modes does not read it (the linear chain's modes follow "
+                             "from its masses, springs and contact stiffnesses alone); drop the "
+                             "--set");
     // --Nm first: a scene read at its own Nm refused arrays of --Nm's length ("model.mass:
     // must have 5 entries" for --Nm 3), and then its own length as well.
     if (a.Nm != 0) a.scene.sets.push_back("model.Nm=" + std::to_string(a.Nm));

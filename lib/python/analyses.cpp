@@ -132,14 +132,15 @@ py::dict modes_py(const py::object& Nm, const py::object& fc, int count, const s
     if (!fc.is_none()) keys["fc"] = fc;
     // As gapchain-modes: a run or output keyword (periods=5) was taken and ignored.
     refuse_run_keys(keys, "modes", {}, "its modes follow from the model alone");
-    // The forcing and the start change nothing either (f_r=2 was taken and ignored).
+    // Nor do the forcing, the start, the damping or the clearances (f_r=2, eps=7 were taken
+    // and ignored).
     for (const auto& [key, value] : keys) {
         const std::string name = key.cast<std::string>();
-        const std::string dotted = scene_key(name);
-        if (forcing_or_start_key(dotted))
+        if (key_unread_by_modes(scene_key(name)))
             throw std::invalid_argument(name +
-                                        ": modes() does not read it (its modes follow from the "
-                                        "model alone); drop the " +
+                                        ": modes() does not read it (the linear chain's modes "
+                                        "follow from its masses, springs and contact stiffnesses "
+                                        "alone); drop the " +
                                         name + " keyword");
     }
     const Scene scene = to_scene(scene_arg, keys);

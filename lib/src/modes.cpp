@@ -235,6 +235,14 @@ void sparse_modes(const Chain& chain, const Tridiagonal& t, const ModalOptions& 
 
 ModalResult modal_analysis(const Chain& chain, const ModalOptions& o) {
     const auto start = std::chrono::steady_clock::now();
+    // A Hertz or Hunt-Crossley contact has no stiffness at zero overlap: the modes printed were
+    // those of a linear row the scene did not describe.
+    if (chain.law != ContactLaw::linear)
+        throw std::invalid_argument(
+            std::string("model.contact_law: the linear chain's modes need the linear contact law "
+                        "(a ") +
+            to_string(chain.law) + " contact has no stiffness at zero overlap), got " +
+            to_string(chain.law));
     const Tridiagonal t = linear_chain_matrix(chain);
     const int n = chain.bodies();
     // The sparse solver's own range first: "[0, 3]" for 4 modes of Nm = 3, then "1 <= modes <

@@ -671,10 +671,14 @@ def test_a_trajectory_or_sweep_past_memory_is_refused_before_running():
     assert r["trajectory"]["state"].shape[1] == 6
 
 
-def test_modes_refuses_the_forcing_and_the_start():
-    for key in ("f_r", "initial.u"):
+def test_modes_refuses_the_forcing_the_start_the_damping_and_the_clearances():
+    # eps=7 and e_r=9 were taken and the modes returned unchanged.
+    for key in ("f_r", "initial.u", "eps", "e_r", "model.contact_damping"):
         with pytest.raises(ValueError, match=key + ": modes\\(\\) does not read it"):
             gapchain.modes(5, 100, **{key: 2})
+    # A Hertz row's modes were the linear row's.
+    with pytest.raises(ValueError, match="^model.contact_law: the linear chain's modes need"):
+        gapchain.modes(5, 100, **{"model.contact_law": "hertz"})
 
 
 def test_a_non_finite_number_or_an_empty_key_part_is_named_as_such():

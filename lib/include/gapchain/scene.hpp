@@ -101,9 +101,11 @@ Scene load_scene(const std::string& path, const std::vector<std::string>& overri
 /// key throws SceneError naming it (prefixed by context if not empty).
 std::string scene_key(const std::string& key, const std::string& context = "");
 
-/// Whether a dotted scene key sets the forcing or the start (excitation.*, initial.*): what a
-/// row's modes do not depend on (gapchain-modes and Python's modes() refuse them).
-bool forcing_or_start_key(const std::string& dotted_key);
+/// Whether a dotted scene key sets what a row's linear-chain modes do not depend on: the
+/// forcing and the start (excitation.*, initial.*), the damping (model.eps, C, damping,
+/// contact_damping) and the clearances (model.e_r, e, clearance, scatter.clearance).
+/// gapchain-modes and Python's modes() refuse them.
+bool key_unread_by_modes(const std::string& dotted_key);
 
 /// The dotted scene keys whose value a sweep or continuation of `which` replaces: the reduced
 /// key (excitation.f_r, model.e_r, model.fc, model.eps) and the physical scene's key that enters

@@ -375,6 +375,12 @@ TEST_CASE("bad options name the option field (the tools translate it into their 
     o.steps = 1;
     CHECK_THROWS_WITH_AS(validate(o, fig13), doctest::Contains("steps: one value needs from = to"),
                          std::invalid_argument);
+    // The section's time was accepted and plotted as a diagram of section times.
+    o = {};
+    o.section.record = {SectionVariable::parse("t", fig13.Nm, "variable")};
+    CHECK_THROWS_WITH_AS(validate(o, fig13),
+                         doctest::Contains("variable: must be a state variable"),
+                         std::invalid_argument);
 }
 
 TEST_CASE("bifurcation and regime maps: a cancelled run stops within one value per thread") {

@@ -249,8 +249,8 @@ void continued_rows(const ReducedParameters& base, const BifurcationOptions& o,
 void validate(const BifurcationOptions& o, const ReducedParameters& base) {
     detail::require_range("steps", o.steps, 1, 10'000'000);
     require_line(o.from, o.to, o.steps);
-    detail::require_range("transient_periods", static_cast<double>(o.transient_periods), 0.0, 1e9);
-    detail::require_range("record_periods", static_cast<double>(o.record_periods), 1.0, 1e9);
+    detail::require_count("transient_periods", o.transient_periods, 0, 1'000'000'000);
+    detail::require_count("record_periods", o.record_periods, 1, 1'000'000'000);
     detail::require_run_length(o.transient_periods, o.record_periods);
     detail::require_range("max_period", o.max_period, 1, 1000);
     detail::require_range("period_tolerance", o.period_tolerance, 0.0, 1.0,

@@ -33,11 +33,11 @@ std::string_view to_string(Regime regime) {
 }
 
 void validate(const ClassifyOptions& o) {
-    detail::require_range("transient_periods", static_cast<double>(o.transient_periods), 0.0, 1e9);
+    detail::require_count("transient_periods", o.transient_periods, 0, 1'000'000'000);
     // Fewer than 20 recorded periods leave lambda_max without an error (its 10 blocks need
     // them): the margin was then infinite and every non-repeating record, chaotic or not, was
     // labelled quasi-periodic ("lambda_max = -1.19 +- inf" on a row settling on period 2).
-    detail::require_range("record_periods", static_cast<double>(o.record_periods), 20.0, 1e9);
+    detail::require_count("record_periods", o.record_periods, 20, 1'000'000'000);
     detail::require_run_length(o.transient_periods, o.record_periods);
     detail::require_range("tolerance", o.tolerance, 1e-12, 0.1);
     detail::require_range("max_period", o.max_period, 1, 1000);

@@ -38,7 +38,7 @@ void validate(const ContinuationOptions& o) {
     detail::require_range("max_points", o.max_points, 1, 1'000'000);
     detail::require_range("max_branches", o.max_branches, 1, 64);
     detail::require_range("locate_tolerance", o.locate_tolerance, 1e-12, 1e-2);
-    detail::require_range("transient_periods", static_cast<double>(o.transient_periods), 0.0, 1e7);
+    detail::require_count("transient_periods", o.transient_periods, 0, 10'000'000);
     if (!(o.from != o.to))
         throw std::invalid_argument(
             "to: must differ from the start value (from = " + detail::format_number(o.from) + ")");

@@ -505,7 +505,7 @@ PeriodicOrbit find_periodic_orbit_after(const Dynamics& dyn, const OrbitOptions&
     validate(options);
     require_orbit_size(dyn, options.scheme);
     require_shooting_affordable(dyn, options);
-    detail::require_range("transient_periods", static_cast<double>(transient_periods), 0.0, 1e7);
+    detail::require_count("transient_periods", transient_periods, 0, 10'000'000);
     std::vector<double> start =
         initial.empty() ? std::vector<double>(dyn.dimension(), 0.0) : initial;
     if (transient_periods > 0) {

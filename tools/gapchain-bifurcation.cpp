@@ -124,7 +124,7 @@ void resolve_options(BifurcationArguments& a, const gapchain::Scene& scene) {
     BifurcationOptions& o = a.options;
     o.parameter = parse_swept_parameter(a.param);
     o.mode = parse_sweep_mode(a.mode);
-    o.section.record = {SectionVariable::parse(a.variable, scene.reduced.Nm, "--variable")};
+    o.section.record = {SectionVariable::parse_state(a.variable, scene.reduced.Nm, "--variable")};
     take_run_settings(scene, o);
     o.confirm_by_newton = !a.no_newton;
     validate(o, scene.reduced);

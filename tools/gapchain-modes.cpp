@@ -156,7 +156,7 @@ Scene load_row(ModesArguments& a) {
     // Nor do the forcing, the start, the damping or the clearances: a --set of them was taken
     // and ignored.
     for (const std::string& set : a.scene.sets)
-        if (key_unread_by_modes(scene_key(set.substr(0, set.find('=')))))
+        if (key_unread_by_modes(set.substr(0, set.find('='))))
             throw SceneError("--set " + set.substr(0, set.find('=')) +
                              ": gapchain-modes does not read it (the linear chain's modes follow "
                              "from its masses, springs and contact stiffnesses alone); drop the "

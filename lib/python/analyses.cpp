@@ -219,7 +219,7 @@ py::dict bifurcation_py(const py::object& scene_arg, const std::string& param, d
     o.from = from, o.to = to, o.steps = steps;
     o.mode = parse_sweep_mode(mode);
     o.transient_periods = transient, o.record_periods = record;
-    o.section.record = {SectionVariable::parse(variable, scene.reduced.Nm, "variable")};
+    o.section.record = {SectionVariable::parse_state(variable, scene.reduced.Nm, "variable")};
     o.section.phase = phase;
     o.threads = threads;
     take_run_settings(scene, o);

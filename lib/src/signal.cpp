@@ -49,16 +49,7 @@ Signal record_signal(const Dynamics& dyn, const RunOptions& options,
 namespace {
 
 SectionVariable spectrum_variable(const std::string& name, const Dynamics& dyn) {
-    // The section's parser also takes t, which a spectrum cannot: one message lists what it can.
-    const std::string n = std::to_string(dyn.bodies());
-    const std::string refusal = "variable: must be a state variable, u1..u" + n + ", v1..v" + n +
-                                ", g0..g" + n + " or F0..F" + n + ", got \"" + name + "\"";
-    try {
-        const SectionVariable v = SectionVariable::parse(name, dyn.bodies(), "variable");
-        if (v.kind != SectionVariable::Kind::time) return v;
-    } catch (const std::invalid_argument&) {
-    }
-    throw std::invalid_argument(refusal);
+    return SectionVariable::parse_state(name, dyn.bodies(), "variable");
 }
 
 } // namespace

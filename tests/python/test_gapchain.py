@@ -765,9 +765,16 @@ def test_an_integer_beyond_its_cpp_type_names_the_keys_own_range():
                 assert "2**31" not in message and "2**63" not in message, (name, message)
                 assert message.endswith("got %d" % value), (name, message)
                 asked += 1
-    assert asked == 3 * 32  # 32 integer arguments in 13 functions
+    assert asked == 3 * 32  # 32 integer arguments in 12 functions
     assert str(pytest.raises(ValueError, gapchain.bifurcation, steps=2 ** 33).value) == \
         "steps: must be an integer in [1, 10000000], got 8589934592"
+    # Two at once: the message names one, with its own value (it took the other's).
+    assert str(pytest.raises(ValueError, gapchain.bifurcation, steps=2 ** 40,
+                             transient=2 ** 50).value) == \
+        "steps: must be an integer in [1, 10000000], got %d" % 2 ** 40
+    # A diagram's variable is a state variable: t is neither taken nor offered.
+    with pytest.raises(ValueError, match=r'^variable: must be a state variable, u1\.\.u5, .*got "x9"'):
+        gapchain.bifurcation(variable="x9")
 
 
 def test_a_keyword_of_the_other_kind_of_section_is_refused_and_messages_name_the_argument():

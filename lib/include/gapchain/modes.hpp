@@ -63,9 +63,10 @@ struct ModalResult {
     std::vector<std::vector<double>> shapes; ///< per mode, Nm entries, phi^T M phi = 1
     std::vector<double> residuals;           ///< per mode |A psi - lambda psi| / lambda (error)
     EigenMethod method = EigenMethod::dense; ///< solver used
-    /// converged: every residual within ModalOptions::tolerance (or the rounding floor next to
-    /// the largest eigenvalue, 64 eps lambda_max / lambda); otherwise not_converged or
-    /// numerical_issue, as Spectra reports it
+    /// converged: (sparse) every residual within what the Lanczos tolerance promises,
+    /// max(tolerance, tolerance (spectrum width) / lambda, 64 eps lambda_max / lambda);
+    /// not_converged where Spectra did not converge or a residual is beyond that;
+    /// numerical_issue as Spectra reports it
     ModalStatus status = ModalStatus::converged;
     /// Lanczos restarts (sparse: over every shift tried), 0 for dense
     long iterations = 0;

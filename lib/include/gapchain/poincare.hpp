@@ -36,6 +36,9 @@ struct SectionVariable {
     /// Parses "u1".."uNm", "v1".."vNm" (1-based bodies), "g0".."gNm", "F0".."FNm" (contacts,
     /// 0 = left wall) or "t"; throws std::invalid_argument naming the key for anything else.
     static SectionVariable parse(std::string_view name, int bodies, const std::string& key);
+    /// parse() of a state variable only, for what plots or transforms a variable (a spectrum,
+    /// a diagram): "t" is refused with the rest, in one message naming key and what it takes.
+    static SectionVariable parse_state(std::string_view name, int bodies, const std::string& key);
     /// The name parse() reads.
     [[nodiscard]] std::string name() const;
     /// Its value at reduced time t and state y.

@@ -190,47 +190,49 @@ _INT32 = (-2 ** 31, 2 ** 31 - 1)
 
 def _beyond_int32(parameters, args, kwargs):
     """(args, kwargs) with every integer argument beyond the 32-bit range clamped to it, and
-    {clamped value: given value}; empty where none is beyond it. pybind11 refuses such an
-    integer for a C++ int with a TypeError that names no range."""
+    [(parameter, clamped value, given value)] of those; empty where none is beyond it. pybind11
+    refuses such an integer for a C++ int with a TypeError that names no range."""
     names = [p for p, kind in parameters if kind in ("int", "Optional[int]")]
-    clamped, args, kwargs = {}, list(args), dict(kwargs)
+    clamped, args, kwargs = [], list(args), dict(kwargs)
     positions = {p: i for i, (p, _) in enumerate(parameters)}
 
-    def clamp(value):
+    def clamp(name, value):
         if getattr(value, "ndim", None) == 0 and hasattr(value, "item"):
             value = value.item()
         if not isinstance(value, _numbers.Integral) or _is_bool(value):
             return value
         inside = min(max(int(value), _INT32[0]), _INT32[1])
         if inside != value:
-            clamped[inside] = value
+            clamped.append((name, inside, value))
         return inside
 
     for name in names:
         if name == "seed":  # the library's own limit, named by _out_of_range()
             continue
         if name in kwargs:
-            kwargs[name] = clamp(kwargs[name])
+            kwargs[name] = clamp(name, kwargs[name])
         elif positions[name] < len(args):
-            args[positions[name]] = clamp(args[positions[name]])
+            args[positions[name]] = clamp(name, args[positions[name]])
     return args, kwargs, clamped
 
 
-def _library_range(function, parameters, args, kwargs):
+def _library_range(function, parameters, args, kwargs, renamed_message):
     """The library's own message for an integer argument beyond the 32-bit range, naming the
     key's accepted range ("steps: must be an integer in [1, 10000000], got 8589934592"): the call
-    again with the integer clamped to that range, which every integer parameter's own range
-    refuses (a test asks each of them), and the given value put back into the message. None
-    where no integer was beyond it, or the library did not refuse the clamped call."""
+    again with the integer clamped to the 32-bit range, which every integer parameter's own
+    range refuses (a test asks each of them), and the given value put back into the message of
+    the parameter it names (renamed_message() names it as the argument). None where no integer
+    was beyond it, or the library did not refuse the clamped call."""
     args, kwargs, clamped = _beyond_int32(parameters, args, kwargs)
     if not clamped:
         return None
     try:
         function(*args, **kwargs)
     except ValueError as error:
-        message = str(error)
-        for inside, given in clamped.items():
-            message = _re.sub(r"got %d$" % inside, "got %d" % given, message)
+        message = renamed_message(str(error), kwargs)
+        for name, inside, given in clamped:
+            if message.startswith(name + ":"):
+                message = _re.sub(r"got %d$" % inside, "got %d" % given, message)
         return message
     except Exception:  # noqa: BLE001  (any other refusal: the type-range message stands)
         return None
@@ -306,8 +308,8 @@ def _typed(function):
             raise ValueError(bad)
         unknown = [key for key in kwargs if closed and key not in names]
         if unknown:
-            raise TypeError("%s: unknown keyword of %s(); accepted: %s" % (
-                unknown[0], function.__name__, ", ".join(names)))
+            raise TypeError(_one_line("%s: unknown keyword of %s(); accepted: %s" % (
+                unknown[0], function.__name__, ", ".join(names))))
         wrong = _wrong_argument(function.__name__, parameters, positional, args, kwargs)
         if wrong:
             raise TypeError(wrong)
@@ -321,9 +323,9 @@ def _typed(function):
         except TypeError as error:
             if "incompatible function arguments" not in str(error):
                 raise
-            library = _library_range(function, parameters, args, kwargs)
+            library = _library_range(function, parameters, args, kwargs, renamed_message)
             if library:
-                raise ValueError(renamed_message(library, kwargs)) from None
+                raise ValueError(library) from None
             kind, message = _out_of_range(function.__name__, parameters, args, kwargs)
             raise kind(message) from None
         except ValueError as error:

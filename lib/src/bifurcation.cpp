@@ -259,12 +259,8 @@ void validate(const BifurcationOptions& o, const ReducedParameters& base) {
     detail::require_range("tolerance", o.tolerance, 1e-12, 0.1);
     detail::require_range("max_work", o.max_work, 1.0, 1e15);
     // The section's own time was accepted and plotted as a diagram of section times.
-    const std::string n = std::to_string(base.Nm);
     for (const SectionVariable& v : o.section.record)
-        if (v.kind == SectionVariable::Kind::time)
-            throw std::invalid_argument("variable: must be a state variable, u1..u" + n +
-                                        ", v1..v" + n + ", g0..g" + n + " or F0..F" + n +
-                                        ", got t (each section point's time is its t column)");
+        (void)SectionVariable::parse_state(v.name(), base.Nm, "variable");
     // Every section point is kept until the diagram is written (~64 bytes each with its values):
     // refuse up front what would end in bad_alloc hours later. A stroboscopic section keeps one
     // per recorded period; an event section may keep more, which this does not foresee.

@@ -93,11 +93,10 @@ int main(int argc, char** argv) {
         cli::require_sets_read(scene_args, "gapchain-bounds", {},
                                "its bounds follow from the model and the excitation alone");
         // Nor the start: --set initial.v was taken and ignored.
-        for (const std::string& set : scene_args.sets)
-            if (set.rfind("initial.", 0) == 0)
-                throw SceneError("--set " + set.substr(0, set.find('=')) +
-                                 ": gapchain-bounds does not read it (its bounds follow from the "
-                                 "model and the excitation alone); drop the --set");
+        cli::refuse_unread_sets(
+            scene_args, "gapchain-bounds",
+            [](const std::string& key) { return key.rfind("initial.", 0) == 0; },
+            "its bounds follow from the model and the excitation alone");
         const Scene scene = cli::load(scene_args);
         // The estimates are the paper's formulas for its uniform row: a row with arrays
         // (clearances 0.5 gave "impacts: e_r < 0.117" for a row that never touches) or Hertz

@@ -155,12 +155,9 @@ Scene load_row(ModesArguments& a) {
     cli::require_sets_read(a.scene, "gapchain-modes", {}, "its modes follow from the model alone");
     // Nor do the forcing, the start, the damping or the clearances: a --set of them was taken
     // and ignored.
-    for (const std::string& set : a.scene.sets)
-        if (key_unread_by_modes(set.substr(0, set.find('='))))
-            throw SceneError("--set " + set.substr(0, set.find('=')) +
-                             ": gapchain-modes does not read it (the linear chain's modes follow "
-                             "from its masses, springs and contact stiffnesses alone); drop the "
-                             "--set");
+    cli::refuse_unread_sets(a.scene, "gapchain-modes", key_unread_by_modes,
+                            "the linear chain's modes follow from its masses, springs and "
+                            "contact stiffnesses alone");
     // --Nm first: a scene read at its own Nm refused arrays of --Nm's length ("model.mass:
     // must have 5 entries" for --Nm 3), and then its own length as well.
     if (a.Nm != 0) a.scene.sets.push_back("model.Nm=" + std::to_string(a.Nm));

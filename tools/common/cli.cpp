@@ -542,6 +542,17 @@ void require_sets_read(const SceneArguments& args, const std::string& tool,
     }
 }
 
+void refuse_unread_sets(const SceneArguments& args, const std::string& tool,
+                        const std::function<bool(const std::string&)>& unread,
+                        const std::string& why) {
+    for (const std::string& set : args.sets) {
+        const std::string key = set.substr(0, set.find('='));
+        if (unread(key))
+            throw SceneError("--set " + key + ": " + tool + " does not read it (" + why +
+                             "); drop the --set");
+    }
+}
+
 namespace {
 
 // The library's option fields and the flags most tools give them; a tool's own list wins.

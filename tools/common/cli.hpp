@@ -154,6 +154,12 @@ void require_sets_read(const SceneArguments& args, const std::string& tool,
                        const std::vector<std::string>& read, const std::string& instead,
                        const std::vector<std::string>& unread = {});
 
+// Refuses a --set of a scene key outside the run and output sections that tool does not read
+// (unread(dotted key) true): SceneError "--set KEY: TOOL does not read it (WHY); drop the --set".
+void refuse_unread_sets(const SceneArguments& args, const std::string& tool,
+                        const std::function<bool(const std::string&)>& unread,
+                        const std::string& why);
+
 // How long the transients before the periodic attractors last (gapchain-attractors and
 // gapchain-sim --attractors), and what a run must discard for the attractors' F_m; nothing
 // where fewer than 10 end beyond the median.

@@ -37,5 +37,21 @@ check unreadable "cannot read" "$dir/missing.json"
 check option "see --help" "$dir/good.json" --no-such-option
 # A newline in the user's own text (here a file name) is escaped: it split the message.
 check newline 'no\\nsuch.json: cannot read' "$dir/no"$'\n'"such.json"
+# A long message is shortened between whole characters and whole escapes: three names of 3-byte
+# letters, offset by 0, 1 and 2 bytes, put one of the cuts inside a letter if any can.
+euro=$(printf '\xe2\x82\xac%.0s' $(seq 100))
+for pad in "" x xx; do
+    check "long$pad" "cannot read" "$dir/$pad$euro/$euro/$euro"
+    if ! iconv -f UTF-8 -t UTF-8 "$dir/stderr" > /dev/null 2>&1; then
+        echo "FAIL long$pad: the shortened message is not valid UTF-8"; fail=1
+    fi
+done
+controls=$(printf '\x01%.0s' $(seq 150))
+for pad in "" x xx x3; do
+    check "escapes$pad" "cannot read" "$dir/$pad$controls"
+    if sed 's/\\x01//g' "$dir/stderr" | grep -q '\\'; then
+        echo "FAIL escapes$pad: an escape was cut"; cat "$dir/stderr"; fail=1
+    fi
+done
 [ "$fail" -eq 0 ] && echo "all bad-input checks passed"
 exit $fail

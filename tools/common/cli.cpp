@@ -18,6 +18,7 @@
 #include <regex>
 #include <system_error>
 #include <unistd.h>
+#include <vector>
 
 namespace gapchain::cli {
 
@@ -607,24 +608,42 @@ std::string readable(const std::string& message) {
     if (std::regex_match(message, flag, flag_value))
         return "--" + flag[1].str() + ": a flag takes no value (give --" + flag[1].str() +
                " alone, or leave it out)";
-    // A newline in a user's text (a file name, a --variable) split the message over lines.
-    std::string line;
+    // A newline in a user's text (a file name, a --variable) split the message over lines. Each
+    // piece is one escape or one whole UTF-8 character, so that shortening a long message cuts
+    // between pieces, never inside "\\x1b" or a multi-byte letter.
+    std::vector<std::string> pieces;
     for (const char c : message) {
+        const auto byte = static_cast<unsigned char>(c);
         if (c == '\n')
-            line += "\\n";
+            pieces.emplace_back("\\n");
         else if (c == '\r')
-            line += "\\r";
+            pieces.emplace_back("\\r");
         else if (c == '\t')
-            line += "\\t";
-        else if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) {
+            pieces.emplace_back("\\t");
+        else if (byte < 0x20 || byte == 0x7f) {
             char escaped[8];
-            std::snprintf(escaped, sizeof escaped, "\\x%02x", static_cast<unsigned char>(c));
-            line += escaped;
-        } else
-            line += c;
+            std::snprintf(escaped, sizeof escaped, "\\x%02x", byte);
+            pieces.emplace_back(escaped);
+        } else if ((byte & 0xc0) == 0x80 && !pieces.empty())
+            pieces.back() += c;
+        else
+            pieces.emplace_back(1, c);
     }
+    const auto joined = [&pieces](std::size_t first, std::size_t last) {
+        std::string text;
+        for (std::size_t i = first; i < last; ++i)
+            text += pieces[i];
+        return text;
+    };
+    const std::string line = joined(0, pieces.size());
     if (line.size() <= 400) return line;
-    return line.substr(0, 300) + " ... " + line.substr(line.size() - 80);
+    std::size_t head = 0, head_size = 0;
+    while (head < pieces.size() && head_size + pieces[head].size() <= 300)
+        head_size += pieces[head++].size();
+    std::size_t tail = pieces.size(), tail_size = 0;
+    while (tail > head && tail_size + pieces[tail - 1].size() <= 80)
+        tail_size += pieces[--tail].size();
+    return joined(0, head) + " ... " + joined(tail, pieces.size());
 }
 
 /// Every number option of app and its subcommands must be written in plain decimal. CLI11 reads

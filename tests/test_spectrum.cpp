@@ -267,3 +267,24 @@ TEST_CASE("the broadband share's error refuses what the share refuses") {
                          std::invalid_argument);
     CHECK(std::isnan(broadband_share_error(x, o, 1.0))); // a constant: no power
 }
+
+TEST_CASE("a pure sine recorded over whole periods and one more sample has no broadband power") {
+    // gapchain-spectrum records the end point too: the record's mean then differs from every
+    // segment's by a sample / record length, which the window leaked into bin 1 (1e-9 at 16
+    // samples a period, on an offset sine as on a gap's).
+    for (const int per_period : {16, 64}) {
+        for (const double offset : {0.0, 5.0}) {
+            CAPTURE(per_period);
+            CAPTURE(offset);
+            PsdOptions o;
+            o.sample_rate = per_period;
+            o.segment_length = 120 * per_period;
+            std::vector<double> x(static_cast<std::size_t>(1000 * per_period) + 1);
+            for (std::size_t i = 0; i < x.size(); ++i)
+                x[i] = offset + 0.3 * std::sin(2 * pi * static_cast<double>(i) / per_period + 0.4);
+            const SpectralContent c = spectral_content(welch_psd(x, o), 1.0);
+            CHECK(c.broadband_share < 1e-20);
+            CHECK(broadband_share_error(x, o, 1.0) < 1e-20);
+        }
+    }
+}

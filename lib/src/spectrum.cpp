@@ -78,9 +78,7 @@ public:
     WelchSegments(const std::vector<double>& signal, const PsdOptions& o)
         : m_signal(signal), m_n(validated_length(signal, o)), m_w(o.segment_length, 1.0),
           m_hop(std::max(1, static_cast<int>(std::lround(m_n * (1.0 - o.overlap))))),
-          m_plan(PlanCache::instance().plan(m_n)), m_buffers(m_n) {
-        m_mean = o.remove_mean ? std::accumulate(signal.begin(), signal.end(), 0.0) / signal.size()
-                               : 0.0;
+          m_plan(PlanCache::instance().plan(m_n)), m_buffers(m_n), m_remove_mean(o.remove_mean) {
         if (o.window == Window::hann)
             for (int i = 0; i < m_n; ++i)
                 m_w[i] = 0.5 - 0.5 * std::cos(2.0 * std::numbers::pi * i / m_n);
@@ -100,8 +98,15 @@ public:
         std::vector<double> density(m_scale.size());
         int count = 0;
         for (std::size_t start = 0; start + m_n <= m_signal.size(); start += m_hop, ++count) {
+            // Each segment's own mean (Welch's constant detrend): the record's mean left an
+            // offset in segments of whole periods when the record was not whole periods (the
+            // sampled end point), and the window leaked it into bin 1 as broadband power (a pure
+            // sine read 1e-9, growing as 1 / samples^2 of the record).
+            const auto first = m_signal.begin() + static_cast<std::ptrdiff_t>(start);
+            const double mean =
+                m_remove_mean ? std::accumulate(first, first + m_n, 0.0) / m_n : 0.0;
             for (int i = 0; i < m_n; ++i)
-                m_buffers.in[i] = (m_signal[start + i] - m_mean) * m_w[i];
+                m_buffers.in[i] = (m_signal[start + i] - mean) * m_w[i];
             fftw_execute_dft_r2c(m_plan, m_buffers.in, m_buffers.out);
             for (std::size_t k = 0; k < density.size(); ++k)
                 density[k] = m_scale[k] * (m_buffers.out[k][0] * m_buffers.out[k][0] +
@@ -149,7 +154,7 @@ private:
     int m_hop;
     fftw_plan m_plan;
     FftwBuffers m_buffers;
-    double m_mean = 0.0;
+    bool m_remove_mean;
     std::vector<double> m_scale;
 };
 

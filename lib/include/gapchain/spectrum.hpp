@@ -22,11 +22,12 @@ struct PsdOptions {
     int segment_length = 4096; ///< samples per segment, 8 .. 2^25 (any size; powers of 2 fastest)
     double overlap = 0.5;      ///< fraction of a segment shared with the next, [0, 0.95]
     Window window = Window::hann; ///< taper applied to each segment
-    bool remove_mean = true;      ///< subtract the signal's mean first
+    /// subtract each segment's mean before the window (Welch's constant detrend)
+    bool remove_mean = true;
 };
 
-/// One-sided PSD: sum(density) * df equals the mean square of the (mean-removed) signal for a
-/// rectangular window and one segment (Parseval), and estimates it otherwise.
+/// One-sided PSD: sum(density) * df equals the mean square of the (mean-removed) segment for a
+/// rectangular window and one segment (Parseval), and estimates the signal's otherwise.
 struct Psd {
     std::vector<double> frequency; ///< [cycles per unit reduced time], 0 .. sample_rate / 2
     std::vector<double> density;   ///< [signal^2 per unit frequency]

@@ -381,6 +381,19 @@ TEST_CASE("a scalar an array replaces is refused, not shown as if it ran") {
               .clearance[0] != 0.2);
 }
 
+TEST_CASE("the steady-state settings are refused where no steady-state stop reads them") {
+    for (const std::string key : {"steady_tolerance=1e-8", "max_steady_period=4"}) {
+        CAPTURE(key);
+        const std::string name = "run." + key.substr(0, key.find('='));
+        CHECK(error_of(R"({"run": {"steady_state": false}})", {"run." + key})
+                  .find(name + ": is read only with run.steady_state true") != std::string::npos);
+        CHECK(error_of("{}", {"run.steady_state=false", "run." + key})
+                  .find(name + ": is read only") != std::string::npos);
+        CHECK(parse_scene("{}", {"run." + key}).run.stop_at_steady_state);
+    }
+    CHECK_FALSE(parse_scene(R"({"run": {"steady_state": false}})").run.stop_at_steady_state);
+}
+
 TEST_CASE("bad arrays fail with a message naming the key") {
     CHECK(error_of(R"({"model": {"Nm": 3, "clearance": [0.1, 0.1]}})")
               .find("model.clearance: must have 4 entries") != std::string::npos);

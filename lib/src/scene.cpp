@@ -463,6 +463,13 @@ void read_run(SectionReader run, const std::string& type, Scene& scene) {
     o.stop_at_steady_state = run.boolean("steady_state", o.stop_at_steady_state);
     o.steady_tolerance = run.number("steady_tolerance", o.steady_tolerance, 1e-15, 1e-2);
     o.max_steady_period = run.integer("max_steady_period", o.max_steady_period, 1, 1000);
+    // Only the steady-state stop reads them (an attractor search refuses steady_state false):
+    // accepted, they read as settings that took effect.
+    for (const char* key : {"steady_tolerance", "max_steady_period"})
+        if (!o.stop_at_steady_state && run.has(key))
+            throw SceneError(std::string("run.") + key +
+                             ": is read only with run.steady_state true; remove it, or set "
+                             "run.steady_state true, got run.steady_state false");
     o.estimate_error = run.boolean("estimate_error", o.estimate_error);
     o.max_work = run.number("max_work", o.max_work, 1.0, 1e15);
     o.multistability_check = run.boolean("multistability_check", o.multistability_check);

@@ -25,6 +25,15 @@ struct Lorenz final : TangentSystem {
             j[i] = m[i];
     }
 };
+/// y' = -(1 + a e^(-t / tau) + b sin(2 pi t)) y: the exponent is -1, and a finite window
+/// starting at 0 averages the decaying term in, a bias of a tau (1 - e^(-T / tau)) / T.
+struct DecayingRate final : TangentSystem {
+    double a = 0.0, tau = 1.0, b = 0.0;
+    int dimension() const override { return 1; }
+    double rate(double t) const { return -(1 + a * std::exp(-t / tau) + b * std::sin(2 * pi * t)); }
+    void rhs(double t, const double* y, double* f) const override { f[0] = rate(t) * y[0]; }
+    void jacobian(double t, const double*, double* j) const override { j[0] = rate(t); }
+};
 const ReducedParameters fig13_chaotic{5, 60, 0.5, 0.06, 3.3};
 } // namespace
 
@@ -201,4 +210,27 @@ TEST_CASE("a tangent run on rk4 through contacts exact does not take keeps to 1e
     MESSAGE("lambda_1 " << r.exponents[0] << " +- " << r.errors[0] << ", Floquet " << floquet);
     CHECK(r.exponents[0] < 0.0);
     CHECK(std::abs(r.exponents[0] - floquet) < 3.0 * r.errors[0] + 0.1);
+}
+
+TEST_CASE("a window whose rates drift gets the drift as its error, and says so") {
+    LyapunovOptions o;
+    o.step = 0.01;
+    o.duration = 100;
+    DecayingRate slow;
+    slow.a = 0.5;
+    slow.tau = 30;
+    const LyapunovResult r = lyapunov_spectrum(slow, {1}, o);
+    const double bias = slow.a * slow.tau * (1 - std::exp(-o.duration / slow.tau)) / o.duration;
+    CHECK(r.exponents[0] == doctest::Approx(-1 - bias).epsilon(1e-6));
+    CHECK(r.drifting);
+    // The standard error over the blocks alone, 0.042, missed the bias of 0.145.
+    CHECK(std::abs(r.exponents[0] + 1) <= r.errors[0]);
+    CHECK(r.errors[0] <= 3 * bias);
+    // Whole periods of a modulation a block, and no decay: equal blocks, no drift.
+    DecayingRate steady;
+    steady.b = 0.5;
+    const LyapunovResult s = lyapunov_spectrum(steady, {1}, o);
+    CHECK_FALSE(s.drifting);
+    CHECK(s.exponents[0] == doctest::Approx(-1).epsilon(1e-9));
+    CHECK(s.errors[0] < 1e-9);
 }

@@ -29,6 +29,10 @@ void print_exponents(const Scene& scene, const LyapunovResult& r, int k) {
     if (unestimated)
         std::printf("  fewer than 20 periods averaged: no error estimate, and finite-time "
                     "exponents need not come out in order (raise run.periods)\n");
+    if (r.drifting)
+        std::printf("  the block rates drift (the run has not reached its attractor, or nears it "
+                    "slowly): the errors are the drift over the window; raise "
+                    "run.transient_periods\n");
     std::printf("  sum = %.10f", r.sum);
     if (!std::isnan(r.expected_sum))
         std::printf(scene.uniform() ? "  (exact: -4 pi eps Nm = %.10f)"

@@ -119,8 +119,9 @@ averaged after run.transient_periods: gapchain-lyapunov in-process.
 count  exponents wanted, 0 .. 2 Nm (0: all 2 Nm)
 
 Returns a dict: exponents (largest first up to their errors: Benettin's order, equal ones in
-either order; per unit reduced time), errors (standard errors),
-sum, expected_sum (what the sum of all 2 Nm must be: the trace, -sum of the damping rates,
+either order; per unit reduced time), errors (standard errors over 10 time blocks, or the
+block rates' drift over the window where drifting), drifting (True: the rates trend, the run had
+not reached its attractor; raise run.transient_periods), sum, expected_sum (what the sum of all 2 Nm must be: the trace, -sum of the damping rates,
 -4 pi eps Nm on the paper's row; NaN when count < 2 Nm), averaging_time, history (dict: t, and
 exponents (n x count) running estimates), status, message, wall_time_s.)";
 
@@ -368,6 +369,7 @@ py::dict lyapunov_py(const py::object& scene_arg, int count, const py::object& p
     py::dict d;
     d["exponents"] = array(r.exponents);
     d["errors"] = array(r.errors);
+    d["drifting"] = r.drifting;
     d["sum"] = r.sum;
     d["expected_sum"] = r.expected_sum;
     d["averaging_time"] = r.averaging_time;

@@ -487,7 +487,9 @@ std::string to_json(const LyapunovResult& r, const Scene& scene) {
     j["exponents"] = r.exponents;
     j["error"] = r.errors;
     // One standard error, not a bound: say so where the number is read.
-    j["error_kind"] = "standard error over 10 time blocks";
+    j["error_kind"] = r.drifting ? "the block rates' drift over the window (drifting)"
+                                 : "standard error over 10 time blocks";
+    j["drifting"] = r.drifting;
     j["sum"] = r.sum;
     if (!std::isnan(r.expected_sum)) j["expected_sum"] = r.expected_sum;
     j["averaging_time"] = r.averaging_time;

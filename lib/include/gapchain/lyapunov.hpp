@@ -28,9 +28,15 @@ struct LyapunovResult {
     /// direction, largest first up to its error (exponents equal within their errors, as on a
     /// contact-free row, can come out in either order).
     std::vector<double> exponents;
-    /// Standard error of each, from 10 time blocks of the averaging window; infinite where
-    /// fewer than 20 periods are averaged (too few samples for the blocks).
+    /// Standard error of each, from 10 time blocks of the averaging window, or where the block
+    /// rates drift (drifting) the drift over the window, if larger; infinite where fewer than 20
+    /// periods are averaged (too few samples for the blocks).
     std::vector<double> errors;
+    /// The block rates of some exponent trend (a least-squares slope beyond 3 of its standard
+    /// errors, whose change over the window exceeds the standard error): the run had not
+    /// reached its attractor, or approaches it slowly (a multiplier near the unit circle); its
+    /// error is that change. A longer run.transient_periods removes it.
+    bool drifting = false;
     double sum = 0.0; ///< sum of the exponents
     /// What the sum of all 2 Nm exponents must be: the Jacobian's trace, -sum of the bodies'
     /// damping rates (-4 pi eps Nm on the paper's row; contacts add no damping). NaN when fewer

@@ -71,5 +71,20 @@ if "$sweep" "$study" --out "$dir/edited.csv" >/dev/null 2>"$dir/edited.err" ||
     echo "FAIL: a damaged row was not refused"; fail=1
 fi
 
+# A fresh start writes its own sidecar: one left without its CSV (or another file of that name)
+# was kept, and then described another study.
+echo '{"mine": 1}' > "$dir/orphan.csv.json"
+"$sweep" "$study" --out "$dir/orphan.csv" >/dev/null 2>&1
+if ! cmp -s <(grep -v '"study"' "$dir/full.csv.json") <(grep -v '"study"' "$dir/orphan.csv.json"); then
+    echo "FAIL: a sidecar without its CSV was kept"; fail=1
+fi
+# ... and puts back what was there if it cannot start.
+echo '{"mine": 1}' > "$dir/blocked.csv.json"
+mkdir "$dir/blocked.csv"
+"$sweep" "$study" --out "$dir/blocked.csv" >/dev/null 2>&1
+if [ "$(cat "$dir/blocked.csv.json")" != '{"mine": 1}' ]; then
+    echo "FAIL: a refused fresh start did not put the old sidecar back"; fail=1
+fi
+
 [ "$fail" -eq 0 ] && echo "sweep resume, threads, shards and torn-row checks passed"
 exit $fail

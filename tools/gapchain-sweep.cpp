@@ -8,7 +8,10 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <memory>
+#include <optional>
 #include <regex>
 
 #ifdef GAPCHAIN_WITH_MPI
@@ -212,17 +215,28 @@ std::unique_ptr<gapchain::ResultLog>
 open_results(const SweepArguments& a, const gapchain::Study& study, gapchain::SweepSelection& sel) {
     using namespace gapchain;
     check_resume(a.out, study);
-    // The sidecar first: a results file is never left without the study that started it.
+    // The sidecar first: a results file is never left without the study that started it. A
+    // fresh start (no results, or an empty file) writes it whatever is there: a sidecar left
+    // without its CSV, or another file of that name, was kept and then described another study.
     const std::string sidecar = a.out + ".json";
-    const bool new_sidecar = !std::filesystem::exists(sidecar);
-    if (new_sidecar) write_file_atomically(sidecar, study_json(study));
+    std::error_code ec;
+    const bool fresh =
+        !std::filesystem::exists(a.out, ec) || std::filesystem::file_size(a.out, ec) == 0;
+    std::optional<std::string> replaced;
+    if (fresh) {
+        if (std::ifstream old{sidecar, std::ios::binary})
+            replaced.emplace(std::istreambuf_iterator<char>(old), std::istreambuf_iterator<char>());
+        write_file_atomically(sidecar, study_json(study));
+    }
     try {
         auto log = std::make_unique<ResultLog>(a.out, sweep_csv_header(study), point_count(study));
         sel.done = log->done();
         return log;
     } catch (...) {
-        std::error_code ec;
-        if (new_sidecar) std::filesystem::remove(sidecar, ec);
+        if (fresh && replaced)
+            write_file_atomically(sidecar, *replaced);
+        else if (fresh)
+            std::filesystem::remove(sidecar, ec);
         throw;
     }
 }

@@ -403,7 +403,7 @@ expect 26 0 "no power at any frequency" "$bin/gapchain-spectrum" s26.json --set 
 # sends nonlinear laws to gapchain-accuracy.
 expect 26 2 "^gapchain-orbit: model.contact_law: gapchain-orbit needs the linear contact law" "$bin/gapchain-orbit" s26.json --set model.contact_law=hertz --out o26.json
 expect 26 2 "^gapchain-accuracy: model.contact_law: gapchain-accuracy needs the linear contact law" "$bin/gapchain-accuracy" s26.json --set model.contact_law=hertz --out a26
-expect 26 2 "nonlinear laws work in gapchain-sim, -poincare, -spectrum and -modes$" "$bin/gapchain-bifurcation" s26.json --set model.contact_law=hertz --steps 2 --out b26
+expect 26 2 "nonlinear laws work in gapchain-sim, -sweep, -poincare and -spectrum$" "$bin/gapchain-bifurcation" s26.json --set model.contact_law=hertz --steps 2 --out b26
 absent 26 o26.json a26 b26
 # Input that would be ignored is refused: a scene or --set beside the paper's tables and eq
 # (26)'s grid, a section option of the other kind of section.

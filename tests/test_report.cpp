@@ -180,3 +180,17 @@ TEST_CASE("a physical scene's attractors and orbit are also given in newtons") {
     CHECK_FALSE(nlohmann::json::parse(to_json(set, AttractorOptions{}, reduced))
                     .contains("F_m_max_newton"));
 }
+
+TEST_CASE("attractors.json says how many section points a run that does not settle kept") {
+    // One a recorded period: --section-points 100000 over 50 recorded periods keeps 50.
+    const Scene scene =
+        parse_scene(R"({"model": {"Nm": 2}, "run": {"periods": 100, "transient_periods": 50}})");
+    AttractorOptions o;
+    o.run = scene.run;
+    o.section_points = 100000;
+    const auto j = nlohmann::json::parse(to_json(AttractorSet{}, o, scene));
+    CHECK(j.at("section_points") == 100000);
+    CHECK(j.at("section_points_kept") == 50);
+    o.section_points = 20;
+    CHECK(nlohmann::json::parse(to_json(AttractorSet{}, o, scene)).at("section_points_kept") == 20);
+}

@@ -1014,3 +1014,26 @@ TEST_CASE("Hertz contact: the default run's F_m_error covers its error (order 1.
     CHECK(std::abs(r.F_m - 0.46273701) <= r.F_m_error);
     CHECK(r.F_m_error <= 20 * std::abs(r.F_m - 0.46273701));
 }
+
+TEST_CASE("the error estimate's comparison run is counted in run.max_work before the main run") {
+    // Nm 2 at f_r 3 settles in 31 periods on 58 rk4 steps a period; 2e8 periods fit the limit,
+    // their comparison at twice the steps does not, and was refused only after the main run.
+    ReducedParameters p{2, 60, 0.5, 0.06, 3.0};
+    const Dynamics dyn = Dynamics::paper_row(p);
+    RunOptions o;
+    o.periods = 200'000'000;
+    o.transient_periods = 30;
+    CHECK_NOTHROW(require_affordable(dyn, o));
+    bool ran = false;
+    SimulationHooks hooks;
+    hooks.progress = [&ran](double) {
+        ran = true;
+        return true;
+    };
+    CHECK_THROWS_WITH_AS(simulate(dyn, o, {}, hooks),
+                         doctest::Contains("run.max_work: the error estimate's comparison run"),
+                         std::invalid_argument);
+    CHECK_FALSE(ran);
+    o.estimate_error = false;
+    CHECK_NOTHROW(require_simulation_affordable(dyn, o));
+}

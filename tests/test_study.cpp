@@ -1,3 +1,4 @@
+#include "gapchain/report.hpp"
 #include "gapchain/run.hpp"
 #include "gapchain/scene.hpp"
 #include "gapchain/study.hpp"
@@ -5,9 +6,13 @@
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <set>
 #include <stdexcept>
 #include <string>
+#include <unistd.h>
 
 using namespace gapchain;
 
@@ -144,6 +149,61 @@ TEST_CASE("a study point above run.max_work is refused when the study is read") 
     const Scene small = parse_scene(R"({"model": {"Nm": 1, "fc": 100, "eps": 0.1, "e_r": 0.5},
                                         "excitation": {"f_r": 0.01}, "run": {"periods": 1000}})");
     CHECK_NOTHROW(require_affordable(small.dynamics(), small.run));
+}
+
+TEST_CASE("a study point whose error estimate is above run.max_work is refused when read") {
+    // 40 periods of 60 steps fit 5000 body-steps for Nm 2; the comparison's 120 do not. The
+    // sweep wrote its CSV and sidecar, then stopped at the first point.
+    const std::string study = R"({"scene": {"model": {"Nm": 2, "eps": 0.5, "fc": 60},
+        "run": {"periods": 40, "transient_periods": 20, "max_work": 5000 @MORE@}},
+        "parameters": {"e_r": [0.05, 0.1], "f_r": [2.9, 3.0]}})";
+    std::string refused = study;
+    refused.replace(refused.find("@MORE@"), 6, "");
+    CHECK_THROWS_WITH_AS(parse_study(refused),
+                         doctest::Contains("the error estimate's comparison run"), SceneError);
+    std::string allowed = study;
+    allowed.replace(allowed.find("@MORE@"), 6, R"(, "estimate_error": false)");
+    CHECK_NOTHROW((void)parse_study(allowed));
+}
+
+TEST_CASE("a study's record file is read next to the study, wherever the sweep runs from") {
+    // The CSV header parsed the study's scene as if from the working folder: a study in
+    // another folder was refused ("rec.csv: cannot read"), or read a stray rec.csv there.
+    const auto dir = std::filesystem::temp_directory_path() /
+                     ("gapchain-study-record-" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    {
+        std::ofstream record(dir / "rec.csv");
+        record << "t,a\n";
+        for (int i = 0; i <= 400; ++i)
+            record << i * 0.005 << ',' << std::sin(2 * 3.141592653589793 * 5 * i * 0.005) << '\n';
+    }
+    std::ofstream(dir / "study.json")
+        << R"({"scene": {"units": "physical", "model": {"Nm": 2, "M": 1, "K": 1000, "C": 1,
+                          "Kc": 100000, "e": 0.001},
+                "excitation": {"type": "record", "file": "rec.csv", "unit": "m/s2", "a0": 1}},
+               "parameters": {"model.e": [0.001, 0.002]}})";
+    REQUIRE_FALSE(std::filesystem::exists("rec.csv"));
+    const Study study = load_study((dir / "study.json").string());
+    CHECK(sweep_csv_header(study).find("F_m_newton") != std::string::npos);
+    std::filesystem::remove_all(dir);
+}
+
+TEST_CASE("an axis over a key of text or true/false is refused by name") {
+    for (const std::string key :
+         {"scheme", "run.scheme", "steady_state", "estimate_error", "multistability_check",
+          "accuracy_mode", "model.contact_law", "excitation.type"}) {
+        CAPTURE(key);
+        for (const std::string values : {R"(["a", "b"])", "[1, 2]"}) {
+            std::string message;
+            try {
+                (void)parse_study(R"({"parameters": {")" + key + R"(": )" + values + "}}");
+            } catch (const SceneError& e) {
+                message = e.what();
+            }
+            CHECK(message.find("parameters." + key + ": cannot be swept") != std::string::npos);
+        }
+    }
 }
 
 TEST_CASE("the paper-scale study has 430,080 points") {

@@ -41,12 +41,12 @@ check newline 'no\\nsuch.json: cannot read' "$dir/no"$'\n'"such.json"
 # letters, offset by 0, 1 and 2 bytes, put one of the cuts inside a letter if any can.
 euro=$(printf '\xe2\x82\xac%.0s' $(seq 100))
 for pad in "" x xx; do
-    check "long$pad" "cannot read" "$dir/$pad$euro/$euro/$euro"
+    check "long$pad" "cannot read" "$dir/$pad$euro/$euro/$euro/$euro/$euro"
     if ! iconv -f UTF-8 -t UTF-8 "$dir/stderr" > /dev/null 2>&1; then
         echo "FAIL long$pad: the shortened message is not valid UTF-8"; fail=1
     fi
 done
-controls=$(printf '\x01%.0s' $(seq 150))
+controls=$(printf '\x01%.0s' $(seq 250))
 for pad in "" x xx x3; do
     check "escapes$pad" "cannot read" "$dir/$pad$controls"
     if sed 's/\\x01//g' "$dir/stderr" | grep -q '\\'; then

@@ -582,24 +582,9 @@ nlohmann::ordered_json search_run_json(const RunOptions& run) {
         {"max_work", run.max_work}};
 }
 
-/// The attractors of one search, with its options and row: attractors.json, and each value of
-/// fractions.json.
-nlohmann::ordered_json attractor_set_json(const AttractorSet& set, const AttractorOptions& o,
-                                          const ReducedParameters& p,
-                                          const std::optional<PhysicalParameters>& physical) {
-    nlohmann::ordered_json j;
-    j["F_m_max"] = set.F_m_max;
-    j["F_m_max_error"] = set.F_m_max_error;
-    if (physical) {
-        j["F_m_max_newton"] = force_in_newtons(set.F_m_max, *physical);
-        j["F_m_max_error_newton"] = force_in_newtons(set.F_m_max_error, *physical);
-    }
-    j["F_m_max_attractor"] = set.F_m_max_id;
-    j["unsettled"] = set.unsettled;
-    // An unsettled group is a transient's, not an attractor: the count is of settled ones, as
-    // the tools' headline says; "attractors" lists every group.
-    j["attractor_count"] = set.attractor_count();
-    j["group_count"] = set.attractors.size();
+/// Each group of a search, as attractors.json lists them.
+nlohmann::ordered_json attractor_list_json(const AttractorSet& set,
+                                           const std::optional<PhysicalParameters>& physical) {
     auto list = nlohmann::ordered_json::array();
     for (const auto& a : set.attractors)
         list.push_back({{"id", a.id},
@@ -625,7 +610,28 @@ nlohmann::ordered_json attractor_set_json(const AttractorSet& set, const Attract
     if (physical)
         for (auto& a : list)
             a["F_m_newton"] = force_in_newtons(a["F_m"].get<double>(), *physical);
-    j["attractors"] = list;
+    return list;
+}
+
+/// The attractors of one search, with its options and row: attractors.json, and each value of
+/// fractions.json.
+nlohmann::ordered_json attractor_set_json(const AttractorSet& set, const AttractorOptions& o,
+                                          const ReducedParameters& p,
+                                          const std::optional<PhysicalParameters>& physical) {
+    nlohmann::ordered_json j;
+    j["F_m_max"] = set.F_m_max;
+    j["F_m_max_error"] = set.F_m_max_error;
+    if (physical) {
+        j["F_m_max_newton"] = force_in_newtons(set.F_m_max, *physical);
+        j["F_m_max_error_newton"] = force_in_newtons(set.F_m_max_error, *physical);
+    }
+    j["F_m_max_attractor"] = set.F_m_max_id;
+    j["unsettled"] = set.unsettled;
+    // An unsettled group is a transient's, not an attractor: the count is of settled ones, as
+    // the tools' headline says; "attractors" lists every group.
+    j["attractor_count"] = set.attractor_count();
+    j["group_count"] = set.attractors.size();
+    j["attractors"] = attractor_list_json(set, physical);
     j["transients"] = transients_json(set.transients);
     j["samples"] = o.samples;
     j["failed"] = set.failed;
@@ -636,6 +642,11 @@ nlohmann::ordered_json attractor_set_json(const AttractorSet& set, const Attract
     j["center"] = box_center(o, p.Nm);
     j["amplitude"] = set.amplitude;
     j["section_points"] = o.section_points;
+    // What a run that does not settle kept: one point a recorded period, so at most the
+    // recorded periods (--section-points 100000 over 50 was written as 100000).
+    const RunOptions resolved = with_transient_resolved(Dynamics::paper_row(p), o.run);
+    j["section_points_kept"] =
+        std::min<long>(o.section_points, resolved.periods - resolved.transient_periods);
     j["run"] = search_run_json(o.run);
     j["parameters"] = parameters_json(p);
     j["threads"] = set.threads_used;
@@ -917,11 +928,14 @@ std::string sweep_csv_header(const Study& study) {
     for (const auto& a : study.axes)
         h += ",axis:" + a.key;
     h += ",Nm,fc,eps,e_r,f_r,F_m,F_m_error,status,multistable";
-    if (parse_scene(study.scene_json).physical) h += ",F_m_newton,F_m_error_newton";
+    // Read as the study reads its scene: a record file lies next to the study, not in the
+    // working folder (which was searched, and refused a study run from elsewhere).
+    const bool physical =
+        parse_scene(study.scene_json, {}, study.source + " scene").physical.has_value();
+    if (physical) h += ",F_m_newton,F_m_error_newton";
     if (study.attractor_starts > 0) h += ",F_m_max,F_m_max_error,attractors,unsettled";
     // Only as the last of those: a reduced study's columns stay where they were.
-    if (study.attractor_starts > 0 && parse_scene(study.scene_json).physical)
-        h += ",F_m_max_newton,F_m_max_error_newton";
+    if (study.attractor_starts > 0 && physical) h += ",F_m_max_newton,F_m_max_error_newton";
     if (study.keep.steady_state) h += ",steady_state_period";
     if (study.keep.wall_time) h += ",wall_time_s";
     if (study.keep.orbit) h += ",F_m_orbit,maximum_in_transient";

@@ -605,14 +605,17 @@ const RunOptions& validated(const RunOptions& options) {
     return options;
 }
 
-/// Refuses a run whose work (body-steps) exceeds options.max_work, with the estimate.
-const StepPlan& affordable(const Dynamics& dyn, const RunOptions& options, const StepPlan& plan) {
+/// Refuses a run whose work (body-steps) exceeds options.max_work, with the estimate; `what`
+/// says which run it is ("this run takes up to"), `remedy` leads the list of ways out.
+const StepPlan& affordable(const Dynamics& dyn, const RunOptions& options, const StepPlan& plan,
+                           const std::string& what = "this run takes up to",
+                           const std::string& remedy = "") {
     const double work = run_work(dyn, plan, static_cast<double>(options.periods));
     detail::require_work(
-        work, options.max_work, "this run takes up to",
+        work, options.max_work, what,
         "Nm " + std::to_string(dyn.bodies()) + " x " + std::to_string(plan.steps_per_period) +
             " steps per forcing period" +
-            // Short: the tools cut a message past 400 characters (the periods and the limit
+            // Short: the tools cut a message past 1000 characters (the periods and the limit
             // were cut from exact's).
             (plan.scheme == Scheme::exact
                  ? std::string(" (exact: (2 Nm)^2 a step, a switch, (2 Nm)^3 / 2 a new contact "
@@ -623,8 +626,8 @@ const StepPlan& affordable(const Dynamics& dyn, const RunOptions& options, const
                  : std::string()) +
             " x " + std::to_string(options.periods) + " periods",
         // A tool whose runs take their periods from a flag names it in place of the key.
-        "fewer periods (run.periods), a higher forcing frequency (excitation.f_r), or a larger "
-        "run.max_work");
+        remedy + "fewer periods (run.periods), a higher forcing frequency (excitation.f_r), or a "
+                 "larger run.max_work");
     return plan;
 }
 
@@ -632,6 +635,11 @@ const StepPlan& affordable(const Dynamics& dyn, const RunOptions& options, const
 
 void require_affordable(const Dynamics& dyn, const RunOptions& options) {
     (void)affordable(dyn, options, plan_run(dyn, validated(options)));
+}
+
+void require_affordable(const Dynamics& dyn, const RunOptions& options, const StepPlan& plan,
+                        const std::string& what, const std::string& remedy) {
+    (void)affordable(dyn, validated(options), plan, what, remedy);
 }
 
 PlannedRun::PlannedRun(const Dynamics& dyn, const RunOptions& options,

@@ -858,8 +858,8 @@ void require_paper_row(const Scene& scene, const std::string& user) {
                          ": " + user +
                          " takes the paper's uniform row with the linear law (Nm, "
                          "fc, eps, e_r, f_r); " +
-                         (law ? "nonlinear laws work in gapchain-sim, -poincare, -spectrum and "
-                                "-modes"
+                         (law ? "nonlinear laws work in gapchain-sim, -sweep, -poincare and "
+                                "-spectrum"
                               : "non-uniform rows work in gapchain-sim, -poincare, -spectrum, "
                                 "-modes, -orbit and -accuracy"));
     }
@@ -935,7 +935,7 @@ void require_linear_harmonic(const Scene& scene, const std::string& user, const 
     if (scene.row && scene.row->law != ContactLaw::linear)
         throw SceneError("model.contact_law: " + user + " needs the linear contact law (" + why +
                          "), got " + to_string(scene.row->law) +
-                         "; nonlinear laws work in gapchain-sim, -poincare, -spectrum and -modes");
+                         "; nonlinear laws work in gapchain-sim, -sweep, -poincare and -spectrum");
 }
 
 } // namespace gapchain

@@ -508,10 +508,21 @@ void require_trajectory_fits(const Dynamics& dyn, const RunOptions& requested, i
         ", at most 1000000) or record fewer periods (run.periods, run.transient_periods)");
 }
 
+void require_simulation_affordable(const Dynamics& dyn, const RunOptions& options) {
+    require_affordable(dyn, options);
+    if (!options.estimate_error) return;
+    // On a settled row the comparison takes twice the steps; a chaotic one whose window
+    // estimates its own error runs none, but it cannot be told apart before it runs.
+    require_affordable(dyn, options, comparison_plan(dyn, plan_run(dyn, options), true),
+                       "the error estimate's comparison run (run.estimate_error) takes up to",
+                       "run.estimate_error false, ");
+}
+
 SimulationResult simulate(const Dynamics& dyn, const RunOptions& requested,
                           const std::vector<double>& initial, const SimulationHooks& hooks) {
     const auto start = std::chrono::steady_clock::now();
     validate(requested);
+    require_simulation_affordable(dyn, requested);
     if (hooks.trajectory) require_trajectory_fits(dyn, requested, hooks.trajectory_every);
     const RunOptions options = with_transient_resolved(dyn, requested);
     std::optional<PlannedRun> planned;

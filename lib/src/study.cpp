@@ -6,10 +6,12 @@
 #include "gapchain/attractors.hpp"
 #include "gapchain/grid.hpp"
 #include "gapchain/run.hpp"
+#include "gapchain/simulation.hpp"
 
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -215,6 +217,21 @@ void check_axes_change_something(const Study& s, const json& root) {
     }
 }
 
+/// Refuses an axis over a key whose values are text or true/false (run.scheme,
+/// run.steady_state, ...): an axis holds numbers, so its values were refused one by one ("must
+/// be finite numbers", then "run.scheme: must be a string"), after the key had been offered.
+void require_numeric_key(const std::string& axis_key) {
+    static const std::array<const char*, 9> not_numbers{
+        "run.scheme",        "run.steady_state",         "run.estimate_error",
+        "run.accuracy_mode", "run.multistability_check", "model.contact_law",
+        "excitation.type",   "excitation.file",          "excitation.unit"};
+    const std::string key = full_key(axis_key);
+    if (std::find(not_numbers.begin(), not_numbers.end(), key) != not_numbers.end())
+        throw SceneError("parameters." + axis_key + ": cannot be swept (an axis holds numbers, " +
+                         "and " + key + " takes text or true/false); run one study for each " +
+                         "of its values");
+}
+
 /// An axis over the number a model array replaces (e_r or a physical e under model.clearance,
 /// eps under model.damping) would label one row with many values: a sweep of e_r over a
 /// clearance array wrote four values and ran one row four times.
@@ -275,7 +292,7 @@ void check_points(const Study& s, long max_checked) {
     for (long i = 0; i < point_count(checked); ++i) {
         const Scene scene = scenes.scene(i);
         try {
-            require_affordable(scene.dynamics(), scene.run);
+            require_simulation_affordable(scene.dynamics(), scene.run);
             if (s.attractor_starts > 0) check_attractor_window(scene, s.attractor_starts);
         } catch (const std::invalid_argument& e) {
             std::string where;
@@ -310,6 +327,7 @@ Study parse_study(const std::string& text, const std::string& source) {
             if (full_key(axis.key) == full_key(key))
                 throw SceneError("parameters." + key + ": parameter given twice (also as " +
                                  axis.key + "); keep one");
+        require_numeric_key(key);
         s.axes.push_back({key, axis_values(spec, "parameters." + key)});
     }
     if (root.contains("sample")) read_sampling(root["sample"], s);

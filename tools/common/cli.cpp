@@ -636,12 +636,14 @@ std::string readable(const std::string& message) {
         return text;
     };
     const std::string line = joined(0, pieces.size());
-    if (line.size() <= 400) return line;
+    // Long enough for a work refusal with its study point (a sweep's, 430 characters, lost its
+    // limit and remedy at 400).
+    if (line.size() <= 1000) return line;
     std::size_t head = 0, head_size = 0;
-    while (head < pieces.size() && head_size + pieces[head].size() <= 300)
+    while (head < pieces.size() && head_size + pieces[head].size() <= 700)
         head_size += pieces[head++].size();
     std::size_t tail = pieces.size(), tail_size = 0;
-    while (tail > head && tail_size + pieces[tail - 1].size() <= 80)
+    while (tail > head && tail_size + pieces[tail - 1].size() <= 200)
         tail_size += pieces[--tail].size();
     return joined(0, head) + " ... " + joined(tail, pieces.size());
 }

@@ -179,6 +179,12 @@ double affordable_periods(const Dynamics& dyn, const StepPlan& plan, double max_
 /// exceeds options.max_work. Also throws on invalid options (validate()).
 void require_affordable(const Dynamics& dyn, const RunOptions& options);
 
+/// As require_affordable(), for a run of options' periods on `plan` (another run's step, as an
+/// error estimate's comparison): the message says `what` ("... takes up to") and puts `remedy`
+/// ("..., " or empty) first among the ways out.
+void require_affordable(const Dynamics& dyn, const RunOptions& options, const StepPlan& plan,
+                        const std::string& what, const std::string& remedy);
+
 /// One run set up from options, the set-up every analysis shares: options validated, the step
 /// planned, the stepper made, the initial state checked. The caller runs it with the observers
 /// it needs. dyn must outlive it.

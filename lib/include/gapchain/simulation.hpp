@@ -247,4 +247,10 @@ SimulationResult simulate(const Dynamics& dyn, const RunOptions& options,
                           const std::vector<double>& initial = {},
                           const SimulationHooks& hooks = {});
 
+/// The work check simulate() makes before it starts (std::invalid_argument naming run.max_work
+/// with the estimate): the main run, and where options.estimate_error asks, its comparison run
+/// at the most it can take (twice the steps, as on a settled row), which would otherwise be
+/// refused only after the main run. A sweep makes it for its points before it writes a file.
+void require_simulation_affordable(const Dynamics& dyn, const RunOptions& options);
+
 } // namespace gapchain

@@ -545,8 +545,24 @@ expect 29 2 "--set excitation.f_r: gapchain-modes does not read it" "$bin/gapcha
 absent 29 m29.json
 verdict 29
 
+# 30 (session 52's probe): a flag that changes nothing, a shard with a leading zero, a sweep
+# axis value given twice, a study axis over a text key, and a sweep whose comparison runs are
+# above run.max_work (it left a header-only CSV and sidecar).
+expect 30 2 "--no-unsplit: only rk4 and central_difference run without switch splitting" "$bin/gapchain-accuracy" s29.json --schemes exact --no-unsplit --periods 5 --repeats 1 --no-plot --out acc30
+absent 30 acc30
+echo '{"scene": {"model": {"Nm": 2}, "run": {"periods": 20}}, "parameters": {"e_r": [0.1, 0.2]}}' >st30.json
+expect 30 2 "--shard: must be i/n" "$bin/gapchain-sweep" st30.json --shard 0/02 --out r30.csv
+echo '{"scene": {"model": {"Nm": 2}, "run": {"periods": 20}}, "parameters": {"e_r": [0.1, 0.1]}}' >twice30.json
+expect 30 2 "parameters.e_r: the value 0.1 is given twice" "$bin/gapchain-sweep" twice30.json --out r30.csv
+echo '{"scene": {"model": {"Nm": 2}, "run": {"periods": 20}}, "parameters": {"scheme": ["rk4", "exact"]}}' >text30.json
+expect 30 2 "parameters.scheme: cannot be swept" "$bin/gapchain-sweep" text30.json --out r30.csv
+echo '{"scene": {"model": {"Nm": 2, "eps": 0.5, "fc": 60}, "excitation": {"f_r": 3.0}, "run": {"periods": 40, "transient_periods": 20, "max_work": 5000}}, "parameters": {"e_r": [0.05, 0.1]}}' >work30.json
+expect 30 2 "run.max_work: the error estimate's comparison run" "$bin/gapchain-sweep" work30.json --out r30.csv
+absent 30 r30.csv r30.csv.json
+verdict 30
+
 if [ "${#failed[@]}" -eq 0 ]; then
-    echo "all 29 classes checked"
+    echo "all 30 classes checked"
     exit 0
 fi
 exit 1

@@ -310,6 +310,16 @@ TEST_CASE("a map's work limit counts the twin each unsettled cell may run") {
     CHECK(regime_map(base, {0.1}, {3.0}, o, 1).cells.size() == 1);
 }
 
+TEST_CASE("a map value given twice is refused") {
+    ClassifyOptions o;
+    CHECK_THROWS_WITH_AS(regime_map({5, 60, 0.5, 0.06, 3.0}, {0.05, 0.05}, {3.0}, o, 1),
+                         doctest::Contains("e_r: the value 0.05 is given twice"),
+                         std::invalid_argument);
+    CHECK_THROWS_WITH_AS(regime_map({5, 60, 0.5, 0.06, 3.0}, {0.05}, {3.0, 2.0, 3.0}, o, 1),
+                         doctest::Contains("f_r: the value 3 is given twice"),
+                         std::invalid_argument);
+}
+
 TEST_CASE("a record whose samples the machine cannot hold is refused before the run") {
     ClassifyOptions o;
     o.record_periods = 500'000'000; // 16 samples of u_1 and a section point each: ~96 GB

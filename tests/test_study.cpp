@@ -189,6 +189,13 @@ TEST_CASE("a study's record file is read next to the study, wherever the sweep r
     std::filesystem::remove_all(dir);
 }
 
+TEST_CASE("a value given twice in an axis is refused, as in a range") {
+    CHECK_THROWS_WITH_AS(parse_study(R"({"parameters": {"e_r": [0.1, 0.2, 0.1]}})"),
+                         doctest::Contains("parameters.e_r: the value 0.1 is given twice"),
+                         SceneError);
+    CHECK(point_count(parse_study(R"({"parameters": {"e_r": [0.1, 0.2]}})")) == 2);
+}
+
 TEST_CASE("an axis over a key of text or true/false is refused by name") {
     for (const std::string key :
          {"scheme", "run.scheme", "steady_state", "estimate_error", "multistability_check",

@@ -65,6 +65,19 @@ std::string study_title(const Scene& scene, long periods) {
     return row_label(scene) + forcing + ", " + std::to_string(periods) + " periods";
 }
 
+/// --schemes and --no-unsplit into o.
+void set_schemes(WorkPrecisionOptions& o, const std::vector<std::string>& schemes,
+                 bool no_unsplit) {
+    o.schemes = distinct_schemes(schemes);
+    // Only rk4 and central_difference have unsplit runs: --no-unsplit without either skipped
+    // nothing.
+    if (no_unsplit && unsplit_schemes(o).empty())
+        throw std::invalid_argument(
+            "--no-unsplit: only rk4 and central_difference run without switch splitting, and "
+            "--schemes holds neither; drop --no-unsplit");
+    o.unsplit_too = !no_unsplit;
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -105,8 +118,7 @@ int main(int argc, char** argv) {
         require_linear_harmonic(
             scene, "gapchain-accuracy",
             "every scheme is measured against the exact propagator, which needs both");
-        o.schemes = distinct_schemes(schemes);
-        o.unsplit_too = !no_unsplit;
+        set_schemes(o, schemes, no_unsplit);
         o.max_work = scene.run.max_work;
         cli::Outputs outputs({scene_args.path});
         outputs.folder(out, "--out",

@@ -144,7 +144,8 @@ void add_arguments(CLI::App& app, SweepArguments& a) {
 
 // "i/n" with 0 <= i < n <= 1e6, nothing else.
 void parse_shard(const std::string& text, gapchain::SweepSelection& sel) {
-    static const std::regex shard(R"(([0-9]{1,7})/([0-9]{1,7}))");
+    // No leading zeros (README): 0/02 was read as 0/2.
+    static const std::regex shard(R"((0|[1-9][0-9]{0,6})/([1-9][0-9]{0,6}))");
     std::smatch m;
     if (std::regex_match(text, m, shard)) {
         sel.shard = std::stoi(m[1].str());

@@ -124,14 +124,11 @@ py::dict result_dict(const std::string& report, const SimulationResult& r, const
     return d;
 }
 
-py::dict simulate_py(const py::object& scene_arg, bool trajectory, long attractors,
-                     std::optional<std::uint64_t> seed, std::optional<double> box,
-                     std::optional<int> threads, const py::object& progress,
-                     const py::kwargs& keys) {
-    // As gapchain-sim refuses --set output.trajectory_every without --trajectory.
-    if (!trajectory)
-        refuse_run_keys(keys, "simulate", {"run."}, "it returns a trajectory with trajectory=True");
-    const Scene scene = to_scene(scene_arg, keys);
+/// The attractor search of simulate(attractors=N), checked before the run; unused where
+/// attractors is 0, and then no seed, box or threads may be given.
+AttractorOptions design_search(const Scene& scene, long attractors,
+                               std::optional<std::uint64_t> seed, std::optional<double> box,
+                               std::optional<int> threads) {
     AttractorOptions search;
     // 0 is no search; the search's own range starts at 1.
     if (attractors < 0 || attractors > 10'000'000)
@@ -144,7 +141,9 @@ py::dict simulate_py(const py::object& scene_arg, bool trajectory, long attracto
         search.box = box.value_or(search.box);
         search.threads = threads.value_or(search.threads);
         search.run = scene.run;
-        validate(paper_row(scene, "simulate(attractors=...)"), search);
+        // Not paper_row(): "simulate(attractors=...)()" read as a call of a call.
+        require_paper_row(scene, "simulate() with attractors=" + std::to_string(attractors));
+        validate(scene.reduced, search);
     } else if (seed || box || threads) {
         // Given at its default value too: a seed without a search is a mistake either way.
         throw std::invalid_argument(std::string(seed  ? "seed"
@@ -153,6 +152,18 @@ py::dict simulate_py(const py::object& scene_arg, bool trajectory, long attracto
                                     ": applies to the attractor search only; give attractors, "
                                     "1 .. 1e7");
     }
+    return search;
+}
+
+py::dict simulate_py(const py::object& scene_arg, bool trajectory, long attractors,
+                     std::optional<std::uint64_t> seed, std::optional<double> box,
+                     std::optional<int> threads, const py::object& progress,
+                     const py::kwargs& keys) {
+    // As gapchain-sim refuses --set output.trajectory_every without --trajectory.
+    if (!trajectory)
+        refuse_run_keys(keys, "simulate", {"run."}, "it returns a trajectory with trajectory=True");
+    const Scene scene = to_scene(scene_arg, keys);
+    const AttractorOptions search = design_search(scene, attractors, seed, box, threads);
     const Dynamics dyn = scene.dynamics();
     Call call(progress);
     std::vector<double> t, states;

@@ -80,17 +80,6 @@ void validate(const WorkPrecisionOptions& o) {
     detail::require_range("run.max_work", o.max_work, 1.0, 1e15);
 }
 
-/// The schemes the study also runs without switch splitting: central_difference and rk4, where
-/// they were asked for.
-std::vector<Scheme> unsplit_schemes(const WorkPrecisionOptions& o) {
-    std::vector<Scheme> unsplit;
-    if (!o.unsplit_too) return unsplit;
-    for (Scheme s : {Scheme::central_difference, Scheme::rk4})
-        if (std::find(o.schemes.begin(), o.schemes.end(), s) != o.schemes.end())
-            unsplit.push_back(s);
-    return unsplit;
-}
-
 /// The reference run's plan: the exact propagator at half its default interval.
 StepPlan reference_plan_for(const Dynamics& dyn) {
     // The reference is the exact propagator: a row it cannot take has no reference.
@@ -149,6 +138,15 @@ WorkPrecisionPoint against_reference(const Trajectory& t, const Trajectory& refe
 }
 
 } // namespace
+
+std::vector<Scheme> unsplit_schemes(const WorkPrecisionOptions& o) {
+    std::vector<Scheme> unsplit;
+    if (!o.unsplit_too) return unsplit;
+    for (Scheme s : {Scheme::central_difference, Scheme::rk4})
+        if (std::find(o.schemes.begin(), o.schemes.end(), s) != o.schemes.end())
+            unsplit.push_back(s);
+    return unsplit;
+}
 
 WorkPrecision work_precision(const Dynamics& dyn, const WorkPrecisionOptions& o,
                              const ProgressCallback& progress) {

@@ -452,6 +452,9 @@ RegimeMap regime_map(const ReducedParameters& base, const std::vector<double>& e
     for (double f : f_r)
         validate(ReducedParameters{base.Nm, base.fc, base.eps, base.e_r, f});
     require_map_work(base, e_r.size(), f_r, o);
+    // A value twice classified the same cells twice, one row or column of the map shown twice.
+    detail::require_distinct("e_r", e_r);
+    detail::require_distinct("f_r", f_r);
     // A bad start is refused here, once, rather than by every cell's run.
     (void)initial_state(Dynamics::paper_row({base.Nm, base.fc, base.eps, e_r[0], f_r[0]}),
                         o.initial);

@@ -132,7 +132,7 @@ json simulation_json(const SimulationResult& r, const Scene& scene) {
         j["comparison_ended_elsewhere"] = r.comparison_ended_elsewhere;
     }
     if (r.F_m_orbit) j["F_m_orbit"] = *r.F_m_orbit;
-    j["maximum_in_transient"] = r.maximum_in_transient;
+    j["maximum_in_transient"] = r.F_m_orbit ? json(r.maximum_in_transient) : json(nullptr);
     j["start_up_periods"] = r.start_up_periods;
     j["start_up_in_window"] = r.start_up_in_window;
     j["accuracy_mode_used"] = to_string(r.accuracy_mode_used);
@@ -994,8 +994,11 @@ std::string sweep_csv_row(const Study& study, const SweepPointResult& r) {
     if (study.keep.wall_time) os << ',' << s.wall_time_s;
     if (study.keep.orbit) {
         os << ',';
+        // Both empty where the run settled on no orbit: there is no orbit maximum to compare
+        // (a 0 there read as "the maximum was the orbit's").
         if (s.F_m_orbit) os << *s.F_m_orbit;
-        os << ',' << (s.maximum_in_transient ? 1 : 0);
+        os << ',';
+        if (s.F_m_orbit) os << (s.maximum_in_transient ? 1 : 0);
     }
     if (study.keep.regime && r.regime) write_regime_cells(os, *r.regime);
     if (study.keep.per_body) {

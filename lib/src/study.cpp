@@ -59,6 +59,12 @@ std::vector<double> axis_values(const nlohmann::ordered_json& spec, const std::s
             v.push_back(x.get<double>());
         }
         if (v.empty()) throw SceneError(key + ": needs at least one value");
+        // As a range that repeats a value: the same point ran twice, two rows of one point.
+        try {
+            detail::require_distinct(key, v);
+        } catch (const std::invalid_argument& e) {
+            throw SceneError(e.what()); // a study's errors are the scene reader's kind
+        }
         return v;
     }
     if (spec.is_object() && spec.size() == 1 && spec.contains("lin"))

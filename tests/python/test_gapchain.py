@@ -314,6 +314,10 @@ def test_simulate_design_value_matches_gapchain_sim(tmp_path):
         gapchain.simulate(scene, attractors=-1, **keys)
     with pytest.raises(ValueError, match=r"^samples: must be an integer in \[1, 10000000\]"):
         gapchain.attractors(scene, samples=0)
+    # A row the search does not take is named with the call as written (it read
+    # "simulate(attractors=...)() takes").
+    with pytest.raises(ValueError, match=r"^model.contact_law: simulate\(\) with attractors=2 takes"):
+        gapchain.simulate(scene, attractors=2, **{"model.contact_law": "hertz"}, **keys)
 
 
 def test_attractors_match_gapchain_attractors(tmp_path):

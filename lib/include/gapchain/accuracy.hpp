@@ -27,6 +27,10 @@ struct WorkPrecisionOptions {
     double max_work = 3e10;
 };
 
+/// The schemes the study also runs without switch splitting: central_difference and rk4, those
+/// of options.schemes, when options.unsplit_too; else none.
+std::vector<Scheme> unsplit_schemes(const WorkPrecisionOptions& options);
+
 /// One run of the study.
 struct WorkPrecisionPoint {
     Scheme scheme = Scheme::rk4; ///< the integrator of this run

@@ -2,12 +2,14 @@
 // Input checks shared by the library boundary: each throws std::invalid_argument with a
 // one-line message naming the key, the accepted range and the bad value.
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdlib>
 #include <sstream>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace gapchain::detail {
 
@@ -55,9 +57,18 @@ inline void require_work(double work, double max_work, const std::string& what,
     hours.precision(3);
     hours << work / 1e7 / 3600.0;
     throw std::invalid_argument(
-        "run.max_work: " + what + " " + format_number(std::ceil(work)) + " body-steps (" + breakdown +
-        "), about " + hours.str() +
+        "run.max_work: " + what + " " + format_number(std::ceil(work)) + " body-steps (" +
+        breakdown + "), about " + hours.str() +
         " h at 1e7 body-steps/s; above run.max_work = " + format_number(max_work) + ": " + remedy);
+}
+
+/// Refuses a list of values (an axis of a study or a map) that holds one twice: the same point
+/// ran twice.
+inline void require_distinct(const std::string& key, std::vector<double> values) {
+    std::sort(values.begin(), values.end());
+    if (const auto twice = std::adjacent_find(values.begin(), values.end()); twice != values.end())
+        throw std::invalid_argument(key + ": the value " + format_number(*twice) +
+                                    " is given twice; give each value once");
 }
 
 /// The same for a count held in a long (samples, starts).

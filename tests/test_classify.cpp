@@ -556,3 +556,21 @@ TEST_CASE("a settled label runs no twin") {
     CHECK_FALSE(c.twin_checked);
     CHECK_FALSE(c.start_dependent);
 }
+
+TEST_CASE("an attracting cycle longer than max_period is periodic, not quasi-periodic") {
+    // Fig 13's row at f_r = 2.55: a stable period-20 orbit. An independent probe's own Newton
+    // shooting (event-located RK4, 2026-11-28) gives |mu| 0.92986, lambda -0.009272 and
+    // F_m 0.548173; it read quasi-periodic (lambda -0.0093 lies above -chaos_threshold).
+    ClassifyOptions o;
+    o.transient_periods = 3000;
+    o.record_periods = 3000;
+    const Classification c = classify({5, 60, 0.5, 0.06, 2.55}, o);
+    CHECK(c.regime == Regime::periodic);
+    CHECK(c.period == 20);
+    CHECK(c.newton_confirmed);
+    // The probe's multiplier lies 7e-5 from gapchain-orbit's on three schemes (0.929928 on
+    // exact, rk4 and rk8pd, within 3e-7); the bound allows that disagreement.
+    CHECK(c.max_multiplier == doctest::Approx(0.92986).epsilon(1e-4));
+    CHECK(c.lambda_max == doctest::Approx(-0.009272).epsilon(2e-3));
+    CHECK(c.F_m == doctest::Approx(0.548173).epsilon(2e-6));
+}

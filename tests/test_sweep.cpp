@@ -248,3 +248,21 @@ TEST_CASE("each force a sweep writes has its error: per_body_error and F_m_error
     CHECK(field(rows[1], "per_body_error").empty());
     CHECK_FALSE(field(rows[1], "per_body").empty());
 }
+
+TEST_CASE("a sweep row's regime says whether it settled while recording; no orbit, no flag") {
+    const Study s = parse_study(R"({"scene": {"model": {"Nm": 2}}, "parameters": {"e_r": [0.1]},
+                                    "keep": ["F_m", "regime", "F_m_orbit"]})");
+    SweepPointResult r;
+    r.values = {0.1};
+    r.regime.emplace();
+    r.regime->settled_in_record = true;
+    const std::string header = sweep_csv_header(s);
+    const std::string row = sweep_csv_row(s, r);
+    CHECK(std::count(header.begin(), header.end(), ',') == std::count(row.begin(), row.end(), ','));
+    CHECK(csv_cell(header, row, "regime_settled_in_record") == "1");
+    // A run that settled on no orbit has no orbit maximum to compare: empty, not 0.
+    CHECK(csv_cell(header, row, "F_m_orbit").empty());
+    CHECK(csv_cell(header, row, "maximum_in_transient").empty());
+    r.simulation.F_m_orbit = 0.5;
+    CHECK(csv_cell(header, sweep_csv_row(s, r), "maximum_in_transient") == "0");
+}

@@ -91,7 +91,8 @@ False also where run.multistability_check was false, which the CSV leaves empty)
 steady_state_period (0: none), wall_time_s; with "per_body" kept, per_body (points x Nm x 2; a study over model.Nm pads shorter rows with
 NaN to the largest Nm) and per_body_error (the same shape; NaN where not estimated); with "regime" kept, regime,
 period, lambda_max, lambda_max_error, regime_start_dependent (bool; False also where no twin
-ran, which the CSV leaves empty); with "F_m_orbit" kept, F_m_orbit (NaN: did not settle)
+ran, which the CSV leaves empty), regime_settled_in_record (bool: the transient ended while
+recording, the label is the steady state's); with "F_m_orbit" kept, F_m_orbit (NaN: did not settle)
 and maximum_in_transient (bool); with "attractors", F_m_max, F_m_max_error (NaN: not
 estimated), attractors and unsettled; F_m_newton and F_m_error_newton (NaN: not estimated) for
 physical scenes (and F_m_max_newton, F_m_max_error_newton with "attractors"); and cancelled.)";
@@ -234,6 +235,8 @@ void kept_columns(py::dict& d, const Study& study, const std::vector<SweepPointR
             rows, [](const R& r) { return estimated_or_nan(r.regime->lambda_max_error); });
         d["regime_start_dependent"] =
             column<bool>(rows, [](const R& r) { return r.regime->start_dependent; });
+        d["regime_settled_in_record"] =
+            column<bool>(rows, [](const R& r) { return r.regime->settled_in_record; });
     }
     if (study.keep.orbit) {
         d["F_m_orbit"] = column<double>(rows, [](const R& r) {

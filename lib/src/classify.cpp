@@ -121,7 +121,15 @@ void label_unsettled(const ClassifyOptions& o, const RecordedEvidence& evidence,
     const std::vector<SectionPoint> settled(
         evidence.section.begin() + static_cast<std::ptrdiff_t>(evidence.section.size() / 2),
         evidence.section.end());
-    const int period = detect_period(settled, o.max_period, o.period_tolerance);
+    int period = detect_period(settled, o.max_period, o.period_tolerance);
+    // A cycle longer than max_period that attracts (lambda_max 3 errors below 0, where a torus
+    // reads 0) is searched for too: Fig 13's row at f_r = 2.55 settles on a stable period-20
+    // orbit (|mu| 0.930, lambda -0.0093 +- 1e-7, 20 distinct section points of 3000) and read
+    // quasi-periodic, being above -chaos_threshold.
+    const auto longest = static_cast<int>(std::min<std::size_t>(1000, settled.size() / 4));
+    if (period == 0 && longest > o.max_period && std::isfinite(c.lambda_max_error) &&
+        c.lambda_max < -3.0 * c.lambda_max_error)
+        period = detect_period(settled, longest, o.period_tolerance);
     const double margin = std::max(o.chaos_threshold, 3.0 * c.lambda_max_error);
     if (c.F_m == 0.0 && evidence.impacts == 0) {
         c.regime = Regime::no_contact;

@@ -939,7 +939,9 @@ std::string sweep_csv_header(const Study& study) {
     if (study.keep.steady_state) h += ",steady_state_period";
     if (study.keep.wall_time) h += ",wall_time_s";
     if (study.keep.orbit) h += ",F_m_orbit,maximum_in_transient";
-    if (study.keep.regime) h += ",regime,period,lambda_max,lambda_max_error,regime_start_dependent";
+    if (study.keep.regime)
+        h += ",regime,period,lambda_max,lambda_max_error,regime_start_dependent,"
+             "regime_settled_in_record";
     if (study.keep.per_body) h += ",per_body,per_body_error";
     return h;
 }
@@ -953,6 +955,9 @@ void write_regime_cells(std::ostream& os, const Classification& c) {
     // Empty where no twin ran (a settled label), as multistable's cell: never 0 unchecked.
     os << ',';
     if (c.twin_checked) os << (c.start_dependent ? 1 : 0);
+    // As map.csv's last column: a label whose transient ended while recording is its steady
+    // state's, and the sweep row said nothing of it.
+    os << ',' << (c.settled_in_record ? 1 : 0);
 }
 } // namespace
 

@@ -35,7 +35,9 @@ struct ClassifyOptions {
     double tolerance = 1e-4;                 ///< integration tolerance (relative, F_m)
     double max_work = RunOptions{}.max_work; ///< body-steps the run may take (run.max_work)
     /// Largest period recognised, >= 1: by the steady state up to max_period, by the
-    /// repetition of the record's second half up to min(max_period, record_periods / 4).
+    /// repetition of the record's second half up to min(max_period, record_periods / 4); where
+    /// lambda_max lies 3 errors below 0 (an attracting cycle, not a torus), up to
+    /// record_periods / 8 (at most 1000) too.
     int max_period = 16;
     double period_tolerance = 1e-6; ///< section points closer than this (relative) are one
     double steady_tolerance = 1e-9; ///< state repeat tolerance for an early periodic stop

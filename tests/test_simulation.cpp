@@ -1034,6 +1034,10 @@ TEST_CASE("the error estimate's comparison run is counted in run.max_work before
                          doctest::Contains("run.max_work: the error estimate's comparison run"),
                          std::invalid_argument);
     CHECK_FALSE(ran);
+    // Without a steady-state stop no orbit is compared: the comparison is at half the steps,
+    // and the run within the limit is not refused for it (a second reader's finding).
+    o.stop_at_steady_state = false;
+    CHECK_NOTHROW(require_simulation_affordable(dyn, o));
     o.estimate_error = false;
     CHECK_NOTHROW(require_simulation_affordable(dyn, o));
 }

@@ -31,7 +31,7 @@ void print_exponents(const Scene& scene, const LyapunovResult& r, int k) {
                     "exponents need not come out in order (raise run.periods)\n");
     if (r.drifting)
         std::printf("  the block rates drift (the run has not reached its attractor, or nears it "
-                    "slowly): the errors are the drift over the window; raise "
+                    "slowly): an exponent whose rates drift has that drift as its error; raise "
                     "run.transient_periods\n");
     std::printf("  sum = %.10f", r.sum);
     if (!std::isnan(r.expected_sum))

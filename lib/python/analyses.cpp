@@ -120,8 +120,8 @@ count  exponents wanted, 0 .. 2 Nm (0: all 2 Nm)
 
 Returns a dict: exponents (largest first up to their errors: Benettin's order, equal ones in
 either order; per unit reduced time), errors (standard errors over 10 time blocks, or the
-block rates' drift over the window where drifting), drifting (True: the rates trend, the run had
-not reached its attractor; raise run.transient_periods), sum, expected_sum (what the sum of all 2 Nm must be: the trace, -sum of the damping rates,
+block rates' drift over the window for an exponent whose rates drift), drifting (True: some
+exponent's rates trend, the run had not reached its attractor; raise run.transient_periods), sum, expected_sum (what the sum of all 2 Nm must be: the trace, -sum of the damping rates,
 -4 pi eps Nm on the paper's row; NaN when count < 2 Nm), averaging_time, history (dict: t, and
 exponents (n x count) running estimates), status, message, wall_time_s.)";
 

@@ -93,7 +93,8 @@ NaN to the largest Nm) and per_body_error (the same shape; NaN where not estimat
 period, lambda_max, lambda_max_error, regime_start_dependent (bool; False also where no twin
 ran, which the CSV leaves empty), regime_settled_in_record (bool: the transient ended while
 recording, the label is the steady state's); with "F_m_orbit" kept, F_m_orbit (NaN: did not settle)
-and maximum_in_transient (bool); with "attractors", F_m_max, F_m_max_error (NaN: not
+and maximum_in_transient (bool; False also where the run settled on no orbit, which the CSV
+leaves empty); with "attractors", F_m_max, F_m_max_error (NaN: not
 estimated), attractors and unsettled; F_m_newton and F_m_error_newton (NaN: not estimated) for
 physical scenes (and F_m_max_newton, F_m_max_error_newton with "attractors"); and cancelled.)";
 

@@ -51,7 +51,8 @@ run's F_m, or None), comparison_ended_elsewhere (bool: that run, from the same s
 step, did not settle where this one did, or settled on an orbit whose largest force differs by
 more than max(0.1, 1000 tolerance); the twin run then decides), F_m_orbit (the largest
 force over one cycle of the orbit a periodic run settled on, or None), maximum_in_transient
-(bool: F_m fell before that orbit was reached; F_m_error covers F_m - F_m_orbit),
+(bool: F_m fell before that orbit was reached, F_m_error covers F_m - F_m_orbit; None where
+the run settled on no orbit),
 start_up_periods and start_up_in_window (a run that did not settle: the periods the row's
 start-up takes to decay, and whether the run discarded fewer, so that F_m may be the
 start-up's), per_body (Nm x 2 float64: max force on the left and right of

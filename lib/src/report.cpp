@@ -487,7 +487,8 @@ std::string to_json(const LyapunovResult& r, const Scene& scene) {
     j["exponents"] = r.exponents;
     j["error"] = r.errors;
     // One standard error, not a bound: say so where the number is read.
-    j["error_kind"] = r.drifting ? "the block rates' drift over the window (drifting)"
+    j["error_kind"] = r.drifting ? "standard error over 10 time blocks, or the block rates' "
+                                   "drift over the window for an exponent whose rates drift"
                                  : "standard error over 10 time blocks";
     j["drifting"] = r.drifting;
     j["sum"] = r.sum;

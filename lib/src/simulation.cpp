@@ -511,9 +511,12 @@ void require_trajectory_fits(const Dynamics& dyn, const RunOptions& requested, i
 void require_simulation_affordable(const Dynamics& dyn, const RunOptions& options) {
     require_affordable(dyn, options);
     if (!options.estimate_error) return;
-    // On a settled row the comparison takes twice the steps; a chaotic one whose window
-    // estimates its own error runs none, but it cannot be told apart before it runs.
-    require_affordable(dyn, options, comparison_plan(dyn, plan_run(dyn, options), true),
+    // A run that may settle on an orbit (a steady-state stop, harmonic forcing) compares it at
+    // twice the steps; one that may not, at half (or twice, where half breaks the stability
+    // limit: comparison_plan()). A chaotic run whose window estimates its own error runs none,
+    // but it cannot be told apart from a settling one before it runs.
+    const bool may_settle = options.stop_at_steady_state && dyn.ground_motion().is_harmonic();
+    require_affordable(dyn, options, comparison_plan(dyn, plan_run(dyn, options), may_settle),
                        "the error estimate's comparison run (run.estimate_error) takes up to",
                        "run.estimate_error false, ");
 }

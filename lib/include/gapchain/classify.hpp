@@ -93,9 +93,9 @@ struct Classification {
     double F_m = 0.0;
     /// Error estimate of F_m, >= 0: on a periodic state (recorded over one orbit cycle) the
     /// accuracy the run is held to, tolerance * F_m, and after a settle in the record at least
-    /// the record's maximum's excess over it (settled_in_record); otherwise the sampling spread |max over the
-    /// first half - max over the second half of the recorded periods| and the spread of the tail
-    /// of its per-period maxima (MaxForceTracker::tail_spread()), at least that; for a
+    /// the record's maximum's excess over it (settled_in_record); otherwise the sampling spread
+    /// |max over the first half - max over the second half of the recorded periods| and the spread
+    /// of the tail of its per-period maxima (MaxForceTracker::tail_spread()), at least that; for a
     /// confirmed orbit also at least its difference from the recorded maximum; where the twin
     /// ran its course, at least its difference from the twin's F_m.
     double F_m_error = 0.0;

@@ -32,10 +32,12 @@ struct LyapunovResult {
     /// rates drift (drifting) the drift over the window, if larger; infinite where fewer than 20
     /// periods are averaged (too few samples for the blocks).
     std::vector<double> errors;
-    /// The block rates of some exponent trend (a least-squares slope beyond 3 of its standard
-    /// errors, whose change over the window exceeds the standard error): the run had not
-    /// reached its attractor, or approaches it slowly (a multiplier near the unit circle); its
-    /// error is that change. A longer run.transient_periods removes it.
+    /// On a run that is attracted (the first exponent 3 standard errors below 0), the block
+    /// rates of some exponent trend (a least-squares slope beyond 5 of its standard errors,
+    /// whose change over the window exceeds the standard error): the run had not reached its
+    /// orbit, or approaches it slowly (a multiplier near the unit circle); that exponent's error
+    /// is the change. A longer run.transient_periods removes it. Not tested on a chaotic run,
+    /// whose rates wander without a transient.
     bool drifting = false;
     double sum = 0.0; ///< sum of the exponents
     /// What the sum of all 2 Nm exponents must be: the Jacobian's trace, -sum of the bodies'

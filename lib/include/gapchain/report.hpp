@@ -207,8 +207,8 @@ std::string study_json(const Study& study);
 /// F_m_error of Hertz and Hunt-Crossley rows at order 1.5, 3-7 times wider), 6 since
 /// 2026-11-27 later (a quasi-periodic or chaotic regime's lambda_max_error covers its twin's
 /// difference; regime_start_dependent added), 7 since 2026-11-28 (maximum_in_transient is
-/// empty, not 0, where the run settled on no orbit; regime_settled_in_record added). A CSV is resumed only by a build of the
-/// same version, so that no file mixes two meanings.
+/// empty, not 0, where the run settled on no orbit; regime_settled_in_record added). A CSV is
+/// resumed only by a build of the same version, so that no file mixes two meanings.
 inline constexpr int sweep_results_version = 7;
 /// A hash (16 hex digits) of everything that decides a study's rows: the base scene, the axes
 /// and their values, the sampling, what is kept and results_version (sweep_results_version

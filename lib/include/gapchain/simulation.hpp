@@ -249,8 +249,9 @@ SimulationResult simulate(const Dynamics& dyn, const RunOptions& options,
 
 /// The work check simulate() makes before it starts (std::invalid_argument naming run.max_work
 /// with the estimate): the main run, and where options.estimate_error asks, its comparison run
-/// at the most it can take (twice the steps, as on a settled row), which would otherwise be
-/// refused only after the main run. A sweep makes it for its points before it writes a file.
+/// at the most it can take (twice the steps where the run may settle on an orbit: a
+/// steady-state stop and harmonic forcing), which would otherwise be refused only after the
+/// main run. A sweep makes it for its points before it writes a file.
 void require_simulation_affordable(const Dynamics& dyn, const RunOptions& options);
 
 } // namespace gapchain

@@ -509,14 +509,17 @@ void require_trajectory_fits(const Dynamics& dyn, const RunOptions& requested, i
 }
 
 void require_simulation_affordable(const Dynamics& dyn, const RunOptions& options) {
-    require_affordable(dyn, options);
+    validate(options);
+    // One plan for both checks.
+    const StepPlan plan = plan_run(dyn, options);
+    require_affordable(dyn, options, plan, "this run takes up to", "");
     if (!options.estimate_error) return;
     // A run that may settle on an orbit (a steady-state stop, harmonic forcing) compares it at
     // twice the steps; one that may not, at half (or twice, where half breaks the stability
     // limit: comparison_plan()). A chaotic run whose window estimates its own error runs none,
     // but it cannot be told apart from a settling one before it runs.
     const bool may_settle = options.stop_at_steady_state && dyn.ground_motion().is_harmonic();
-    require_affordable(dyn, options, comparison_plan(dyn, plan_run(dyn, options), may_settle),
+    require_affordable(dyn, options, comparison_plan(dyn, plan, may_settle),
                        "the error estimate's comparison run (run.estimate_error) takes up to",
                        "run.estimate_error false, ");
 }

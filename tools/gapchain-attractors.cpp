@@ -93,7 +93,8 @@ void print_settling(const Attractor& a, const AttractorOptions& o) {
     if (a.period == 0 || a.samples == 0) return;
     // settle_max covers the starts that settled only; the median counts the others as longer.
     if (std::isnan(a.settle_median))
-        std::printf("     most of its starts still settling at %ld periods (%ld of %ld)",
+        std::printf("     most of its starts still settling when their runs ended, at %ld periods "
+                    "or after a continuation (%ld of %ld)",
                     o.run.periods, a.still_settling, a.samples);
     else
         std::printf("     transients end after %.0f periods (median)", a.settle_median);
@@ -102,8 +103,9 @@ void print_settling(const Attractor& a, const AttractorOptions& o) {
                                          : ", %.0f at most",
                     a.settle_max);
     if (a.still_settling > 0 && !std::isnan(a.settle_median))
-        std::printf(", %ld start(s) still settling at %ld periods", a.still_settling,
-                    o.run.periods);
+        std::printf(
+            ", %ld start(s) still settling when their runs ended (%ld periods, or continued)",
+            a.still_settling, o.run.periods);
     std::printf("\n");
     // Beyond ten times the accuracy asked (a run's own F_m is off the orbit's by about that;
     // its F_m_error covers the transient's gap, so it is no yardstick here): a transient's.
@@ -117,16 +119,23 @@ void print_settling(const Attractor& a, const AttractorOptions& o) {
 /// chaotic transient that outlasts it (Fig 13's row at f_r = 3.2 with 600-period runs lists
 /// a chaotic group that 5000-period runs see land on a period-15 orbit, docs/attractors.md).
 void print_lasting(const Attractor& a, const AttractorSet& s, const AttractorOptions& o) {
-    if (a.period != 0 || !a.settled) return;
-    std::printf("     non-periodic through its starts' %ld periods and %ld more on its first "
-                "member; a transient longer than that is not ruled out\n",
-                o.run.periods, s.confirmation_periods);
+    if (a.period != 0) return;
+    if (a.left_for_orbits > 0)
+        std::printf("     a chaotic transient, not an attractor: continued %ld more periods, "
+                    "%ld of %ld continued starts left it for orbits; %ld still in it\n",
+                    s.confirmation_periods, a.left_for_orbits, a.members_continued,
+                    a.samples + a.slice_points);
+    else if (a.settled)
+        std::printf("     non-periodic through its starts' %ld periods and %ld more on %ld of "
+                    "them; a transient longer than that is not ruled out\n",
+                    o.run.periods, s.confirmation_periods, a.members_continued);
 }
 
 // Why a group is unsettled (Attractor::settled), for the warnings of both modes. A group still
 // converging may also be an orbit longer than the steady-state watch looks for.
 std::string unsettled_reason(const AttractorOptions& o) {
-    return " (their runs ended still converging: lambda_max more than three errors below 0, or "
+    return " (chaotic transients some of whose starts left for orbits when continued, or runs "
+           "that ended still converging: lambda_max more than three errors below 0, or "
            "neither chaos nor a torus after a tangent run 64 times as long, no contact, or "
            "shorter than four decay times of the row; their F_m is a transient's); raise "
            "run.periods, or "

@@ -33,7 +33,9 @@ attractors (dict of columns id, regime, period, F_m, F_m_error, lambda_max, lamb
 basin_fraction, basin_fraction_error, samples, settle_median and settle_max (periods until the
 starts' transients ended, NaN where undefined), still_settling (starts whose runs ended still
 approaching it), F_m_runs (the largest F_m the starts' runs recorded, transients included) with
-F_m_runs_error (that run's F_m_error), and
+F_m_runs_error (that run's F_m_error), members_continued and left_for_orbits (a non-periodic
+group: its starts whose runs were continued to confirm it, and those of them that left it for an
+orbit; above 0 the group is a chaotic transient, unsettled), and
 state: one row of 2 Nm values per attractor, a state on it at phase 0), sample_attractor (per
 random start: attractor id, -1 if its run failed), sample_settle_period (per random start: the
 period where its transient ended, -1 if it did not settle on an orbit), sample_F_m (per random
@@ -42,7 +44,7 @@ from_period, the median length; lifetime beyond it and lifetime_error, NaN with 
 ending beyond it; ended; censored, still going when their runs ended; rate_ratio and its error,
 the later half's ending rate over the earlier's; constant_rate, "untested", "consistent" or
 "rejected"; periods_until_1_percent, NaN unless consistent),
-failed, confirmation_periods (how far each non-periodic group's first member ran on beyond
+failed, confirmation_periods (how far the continued members of each non-periodic group ran on beyond
 run.periods to confirm it; 0: none), amplitude (A), center (the box's center: 2 Nm reduced values), and with grid: slice_x, slice_y and slice_attractor
 (resolution x resolution, rows along y); wall_time_s, cancelled.)";
 
@@ -116,6 +118,8 @@ py::dict attractor_columns(const std::vector<Attractor>& as) {
     d["still_settling"] = column<long>(as, [](const A& a) { return a.still_settling; });
     d["F_m_runs"] = column<double>(as, [](const A& a) { return a.F_m_runs; });
     d["F_m_runs_error"] = column<double>(as, [](const A& a) { return a.F_m_runs_error; });
+    d["members_continued"] = column<long>(as, [](const A& a) { return a.members_continued; });
+    d["left_for_orbits"] = column<long>(as, [](const A& a) { return a.left_for_orbits; });
     std::vector<double> states;
     for (const auto& a : as)
         states.insert(states.end(), a.state.begin(), a.state.end());

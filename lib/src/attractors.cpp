@@ -114,6 +114,14 @@ std::optional<std::string> search_row_error(const ReducedParameters& p) {
     return std::nullopt;
 }
 
+/// Members of a non-periodic group continued first to test it: a sixteenth of the random starts,
+/// 1 to 8. If its starts leave it at a share q within the continuation, none of 8 does with
+/// odds (1 - q)^8 (Fig 13's row at f_r = 2.05, 300-period runs continued 3000: q = 0.42, 1.3 %).
+/// The cap keeps the test's cost within about 0.6 of the search's at ten run lengths.
+std::size_t probe_count(long random_starts, std::size_t members) {
+    return std::min<std::size_t>(members, std::clamp<long>(random_starts / 16, 1, 8));
+}
+
 /// The body-steps of a search with every start run to its full length (settled starts stop
 /// sooner), and what they are made of.
 struct SearchWork {
@@ -124,10 +132,11 @@ struct SearchWork {
 SearchWork search_work(const Dynamics& dyn, const StepPlan& plan, const AttractorOptions& options) {
     // run.max_work bounds the starts of the search, as it bounds a Lyapunov run with its tangent
     // vectors: 1e7 starts of 20,000 periods were accepted and ran for years. It also counts what
-    // one non-periodic group adds: its confirmation (up to ten run lengths) and its lambda_max
-    // run with one tangent vector. A single start of Nm = 20,000 passed with 2.3 s estimated,
-    // ran 24 s and was then refused for that tangent run. Further groups' runs are held to it
-    // one by one (confirmation_periods(), chain_lyapunov()): their number is not known before.
+    // one non-periodic group adds: its confirmation (up to ten run lengths for each member
+    // probe_count() continues) and its lambda_max run with one tangent vector. A single start of Nm
+    // = 20,000 passed with 2.3 s estimated, ran 24 s and was then refused for that tangent run.
+    // Further groups' runs are held to it one by one (confirmation_periods(), chain_lyapunov()):
+    // their number is not known before.
     const double starts =
         static_cast<double>(options.samples) +
         (options.slice ? std::pow(static_cast<double>(options.slice->resolution), 2.0) : 0.0);
@@ -135,13 +144,15 @@ SearchWork search_work(const Dynamics& dyn, const StepPlan& plan, const Attracto
     tangent.periods = options.lyapunov_periods;
     const StepPlan tangent_plan = plan_run(dyn, tangent_run_options(dyn, tangent));
     const long tangent_steps = tangent_plan.steps_per_period;
+    const auto probes = static_cast<double>(
+        probe_count(options.samples, static_cast<std::size_t>(options.samples)));
     const double body_steps =
-        run_work(dyn, plan, static_cast<double>(options.run.periods)) * (starts + 10.0) +
+        run_work(dyn, plan, static_cast<double>(options.run.periods)) * (starts + 10.0 * probes) +
         run_work(dyn, tangent_plan, static_cast<double>(options.lyapunov_periods), 1);
     std::ostringstream breakdown;
-    breakdown << "(" << detail::format_number(starts)
-              << " starts + up to 10 to confirm a non-periodic group) x " << options.run.periods
-              << " periods x Nm " << dyn.bodies() << " x " << plan.steps_per_period
+    breakdown << "(" << detail::format_number(starts) << " starts + up to 10 x " << probes
+              << " to confirm a non-periodic group) x " << options.run.periods << " periods x Nm "
+              << dyn.bodies() << " x " << plan.steps_per_period
               << " steps per forcing period, + 2 x " << options.lyapunov_periods
               << " periods x Nm x " << tangent_steps
               << " for its lambda_max run with a tangent vector";
@@ -248,12 +259,13 @@ struct StartOutcome {
     double newton_accuracy = 0.0;
     long settle_period = -1;   // the run's cycle_entry_period (-1: did not settle)
     long last_far = -1;        // the run's last_far_period
+    long periods_run = 0;      // its runs' periods, continuations (extend()) included
     std::vector<double> state; // on the attractor at phase 0
     Points section;            // the orbit's points, or the run's last ones
 };
 
-RunOptions start_run_options(const AttractorOptions& o) {
-    RunOptions run = o.run;
+RunOptions start_run_options(const RunOptions& search) {
+    RunOptions run = search;
     run.multistability_check = false;
     run.estimate_error = true;
     return run;
@@ -266,7 +278,7 @@ StartOutcome run_start(const Dynamics& dyn, const AttractorOptions& o,
     SimulationHooks hooks;
     hooks.observers.push_back(&ring);
     hooks.progress = keep_going;
-    const SimulationResult r = simulate(dyn, start_run_options(o), start, hooks);
+    const SimulationResult r = simulate(dyn, start_run_options(o.run), start, hooks);
     StartOutcome s;
     if (r.status == RunStatus::non_finite || r.status == RunStatus::cancelled) {
         s.failed = true;
@@ -277,6 +289,7 @@ StartOutcome run_start(const Dynamics& dyn, const AttractorOptions& o,
     s.state = r.final_state;
     s.section = ring.points();
     s.last_far = r.last_far_period;
+    s.periods_run = r.periods_simulated;
     if (!r.steady_state_period) return s;
     s.periodic = true;
     s.period = *r.steady_state_period;
@@ -479,46 +492,138 @@ int reached(const StartOutcome& s, const std::vector<Attractor>& attractors,
     return -1;
 }
 
-/// A non-settling group may be a chaotic transient that outlasted its runs (issue 19's Nm = 2
+/// s continued by `more`, a run from the state where s's runs ended: where it is after both,
+/// with its transient's end counted from its first start. Its F_m, run_F_m and spread stay the
+/// first run's: what a single run from its start reports, and what a group's F_m is over.
+void extend(StartOutcome& s, const StartOutcome& more, int max_steady_period) {
+    const long base = s.periods_run;
+    s.periodic = more.periodic;
+    s.period = more.period;
+    s.newton = more.newton;
+    s.max_multiplier = more.max_multiplier;
+    s.max_multiplier_error = more.max_multiplier_error;
+    s.newton_accuracy = more.newton_accuracy;
+    s.settle_period = more.settle_period >= 0 ? base + more.settle_period : -1;
+    // A continuation that never went far from repeating did so through its untested first
+    // max_steady_period periods (add_transient() reads -1 so).
+    s.last_far = base + (more.last_far >= 0 ? more.last_far : max_steady_period);
+    s.periods_run = base + more.periods_run;
+    s.state = more.state;
+    s.section = more.section;
+}
+
+/// Continues the runs of the starts `members` (indices into outcomes) by continued.run.periods
+/// from where they ended, in parallel, and moves each whose continuation reached a periodic
+/// attractor, or settled on an orbit none reached (a new attractor, appended), out of `group`;
+/// a continuation that reached another non-periodic group joins it. Moves are made in member
+/// order after every run, so they do not depend on the threads. Adds to the group's
+/// members_continued and left_for_orbits; false if progress cancelled.
+bool continue_members(const Dynamics& dyn, const StateScale& scale, const AttractorOptions& o,
+                      const AttractorOptions& continued, const std::vector<std::size_t>& members,
+                      const std::vector<std::vector<double>>& starts, int group, int threads,
+                      const ProgressCallback& progress, std::vector<StartOutcome>& outcomes,
+                      std::vector<Attractor>& attractors, std::vector<int>& labels) {
+    if (members.empty()) return true;
+    std::vector<StartOutcome> more(members.size());
+    detail::SharedProgress shared(progress, static_cast<long>(members.size()));
+    const auto end = detail::parallel_for(
+        static_cast<long>(members.size()), threads,
+        [&](long k) {
+            more[static_cast<std::size_t>(k)] =
+                run_start(dyn, continued, outcomes[members[static_cast<std::size_t>(k)]].state,
+                          shared.item_callback());
+        },
+        [&](long) { return shared.finished(); });
+    if (end == detail::LoopEnd::cancelled) return false;
+    attractors[static_cast<std::size_t>(group)].members_continued +=
+        static_cast<long>(members.size());
+    for (std::size_t m = 0; m < members.size(); ++m) {
+        const StartOutcome& next = more[m];
+        if (next.failed) continue;
+        const std::size_t k = members[m];
+        int other = reached(next, attractors, scale, o, group);
+        if (other < 0 && next.periodic) {
+            other = static_cast<int>(attractors.size());
+            attractors.push_back(new_attractor(next, starts[k], other));
+        }
+        extend(outcomes[k], next, o.run.max_steady_period);
+        if (other < 0) continue;
+        labels[k] = other;
+        if (attractors[static_cast<std::size_t>(other)].period != 0)
+            ++attractors[static_cast<std::size_t>(group)].left_for_orbits;
+    }
+    return true;
+}
+
+/// The random starts and slice starts labelled `group`, in start order.
+std::vector<std::size_t> members_of(const std::vector<int>& labels, int group) {
+    std::vector<std::size_t> members;
+    for (std::size_t k = 0; k < labels.size(); ++k)
+        if (labels[k] == group) members.push_back(k);
+    return members;
+}
+
+/// A non-periodic group's first member, state, points and F_m (the largest of its members',
+/// add_member()) from the members it kept after confirmation, where some left.
+void rebuild_group(Attractor& a, const std::vector<std::size_t>& kept,
+                   const std::vector<StartOutcome>& outcomes,
+                   const std::vector<std::vector<double>>& starts) {
+    if (kept.empty()) return;
+    const StartOutcome& first = outcomes[kept.front()];
+    a.initial_state = starts[kept.front()];
+    a.state = first.state;
+    a.section = first.section;
+    a.F_m = first.F_m;
+    a.F_m_error = first.spread;
+    for (const std::size_t k : kept)
+        add_member(a, outcomes[k]);
+}
+
+/// A non-periodic group may be a chaotic transient that outlasted its runs (issue 19's Nm = 2
 /// row: 1 start in 200 still wandering after 1000 periods, F_m 1.176 against the one
-/// attractor's 1.070). Its first member's run is continued for `periods` more
-/// (confirmation_periods()): a group whose continuation reaches another attractor merges into
-/// it; one whose continuation settles on an orbit no start reached becomes that orbit; one that
-/// still does not settle stands. Ids are renumbered in order. False if progress cancelled a
-/// continuation.
+/// attractor's 1.070; Fig 13's row at f_r = 2.05: 44 starts of 100 wandering after 300
+/// periods, a saddle whose transients last 5550 periods, all ending on the period-3 orbit). The
+/// runs of a few of its members (probe_count()) are continued for `periods` more
+/// (confirmation_periods()). A chaotic attractor keeps them all; if one leaves for an orbit,
+/// the group is a transient, and every other member is continued too, so that each start is
+/// counted where it went (until 2026-11-28 only the first member was continued, and the group
+/// kept all its starts or lost them all: at f_r = 2.05 a chaotic attractor of basin 0.44 was
+/// listed). Members that stay keep the group, which left_for_orbits marks as a transient. Groups
+/// left empty are dropped and ids renumbered in order. False if progress cancelled.
 bool confirm_non_periodic(const Dynamics& dyn, const StateScale& scale, const AttractorOptions& o,
-                          long periods, std::vector<Attractor>& attractors,
-                          std::vector<int>& labels, const ProgressCallback& keep_going) {
+                          long periods, const std::vector<std::vector<double>>& starts, int threads,
+                          const ProgressCallback& progress, std::vector<StartOutcome>& outcomes,
+                          std::vector<Attractor>& attractors, std::vector<int>& labels) {
     AttractorOptions continued = o;
     continued.run.periods = periods;
-    std::vector<int> merged_into(attractors.size(), -1);
-    const auto root = [&](int id) {
-        while (merged_into[static_cast<std::size_t>(id)] >= 0)
-            id = merged_into[static_cast<std::size_t>(id)];
-        return id;
-    };
-    for (auto& a : attractors) {
-        if (a.period != 0) continue;
-        const StartOutcome more = run_start(dyn, continued, a.state, keep_going);
-        if (keep_going && !keep_going(1.0)) return false;
-        if (more.failed) continue;
-        const int other = reached(more, attractors, scale, o, a.id);
-        // Never into itself through a group that merged into it (no cycles).
-        if (other >= 0 && root(other) != a.id)
-            merged_into[static_cast<std::size_t>(a.id)] = root(other);
-        else if (other < 0 && more.periodic)
-            a = new_attractor(more, a.initial_state, a.id);
+    const std::size_t groups = attractors.size();
+    for (std::size_t g = 0; g < groups; ++g) {
+        if (attractors[g].period != 0) continue;
+        const int group = static_cast<int>(g);
+        const std::vector<std::size_t> members = members_of(labels, group);
+        const auto probes = static_cast<std::ptrdiff_t>(probe_count(o.samples, members.size()));
+        const std::vector<std::size_t> first(members.begin(), members.begin() + probes);
+        const std::vector<std::size_t> rest(members.begin() + probes, members.end());
+        if (!continue_members(dyn, scale, o, continued, first, starts, group, threads, progress,
+                              outcomes, attractors, labels))
+            return false;
+        if (attractors[g].left_for_orbits > 0 &&
+            !continue_members(dyn, scale, o, continued, rest, starts, group, threads, progress,
+                              outcomes, attractors, labels))
+            return false;
+        const std::vector<std::size_t> kept = members_of(labels, group);
+        if (kept.size() < members.size()) rebuild_group(attractors[g], kept, outcomes, starts);
     }
     std::vector<int> new_id(attractors.size(), -1);
     std::vector<Attractor> kept;
-    for (auto& a : attractors)
-        if (merged_into[static_cast<std::size_t>(a.id)] < 0) {
-            new_id[static_cast<std::size_t>(a.id)] = static_cast<int>(kept.size());
-            kept.push_back(std::move(a));
-            kept.back().id = static_cast<int>(kept.size()) - 1;
+    for (std::size_t g = 0; g < attractors.size(); ++g)
+        if (std::find(labels.begin(), labels.end(), static_cast<int>(g)) != labels.end()) {
+            new_id[g] = static_cast<int>(kept.size());
+            kept.push_back(std::move(attractors[g]));
+            kept.back().id = new_id[g];
         }
     for (int& label : labels)
-        if (label >= 0) label = new_id[static_cast<std::size_t>(root(label))];
+        if (label >= 0) label = new_id[static_cast<std::size_t>(label)];
     attractors = std::move(kept);
     return true;
 }
@@ -626,7 +731,7 @@ void characterise(const Dynamics& dyn, const ReducedParameters& p, const Attract
             // pi / eps = 0.031 per unit time; at f_r = 1e4, 60 periods span 0.006 time units
             // and a 300-period tangent run measured +0.24). Nor is one whose runs the row's
             // damping has not had time to act on (outlasts_decay).
-            a.settled = a.F_m > 0.0 &&
+            a.settled = a.F_m > 0.0 && a.left_for_orbits == 0 &&
                         (reading == ExponentReading::chaos || reading == ExponentReading::torus) &&
                         outlasts_decay(dyn, o.run, reach);
         },
@@ -774,8 +879,9 @@ namespace {
 /// Counting every such start as going on to the end of its run made the lifetime long: a
 /// transient that ends less than the detection's own delay before the run's end is never
 /// seen to settle.
-void add_transient(const StartOutcome& s, long run_periods, int max_steady_period,
-                   std::vector<long>& ended, std::vector<long>& going) {
+void add_transient(const StartOutcome& s, int max_steady_period, std::vector<long>& ended,
+                   std::vector<long>& going) {
+    const long run_periods = s.periods_run;
     if (s.settle_period >= 0) {
         ended.push_back(s.settle_period);
         return;
@@ -792,27 +898,43 @@ void add_transient(const StartOutcome& s, long run_periods, int max_steady_perio
         going.push_back(std::min(entry, run_periods));
 }
 
-/// The transients of the random starts (the first random_starts of labels) whose label is a
-/// periodic attractor. Before confirm_non_periodic() the members of a group that will merge
-/// into an orbit are not among them: the lifetime leaves out the longest transients, and comes
-/// out somewhat short.
-TransientLifetime periodic_transients(const std::vector<StartOutcome>& outcomes,
-                                      const std::vector<int>& labels, long random_starts,
-                                      const std::vector<Attractor>& attractors, long run_periods,
-                                      int max_steady_period) {
+/// Which non-periodic groups' starts search_transients() counts as transients still going.
+enum class InTransit {
+    every_group, ///< before confirm_non_periodic(): any may be a transient
+    left_groups, ///< after: those some of whose starts were seen to leave for orbits
+};
+
+/// The transients of the random starts (the first random_starts of labels): those whose label
+/// is a periodic attractor, and as still going at the end of their runs, the starts of the
+/// non-periodic groups `in_transit` says. Leaving the unconfirmed groups out before the
+/// confirmation measured only the transients that ended within the runs: at Fig 13's f_r = 2.05
+/// (300-period runs) a lifetime of 2.55 periods, though 44 starts of 100 were on a saddle whose
+/// transients last 5550, so that the group was continued one run length and stood.
+TransientLifetime search_transients(const std::vector<StartOutcome>& outcomes,
+                                    const std::vector<int>& labels, long random_starts,
+                                    const std::vector<Attractor>& attractors, int max_steady_period,
+                                    InTransit in_transit) {
     std::vector<long> ended, going;
-    for (std::size_t k = 0; static_cast<long>(k) < random_starts && k < labels.size(); ++k)
-        if (labels[k] >= 0 && attractors[static_cast<std::size_t>(labels[k])].period != 0)
-            add_transient(outcomes[k], run_periods, max_steady_period, ended, going);
+    for (std::size_t k = 0; static_cast<long>(k) < random_starts && k < labels.size(); ++k) {
+        if (labels[k] < 0) continue;
+        const Attractor& a = attractors[static_cast<std::size_t>(labels[k])];
+        if (a.period != 0)
+            add_transient(outcomes[k], max_steady_period, ended, going);
+        else if (in_transit == InTransit::every_group || a.left_for_orbits > 0)
+            going.push_back(outcomes[k].periods_run);
+    }
     return transient_lifetime(std::move(ended), std::move(going));
 }
 
-/// How long confirm_non_periodic() continues a non-periodic group's first member: ten
-/// lifetimes beyond the median of the transients that ended on periodic attractors, where
-/// those were measured (a saddle's transient survives that with odds e^-10 / 2); four times
-/// run.periods where periodic attractors were reached but too few transients ended to measure
-/// it (Nm = 2 row, 40 starts of 200 periods: 15 still wandered, and continued 200 more, one
-/// group stood in one seed of 16); else as long again (no orbit was reached: the group is
+/// How long confirm_non_periodic() continues the members of a non-periodic group: ten
+/// lifetimes beyond the median of the transients (search_transients(), every non-periodic
+/// group's starts counted as still going), where those were measured (a saddle's transient
+/// survives that with odds e^-10 / 2); ten times run.periods where periodic attractors were
+/// reached but too few transients ended to measure it (Nm = 2 row, 40 starts of 200 periods:
+/// 15 still wandered, and continued 200 more, one group stood in one seed of 16; at Fig 13's
+/// f_r = 2.05, where a saddle's transients last 5550 periods, the 6 members continued of a
+/// group of 44 all stay through 4 x 300 more periods with odds 0.28, through 10 x 300 with
+/// odds 0.04); else as long again (no orbit was reached: the group is
 /// likely the row's chaos). At least run.periods, at most ten times that and what
 /// run.max_work allows one run.
 /// As long again was too short where the transients are long: at Fig 13's f_r = 3.2, around
@@ -826,9 +948,10 @@ long confirmation_periods(const Dynamics& dyn, const RunOptions& run,
     if (std::isfinite(transients.lifetime) && std::isfinite(transients.from_period))
         periods = std::max(periods, transients.from_period + 10.0 * transients.lifetime);
     else if (orbit_reached)
-        periods = 4.0 * static_cast<double>(run.periods);
-    const StepPlan plan = plan_run(dyn, run);
-    const double affordable = affordable_periods(dyn, plan, run.max_work);
+        periods = 10.0 * static_cast<double>(run.periods);
+    // The continuations run as the starts do, their comparison runs included: priced without
+    // them, 2000-period continuations of the Nm = 2 row were refused after every start had run.
+    const double affordable = affordable_simulation_periods(dyn, start_run_options(run));
     // Whole periods within the budget (rounding up made the run refused after every start had
     // run), and within validate(RunOptions)'s 1e9.
     periods = std::min(
@@ -840,8 +963,8 @@ long confirmation_periods(const Dynamics& dyn, const RunOptions& run,
 /// only slice starts reach keeps NaN: it has none). A start that joined a periodic attractor
 /// without settling (still converging, or a transient group merged into it) is still settling:
 /// its lifetime is longer than its run.
-void settle_statistics(const std::vector<StartOutcome>& outcomes, long run_periods,
-                       int max_steady_period, AttractorSet& set) {
+void settle_statistics(const std::vector<StartOutcome>& outcomes, int max_steady_period,
+                       AttractorSet& set) {
     std::vector<std::vector<long>> lifetimes(set.attractors.size());
     constexpr long censored = std::numeric_limits<long>::max();
     for (std::size_t k = 0; k < set.sample_attractor.size(); ++k) {
@@ -859,9 +982,9 @@ void settle_statistics(const std::vector<StartOutcome>& outcomes, long run_perio
         lifetimes[static_cast<std::size_t>(id)].push_back(s.settle_period >= 0 ? s.settle_period
                                                                                : censored);
     }
-    set.transients = periodic_transients(outcomes, set.sample_attractor,
-                                         static_cast<long>(set.sample_attractor.size()),
-                                         set.attractors, run_periods, max_steady_period);
+    set.transients = search_transients(outcomes, set.sample_attractor,
+                                       static_cast<long>(set.sample_attractor.size()),
+                                       set.attractors, max_steady_period, InTransit::left_groups);
     for (auto& a : set.attractors) {
         auto& t = lifetimes[static_cast<std::size_t>(a.id)];
         if (t.empty()) continue;
@@ -944,20 +1067,21 @@ AttractorSet find_attractors(const ReducedParameters& p, const AttractorOptions&
                                            [](const Attractor& a) { return a.period != 0; });
     const long continued =
         confirmation_periods(dyn, o.run,
-                             periodic_transients(outcomes, labels, o.samples, set.attractors,
-                                                 o.run.periods, o.run.max_steady_period),
+                             search_transients(outcomes, labels, o.samples, set.attractors,
+                                               o.run.max_steady_period, InTransit::every_group),
                              orbit_reached);
     if (std::any_of(set.attractors.begin(), set.attractors.end(),
                     [](const Attractor& a) { return a.period == 0; }))
         set.confirmation_periods = continued;
-    if (!confirm_non_periodic(dyn, scale, o, continued, set.attractors, labels, at_end)) {
+    if (!confirm_non_periodic(dyn, scale, o, continued, starts, set.threads_used, at_end, outcomes,
+                              set.attractors, labels)) {
         set.attractors.clear();
         set.cancelled = true;
         return set;
     }
     characterise(dyn, p, o, box_reach(o, scale), set.attractors, set.threads_used);
     count_members(labels, o.samples, set);
-    settle_statistics(outcomes, o.run.periods, o.run.max_steady_period, set);
+    settle_statistics(outcomes, o.run.max_steady_period, set);
     if (o.slice) {
         set.slice_first = axis_values(o, scale, o.slice->first);
         set.slice_second = axis_values(o, scale, o.slice->second);

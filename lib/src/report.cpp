@@ -540,7 +540,8 @@ void attractor_row(std::ostream& os, const Attractor& a) {
     write_if_finite(os, a.lambda_max_error);
     os << ',' << a.basin_fraction << ',' << a.basin_fraction_error << ',' << a.samples << ','
        << a.slice_points << ',' << a.settle_median << ',' << a.settle_max << ',' << a.still_settling
-       << ',' << a.F_m_runs << ',' << a.F_m_runs_error << '\n';
+       << ',' << a.F_m_runs << ',' << a.F_m_runs_error << ',' << a.members_continued << ','
+       << a.left_for_orbits << '\n';
 }
 
 } // namespace
@@ -550,7 +551,7 @@ std::string attractors_csv(const AttractorSet& set) {
     os.precision(15); // F_m errors reach 1e-13 F_m: the digits must show them
     os << "id,regime,period,F_m,F_m_error,lambda_max,lambda_max_error,basin_fraction,"
           "basin_fraction_error,samples,slice_points,settle_median,settle_max,still_settling,"
-          "F_m_runs,F_m_runs_error\n";
+          "F_m_runs,F_m_runs_error,members_continued,left_for_orbits\n";
     for (const auto& a : set.attractors)
         attractor_row(os, a);
     return os.str();
@@ -606,6 +607,8 @@ nlohmann::ordered_json attractor_list_json(const AttractorSet& set,
                         {"still_settling", a.still_settling},
                         {"F_m_runs", a.F_m_runs},
                         {"F_m_runs_error", a.F_m_runs_error},
+                        {"members_continued", a.members_continued},
+                        {"left_for_orbits", a.left_for_orbits},
                         {"initial_state", a.initial_state},
                         {"state", a.state}});
     if (physical)

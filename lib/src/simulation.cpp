@@ -508,20 +508,39 @@ void require_trajectory_fits(const Dynamics& dyn, const RunOptions& requested, i
         ", at most 1000000) or record fewer periods (run.periods, run.transient_periods)");
 }
 
+namespace {
+
+/// The comparison run's plan at the most it can take, before the run: a run that may settle on
+/// an orbit (a steady-state stop, harmonic forcing) compares it at twice the steps; one that
+/// may not, at half (or twice, where half breaks the stability limit: comparison_plan()). A
+/// chaotic run whose window estimates its own error runs none, but it cannot be told apart from
+/// a settling one before it runs.
+StepPlan priced_comparison_plan(const Dynamics& dyn, const RunOptions& options,
+                                const StepPlan& plan) {
+    const bool may_settle = options.stop_at_steady_state && dyn.ground_motion().is_harmonic();
+    return comparison_plan(dyn, plan, may_settle);
+}
+
+} // namespace
+
 void require_simulation_affordable(const Dynamics& dyn, const RunOptions& options) {
     validate(options);
     // One plan for both checks.
     const StepPlan plan = plan_run(dyn, options);
     require_affordable(dyn, options, plan, "this run takes up to", "");
     if (!options.estimate_error) return;
-    // A run that may settle on an orbit (a steady-state stop, harmonic forcing) compares it at
-    // twice the steps; one that may not, at half (or twice, where half breaks the stability
-    // limit: comparison_plan()). A chaotic run whose window estimates its own error runs none,
-    // but it cannot be told apart from a settling one before it runs.
-    const bool may_settle = options.stop_at_steady_state && dyn.ground_motion().is_harmonic();
-    require_affordable(dyn, options, comparison_plan(dyn, plan, may_settle),
+    require_affordable(dyn, options, priced_comparison_plan(dyn, options, plan),
                        "the error estimate's comparison run (run.estimate_error) takes up to",
                        "run.estimate_error false, ");
+}
+
+double affordable_simulation_periods(const Dynamics& dyn, const RunOptions& options) {
+    validate(options);
+    const StepPlan plan = plan_run(dyn, options);
+    const double periods = affordable_periods(dyn, plan, options.max_work);
+    if (!options.estimate_error) return periods;
+    return std::min(periods, affordable_periods(dyn, priced_comparison_plan(dyn, options, plan),
+                                                options.max_work));
 }
 
 SimulationResult simulate(const Dynamics& dyn, const RunOptions& requested,

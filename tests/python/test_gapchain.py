@@ -357,6 +357,10 @@ def test_attractors_match_gapchain_attractors(tmp_path):
         assert columns["still_settling"][i] == np.count_nonzero(members < 0)
         assert columns["settle_max"][i] == settled.max()
         assert columns["F_m_runs"][i] >= columns["F_m"][i] * (1 - 1e-4)
+        # Two periodic attractors: no group to confirm, no start that left one.
+        assert columns["members_continued"][i] == 0 and columns["left_for_orbits"][i] == 0
+    assert [x["left_for_orbits"] for x in written["attractors"]] == \
+        columns["left_for_orbits"].tolist()
 
 
 def test_basin_fractions_label_each_attractor_along_the_line():

@@ -458,7 +458,15 @@ std::string attractor_count(const AttractorSet& set) {
 }
 
 void print_transients(const TransientLifetime& t) {
-    if (std::isnan(t.lifetime)) return;
+    if (std::isnan(t.lifetime)) {
+        // Saying nothing here read as "no long transients" where most were still going.
+        if (!std::isnan(t.from_period) && t.censored > 0)
+            std::printf("transients: half last beyond %.0f periods; beyond, %ld ended and %ld were "
+                        "still going when their runs ended: too few endings to measure a "
+                        "lifetime (raise run.periods)\n",
+                        t.from_period, t.ended, t.censored);
+        return;
+    }
     std::printf("transients: half last beyond %.0f periods; beyond, lifetime %.3g +- %.2g periods "
                 "(%ld ended, %ld still going); ",
                 t.from_period, t.lifetime, t.lifetime_error, t.ended, t.censored);

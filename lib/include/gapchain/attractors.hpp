@@ -21,11 +21,14 @@
 /// the same invariant measure, so their clouds interleave at the clouds' own point spacing;
 /// disjoint attractors are separated by a distance that does not shrink as points are added.
 /// A run that ends within 1e-2 (scaled) of a stable periodic attractor's points is still
-/// converging to it and joins it. Each non-periodic group is confirmed by continuing its first
-/// member's run (ten lifetimes of the search's measured transients beyond their median, or four
-/// run lengths where orbits were reached but no lifetime measured, or one; between one and ten
-/// run lengths, within run.max_work): if that reaches another attractor, or settles on an orbit,
-/// the group was a transient that outlasted its runs and joins it (or becomes that orbit).
+/// converging to it and joins it. Each non-periodic group is confirmed by continuing the runs
+/// of a few of its members (a sixteenth of the random starts, 1 to 8) from where they ended:
+/// ten lifetimes of the search's transients beyond their median (its non-periodic starts
+/// counted as still going), or four run lengths where orbits were reached but no lifetime was
+/// measured, or one; between one and ten run lengths, within run.max_work. If one of them
+/// settles on an orbit, the group is a chaotic transient (a saddle), not an attractor: every
+/// member is continued, each start is counted with the attractor it reached, and those still
+/// wandering stay in the group, marked unsettled (Attractor::left_for_orbits).
 ///
 /// Settling. Each start that settles on a periodic attractor reports where its transient ended:
 /// the period from which on its state stayed within 1e-3 (relative) of repeating
@@ -112,8 +115,9 @@ struct Attractor {
     /// an approach not told apart), that never
     /// touched (the damped linear row has one attractor, a periodic one), or whose runs last
     /// less than four decay times of the contact-free row from the box's farthest start (eps
-    /// near 0, or a center far from rest): its F_m is a transient's (raise run.periods). Shown
-    /// as the regime "unsettled".
+    /// near 0, or a center far from rest), or some of whose starts left it for an orbit when
+    /// their runs were continued (left_for_orbits): its F_m is a transient's (raise
+    /// run.periods). Shown as the regime "unsettled".
     bool settled = true;
     bool newton_confirmed = false; ///< periodic: the orbit converged under Newton
     double max_multiplier = 0.0;   ///< periodic: largest Floquet multiplier modulus
@@ -151,7 +155,14 @@ struct Attractor {
     double F_m_runs = std::numeric_limits<double>::quiet_NaN();
     /// that run's F_m_error; NaN with F_m_runs
     double F_m_runs_error = std::numeric_limits<double>::quiet_NaN();
-    long slice_points = 0;             ///< slice starts that reach it
+    long slice_points = 0; ///< slice starts that reach it
+    /// A non-periodic group: its starts (random and slice) whose runs were continued to
+    /// confirm it (AttractorSet::confirmation_periods more); 0 for a periodic one
+    long members_continued = 0;
+    /// A non-periodic group: its starts whose continued runs left it for a periodic attractor;
+    /// above 0 it is a chaotic transient that outlasts the runs, not an attractor (settled
+    /// false), and the starts still in it when the continuation ended remain its members
+    long left_for_orbits = 0;
     std::vector<double> initial_state; ///< the first start that reached it (2 Nm)
     std::vector<double> state;         ///< a state on it at phase 0 (the orbit's, if periodic)
     /// Stroboscopic points that identify it: the orbit's, or the first member's last points.
@@ -230,9 +241,9 @@ struct AttractorSet {
     /// How long the transients of the random starts that reached a periodic attractor lasted
     TransientLifetime transients;
     long failed = 0; ///< starts whose run failed (non-finite)
-    /// Periods each non-periodic group's first member was run on beyond its run.periods to
-    /// confirm it (0: no such group). A group still non-periodic after both stands: no finite
-    /// run rules out a transient longer than that
+    /// Periods the continued members of each non-periodic group (Attractor::members_continued)
+    /// were run on beyond their run.periods to confirm it (0: no such group). A group none of
+    /// whose continued members left stands: no finite run rules out a transient longer than that
     long confirmation_periods = 0;
     std::vector<int> slice_attractor; ///< resolution^2, second axis slowest; -1: failed
     std::vector<double> slice_first;  ///< the slice's x values

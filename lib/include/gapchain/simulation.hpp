@@ -254,4 +254,9 @@ SimulationResult simulate(const Dynamics& dyn, const RunOptions& options,
 /// main run. A sweep makes it for its points before it writes a file.
 void require_simulation_affordable(const Dynamics& dyn, const RunOptions& options);
 
+/// The most whole forcing periods (>= 0) a run with options may last and pass
+/// require_simulation_affordable(): its comparison run included where options.estimate_error
+/// asks. Throws std::invalid_argument for invalid options.
+double affordable_simulation_periods(const Dynamics& dyn, const RunOptions& options);
+
 } // namespace gapchain

@@ -574,3 +574,25 @@ TEST_CASE("an attracting cycle longer than max_period is periodic, not quasi-per
     CHECK(c.lambda_max == doctest::Approx(-0.009272).epsilon(2e-3));
     CHECK(c.F_m == doctest::Approx(0.548173).epsilon(2e-6));
 }
+
+TEST_CASE("a cycle the run is still approaching is confirmed by Newton on its closest return") {
+    // Fig 13's row at f_r = 2.25: a stable period-1 orbit with |mu| 0.976 per period. After the
+    // default 100 + 300 periods the section still held 228 distinct points of 300 and the label
+    // read periodic, period 0, F_m 1.12595 +- 0.0023 (the approach's maximum).
+    const ReducedParameters p{5, 60, 0.5, 0.06, 2.25};
+    const Classification c = classify(p, ClassifyOptions{});
+    CHECK(c.regime == Regime::periodic);
+    CHECK(c.period == 1);
+    CHECK(c.newton_confirmed);
+    CHECK(c.max_multiplier < 1.0);
+    // The orbit's F_m as a long run on another scheme reads it, once the approach has died out
+    // (0.976^2900 ~ 1e-31).
+    RunOptions settled;
+    settled.scheme = Scheme::rk8pd;
+    settled.tolerance = 1e-10;
+    settled.periods = 3000;
+    settled.transient_periods = 2900;
+    settled.stop_at_steady_state = false;
+    const double orbit = simulate(Dynamics::paper_row(p), settled).F_m;
+    CHECK(std::abs(c.F_m - orbit) < 1e-6);
+}

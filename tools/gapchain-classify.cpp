@@ -93,7 +93,10 @@ void classify_point(const ReducedParameters& p, const ClassifyOptions& o, const 
                 p.f_r);
     std::printf("regime %s", std::string(to_string(c.regime)).c_str());
     if (c.regime == Regime::periodic)
-        std::printf(" (period %d%s)", c.period, c.period == 0 ? ": longer than max" : "");
+        std::printf(" (period %d%s)", c.period,
+                    c.period == 0 ? ": a cycle longer than max_period, or one the run was still "
+                                    "approaching (raise --transient)"
+                                  : "");
     if (c.newton_confirmed)
         std::printf(", confirmed by Newton: minimal period %d, largest |multiplier| %.4g", c.period,
                     c.max_multiplier);

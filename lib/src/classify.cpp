@@ -206,6 +206,43 @@ void confirm_periodic(const Dynamics& dyn, const std::vector<double>& state, dou
     if (orbit.F_m == 0.0) c.regime = Regime::no_contact;
 }
 
+/// The period in 1 .. max_period over which the record's last section point comes back closest
+/// (max norm) to an earlier one: the candidate for a stable cycle a run is still approaching
+/// (the distance falls as |mu| per cycle at the cycle's period, stays of the orbit's size at
+/// others); 0 for a record too short.
+int closest_return_period(const std::vector<SectionPoint>& section, int max_period) {
+    int best = 0;
+    double closest = std::numeric_limits<double>::infinity();
+    const std::vector<double>& last = section.back().values;
+    for (int p = 1; p <= max_period && static_cast<std::size_t>(p) < section.size(); ++p) {
+        const std::vector<double>& earlier = section[section.size() - 1 - p].values;
+        double distance = 0.0;
+        for (std::size_t k = 0; k < last.size(); ++k)
+            distance = std::max(distance, std::abs(last[k] - earlier[k]));
+        if (distance < closest) {
+            closest = distance;
+            best = p;
+        }
+    }
+    return best;
+}
+
+/// A run whose exponent says it approaches a stable cycle (label periodic) that did not repeat
+/// to period_tolerance within the record: Newton from the end state on the closest return's
+/// period (closest_return_period()). Fig 13's row at f_r = 2.25 (|mu| 0.976 per period) kept
+/// 228 distinct section points of 300 after 400 periods and read "period 0: longer than max",
+/// F_m 1.12595 +- 0.0023; its period-1 orbit's is 1.12358. Unconfirmed, the label stays so.
+void confirm_approached_cycle(const Dynamics& dyn, const ClassifyOptions& o,
+                              const std::vector<SectionPoint>& section,
+                              const std::vector<double>& end_state, Classification& c) {
+    if (!o.confirm_by_newton || c.regime != Regime::periodic || c.period != 0 || section.empty())
+        return;
+    c.period = closest_return_period(section, o.max_period);
+    if (c.period == 0) return;
+    confirm_periodic(dyn, end_state, o.max_work, c);
+    if (!c.newton_confirmed) c.period = 0;
+}
+
 /// Whether Newton is to confirm the state c settled on: a periodic one, or a no-contact one,
 /// the linear row's orbit, whose exponent Newton gives exactly where the settling run's short
 /// tangent average read -3.08 +- inf for -pi (the probe of 2026-11-26).
@@ -322,7 +359,10 @@ void label_recorded(const Dynamics& dyn, double f_r, const ClassifyOptions& o,
     count_section_points(record.evidence.section, o.period_tolerance, c);
     label_regime(o, record.evidence, f_r, period, c);
     if (!period) drop_tail_if_periodic(record.forces, o.tolerance, c);
-    if (newton_confirms(o, c)) confirm_periodic(dyn, end_state, o.max_work, c);
+    if (newton_confirms(o, c))
+        confirm_periodic(dyn, end_state, o.max_work, c);
+    else
+        confirm_approached_cycle(dyn, o, record.evidence.section, end_state, c);
     flag_start_up(dyn, o, c);
 }
 

@@ -120,12 +120,16 @@ void print_settling(const Attractor& a, const AttractorOptions& o) {
 /// a chaotic group that 5000-period runs see land on a period-15 orbit, docs/attractors.md).
 void print_lasting(const Attractor& a, const AttractorSet& s, const AttractorOptions& o) {
     if (a.period != 0) return;
-    if (a.left_for_orbits > 0)
+    if (a.left_for_orbits > 0) {
+        const long members = a.samples + a.slice_points;
+        const long not_continued = a.left_for_orbits + members - a.members_continued;
         std::printf("     a chaotic transient, not an attractor: continued %ld more periods, "
-                    "%ld of %ld continued starts left it for orbits; %ld still in it\n",
-                    s.confirmation_periods, a.left_for_orbits, a.members_continued,
-                    a.samples + a.slice_points);
-    else if (a.settled)
+                    "%ld of %ld continued starts left it for orbits; %ld still in it",
+                    s.confirmation_periods, a.left_for_orbits, a.members_continued, members);
+        if (not_continued > 0)
+            std::printf(", %ld of them not continued (run.max_work)", not_continued);
+        std::printf("\n");
+    } else if (a.settled)
         std::printf("     non-periodic through its starts' %ld periods and %ld more on %ld of "
                     "them; a transient longer than that is not ruled out\n",
                     o.run.periods, s.confirmation_periods, a.members_continued);
@@ -232,8 +236,8 @@ void run_line(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs) 
     for (const auto& set : c.sets)
         unsettled += set.unsettled;
     if (unsettled > 0)
-        std::printf("warning: %d attractor(s) along the line unsettled%s\n", unsettled,
-                    unsettled_reason(a.options).c_str());
+        std::printf("warning: %d group(s) unsettled along the line, counted once per value%s\n",
+                    unsettled, unsettled_reason(a.options).c_str());
     std::printf("wrote %s/fractions.csv, fractions.json%s\n", a.out_dir.c_str(),
                 plotted ? ", fractions.gp, fractions.png" : "");
 }

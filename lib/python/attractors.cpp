@@ -28,18 +28,20 @@ threads         OpenMP threads (0: all); the results do not depend on it
 progress        callable(fraction)
 
 Returns a dict: F_m_max (the design value: the largest F_m over the attractors), F_m_max_error,
-F_m_max_attractor, unsettled (groups whose runs were still converging: raise run.periods),
+F_m_max_attractor, unsettled (groups not shown to be attractors: chaotic transients some of
+whose starts left for orbits when continued, runs still converging; raise run.periods),
 attractors (dict of columns id, regime, period, F_m, F_m_error, lambda_max, lambda_max_error,
 basin_fraction, basin_fraction_error, samples, settle_median and settle_max (periods until the
 starts' transients ended, NaN where undefined), still_settling (starts whose runs ended still
 approaching it), F_m_runs (the largest F_m the starts' runs recorded, transients included) with
 F_m_runs_error (that run's F_m_error), members_continued and left_for_orbits (a non-periodic
-group: its starts whose runs were continued to confirm it, and those of them that left it for an
-orbit; above 0 the group is a chaotic transient, unsettled), and
+group: its starts whose runs were continued to confirm it, those that left included, and those
+that left it for an orbit; above 0 the group is a chaotic transient, unsettled), and
 state: one row of 2 Nm values per attractor, a state on it at phase 0), sample_attractor (per
 random start: attractor id, -1 if its run failed), sample_settle_period (per random start: the
 period where its transient ended, -1 if it did not settle on an orbit), sample_F_m (per random
-start: its run's F_m), transients (how long the transients before periodic attractors last:
+start: its run's F_m), transients (how long the starts' transients last before they reach a
+periodic attractor, starts still in a chaotic transient counted as still going:
 from_period, the median length; lifetime beyond it and lifetime_error, NaN with fewer than 10
 ending beyond it; ended; censored, still going when their runs ended; rate_ratio and its error,
 the later half's ending rate over the earlier's; constant_rate, "untested", "consistent" or

@@ -23,6 +23,7 @@
 #include <optional>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 namespace gapchain {
 
@@ -115,11 +116,13 @@ std::optional<std::string> search_row_error(const ReducedParameters& p) {
 }
 
 /// Members of a non-periodic group continued first to test it: a sixteenth of the random starts,
-/// 1 to 8. If its starts leave it at a share q within the continuation, none of 8 does with
-/// odds (1 - q)^8 (Fig 13's row at f_r = 2.05, 300-period runs continued 3000: q = 0.42, 1.3 %).
-/// The cap keeps the test's cost within about 0.6 of the search's at ten run lengths.
+/// 3 to 8 (and at most its members). If its starts leave it at a share q within the
+/// continuation, none of n does with odds (1 - q)^n (Fig 13's row at f_r = 2.05, 300-period
+/// runs continued 3000: q = 0.42; 1.3 % for 8, 20 % for 3; a single probe missed it at 10
+/// starts, seed 4). The cap keeps the test's cost within about 0.6 of the search's at ten run
+/// lengths; the floor costs small searches up to three times their starts' work.
 std::size_t probe_count(long random_starts, std::size_t members) {
-    return std::min<std::size_t>(members, std::clamp<long>(random_starts / 16, 1, 8));
+    return std::min<std::size_t>(members, std::clamp<long>(random_starts / 16, 3, 8));
 }
 
 /// The body-steps of a search with every start run to its full length (settled starts stop
@@ -512,49 +515,6 @@ void extend(StartOutcome& s, const StartOutcome& more, int max_steady_period) {
     s.section = more.section;
 }
 
-/// Continues the runs of the starts `members` (indices into outcomes) by continued.run.periods
-/// from where they ended, in parallel, and moves each whose continuation reached a periodic
-/// attractor, or settled on an orbit none reached (a new attractor, appended), out of `group`;
-/// a continuation that reached another non-periodic group joins it. Moves are made in member
-/// order after every run, so they do not depend on the threads. Adds to the group's
-/// members_continued and left_for_orbits; false if progress cancelled.
-bool continue_members(const Dynamics& dyn, const StateScale& scale, const AttractorOptions& o,
-                      const AttractorOptions& continued, const std::vector<std::size_t>& members,
-                      const std::vector<std::vector<double>>& starts, int group, int threads,
-                      const ProgressCallback& progress, std::vector<StartOutcome>& outcomes,
-                      std::vector<Attractor>& attractors, std::vector<int>& labels) {
-    if (members.empty()) return true;
-    std::vector<StartOutcome> more(members.size());
-    detail::SharedProgress shared(progress, static_cast<long>(members.size()));
-    const auto end = detail::parallel_for(
-        static_cast<long>(members.size()), threads,
-        [&](long k) {
-            more[static_cast<std::size_t>(k)] =
-                run_start(dyn, continued, outcomes[members[static_cast<std::size_t>(k)]].state,
-                          shared.item_callback());
-        },
-        [&](long) { return shared.finished(); });
-    if (end == detail::LoopEnd::cancelled) return false;
-    attractors[static_cast<std::size_t>(group)].members_continued +=
-        static_cast<long>(members.size());
-    for (std::size_t m = 0; m < members.size(); ++m) {
-        const StartOutcome& next = more[m];
-        if (next.failed) continue;
-        const std::size_t k = members[m];
-        int other = reached(next, attractors, scale, o, group);
-        if (other < 0 && next.periodic) {
-            other = static_cast<int>(attractors.size());
-            attractors.push_back(new_attractor(next, starts[k], other));
-        }
-        extend(outcomes[k], next, o.run.max_steady_period);
-        if (other < 0) continue;
-        labels[k] = other;
-        if (attractors[static_cast<std::size_t>(other)].period != 0)
-            ++attractors[static_cast<std::size_t>(group)].left_for_orbits;
-    }
-    return true;
-}
-
 /// The random starts and slice starts labelled `group`, in start order.
 std::vector<std::size_t> members_of(const std::vector<int>& labels, int group) {
     std::vector<std::size_t> members;
@@ -563,20 +523,17 @@ std::vector<std::size_t> members_of(const std::vector<int>& labels, int group) {
     return members;
 }
 
-/// A non-periodic group's first member, state, points and F_m (the largest of its members',
-/// add_member()) from the members it kept after confirmation, where some left.
-void rebuild_group(Attractor& a, const std::vector<std::size_t>& kept,
-                   const std::vector<StartOutcome>& outcomes,
-                   const std::vector<std::vector<double>>& starts) {
-    if (kept.empty()) return;
-    const StartOutcome& first = outcomes[kept.front()];
-    a.initial_state = starts[kept.front()];
-    a.state = first.state;
-    a.section = first.section;
-    a.F_m = first.F_m;
-    a.F_m_error = first.spread;
-    for (const std::size_t k : kept)
-        add_member(a, outcomes[k]);
+/// How far (scaled, as converging_to()) a state lies from the nearest point of a stable
+/// periodic attractor; infinite where there is none.
+double distance_to_orbits(const std::vector<double>& state,
+                          const std::vector<Attractor>& attractors, const StateScale& scale) {
+    double nearest = std::numeric_limits<double>::infinity();
+    for (const auto& a : attractors) {
+        if (a.period == 0 || a.max_multiplier >= 1.0) continue;
+        for (const auto& x : a.section)
+            nearest = std::min(nearest, scaled_distance(state, x, scale));
+    }
+    return nearest;
 }
 
 /// A non-periodic group may be a chaotic transient that outlasted its runs (issue 19's Nm = 2
@@ -584,47 +541,196 @@ void rebuild_group(Attractor& a, const std::vector<std::size_t>& kept,
 /// attractor's 1.070; Fig 13's row at f_r = 2.05: 44 starts of 100 wandering after 300
 /// periods, a saddle whose transients last 5550 periods, all ending on the period-3 orbit). The
 /// runs of a few of its members (probe_count()) are continued for `periods` more
-/// (confirmation_periods()). A chaotic attractor keeps them all; if one leaves for an orbit,
-/// the group is a transient, and every other member is continued too, so that each start is
-/// counted where it went (until 2026-11-28 only the first member was continued, and the group
-/// kept all its starts or lost them all: at f_r = 2.05 a chaotic attractor of basin 0.44 was
-/// listed). Members that stay keep the group, which left_for_orbits marks as a transient. Groups
-/// left empty are dropped and ids renumbered in order. False if progress cancelled.
+/// (confirmation_periods()). A member whose continuation reaches an orbit leaves the group on
+/// its own; once one has, the group is a transient, and every other member is continued too
+/// (as many as run.max_work affords at that length), so that each start is counted where it
+/// went (until 2026-11-28 only the first member was continued, and the group kept all its
+/// starts or lost them all: at f_r = 2.05 a chaotic attractor of basin 0.44 was listed).
+/// Members that stay keep the group, which left_for_orbits marks as a transient. A
+/// continuation that reaches another non-periodic group merges the whole group into it: two
+/// windows of one chaotic set that did not overlap at first (member by member, Fig 13's row at
+/// f_r = 2.74 with 64 starts swapped members between two such groups and listed one chaos
+/// twice). Groups left empty are dropped and ids renumbered in order.
+class GroupConfirmation {
+public:
+    GroupConfirmation(const Dynamics& dyn, const StateScale& scale, const AttractorOptions& o,
+                      long periods, const std::vector<std::vector<double>>& starts, int threads,
+                      const ProgressCallback& progress, std::vector<StartOutcome>& outcomes,
+                      std::vector<Attractor>& attractors, std::vector<int>& labels)
+        : m_dyn(dyn), m_scale(scale), m_options(o), m_continued(o), m_starts(starts),
+          m_threads(threads), m_progress(progress), m_outcomes(outcomes), m_attractors(attractors),
+          m_labels(labels), m_merged_into(attractors.size(), -1),
+          m_was_continued(outcomes.size(), false) {
+        m_continued.run.periods = periods;
+        // A group's continuations together within run.max_work: the search's check counted
+        // only its probes (search_work()); a saddle's 44 members at ten run lengths each would
+        // exceed it several times.
+        const double affordable =
+            affordable_simulation_periods(dyn, start_run_options(m_continued.run));
+        m_members_affordable =
+            static_cast<std::size_t>(std::max(1.0, std::floor(affordable / periods)));
+    }
+
+    /// Confirms the group `group` (an index into attractors); false if progress cancelled.
+    bool confirm(int group) {
+        const std::vector<std::size_t> members = members_of(m_labels, group);
+        if (members.empty()) return true; // merged into an earlier group
+        const auto probes =
+            static_cast<std::ptrdiff_t>(probe_count(m_options.samples, members.size()));
+        const std::vector<std::size_t> first(members.begin(), members.begin() + probes);
+        std::optional<int> joined = continue_members(first, group);
+        if (!joined) return false;
+        if (*joined < 0 && at(group).left_for_orbits > 0) {
+            const auto rest_end =
+                members.begin() +
+                static_cast<std::ptrdiff_t>(
+                    std::max(first.size(), std::min(members.size(), m_members_affordable)));
+            joined = continue_members({members.begin() + probes, rest_end}, group);
+            if (!joined) return false;
+        }
+        if (*joined >= 0)
+            merge(group, *joined);
+        else if (members_of(m_labels, group).size() < members.size())
+            rebuild(group);
+        return true;
+    }
+
+    /// Drops the groups left empty, renumbers the ids in order, and counts each non-periodic
+    /// group's continued starts (members_continued: those still in it, and those that left).
+    void renumber() {
+        std::vector<int> new_id(m_attractors.size(), -1);
+        std::vector<Attractor> kept;
+        for (std::size_t g = 0; g < m_attractors.size(); ++g) {
+            const std::vector<std::size_t> members = members_of(m_labels, static_cast<int>(g));
+            if (members.empty()) continue;
+            Attractor& a = m_attractors[g];
+            if (a.period == 0) {
+                a.members_continued = a.left_for_orbits;
+                for (const std::size_t k : members)
+                    if (m_was_continued[k]) ++a.members_continued;
+            }
+            new_id[g] = static_cast<int>(kept.size());
+            kept.push_back(std::move(a));
+            kept.back().id = new_id[g];
+        }
+        for (int& label : m_labels)
+            if (label >= 0) label = new_id[static_cast<std::size_t>(label)];
+        m_attractors = std::move(kept);
+    }
+
+private:
+    Attractor& at(int id) { return m_attractors[static_cast<std::size_t>(id)]; }
+
+    int root(int id) const {
+        while (m_merged_into[static_cast<std::size_t>(id)] >= 0)
+            id = m_merged_into[static_cast<std::size_t>(id)];
+        return id;
+    }
+
+    /// Continues the runs of `members` by the confirmation's periods from where they ended, in
+    /// parallel, and moves each whose continuation reached a periodic attractor, or settled on
+    /// an orbit none reached (a new attractor, appended), out of `group`, in member order after
+    /// every run (so the moves do not depend on the threads). The non-periodic group the first
+    /// of them reached (-1: none); nullopt if progress cancelled.
+    std::optional<int> continue_members(const std::vector<std::size_t>& members, int group) {
+        std::vector<StartOutcome> more(members.size());
+        detail::SharedProgress shared(m_progress, static_cast<long>(members.size()));
+        const auto end = detail::parallel_for(
+            static_cast<long>(members.size()), m_threads,
+            [&](long k) {
+                more[static_cast<std::size_t>(k)] = run_start(
+                    m_dyn, m_continued, m_outcomes[members[static_cast<std::size_t>(k)]].state,
+                    shared.item_callback());
+            },
+            [&](long) { return shared.finished(); });
+        if (end == detail::LoopEnd::cancelled) return std::nullopt;
+        int joined = -1;
+        for (std::size_t m = 0; m < members.size(); ++m) {
+            const StartOutcome& next = more[m];
+            if (next.failed) continue;
+            const std::size_t k = members[m];
+            int other = reached(next, m_attractors, m_scale, m_options, group);
+            if (other >= 0) other = root(other);
+            if (other < 0 && next.periodic) {
+                other = static_cast<int>(m_attractors.size());
+                m_attractors.push_back(new_attractor(next, m_starts[k], other));
+                m_merged_into.push_back(-1);
+            }
+            extend(m_outcomes[k], next, m_options.run.max_steady_period);
+            m_was_continued[k] = true;
+            if (other < 0 || other == group) continue;
+            if (at(other).period != 0) {
+                m_labels[k] = other;
+                ++at(group).left_for_orbits;
+            } else if (joined < 0 && !members_of(m_labels, other).empty()) {
+                joined = other;
+            }
+        }
+        return joined;
+    }
+
+    /// Moves every start of `group` into the non-periodic group `into`.
+    void merge(int group, int into) {
+        for (const std::size_t k : members_of(m_labels, group)) {
+            m_labels[k] = into;
+            add_member(at(into), m_outcomes[k]);
+        }
+        m_merged_into[static_cast<std::size_t>(group)] = into;
+    }
+
+    /// A group some of whose starts left: its first member, state and points become those of
+    /// the member that stayed farthest from the stable orbits (the first member's continued
+    /// state may be on its way out: at f_r = 2.05, seed 3, its lambda_max run read -1.01, on
+    /// the orbit), its F_m the largest of its members' (add_member()).
+    void rebuild(int group) {
+        const std::vector<std::size_t> kept = members_of(m_labels, group);
+        if (kept.empty()) return; // every start left: renumber() drops the group
+        std::size_t deepest = kept.front();
+        double farthest = -1.0;
+        for (const std::size_t k : kept) {
+            const double d = distance_to_orbits(m_outcomes[k].state, m_attractors, m_scale);
+            if (d > farthest) {
+                farthest = d;
+                deepest = k;
+            }
+        }
+        Attractor& a = at(group);
+        a.initial_state = m_starts[deepest];
+        a.state = m_outcomes[deepest].state;
+        a.section = m_outcomes[deepest].section;
+        a.F_m = m_outcomes[kept.front()].F_m;
+        a.F_m_error = m_outcomes[kept.front()].spread;
+        for (const std::size_t k : kept)
+            add_member(a, m_outcomes[k]);
+    }
+
+    const Dynamics& m_dyn;
+    const StateScale& m_scale;
+    const AttractorOptions& m_options;
+    AttractorOptions m_continued; // the search's options, run for the confirmation's periods
+    const std::vector<std::vector<double>>& m_starts;
+    int m_threads;
+    const ProgressCallback& m_progress;
+    std::vector<StartOutcome>& m_outcomes;
+    std::vector<Attractor>& m_attractors;
+    std::vector<int>& m_labels;
+    std::vector<int> m_merged_into;    // per group: the group it merged into, -1 if none
+    std::vector<bool> m_was_continued; // per start
+    std::size_t m_members_affordable = 1;
+};
+
+/// Confirms every non-periodic group of a search (GroupConfirmation); false if progress
+/// cancelled.
 bool confirm_non_periodic(const Dynamics& dyn, const StateScale& scale, const AttractorOptions& o,
                           long periods, const std::vector<std::vector<double>>& starts, int threads,
                           const ProgressCallback& progress, std::vector<StartOutcome>& outcomes,
                           std::vector<Attractor>& attractors, std::vector<int>& labels) {
-    AttractorOptions continued = o;
-    continued.run.periods = periods;
+    GroupConfirmation confirmation(dyn, scale, o, periods, starts, threads, progress, outcomes,
+                                   attractors, labels);
     const std::size_t groups = attractors.size();
-    for (std::size_t g = 0; g < groups; ++g) {
-        if (attractors[g].period != 0) continue;
-        const int group = static_cast<int>(g);
-        const std::vector<std::size_t> members = members_of(labels, group);
-        const auto probes = static_cast<std::ptrdiff_t>(probe_count(o.samples, members.size()));
-        const std::vector<std::size_t> first(members.begin(), members.begin() + probes);
-        const std::vector<std::size_t> rest(members.begin() + probes, members.end());
-        if (!continue_members(dyn, scale, o, continued, first, starts, group, threads, progress,
-                              outcomes, attractors, labels))
-            return false;
-        if (attractors[g].left_for_orbits > 0 &&
-            !continue_members(dyn, scale, o, continued, rest, starts, group, threads, progress,
-                              outcomes, attractors, labels))
-            return false;
-        const std::vector<std::size_t> kept = members_of(labels, group);
-        if (kept.size() < members.size()) rebuild_group(attractors[g], kept, outcomes, starts);
-    }
-    std::vector<int> new_id(attractors.size(), -1);
-    std::vector<Attractor> kept;
-    for (std::size_t g = 0; g < attractors.size(); ++g)
-        if (std::find(labels.begin(), labels.end(), static_cast<int>(g)) != labels.end()) {
-            new_id[g] = static_cast<int>(kept.size());
-            kept.push_back(std::move(attractors[g]));
-            kept.back().id = new_id[g];
-        }
-    for (int& label : labels)
-        if (label >= 0) label = new_id[static_cast<std::size_t>(label)];
-    attractors = std::move(kept);
+    for (std::size_t g = 0; g < groups; ++g)
+        if (attractors[g].period == 0 && !confirmation.confirm(static_cast<int>(g))) return false;
+    confirmation.renumber();
     return true;
 }
 
@@ -696,10 +802,52 @@ ExponentReading read_exponent(const Dynamics& dyn, const AttractorOptions& o, At
     }
 }
 
+/// States of the starts still in each chaotic transient (a group some of whose starts left
+/// for orbits), second and third farthest from the stable orbits (the farthest is its state,
+/// GroupConfirmation::rebuild()); empty for other attractors.
+std::vector<std::vector<std::vector<double>>>
+transient_states(const std::vector<int>& labels, const std::vector<StartOutcome>& outcomes,
+                 const std::vector<Attractor>& attractors, const StateScale& scale) {
+    std::vector<std::vector<std::vector<double>>> states(attractors.size());
+    for (const auto& a : attractors) {
+        if (a.left_for_orbits == 0) continue;
+        std::vector<std::pair<double, std::size_t>> by_distance;
+        for (const std::size_t k : members_of(labels, a.id))
+            by_distance.emplace_back(-distance_to_orbits(outcomes[k].state, attractors, scale), k);
+        std::stable_sort(by_distance.begin(), by_distance.end(),
+                         [](const auto& x, const auto& y) { return x.first < y.first; });
+        for (std::size_t i = 1; i < std::min<std::size_t>(3, by_distance.size()); ++i)
+            states[static_cast<std::size_t>(a.id)].push_back(outcomes[by_distance[i].second].state);
+    }
+    return states;
+}
+
+/// The exponent of a chaotic transient from its state, and, until one reads chaos, from the
+/// others of transient_states(): a run from a saddle leaves it at a random time, and a tangent
+/// run that left early reads the orbit's exponent (Fig 13's row at f_r = 2.05, seed 3: -1.01
+/// +- 0.005 for a group whose starts wandered for thousands of periods at lambda_max +1.5).
+ExponentReading read_transient_exponent(const Dynamics& dyn, const AttractorOptions& o,
+                                        const std::vector<std::vector<double>>& others,
+                                        Attractor& a) {
+    ExponentReading reading = read_exponent(dyn, o, a);
+    for (const auto& state : others) {
+        if (reading == ExponentReading::chaos) break;
+        Attractor trial = a;
+        trial.state = state;
+        if (read_exponent(dyn, o, trial) != ExponentReading::chaos) continue;
+        a = std::move(trial);
+        reading = ExponentReading::chaos;
+    }
+    return reading;
+}
+
 /// lambda_max and the regime of each attractor: from the multipliers of a confirmed orbit,
-/// else from a tangent run on the attractor; reach is box_reach() (outlasts_decay()).
+/// else from a tangent run on the attractor (transients: read_transient_exponent() over
+/// transient_states); reach is box_reach() (outlasts_decay()).
 void characterise(const Dynamics& dyn, const ReducedParameters& p, const AttractorOptions& o,
-                  double reach, std::vector<Attractor>& attractors, int threads) {
+                  double reach,
+                  const std::vector<std::vector<std::vector<double>>>& transient_states,
+                  std::vector<Attractor>& attractors, int threads) {
     detail::parallel_for(
         static_cast<long>(attractors.size()), threads,
         [&](long k) {
@@ -723,7 +871,8 @@ void characterise(const Dynamics& dyn, const ReducedParameters& p, const Attract
                 a.lambda_max = a.lambda_max_error = std::numeric_limits<double>::quiet_NaN();
                 return;
             }
-            const ExponentReading reading = read_exponent(dyn, o, a);
+            const ExponentReading reading =
+                read_transient_exponent(dyn, o, transient_states[static_cast<std::size_t>(k)], a);
             // A torus has lambda_max = 0 and chaos > 0: a clearly negative one is the approach
             // to a stable orbit that the runs did not reach. A group that never touched is the
             // linear damped row's transient whatever its exponent: that row has one attractor,
@@ -1079,7 +1228,9 @@ AttractorSet find_attractors(const ReducedParameters& p, const AttractorOptions&
         set.cancelled = true;
         return set;
     }
-    characterise(dyn, p, o, box_reach(o, scale), set.attractors, set.threads_used);
+    characterise(dyn, p, o, box_reach(o, scale),
+                 transient_states(labels, outcomes, set.attractors, scale), set.attractors,
+                 set.threads_used);
     count_members(labels, o.samples, set);
     settle_statistics(outcomes, o.run.max_steady_period, set);
     if (o.slice) {

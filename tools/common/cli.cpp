@@ -463,7 +463,7 @@ void print_transients(const TransientLifetime& t) {
         if (!std::isnan(t.from_period) && t.censored > 0)
             std::printf("transients: half last beyond %.0f periods; beyond, %ld ended and %ld were "
                         "still going when their runs ended: too few endings to measure a "
-                        "lifetime (raise run.periods)\n",
+                        "lifetime (raise run.periods, or the starts)\n",
                         t.from_period, t.ended, t.censored);
         return;
     }

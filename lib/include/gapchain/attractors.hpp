@@ -22,13 +22,15 @@
 /// disjoint attractors are separated by a distance that does not shrink as points are added.
 /// A run that ends within 1e-2 (scaled) of a stable periodic attractor's points is still
 /// converging to it and joins it. Each non-periodic group is confirmed by continuing the runs
-/// of a few of its members (a sixteenth of the random starts, 1 to 8) from where they ended:
+/// of a few of its members (a sixteenth of the random starts, 3 to 8) from where they ended:
 /// ten lifetimes of the search's transients beyond their median (its non-periodic starts
-/// counted as still going), or four run lengths where orbits were reached but no lifetime was
+/// counted as still going), or ten run lengths where orbits were reached but no lifetime was
 /// measured, or one; between one and ten run lengths, within run.max_work. If one of them
 /// settles on an orbit, the group is a chaotic transient (a saddle), not an attractor: every
-/// member is continued, each start is counted with the attractor it reached, and those still
-/// wandering stay in the group, marked unsettled (Attractor::left_for_orbits).
+/// member is continued (as many as run.max_work affords, in start order), each start is counted
+/// with the attractor it reached, and those still wandering stay in the group, marked
+/// unsettled (Attractor::left_for_orbits). A continuation that reaches another non-periodic
+/// group merges the whole group into it (two windows of one chaotic set).
 ///
 /// Settling. Each start that settles on a periodic attractor reports where its transient ended:
 /// the period from which on its state stayed within 1e-3 (relative) of repeating
@@ -157,14 +159,20 @@ struct Attractor {
     double F_m_runs_error = std::numeric_limits<double>::quiet_NaN();
     long slice_points = 0; ///< slice starts that reach it
     /// A non-periodic group: its starts (random and slice) whose runs were continued to
-    /// confirm it (AttractorSet::confirmation_periods more); 0 for a periodic one
+    /// confirm it (AttractorSet::confirmation_periods more), those still in it and those that
+    /// left for orbits (left_for_orbits); 0 for a periodic one. Below left_for_orbits +
+    /// samples + slice_points where run.max_work did not afford continuing every member
     long members_continued = 0;
     /// A non-periodic group: its starts whose continued runs left it for a periodic attractor;
     /// above 0 it is a chaotic transient that outlasts the runs, not an attractor (settled
     /// false), and the starts still in it when the continuation ended remain its members
     long left_for_orbits = 0;
-    std::vector<double> initial_state; ///< the first start that reached it (2 Nm)
-    std::vector<double> state;         ///< a state on it at phase 0 (the orbit's, if periodic)
+    /// the first start that reached it (2 Nm); a chaotic transient's (left_for_orbits): the
+    /// start of the member that stayed farthest from the stable orbits
+    std::vector<double> initial_state;
+    /// a state on it at phase 0 (the orbit's, if periodic; a chaotic transient's: where its
+    /// lambda_max run started)
+    std::vector<double> state;
     /// Stroboscopic points that identify it: the orbit's, or the first member's last points.
     std::vector<std::vector<double>> section;
 };

@@ -127,7 +127,9 @@ void print_lasting(const Attractor& a, const AttractorSet& s, const AttractorOpt
                     "%ld of %ld continued starts left it for orbits; %ld still in it",
                     s.confirmation_periods, a.left_for_orbits, a.members_continued, members);
         if (not_continued > 0)
-            std::printf(", %ld of them not continued (run.max_work)", not_continued);
+            std::printf(", %ld of them not continued (beyond run.max_work, or the continuation "
+                        "failed)",
+                        not_continued);
         std::printf("\n");
     } else if (a.settled)
         std::printf("     non-periodic through its starts' %ld periods and %ld more on %ld of "

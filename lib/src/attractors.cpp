@@ -120,7 +120,8 @@ std::optional<std::string> search_row_error(const ReducedParameters& p) {
 /// continuation, none of n does with odds (1 - q)^n (Fig 13's row at f_r = 2.05, 300-period
 /// runs continued 3000: q = 0.42; 1.3 % for 8, 20 % for 3; a single probe missed it at 10
 /// starts, seed 4). The cap keeps the test's cost within about 0.6 of the search's at ten run
-/// lengths; the floor costs small searches up to three times their starts' work.
+/// lengths; the floor of 3 probes at up to 10 run lengths each costs a search of 10 starts up to
+/// three times their work, and fewer starts more (6 times at 5).
 std::size_t probe_count(long random_starts, std::size_t members) {
     return std::min<std::size_t>(members, std::clamp<long>(random_starts / 16, 3, 8));
 }
@@ -560,7 +561,7 @@ public:
         : m_dyn(dyn), m_scale(scale), m_options(o), m_continued(o), m_starts(starts),
           m_threads(threads), m_progress(progress), m_outcomes(outcomes), m_attractors(attractors),
           m_labels(labels), m_merged_into(attractors.size(), -1),
-          m_was_continued(outcomes.size(), false) {
+          m_was_continued(outcomes.size(), false), m_probed(attractors.size(), false) {
         m_continued.run.periods = periods;
         // A group's continuations together within run.max_work: the search's check counted
         // only its probes (search_work()); a saddle's 44 members at ten run lengths each would
@@ -571,33 +572,36 @@ public:
             static_cast<std::size_t>(std::max(1.0, std::floor(affordable / periods)));
     }
 
-    /// Confirms the group `group` (an index into attractors); false if progress cancelled.
+    /// Confirms the group `group` (an index into attractors), and the group it merges into,
+    /// if any, in turn; false if progress cancelled.
     bool confirm(int group) {
-        const std::vector<std::size_t> members = members_of(m_labels, group);
-        if (members.empty()) return true; // merged into an earlier group
-        const auto probes =
-            static_cast<std::ptrdiff_t>(probe_count(m_options.samples, members.size()));
-        const std::vector<std::size_t> first(members.begin(), members.begin() + probes);
-        std::optional<int> joined = continue_members(first, group);
-        if (!joined) return false;
-        if (*joined < 0 && at(group).left_for_orbits > 0) {
-            const auto rest_end =
-                members.begin() +
-                static_cast<std::ptrdiff_t>(
-                    std::max(first.size(), std::min(members.size(), m_members_affordable)));
-            joined = continue_members({members.begin() + probes, rest_end}, group);
-            if (!joined) return false;
+        for (int g = group;;) {
+            if (members_of(m_labels, g).empty()) return true; // merged into an earlier group
+            std::optional<int> joined = -1;
+            if (!m_probed[static_cast<std::size_t>(g)]) {
+                m_probed[static_cast<std::size_t>(g)] = true;
+                const std::size_t probes =
+                    probe_count(m_options.samples, members_of(m_labels, g).size());
+                joined = continue_members(first_of(uncontinued_members(g), probes), g);
+                if (!joined) return false;
+            }
+            if (*joined < 0 && at(g).left_for_orbits > 0) {
+                joined = continue_members(first_of(uncontinued_members(g), affordable_more(g)), g);
+                if (!joined) return false;
+            }
+            if (*joined < 0) return true;
+            merge(g, *joined);
+            g = *joined;
         }
-        if (*joined >= 0)
-            merge(group, *joined);
-        else if (members_of(m_labels, group).size() < members.size())
-            rebuild(group);
-        return true;
     }
 
-    /// Drops the groups left empty, renumbers the ids in order, and counts each non-periodic
-    /// group's continued starts (members_continued: those still in it, and those that left).
+    /// Rebuilds each chaotic transient (rebuild()) once every group is confirmed, so that it
+    /// measures its members against the same orbits as transient_states() later, drops the
+    /// groups left empty, renumbers the ids in order, and counts each non-periodic group's
+    /// continued starts (members_continued: those still in it, and those that left).
     void renumber() {
+        for (std::size_t g = 0; g < m_attractors.size(); ++g)
+            if (m_attractors[g].left_for_orbits > 0) rebuild(static_cast<int>(g));
         std::vector<int> new_id(m_attractors.size(), -1);
         std::vector<Attractor> kept;
         for (std::size_t g = 0; g < m_attractors.size(); ++g) {
@@ -633,6 +637,7 @@ private:
     /// every run (so the moves do not depend on the threads). The non-periodic group the first
     /// of them reached (-1: none); nullopt if progress cancelled.
     std::optional<int> continue_members(const std::vector<std::size_t>& members, int group) {
+        if (members.empty()) return -1;
         std::vector<StartOutcome> more(members.size());
         detail::SharedProgress shared(m_progress, static_cast<long>(members.size()));
         const auto end = detail::parallel_for(
@@ -655,6 +660,7 @@ private:
                 other = static_cast<int>(m_attractors.size());
                 m_attractors.push_back(new_attractor(next, m_starts[k], other));
                 m_merged_into.push_back(-1);
+                m_probed.push_back(true);
             }
             extend(m_outcomes[k], next, m_options.run.max_steady_period);
             m_was_continued[k] = true;
@@ -669,13 +675,43 @@ private:
         return joined;
     }
 
-    /// Moves every start of `group` into the non-periodic group `into`.
+    /// Moves every start of `group` into the non-periodic group `into`, with the count of
+    /// those that had left it for orbits: `into` is then a transient too, and its members not
+    /// yet continued are continued when confirm() turns to it.
     void merge(int group, int into) {
         for (const std::size_t k : members_of(m_labels, group)) {
             m_labels[k] = into;
             add_member(at(into), m_outcomes[k]);
         }
+        at(into).left_for_orbits += at(group).left_for_orbits;
+        at(group).left_for_orbits = 0;
         m_merged_into[static_cast<std::size_t>(group)] = into;
+    }
+
+    /// The members of `group` whose runs were not continued yet, in start order: a member
+    /// merged in after its own group's continuation is not run twice.
+    std::vector<std::size_t> uncontinued_members(int group) const {
+        std::vector<std::size_t> waiting;
+        for (const std::size_t k : members_of(m_labels, group))
+            if (!m_was_continued[k]) waiting.push_back(k);
+        return waiting;
+    }
+
+    static std::vector<std::size_t> first_of(const std::vector<std::size_t>& members,
+                                             std::size_t count) {
+        return {members.begin(),
+                members.begin() + static_cast<std::ptrdiff_t>(std::min(count, members.size()))};
+    }
+
+    /// How many more members of a transient `group` run.max_work affords to continue: its
+    /// continued starts (those that left included) are held to it together, but its probes
+    /// always run.
+    std::size_t affordable_more(int group) const {
+        const Attractor& a = m_attractors[static_cast<std::size_t>(group)];
+        std::size_t continued = static_cast<std::size_t>(a.left_for_orbits);
+        for (const std::size_t k : members_of(m_labels, group))
+            if (m_was_continued[k]) ++continued;
+        return m_members_affordable > continued ? m_members_affordable - continued : 0;
     }
 
     /// A group some of whose starts left: its first member, state and points become those of
@@ -716,6 +752,7 @@ private:
     std::vector<int>& m_labels;
     std::vector<int> m_merged_into;    // per group: the group it merged into, -1 if none
     std::vector<bool> m_was_continued; // per start
+    std::vector<bool> m_probed;        // per group: its probes were continued
     std::size_t m_members_affordable = 1;
 };
 

@@ -160,8 +160,10 @@ struct Attractor {
     long slice_points = 0; ///< slice starts that reach it
     /// A non-periodic group: its starts (random and slice) whose runs were continued to
     /// confirm it (AttractorSet::confirmation_periods more), those still in it and those that
-    /// left for orbits (left_for_orbits); 0 for a periodic one. Below left_for_orbits +
-    /// samples + slice_points where run.max_work did not afford continuing every member
+    /// left for orbits (left_for_orbits); 0 for a periodic one. Where none left, only its 3 to
+    /// 8 probes (and those of groups merged into it); once one left, every member, as many as
+    /// run.max_work affords: below left_for_orbits + samples + slice_points where it did not
+    /// afford them all, or a continuation failed
     long members_continued = 0;
     /// A non-periodic group: its starts whose continued runs left it for a periodic attractor;
     /// above 0 it is a chaotic transient that outlasts the runs, not an attractor (settled

@@ -1004,17 +1004,28 @@ TEST_CASE("a row the exact scheme refuses keeps its orbits unconfirmed, with its
     CHECK(std::abs(a.F_m - orbit) <= a.F_m_error);
 }
 
+namespace {
+
+/// Fig 13's row at f_r = 3.2 searched with 1500-period runs (750 discarded) from `samples` starts.
+AttractorOptions fig13_at_3_2_in_1500_periods(long samples) {
+    AttractorOptions o;
+    o.samples = samples;
+    o.seed = 1;
+    o.run.periods = 1500;
+    o.run.transient_periods = 750;
+    return o;
+}
+
+} // namespace
+
 TEST_CASE(
     "a non-periodic group whose exponent is too uncertain to call is unsettled, not a torus") {
     // Fig 13's row at f_r = 3.2 with 1500-period runs: most starts are still on their way to
     // the period-15 orbit (docs/attractors.md, 5000-period runs) and their group's exponent
     // read -0.011 +- 0.075, listed as a torus (the probe of 2026-11-27). The torus itself
-    // (F_m 0.3853) reads about -0.0007 +- 0.015 and keeps its label.
-    AttractorOptions o;
-    o.samples = 60;
-    o.seed = 1;
-    o.run.periods = 1500;
-    o.run.transient_periods = 750;
+    // (F_m 0.3853) reads about -0.0007 +- 0.015 and keeps its label. With 8 starts the
+    // confirmation is 1.3 run lengths (confirmation_periods()), too short for them to land.
+    const AttractorOptions o = fig13_at_3_2_in_1500_periods(8);
     const AttractorSet set = find_attractors({5, 60, 0.5, 0.06, 3.2}, o);
     bool weak_group = false;
     for (const Attractor& a : set.attractors) {
@@ -1028,4 +1039,24 @@ TEST_CASE(
         }
     }
     CHECK(weak_group);
+}
+
+TEST_CASE("a large search with no orbit reached confirms its groups long enough to find one") {
+    // The same row and runs with 60 starts: none reaches an orbit within its 1500 periods, and
+    // the groups used to be continued as long again, so the weak motion stayed an unsettled
+    // group and the period-15 orbit that 5000-period runs find was missing. The probes now run
+    // 10 run lengths (half the starts' periods together); the weak starts land on the orbit,
+    // whose F_m 0.214494 an independent shooting (the probe of 2026-11-28) found too.
+    const AttractorOptions o = fig13_at_3_2_in_1500_periods(60);
+    const AttractorSet set = find_attractors({5, 60, 0.5, 0.06, 3.2}, o);
+    CHECK(set.confirmation_periods == 10 * o.run.periods);
+    bool orbit = false;
+    for (const Attractor& a : set.attractors) {
+        if (a.period == 0 && a.F_m < 0.3) CHECK_FALSE(a.settled);
+        if (a.period == 15 && std::abs(a.F_m - 0.214494) < 1e-5) {
+            orbit = true;
+            CHECK(a.basin_fraction > 0.8);
+        }
+    }
+    CHECK(orbit);
 }

@@ -1120,21 +1120,28 @@ TransientLifetime search_transients(const std::vector<StartOutcome>& outcomes,
 /// 15 still wandered, and continued 200 more, one group stood in one seed of 16; at Fig 13's
 /// f_r = 2.05, where a saddle's transients last 5550 periods, the 6 members continued of a
 /// group of 44 all stay through 4 x 300 more periods with odds 0.28, through 10 x 300 with
-/// odds 0.04); else as long again (no orbit was reached: the group is
-/// likely the row's chaos). At least run.periods, at most ten times that and what
-/// run.max_work allows one run.
+/// odds 0.04); else (no orbit was reached) as long as the probes together take half the
+/// starts' periods (random_starts / probe_count() / 2 run lengths: 10 for 200 starts, 1.3 for
+/// 8), so that a large search may still find a transient that outlasts every start: at Fig 13's
+/// f_r = 3.2 with 600-period runs, as long again listed the starts around the period-15 orbit
+/// (lifetime about 2100 periods beyond a median of 2300) as a chaotic attractor of basin 0.895.
+/// At least run.periods, at most ten times that and what run.max_work allows one run.
 /// As long again was too short where the transients are long: at Fig 13's f_r = 3.2, around
 /// the period-15 orbit, 4 of 100 starts of 5000 periods still wandered, and the first, continued
 /// 5000 more, too; it was listed as a chaotic attractor (F_m 0.262, above the orbit's 0.214,
 /// so the design value) though it lands on the orbit at period 10,901. The search measured
 /// lifetime 997 periods beyond a median of 2576 there.
-long confirmation_periods(const Dynamics& dyn, const RunOptions& run,
+long confirmation_periods(const Dynamics& dyn, const RunOptions& run, long random_starts,
                           const TransientLifetime& transients, bool orbit_reached) {
     double periods = static_cast<double>(run.periods);
     if (std::isfinite(transients.lifetime) && std::isfinite(transients.from_period))
         periods = std::max(periods, transients.from_period + 10.0 * transients.lifetime);
     else if (orbit_reached)
         periods = 10.0 * static_cast<double>(run.periods);
+    else
+        periods *= std::max(1.0, 0.5 * static_cast<double>(random_starts) /
+                                     static_cast<double>(probe_count(
+                                         random_starts, static_cast<std::size_t>(random_starts))));
     // The continuations run as the starts do, their comparison runs included: priced without
     // them, 2000-period continuations of the Nm = 2 row were refused after every start had run.
     const double affordable = affordable_simulation_periods(dyn, start_run_options(run));
@@ -1252,7 +1259,7 @@ AttractorSet find_attractors(const ReducedParameters& p, const AttractorOptions&
     const bool orbit_reached = std::any_of(set.attractors.begin(), set.attractors.end(),
                                            [](const Attractor& a) { return a.period != 0; });
     const long continued =
-        confirmation_periods(dyn, o.run,
+        confirmation_periods(dyn, o.run, o.samples,
                              search_transients(outcomes, labels, o.samples, set.attractors,
                                                o.run.max_steady_period, InTransit::every_group),
                              orbit_reached);

@@ -10,6 +10,7 @@
 #include <cmath>
 #include <functional>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <tuple>
 #include <utility>
@@ -288,6 +289,41 @@ TEST_CASE("SteadyStateDetector: a cycle approached along a negative multiplier i
     }
     REQUIRE(stopped_at > 0);
     CHECK(doubled.period() == 6);
+}
+
+TEST_CASE("SteadyStateDetector: a cycle longer than max_period is named by longer_cycle()") {
+    // y_n = c_(n mod k) + 0.5^n with distinct c: a k-cycle approached quickly. With max_period 8
+    // a 7-cycle is a steady state; an 11-cycle and a 30-cycle are not, and longer_cycle() names
+    // them (up to 4 x 8 = 32); a 40-cycle is beyond, and a sequence that never repeats has none.
+    const auto feed = [](SteadyStateDetector& steady, long k, long periods) {
+        double deviation = 1.0;
+        for (long n = 0; n < periods; ++n, deviation *= 0.5) {
+            const double y = 1.0 + 0.1 * static_cast<double>(n % k) + deviation;
+            if (steady.on_period(n, static_cast<double>(n), &y)) break;
+        }
+    };
+    for (const auto& [k, steady_period, longer] :
+         {std::tuple{7L, std::optional<int>(7), std::optional<int>()},
+          std::tuple{11L, std::optional<int>(), std::optional<int>(11)},
+          std::tuple{30L, std::optional<int>(), std::optional<int>(30)},
+          std::tuple{40L, std::optional<int>(), std::optional<int>()}}) {
+        SteadyStateDetector steady(1, 8, 1e-10, 0);
+        feed(steady, k, 300);
+        CAPTURE(k);
+        CHECK(steady.period() == steady_period);
+        CHECK(steady.longer_cycle() == longer);
+    }
+    // Too few boundaries for two whole cycles: nothing.
+    SteadyStateDetector early(1, 8, 1e-10, 0);
+    feed(early, 30, 50);
+    CHECK_FALSE(early.longer_cycle().has_value());
+    // A logistic-map sequence (chaotic) repeats with no lag.
+    SteadyStateDetector chaotic(1, 8, 1e-10, 0);
+    double x = 0.3;
+    for (long n = 0; n < 300; ++n, x = 3.99 * x * (1.0 - x))
+        chaotic.on_period(n, static_cast<double>(n), &x);
+    CHECK_FALSE(chaotic.period().has_value());
+    CHECK_FALSE(chaotic.longer_cycle().has_value());
 }
 
 TEST_CASE(

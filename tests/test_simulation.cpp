@@ -11,6 +11,7 @@
 #include <complex>
 #include <numbers>
 #include <stdexcept>
+#include <vector>
 
 using namespace gapchain;
 using std::numbers::pi;
@@ -90,6 +91,28 @@ TEST_CASE("cycle entry: the transient ends where the free decay exp(-2 pi eps t)
     }
     // A start on the orbit is steady after two periods, before any is tested for being far.
     CHECK(from(0.0).cycle_entry_period == 2);
+}
+
+TEST_CASE("a run on a cycle longer than run.max_steady_period says how long it is") {
+    // The Nm = 5 row at fc = 10, eps = 0.1, e_r = 0.06, f_r = 1.6 from this start ends on a
+    // period-18 orbit (a Tables 2-3 point; Newton finds it with |mu| = 0.27). The test tries 16
+    // periods: no steady state, but longer_cycle_period names 18, and a run allowed 18 settles.
+    const Dynamics dyn = Dynamics::paper_row({5, 10, 0.1, 0.06, 1.6});
+    RunOptions o;
+    o.periods = 1000;
+    const std::vector<double> start{0.3, -0.2, 0.1, 0.0, 0.2, 0.0, 0.0, 0.0, 0.0, 0.0};
+    const SimulationResult r = simulate(dyn, o, start);
+    CHECK_FALSE(r.steady_state_period.has_value());
+    CHECK(r.longer_cycle_period == 18);
+    o.max_steady_period = 18;
+    const SimulationResult settled = simulate(dyn, o, start);
+    CHECK(settled.steady_state_period == 18);
+    CHECK_FALSE(settled.longer_cycle_period.has_value());
+    // A run that settles within the test's periods has none (Fig 13's row at f_r = 2.25,
+    // period 1).
+    const SimulationResult period_one = simulate(Dynamics::paper_row({5, 60, 0.5, 0.06, 2.25}), {});
+    CHECK(period_one.steady_state_period.has_value());
+    CHECK_FALSE(period_one.longer_cycle_period.has_value());
 }
 
 TEST_CASE("one body between two walls agrees with an independent GSL rk8pd integration") {

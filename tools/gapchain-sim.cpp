@@ -82,11 +82,8 @@ void print_header(const Scene& scene, const SimulationResult& r) {
                     r.periods_simulated);
 }
 
-void print_result(const Scene& scene, const SimulationResult& r, bool searched) {
-    const ReducedParameters& p = scene.reduced;
-    print_header(scene, r);
-    print_force(scene, r);
-    print_where(r, p.Nm);
+// Whether and where the run settled; a longer cycle than the test tries, with the key to set.
+void print_steady_state(const SimulationResult& r) {
     if (r.steady_state_period)
         std::printf("periodic steady state: period %d x T, reached by t = %.6g (transient ended "
                     "at period %ld, %ld discarded)\n",
@@ -98,6 +95,19 @@ void print_result(const Scene& scene, const SimulationResult& r, bool searched) 
                         ? " (error: sampling spread: the maxima of the two window halves and the "
                           "tail of the per-period maxima, and of a twin run when one ran)"
                         : "");
+    if (r.longer_cycle_period)
+        std::printf("  its states repeat every %d periods (to 1e-3), a cycle longer than "
+                    "run.max_steady_period tries: --set run.max_steady_period=%d lets the run "
+                    "settle on it\n",
+                    *r.longer_cycle_period, *r.longer_cycle_period);
+}
+
+void print_result(const Scene& scene, const SimulationResult& r, bool searched) {
+    const ReducedParameters& p = scene.reduced;
+    print_header(scene, r);
+    print_force(scene, r);
+    print_where(r, p.Nm);
+    print_steady_state(r);
     const Chain chain = scene.chain();
     const auto& damping = chain.damping;
     const bool undamped =

@@ -268,30 +268,6 @@ struct StartOutcome {
     Points section;            // the orbit's points, or the run's last ones
 };
 
-/// Whether section point j is within the steady-state test's far distance (relative, as
-/// SteadyStateDetector: max norm over 1 + |y|) of the point `lag` periods before it.
-bool repeats(const Points& section, std::size_t j, std::size_t lag) {
-    const std::vector<double>& a = section[j];
-    const std::vector<double>& b = section[j - lag];
-    double distance = 0.0, size = 0.0;
-    for (std::size_t i = 0; i < a.size(); ++i) {
-        distance = std::max(distance, std::abs(a[i] - b[i]));
-        size = std::max(size, std::abs(a[i]));
-    }
-    return distance <= SteadyStateDetector::far_distance * (1.0 + size);
-}
-
-/// The shortest lag k (up to 1000, the steady-state test's largest, and under half the
-/// section) at which the section's last point and the one k before both repeat with lag k;
-/// 0 if none, or if it is max_steady_period or shorter (the steady-state test tries those).
-std::size_t long_cycle_lag(const Points& section, int max_steady_period) {
-    const std::size_t n = section.size();
-    for (std::size_t k = 1; k <= 1000 && 2 * k < n; ++k)
-        if (repeats(section, n - 1, k) && repeats(section, n - 1 - k, k))
-            return k > static_cast<std::size_t>(max_steady_period) ? k : 0;
-    return 0;
-}
-
 /// Puts a converged Newton orbit into s: minimal period, multipliers, F_m, state, points and
 /// the state error that matching allows for.
 void take_orbit(const PeriodicOrbit& found, StartOutcome& s) {
@@ -336,10 +312,10 @@ RecordedRun run_recorded(const Dynamics& dyn, const RunOptions& run, std::size_t
     return recorded;
 }
 
-/// A start's run. One that did not settle but whose section repeats with a lag beyond
-/// run.max_steady_period (long_cycle_lag()) is run again with the steady-state test trying
-/// cycles up to that lag, so that it settles, and is confirmed, as any other start does:
-/// the Nm = 5 row at fc = 10, eps = 0.1, e_r = 0.06, f_r = 1.6 (a point of the Tables 2-3
+/// A start's run. One that did not settle but whose states repeat with a lag beyond
+/// run.max_steady_period (SimulationResult::longer_cycle_period) is run again with the steady-state
+/// test trying cycles up to that lag, so that it settles, and is confirmed, as any other start
+/// does: the Nm = 5 row at fc = 10, eps = 0.1, e_r = 0.06, f_r = 1.6 (a point of the Tables 2-3
 /// subset) sends 7 of 8 starts to period-18 orbits of F_m 1.65828; read as two groups still
 /// converging, they were left out of the design value, which was the period-1 orbit's 1.47504.
 StartOutcome run_start(const Dynamics& dyn, const AttractorOptions& o,
@@ -353,12 +329,10 @@ StartOutcome run_start(const Dynamics& dyn, const AttractorOptions& o,
         s.failed = true;
         return s;
     }
-    if (!r->steady_state_period) {
-        if (const std::size_t lag = long_cycle_lag(recorded.section, run.max_steady_period)) {
-            run.max_steady_period = static_cast<int>(lag);
-            RecordedRun again = run_recorded(dyn, run, section_points, start, keep_going);
-            if (again.result.steady_state_period) recorded = std::move(again);
-        }
+    if (r->longer_cycle_period) {
+        run.max_steady_period = *r->longer_cycle_period;
+        RecordedRun again = run_recorded(dyn, run, section_points, start, keep_going);
+        if (again.result.steady_state_period) recorded = std::move(again);
     }
     s.run_F_m = s.F_m = r->F_m;
     s.spread = r->F_m_error;

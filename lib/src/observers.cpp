@@ -336,12 +336,28 @@ double MaxForceTracker::max_force() const {
 SteadyStateDetector::SteadyStateDetector(int dimension, int max_period, double tolerance,
                                          long earliest_stop, double velocity_scale)
     : m_dim(dimension), m_max_period(max_period), m_tolerance(tolerance),
-      m_earliest_stop(earliest_stop),
-      m_ring(static_cast<std::size_t>(max_period) + 2, std::vector<double>(dimension)),
-      m_velocity_scale(velocity_scale) {
+      m_earliest_stop(earliest_stop), m_velocity_scale(velocity_scale) {
     detail::require_range("run.max_steady_period", max_period, 1, 1000);
+    m_ring.assign(2 * static_cast<std::size_t>(longest_lag()) + 2, std::vector<double>(dimension));
     detail::require_range("run.steady_tolerance", tolerance, 0.0, 1.0, detail::Bound::open_low);
     detail::require_range("velocity_scale", velocity_scale, 0.0, 1e12, detail::Bound::open_low);
+}
+
+int SteadyStateDetector::longest_lag() const {
+    return std::max(m_max_period, std::min(4 * m_max_period, 1000));
+}
+
+// The steady-state test tries periods up to max_period only, and a run on a longer cycle read
+// "no periodic steady state" (the Nm = 5 row at fc = 10, eps = 0.1, e_r = 0.06, f_r = 1.6 ends
+// on period-18 orbits). Both the last state and the one k before must come back, so that a
+// chaotic run's chance return does not count.
+std::optional<int> SteadyStateDetector::longer_cycle() const {
+    if (m_period) return std::nullopt;
+    const long n = m_last_boundary;
+    for (long k = 1; k <= longest_lag() && n - 2 * k >= 0; ++k)
+        if (distance(n, n - k) <= far_distance && distance(n - k, n - 2 * k) <= far_distance)
+            return k > m_max_period ? std::optional<int>(static_cast<int>(k)) : std::nullopt;
+    return std::nullopt;
 }
 
 double SteadyStateDetector::distance(long a, long b) const {
@@ -453,6 +469,7 @@ void SteadyStateDetector::watch_divisors(long n) {
 
 bool SteadyStateDetector::on_period(long n, double t, const double* y) {
     std::copy(y, y + m_dim, m_ring[n % m_ring.size()].begin());
+    m_last_boundary = n;
     if (m_period) {
         if (m_watch.end >= 0) watch_divisors(n);
         return m_watch.end < 0 && n >= m_earliest_stop + *m_period;

@@ -154,6 +154,7 @@ json simulation_json(const SimulationResult& r, const Scene& scene) {
     j["steady_state_time"] = r.steady_state_time ? json(*r.steady_state_time) : json(nullptr);
     j["cycle_entry_period"] =
         r.cycle_entry_period >= 0 ? json(r.cycle_entry_period) : json(nullptr);
+    j["longer_cycle_period"] = r.longer_cycle_period ? json(*r.longer_cycle_period) : json(nullptr);
     j["status"] = std::string(to_string(r.status));
     j["scheme"] = std::string(to_string(r.scheme));
     j["step"] = r.step;

@@ -473,6 +473,7 @@ SimulationResult main_run_result(const Dynamics& dyn, const RunOptions& options,
                                         : std::min(static_cast<long>(options.max_steady_period) + 1,
                                                    std::lround(*main.period_time / dyn.period()));
     result.last_far_period = main.last_far_period;
+    result.longer_cycle_period = main.longer_cycle;
     result.final_state = main.final_state;
     report_maxima(main, result);
     // An auto transient is capped at half the run: a row whose start-up outlasts that (eps

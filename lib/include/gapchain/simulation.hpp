@@ -82,6 +82,12 @@ struct SimulationResult {
     /// not tested). A run without a steady state whose last_far_period is well before its end
     /// had ended its transient and was still approaching its cycle.
     long last_far_period = -1;
+    /// A run that found no steady state but whose last states repeat with a lag k beyond
+    /// run.max_steady_period (to SteadyStateDetector::far_distance, 1e-3 relative, at its last
+    /// boundary and k periods before it; k up to 4 max_steady_period and 1000): k, the cycle
+    /// it is on or approaching, on which run.max_steady_period = k lets it settle. Empty
+    /// otherwise.
+    std::optional<int> longer_cycle_period;
     RunStatus status = RunStatus::completed; ///< how the main run ended
     std::string message;                     ///< failure explanation, empty on success
     Scheme scheme = Scheme::rk4;             ///< concrete scheme used

@@ -70,6 +70,7 @@ public:
             r.period = m_steady->period();
             r.period_time = m_steady->time();
             r.last_far_period = m_steady->last_far_period();
+            r.longer_cycle = m_steady->longer_cycle();
         }
         r.first_half_max = m_forces.first_half_max();
         r.second_half_max = m_forces.second_half_max();

@@ -23,10 +23,11 @@ struct SingleRun {
     std::optional<int> period;
     std::optional<double> period_time;
     long evaluations = 0;
-    double first_half_max = 0.0;  ///< largest force in the first half of the recorded window
-    double second_half_max = 0.0; ///< and in the second half
-    double tail_spread = 0.0;     ///< MaxForceTracker::tail_spread() of the recorded window
-    long last_far_period = -1;    ///< see SteadyStateDetector::last_far_period()
+    double first_half_max = 0.0;     ///< largest force in the first half of the recorded window
+    double second_half_max = 0.0;    ///< and in the second half
+    double tail_spread = 0.0;        ///< MaxForceTracker::tail_spread() of the recorded window
+    long last_far_period = -1;       ///< see SteadyStateDetector::last_far_period()
+    std::optional<int> longer_cycle; ///< see SteadyStateDetector::longer_cycle()
     std::vector<double> final_state;
     long relaxed_from = -1;          ///< period the relaxed plan took over at (-1: strict run)
     std::vector<double> relax_state; ///< the state there

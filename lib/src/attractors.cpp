@@ -594,7 +594,8 @@ public:
         : m_dyn(dyn), m_scale(scale), m_options(o), m_continued(o), m_starts(starts),
           m_threads(threads), m_progress(progress), m_outcomes(outcomes), m_attractors(attractors),
           m_labels(labels), m_merged_into(attractors.size(), -1),
-          m_was_continued(outcomes.size(), false), m_probed(attractors.size(), false) {
+          m_was_continued(outcomes.size(), false), m_was_tried(outcomes.size(), false),
+          m_probed(attractors.size(), false) {
         m_continued.run.periods = periods;
         // A group's continuations together within run.max_work: the search's check counted
         // only its probes (search_work()); a saddle's 44 members at ten run lengths each would
@@ -611,13 +612,14 @@ public:
         for (int g = group;;) {
             if (members_of(m_labels, g).empty()) return true; // merged into an earlier group
             std::optional<int> joined = -1;
-            if (!m_probed[static_cast<std::size_t>(g)]) {
-                m_probed[static_cast<std::size_t>(g)] = true;
+            // A group a transient merged into is a transient already: no probe round.
+            if (!m_probed[static_cast<std::size_t>(g)] && at(g).left_for_orbits == 0) {
                 const std::size_t probes =
                     probe_count(m_options.samples, members_of(m_labels, g).size());
                 joined = continue_members(first_of(uncontinued_members(g), probes), g);
                 if (!joined) return false;
             }
+            m_probed[static_cast<std::size_t>(g)] = true;
             if (*joined < 0 && at(g).left_for_orbits > 0) {
                 joined = continue_members(first_of(uncontinued_members(g), affordable_more(g)), g);
                 if (!joined) return false;
@@ -685,8 +687,10 @@ private:
         int joined = -1;
         for (std::size_t m = 0; m < members.size(); ++m) {
             const StartOutcome& next = more[m];
-            if (next.failed) continue;
             const std::size_t k = members[m];
+            // A continuation that failed (non-finite) would fail again: tried, not continued.
+            m_was_tried[k] = true;
+            if (next.failed) continue;
             int other = reached(next, m_attractors, m_scale, m_options, group);
             if (other >= 0) other = root(other);
             if (other < 0 && next.periodic) {
@@ -721,12 +725,13 @@ private:
         m_merged_into[static_cast<std::size_t>(group)] = into;
     }
 
-    /// The members of `group` whose runs were not continued yet, in start order: a member
-    /// merged in after its own group's continuation is not run twice.
+    /// The members of `group` whose runs were not continued (or tried) yet, in start order: a
+    /// member merged in after its own group's continuation is not run twice, nor one whose
+    /// continuation failed.
     std::vector<std::size_t> uncontinued_members(int group) const {
         std::vector<std::size_t> waiting;
         for (const std::size_t k : members_of(m_labels, group))
-            if (!m_was_continued[k]) waiting.push_back(k);
+            if (!m_was_tried[k]) waiting.push_back(k);
         return waiting;
     }
 
@@ -737,13 +742,13 @@ private:
     }
 
     /// How many more members of a transient `group` run.max_work affords to continue: its
-    /// continued starts (those that left included) are held to it together, but its probes
-    /// always run.
+    /// continued starts (those that left included, and those whose continuation failed) are
+    /// held to it together, but its probes always run.
     std::size_t affordable_more(int group) const {
         const Attractor& a = m_attractors[static_cast<std::size_t>(group)];
         std::size_t continued = static_cast<std::size_t>(a.left_for_orbits);
         for (const std::size_t k : members_of(m_labels, group))
-            if (m_was_continued[k]) ++continued;
+            if (m_was_tried[k]) ++continued;
         return m_members_affordable > continued ? m_members_affordable - continued : 0;
     }
 
@@ -784,7 +789,8 @@ private:
     std::vector<Attractor>& m_attractors;
     std::vector<int>& m_labels;
     std::vector<int> m_merged_into;    // per group: the group it merged into, -1 if none
-    std::vector<bool> m_was_continued; // per start
+    std::vector<bool> m_was_continued; // per start: its continuation ran
+    std::vector<bool> m_was_tried;     // per start: its continuation ran or failed
     std::vector<bool> m_probed;        // per group: its probes were continued
     std::size_t m_members_affordable = 1;
 };
@@ -1153,17 +1159,17 @@ TransientLifetime search_transients(const std::vector<StartOutcome>& outcomes,
 /// 15 still wandered, and continued 200 more, one group stood in one seed of 16; at Fig 13's
 /// f_r = 2.05, where a saddle's transients last 5550 periods, the 6 members continued of a
 /// group of 44 all stay through 4 x 300 more periods with odds 0.28, through 10 x 300 with
-/// odds 0.04); else (no orbit was reached) as long as the probes together take half the
-/// starts' periods (random_starts / probe_count() / 2 run lengths: 10 for 200 starts, 1.3 for
-/// 8), so that a large search may still find a transient that outlasts every start: at Fig 13's
-/// f_r = 3.2 with 600-period runs, as long again listed the starts around the period-15 orbit
-/// (lifetime about 2100 periods beyond a median of 2300) as a chaotic attractor of basin 0.895.
-/// At least run.periods, at most ten times that and what run.max_work allows one run.
-/// As long again was too short where the transients are long: at Fig 13's f_r = 3.2, around
-/// the period-15 orbit, 4 of 100 starts of 5000 periods still wandered, and the first, continued
-/// 5000 more, too; it was listed as a chaotic attractor (F_m 0.262, above the orbit's 0.214,
-/// so the design value) though it lands on the orbit at period 10,901. The search measured
-/// lifetime 997 periods beyond a median of 2576 there.
+/// odds 0.04); else (no orbit was reached) random_starts / probe_count() / 2 run lengths, the
+/// probes of a group of every start together running half the starts' periods (12.5, capped
+/// at 10, for 200 starts; 10 for 60; 1.3 for 8), so that a large search may still find a transient
+/// that outlasts every start: at Fig 13's f_r = 3.2 with 600-period runs, as long again listed the
+/// starts around the period-15 orbit (lifetime about 2100 periods beyond a median of 2300) as a
+/// chaotic attractor of basin 0.895. At least run.periods, at most ten times that and what
+/// run.max_work allows one run. As long again was too short where the transients are long: at Fig
+/// 13's f_r = 3.2, around the period-15 orbit, 4 of 100 starts of 5000 periods still wandered, and
+/// the first, continued 5000 more, too; it was listed as a chaotic attractor (F_m 0.262, above the
+/// orbit's 0.214, so the design value) though it lands on the orbit at period 10,901. The search
+/// measured lifetime 997 periods beyond a median of 2576 there.
 long confirmation_periods(const Dynamics& dyn, const RunOptions& run, long random_starts,
                           const TransientLifetime& transients, bool orbit_reached) {
     double periods = static_cast<double>(run.periods);

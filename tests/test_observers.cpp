@@ -313,9 +313,9 @@ TEST_CASE("SteadyStateDetector: a cycle longer than max_period is named by longe
         CHECK(steady.period() == steady_period);
         CHECK(steady.longer_cycle() == longer);
     }
-    // Too few boundaries for two whole cycles: nothing.
+    // Too few boundaries for the test at that lag (it compares two pairs k apart): nothing.
     SteadyStateDetector early(1, 8, 1e-10, 0);
-    feed(early, 30, 50);
+    feed(early, 30, 31);
     CHECK_FALSE(early.longer_cycle().has_value());
     // A logistic-map sequence (chaotic) repeats with no lag.
     SteadyStateDetector chaotic(1, 8, 1e-10, 0);
@@ -324,6 +324,15 @@ TEST_CASE("SteadyStateDetector: a cycle longer than max_period is named by longe
         chaotic.on_period(n, static_cast<double>(n), &x);
     CHECK_FALSE(chaotic.period().has_value());
     CHECK_FALSE(chaotic.longer_cycle().has_value());
+    // A torus whose rotation is near 1 / 47 comes back within 3e-4 after 47 periods, forever:
+    // no cycle (a reviewer's probe found one at Fig 13's f_r = 3.2, named 47 by a 1e-3 test).
+    SteadyStateDetector torus(1, 16, 1e-10, 0);
+    for (long n = 0; n < 1000; ++n) {
+        const double y = std::cos(2.0 * std::numbers::pi * (1.0 / 47.0 + 1e-6) * n);
+        torus.on_period(n, static_cast<double>(n), &y);
+    }
+    CHECK_FALSE(torus.period().has_value());
+    CHECK_FALSE(torus.longer_cycle().has_value());
 }
 
 TEST_CASE(

@@ -96,10 +96,11 @@ void print_steady_state(const SimulationResult& r) {
                           "tail of the per-period maxima, and of a twin run when one ran)"
                         : "");
     if (r.longer_cycle_period)
-        std::printf("  its states repeat every %d periods (to 1e-3), a cycle longer than "
-                    "run.max_steady_period tries: --set run.max_steady_period=%d lets the run "
-                    "settle on it\n",
-                    *r.longer_cycle_period, *r.longer_cycle_period);
+        std::printf(
+            "  its states repeat every %d periods (to run.steady_tolerance), a cycle longer "
+            "than run.max_steady_period tries: --set run.max_steady_period=%d lets the run "
+            "settle on it\n",
+            *r.longer_cycle_period, *r.longer_cycle_period);
 }
 
 void print_result(const Scene& scene, const SimulationResult& r, bool searched) {

@@ -60,9 +60,9 @@ each body), per_body_error (Nm x 2: the errors of the contacts on either side, o
 no comparison run estimated them), per_body_time (Nm x 2), per_contact (dict of arrays force, time, impacts, Nm + 1
 entries, and force_error: an array, or None where no comparison run estimated it), steady_state_period (int or None), steady_state_time, cycle_entry_period (int or
 None: the period from which on the state stayed within 1e-3 of repeating, where the transient
-ended), longer_cycle_period (int or None: a run with no steady state whose states repeat to
-1e-3 with a lag beyond run.max_steady_period, up to 4 times it; run.max_steady_period set to it
-lets the run settle), status ("completed",
+ended), longer_cycle_period (int or None: a run with no steady state whose last period states
+repeat to run.steady_tolerance with a lag beyond run.max_steady_period, up to 4 times it and
+1000; run.max_steady_period set to it lets the run settle), status ("completed",
 "steady_state", "non_finite", "cancelled"), message, scheme, step, periods_simulated,
 transient_periods_used, steps, evaluations, final_state (2 Nm: u then v), wall_time_s,
 accuracy_mode_used, relaxed_from_period (or None), run (the run options), parameters (the

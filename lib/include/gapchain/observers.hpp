@@ -132,11 +132,10 @@ public:
     static constexpr double near_divisor_factor = 1e4;
     /// The relative distance last_far_period() uses.
     static constexpr double far_distance = 1e-3;
-    /// Where no steady state was found: the shortest lag k at which the last boundary state and
-    /// the one k periods before it both come back within far_distance (relative) after k more
-    /// periods, if k exceeds max_period, the longest the steady-state test tries (k up to
-    /// 4 max_period and 1000): a cycle of k periods the run is on or approaching, which a test
-    /// trying k periods would find. Empty otherwise, and with fewer than 2 k + 1 boundaries.
+    /// Where no steady state was found: the shortest lag k beyond max_period (up to 4 max_period
+    /// and 1000, and as many states as 32 MB hold; none on rows too large for one more) at which
+    /// the last two boundaries pass the steady-state test: the run ended on a cycle of k periods,
+    /// on which a test trying k periods stops. Empty otherwise.
     [[nodiscard]] std::optional<int> longer_cycle() const;
     /// At the last period boundary n > max_period: the relative distance from the state there
     /// to the nearest of the max_period states before it (how close the run is to a cycle);
@@ -165,11 +164,11 @@ private:
     int m_max_period;
     double m_tolerance;
     long m_earliest_stop;
-    /// Boundary states, n modulo 2 longest_lag() + 2 (longer_cycle() reads 2 k back).
+    /// The longest lag longer_cycle() tries (max_period: none).
+    int m_longest_lag;
+    /// Boundary states, n modulo m_longest_lag + 2.
     std::vector<std::vector<double>> m_ring;
     long m_last_boundary = -1; ///< the last boundary n seen
-    /// The longest lag longer_cycle() tries: 4 max_period, at most 1000 (and max_period).
-    [[nodiscard]] int longest_lag() const;
     std::optional<int> m_period;
     std::optional<double> m_time;
     long m_last_far = -1;

@@ -82,10 +82,10 @@ struct SimulationResult {
     /// not tested). A run without a steady state whose last_far_period is well before its end
     /// had ended its transient and was still approaching its cycle.
     long last_far_period = -1;
-    /// A run that found no steady state but whose last states repeat with a lag k beyond
-    /// run.max_steady_period (to SteadyStateDetector::far_distance, 1e-3 relative, at its last
-    /// boundary and k periods before it; k up to 4 max_steady_period and 1000): k, the cycle
-    /// it is on or approaching, on which run.max_steady_period = k lets it settle. Empty
+    /// A run that found no steady state but whose last two period states pass the steady-state
+    /// test (run.steady_tolerance) with a lag k beyond run.max_steady_period (k up to 4 times it
+    /// and 1000, within 32 MB of states: none on rows of more than about 250,000 bodies): k, the
+    /// cycle it ended on, on which the same run with run.max_steady_period = k stops. Empty
     /// otherwise.
     std::optional<int> longer_cycle_period;
     RunStatus status = RunStatus::completed; ///< how the main run ended

@@ -323,33 +323,34 @@ StartOutcome run_start(const Dynamics& dyn, const AttractorOptions& o,
     RunOptions run = start_run_options(o.run);
     const auto section_points = static_cast<std::size_t>(o.section_points);
     RecordedRun recorded = run_recorded(dyn, run, section_points, start, keep_going);
-    const SimulationResult* r = &recorded.result;
     StartOutcome s;
-    if (r->status == RunStatus::non_finite || r->status == RunStatus::cancelled) {
+    if (recorded.result.status == RunStatus::non_finite ||
+        recorded.result.status == RunStatus::cancelled) {
         s.failed = true;
         return s;
     }
-    if (r->longer_cycle_period) {
-        run.max_steady_period = *r->longer_cycle_period;
+    if (const std::optional<int> lag = recorded.result.longer_cycle_period) {
+        run.max_steady_period = *lag;
         RecordedRun again = run_recorded(dyn, run, section_points, start, keep_going);
         if (again.result.steady_state_period) recorded = std::move(again);
     }
-    s.run_F_m = s.F_m = r->F_m;
-    s.spread = r->F_m_error;
-    s.state = r->final_state;
+    const SimulationResult& r = recorded.result;
+    s.run_F_m = s.F_m = r.F_m;
+    s.spread = r.F_m_error;
+    s.state = r.final_state;
     s.section = std::move(recorded.section);
-    s.last_far = r->last_far_period;
-    s.periods_run = r->periods_simulated;
-    if (!r->steady_state_period) return s;
+    s.last_far = r.last_far_period;
+    s.periods_run = r.periods_simulated;
+    if (!r.steady_state_period) return s;
     s.periodic = true;
-    s.period = *r->steady_state_period;
-    s.settle_period = r->cycle_entry_period;
+    s.period = *r.steady_state_period;
+    s.settle_period = r.cycle_entry_period;
     // The steady state's own largest force, not a transient's (replaced by Newton's below).
-    if (r->F_m_orbit) s.F_m = *r->F_m_orbit;
+    if (r.F_m_orbit) s.F_m = *r.F_m_orbit;
     // Newton shoots on the exact scheme; a row it refuses (fc above ~1.27e8, Nm > 64) keeps
     // the run's orbit unconfirmed rather than failing the whole search after its runs.
     // So does one whose shooting exceeds run.max_work.
-    const auto found = confirm_periodic_orbit(dyn, s.period, r->final_state, o.run.max_work);
+    const auto found = confirm_periodic_orbit(dyn, s.period, r.final_state, o.run.max_work);
     if (found && found->status == OrbitStatus::converged) {
         take_orbit(*found, s);
         return s;

@@ -126,6 +126,34 @@ TEST_CASE("keep \"F_m_orbit\": the orbit's maximum and the transient flag, as si
           results[0].simulation.F_m - *results[0].simulation.F_m_orbit);
 }
 
+TEST_CASE("a point on a cycle longer than run.max_steady_period names it in longer_cycle_period") {
+    // The period-18 orbit of test_simulation's long-cycle case (Newton-confirmed there; a
+    // plain rk8pd run with max_steady_period 32 agrees): the test's 16 periods miss it.
+    const auto study = [](int max_period) {
+        return parse_study(R"({"scene": {"model": {"Nm": 5, "fc": 10, "eps": 0.1},
+                                         "excitation": {"f_r": 1.6},
+                                         "initial": {"u": [0.3, -0.2, 0.1, 0.0, 0.2]},
+                                         "run": {"periods": 1000, "max_steady_period": )" +
+                           std::to_string(max_period) + R"(}},
+                               "parameters": {"e_r": [0.06]}})");
+    };
+    for (int max_period : {16, 18}) {
+        const Study s = study(max_period);
+        const StudyScenes scenes(s);
+        std::vector<SweepPointResult> results;
+        run_sweep(
+            s, {}, [&](long i) { return sweep_point_input(scenes.scene(i)); },
+            [&](const SweepPointResult& r) { results.push_back(r); });
+        REQUIRE(results.size() == 1);
+        const std::string header = sweep_csv_header(s);
+        const std::string row = sweep_csv_row(s, results[0]);
+        CAPTURE(row);
+        CHECK(header.find(",steady_state_period,longer_cycle_period") != std::string::npos);
+        CHECK(csv_cell(header, row, "steady_state_period") == (max_period == 16 ? "" : "18"));
+        CHECK(csv_cell(header, row, "longer_cycle_period") == (max_period == 16 ? "18" : ""));
+    }
+}
+
 TEST_CASE("an F_m_error nothing estimated is written empty, never as an exact 0") {
     // Fig 5's periodic point: it settles early, so no twin or orbit check widens the error bar.
     const auto study = [](const char* estimate) {

@@ -5,6 +5,7 @@
 #include "gapchain/report.hpp"
 #include "gapchain/study.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -182,7 +183,13 @@ gapchain::SweepSelection selection(const SweepArguments& a, const gapchain::Stud
 struct SweepTally {
     long periodic = 0, other = 0;
     double seconds_periodic = 0.0, seconds_other = 0.0;
+    long on_longer_cycle = 0; // not settled, but repeating beyond run.max_steady_period
+    int longest_cycle = 0;
     void add(const gapchain::SimulationResult& r) {
+        if (r.longer_cycle_period) {
+            ++on_longer_cycle;
+            longest_cycle = std::max(longest_cycle, *r.longer_cycle_period);
+        }
         if (r.steady_state_period) {
             ++periodic;
             seconds_periodic += r.wall_time_s;
@@ -204,6 +211,12 @@ void print_summary(const SweepTally& t, double wall, const SweepArguments& a, lo
                     t.periodic, t.periodic ? t.seconds_periodic / t.periodic : 0.0);
         std::printf("  not periodic (full length):         %ld points, mean %.4f s each\n", t.other,
                     t.other ? t.seconds_other / t.other : 0.0);
+        if (t.on_longer_cycle > 0)
+            std::printf(
+                "  of those, %ld repeat on a cycle longer than run.max_steady_period (up to "
+                "%d periods; column longer_cycle_period): \"max_steady_period\": %d in the "
+                "scene's run section lets them settle\n",
+                t.on_longer_cycle, t.longest_cycle, t.longest_cycle);
         if (a.subset > 0)
             std::printf("  estimate for all %ld points at this rate: %.0f s (%.1f h)\n", total,
                         wall * total / ran, wall * total / ran / 3600.0);

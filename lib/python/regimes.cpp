@@ -88,7 +88,8 @@ threads   OpenMP threads (0: all cores);  progress  callable(fraction of points 
 Returns a dict of columns in index order: index, one column per axis (named by its key), Nm,
 fc, eps, e_r, f_r, F_m, F_m_error (NaN: not estimated), status, multistable (bool;
 False also where run.multistability_check was false, which the CSV leaves empty),
-steady_state_period (0: none), wall_time_s; with "per_body" kept, per_body (points x Nm x 2; a study over model.Nm pads shorter rows with
+steady_state_period (0: none), longer_cycle_period (0: none; the cycle of a point that did
+not settle within run.max_steady_period), wall_time_s; with "per_body" kept, per_body (points x Nm x 2; a study over model.Nm pads shorter rows with
 NaN to the largest Nm) and per_body_error (the same shape; NaN where not estimated); with "regime" kept, regime,
 period, lambda_max, lambda_max_error, regime_start_dependent (bool; False also where no twin
 ran, which the CSV leaves empty), regime_settled_in_record (bool: the transient ended while
@@ -288,6 +289,8 @@ py::dict sweep_dict(const Study& study, std::vector<SweepPointResult> rows) {
     d["multistable"] = column<bool>(rows, [](const R& r) { return r.multistable; });
     d["steady_state_period"] =
         column<int>(rows, [](const R& r) { return r.simulation.steady_state_period.value_or(0); });
+    d["longer_cycle_period"] =
+        column<int>(rows, [](const R& r) { return r.simulation.longer_cycle_period.value_or(0); });
     d["wall_time_s"] = column<double>(rows, [](const R& r) { return r.simulation.wall_time_s; });
     kept_columns(d, study, rows);
     return d;

@@ -941,7 +941,7 @@ std::string sweep_csv_header(const Study& study) {
     if (study.attractor_starts > 0) h += ",F_m_max,F_m_max_error,attractors,unsettled";
     // Only as the last of those: a reduced study's columns stay where they were.
     if (study.attractor_starts > 0 && physical) h += ",F_m_max_newton,F_m_max_error_newton";
-    if (study.keep.steady_state) h += ",steady_state_period";
+    if (study.keep.steady_state) h += ",steady_state_period,longer_cycle_period";
     if (study.keep.wall_time) h += ",wall_time_s";
     if (study.keep.orbit) h += ",F_m_orbit,maximum_in_transient";
     if (study.keep.regime)
@@ -952,6 +952,15 @@ std::string sweep_csv_header(const Study& study) {
 }
 
 namespace {
+/// A sweep row's steady_state_period and longer_cycle_period cells (with their leading commas),
+/// each empty where the run found none.
+void write_period_cells(std::ostream& os, const SimulationResult& s) {
+    os << ',';
+    if (s.steady_state_period) os << *s.steady_state_period;
+    os << ',';
+    if (s.longer_cycle_period) os << *s.longer_cycle_period;
+}
+
 /// A sweep row's regime cells: regime,period,lambda_max,lambda_max_error,regime_start_dependent
 /// (with their leading commas).
 void write_regime_cells(std::ostream& os, const Classification& c) {
@@ -998,9 +1007,7 @@ std::string sweep_csv_row(const Study& study, const SweepPointResult& r) {
             write_if_finite(os, r.F_m_max_error_newton.value_or(std::nan("")));
         }
     }
-    if (study.keep.steady_state)
-        os << ','
-           << (s.steady_state_period ? std::to_string(*s.steady_state_period) : std::string(""));
+    if (study.keep.steady_state) write_period_cells(os, s);
     if (study.keep.wall_time) os << ',' << s.wall_time_s;
     if (study.keep.orbit) {
         os << ',';

@@ -226,6 +226,16 @@ def test_sweep_columns_follow_the_study():
         assert s["per_body_error"][3].tolist() == one["per_body_error"].tolist()
 
 
+def test_a_sweep_names_a_cycle_longer_than_max_steady_period():
+    # The period-18 orbit of test_simulation's long-cycle case; the default test tries 16.
+    scene = {"model": {"Nm": 5, "fc": 10, "eps": 0.1, "e_r": 0.06}, "excitation": {"f_r": 1.6},
+             "initial": {"u": [0.3, -0.2, 0.1, 0.0, 0.2]}, "run": {"periods": 1000}}
+    s = gapchain.sweep({"scene": scene, "parameters": {"run.max_steady_period": [16, 18]}})
+    assert s["steady_state_period"].tolist() == [0, 18]
+    assert s["longer_cycle_period"].tolist() == [18, 0]
+    assert gapchain.simulate(scene)["longer_cycle_period"] == 18
+
+
 def test_a_physical_sweep_gives_F_m_and_its_error_in_newtons():
     scene = {"units": "physical", "model": {"Nm": 3, "M": 100, "K": 1e5, "C": 500, "Kc": 5e6,
              "e": 0.002}, "excitation": {"a0": 5, "f": 4},

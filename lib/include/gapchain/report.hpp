@@ -189,9 +189,9 @@ std::string peaks_csv(const SpectralContent& content, double f_r);
 std::string work_precision_csv(const WorkPrecision& study);
 
 /// Header line of a sweep's CSV: index, the axes, Nm,fc,eps,e_r,f_r, F_m, F_m_error, status,
-/// then the kept fields (steady_state_period, wall_time_s, regime,period,lambda_max,
-/// lambda_max_error,regime_start_dependent (empty where no twin ran), per_body as
-/// "left|right;left|right;...").
+/// then the kept fields (steady_state_period and longer_cycle_period, wall_time_s,
+/// regime,period,lambda_max, lambda_max_error,regime_start_dependent (empty where no twin ran),
+/// per_body as "left|right;left|right;...").
 std::string sweep_csv_header(const Study& study);
 /// One CSV line (no newline) for a finished point.
 std::string sweep_csv_row(const Study& study, const SweepPointResult& result);
@@ -207,9 +207,12 @@ std::string study_json(const Study& study);
 /// F_m_error of Hertz and Hunt-Crossley rows at order 1.5, 3-7 times wider), 6 since
 /// 2026-11-27 later (a quasi-periodic or chaotic regime's lambda_max_error covers its twin's
 /// difference; regime_start_dependent added), 7 since 2026-11-28 (maximum_in_transient is
-/// empty, not 0, where the run settled on no orbit; regime_settled_in_record added). A CSV is
-/// resumed only by a build of the same version, so that no file mixes two meanings.
-inline constexpr int sweep_results_version = 7;
+/// empty, not 0, where the run settled on no orbit; regime_settled_in_record added), 8 since
+/// 2026-11-29 (longer_cycle_period follows steady_state_period: a run that did not settle within
+/// run.max_steady_period but whose states repeat every k periods,
+/// SimulationResult::longer_cycle_period). A CSV is resumed only by a build of the same version, so
+/// that no file mixes two meanings.
+inline constexpr int sweep_results_version = 8;
 /// A hash (16 hex digits) of everything that decides a study's rows: the base scene, the axes
 /// and their values, the sampling, what is kept and results_version (sweep_results_version
 /// unless a test asks otherwise). Not the file name, nor a build of the same results version.

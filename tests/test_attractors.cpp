@@ -340,6 +340,29 @@ TEST_CASE("design value: a run whose F_m is above every attractor (issue 19's Nm
     CHECK_FALSE(none.run_above);
 }
 
+TEST_CASE("a line reports each value as it is done, and a cancelled line keeps those values") {
+    AttractorOptions o = short_runs(8, 1);
+    o.run.periods = 300;
+    const ReducedParameters base{5, 60, 0.5, 0.06, 3.0};
+    std::vector<std::size_t> reported;
+    std::vector<double> reported_values;
+    const FractionContinuation c = continue_basin_fractions(
+        base, SweptParameter::f_r, {3.0, 3.01, 3.02, 3.03}, o,
+        [&](double) { return reported.size() < 2; }, // Ctrl-C once two values were shown
+        [&](const FractionContinuation& line) {
+            reported.push_back(line.values.size());
+            reported_values.push_back(line.values.back());
+            CHECK(line.sets.size() == line.values.size());
+            CHECK(line.labels.size() == line.values.size());
+            CHECK(line.labels.back().size() == line.sets.back().attractors.size());
+        });
+    CHECK(c.cancelled);
+    CHECK(reported == std::vector<std::size_t>{1, 2});
+    CHECK(c.values == reported_values);
+    CHECK(c.sets.size() == 2);
+    CHECK(fractions_csv(c).find("\n3.02") == std::string::npos);
+}
+
 TEST_CASE("a label follows an attractor along the line, even one that moved more than 0.2 A") {
     // Fig 13's line: the period-1 orbit (F_m 0.386) holds 77 % of the starts at f_r = 3.1 and
     // 65 % at 3.15, but its state at phase 0 moves by more than the centroid test's 0.2 A.

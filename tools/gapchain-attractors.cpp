@@ -213,24 +213,49 @@ void run_point(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs)
                                  : ", basins.csv, basins.png");
 }
 
+// One line on stdout per value done, as it is done: a long line shows what it has found, and
+// what it showed is kept if the line is interrupted.
+void print_value_done(const FractionContinuation& line, const AttractorArguments& a) {
+    const AttractorSet& set = line.sets.back();
+    std::printf("%s = %g (%zu of %d):", a.param.c_str(), line.values.back(), line.values.size(),
+                a.steps);
+    for (std::size_t i = 0; i < set.attractors.size(); ++i) {
+        const Attractor& at = set.attractors[i];
+        std::printf(" label %d %s", line.labels.back()[i], std::string(regime_label(at)).c_str());
+        if (at.period > 0) std::printf(" period %d", at.period);
+        std::printf(" F_m %.6g basin %.3f;", at.F_m, at.basin_fraction);
+    }
+    std::printf(" %ld failed\n", set.failed);
+    std::fflush(stdout);
+}
+
 void run_line(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs) {
     cli::Progress progress("gapchain-attractors");
     const FractionContinuation c = continue_basin_fractions(
         scene.reduced, parse_swept_parameter(a.param),
         fraction_line_values(scene.reduced, parse_swept_parameter(a.param), a.from, a.to, a.steps),
-        a.options, progress.callback());
-    cli::throw_if_interrupted();
+        a.options, progress.callback(),
+        [&](const FractionContinuation& line) { print_value_done(line, a); });
+    if (c.values.empty()) cli::throw_if_interrupted();
+    // Interrupted after some values: those are written (fractions.json says "cancelled"), not
+    // plotted, and the run still ends as interrupted.
+    const bool cut = c.cancelled || cli::interrupted();
     outputs.create_folders();
     const std::string dir = outputs.staged(a.out_dir);
     write_file_atomically(dir + "/fractions.csv", fractions_csv(c));
     write_file_atomically(dir + "/fractions.json", to_json(c, a.options, scene));
     const bool plotted =
-        !a.no_plot &&
+        !a.no_plot && !cut &&
         cli::plot_template(dir, "fractions",
                            {{"TITLE", "Basin fractions: " + cli::row_title(scene.reduced, a.param)},
                             {"PARAM", a.param},
                             {"COUNT", std::to_string(c.label_count)}});
     outputs.keep();
+    const std::string files = a.out_dir + "/fractions.csv and fractions.json";
+    cli::throw_if_interrupted(
+        c.cancelled ? "the " + std::to_string(c.values.size()) + " of " + std::to_string(a.steps) +
+                          " values done, in " + files + " (\"cancelled\": true)"
+                    : "all " + std::to_string(a.steps) + " values, in " + files);
     std::printf("gapchain-attractors: %s from %g to %g (%d values): %d attractor labels, %.2f s\n",
                 a.param.c_str(), a.from, a.to, a.steps, c.label_count, c.wall_time_s);
     print_center(a.options);

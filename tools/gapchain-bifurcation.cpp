@@ -71,6 +71,13 @@ void print_summary(const gapchain::BifurcationResult& r, const gapchain::Bifurca
                 out.c_str(), plotted ? ", bifurcation.png" : "", r.wall_time_s, r.threads_used);
 }
 
+// Rows that ran (a cancelled independent diagram lists the others with status cancelled).
+long rows_done(const gapchain::BifurcationResult& r) {
+    return std::count_if(r.rows.begin(), r.rows.end(), [](const auto& row) {
+        return row.status != gapchain::RunStatus::cancelled;
+    });
+}
+
 // The command line of a diagram.
 struct BifurcationArguments {
     gapchain::cli::SceneArguments scene;
@@ -159,28 +166,35 @@ int main(int argc, char** argv) {
                  "gapchain-bifurcation"};
     BifurcationArguments a;
     add_options(app, a);
-    return cli::run(app, argc, argv,
-                    [&] {
-                        cli::require_not_set(a.scene, a.param, "gapchain-bifurcation");
-                        cli::require_sets_read(a.scene, "gapchain-bifurcation",
-                                               {"run.scheme", "run.tolerance", "run.max_work"},
-                                               "its runs are set by --transient and --record");
-                        const Scene scene = cli::load(a.scene, fig13_scene);
-                        require_paper_row(scene, "gapchain-bifurcation");
-                        resolve_options(a, scene);
-                        cli::Outputs outputs({a.scene.path});
-                        outputs.folder(a.out_dir, "--out",
-                                       {"points.csv", "summary.csv", "bifurcation.json",
-                                        "bifurcation.gp", "bifurcation.png"});
-                        cli::Progress progress("gapchain-bifurcation");
-                        const BifurcationResult r =
-                            bifurcation(scene.reduced, a.options, progress.callback());
-                        cli::throw_if_interrupted();
-                        outputs.create_folders();
-                        const bool plotted =
-                            write_outputs(r, a, outputs.staged(a.out_dir), scene.reduced);
-                        outputs.keep();
-                        print_summary(r, a.options, a.param, a.mode, a.out_dir, plotted);
-                    },
-                    {{"section.phase", "--phase"}, {"variable", "--variable"}});
+    return cli::run(
+        app, argc, argv,
+        [&] {
+            cli::require_not_set(a.scene, a.param, "gapchain-bifurcation");
+            cli::require_sets_read(a.scene, "gapchain-bifurcation",
+                                   {"run.scheme", "run.tolerance", "run.max_work"},
+                                   "its runs are set by --transient and --record");
+            const Scene scene = cli::load(a.scene, fig13_scene);
+            require_paper_row(scene, "gapchain-bifurcation");
+            resolve_options(a, scene);
+            cli::Outputs outputs({a.scene.path});
+            outputs.folder(a.out_dir, "--out",
+                           {"points.csv", "summary.csv", "bifurcation.json", "bifurcation.gp",
+                            "bifurcation.png"});
+            cli::Progress progress("gapchain-bifurcation");
+            const BifurcationResult r = bifurcation(scene.reduced, a.options, progress.callback());
+            // Interrupted: the rows done are written (the others absent or, in
+            // independent mode, with status cancelled), not plotted.
+            const long done = rows_done(r);
+            if (done == 0) cli::throw_if_interrupted();
+            a.no_plot = a.no_plot || r.cancelled || cli::interrupted();
+            outputs.create_folders();
+            const bool plotted = write_outputs(r, a, outputs.staged(a.out_dir), scene.reduced);
+            outputs.keep();
+            cli::throw_if_interrupted(std::to_string(done) + " of " +
+                                      std::to_string(r.rows.size()) + " rows done, in " +
+                                      a.out_dir + "/points.csv, summary.csv and bifurcation.json" +
+                                      (r.cancelled ? " (\"cancelled\": true)" : ""));
+            print_summary(r, a.options, a.param, a.mode, a.out_dir, plotted);
+        },
+        {{"section.phase", "--phase"}, {"variable", "--variable"}});
 }

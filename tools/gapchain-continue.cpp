@@ -245,13 +245,19 @@ int main(int argc, char** argv) {
                         cli::Progress progress("gapchain-continue");
                         const ContinuationResult r = continue_orbits(
                             scene.reduced, a.options, scene.initial, progress.callback());
-                        cli::throw_if_interrupted();
+                        // Interrupted after some orbits: they are written, not plotted.
+                        if (r.points.empty()) cli::throw_if_interrupted();
+                        a.no_plot = a.no_plot || r.cancelled || cli::interrupted();
                         if (r.points.empty())
                             throw cli::NumericalFailure(
                                 r.branch_end.empty() ? "no orbit found" : r.branch_end.front());
                         outputs.create_folders();
                         write_outputs(r, a, outputs.staged(a.out_dir), scene.reduced);
                         outputs.keep();
+                        cli::throw_if_interrupted(std::to_string(r.points.size()) + " orbits and " +
+                                                  std::to_string(r.special.size()) +
+                                                  " special points found, in " + a.out_dir +
+                                                  "/branch.csv and special.csv");
                         print_summary(r, a);
                     },
                     {{"run.periods", "--transient"},

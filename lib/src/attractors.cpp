@@ -1494,11 +1494,10 @@ void require_line_affordable(const ReducedParameters& base, SweptParameter param
 
 } // namespace
 
-FractionContinuation continue_basin_fractions(const ReducedParameters& base,
-                                              SweptParameter parameter,
-                                              const std::vector<double>& values,
-                                              const AttractorOptions& options,
-                                              const ProgressCallback& progress) {
+FractionContinuation
+continue_basin_fractions(const ReducedParameters& base, SweptParameter parameter,
+                         const std::vector<double>& values, const AttractorOptions& options,
+                         const ProgressCallback& progress, const FractionValueCallback& on_value) {
     const auto clock = std::chrono::steady_clock::now();
     if (values.empty()) throw std::invalid_argument("steps: at least one value, got none");
     require_line_affordable(base, parameter, values, options);
@@ -1535,6 +1534,7 @@ FractionContinuation continue_basin_fractions(const ReducedParameters& base,
         fc.values.push_back(values[k]);
         fc.sets.push_back(std::move(set));
         fc.labels.push_back(std::move(labels));
+        if (on_value) on_value(fc);
     }
     fc.wall_time_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - clock).count();

@@ -69,16 +69,16 @@ void check_writable_parent(const std::string& path, const std::string& flag,
 
 } // namespace
 
-Interrupted::Interrupted(int sig)
+Interrupted::Interrupted(int sig, std::string kept_part)
     : std::runtime_error(std::string("interrupted by ") + (sig == SIGTERM ? "SIGTERM" : "SIGINT")),
-      signal(sig) {}
+      signal(sig), kept(std::move(kept_part)) {}
 
 bool interrupted() {
     return g_signal.load() != 0;
 }
 
-void throw_if_interrupted() {
-    if (interrupted()) throw Interrupted(g_signal.load());
+void throw_if_interrupted(const std::string& kept) {
+    if (interrupted()) throw Interrupted(g_signal.load(), kept);
 }
 
 std::string shown_path(const std::string& text) {
@@ -738,7 +738,10 @@ int run(CLI::App& app, int argc, char** argv, const std::function<void()>& body,
         }
         return static_cast<int>(ExitCode::success);
     } catch (const Interrupted& e) {
-        std::cerr << app.get_name() << ": " << e.what() << "; outputs not finished were removed\n";
+        std::cerr << app.get_name() << ": " << e.what()
+                  << (e.kept.empty() ? "; outputs not finished were removed"
+                                     : "; kept what was done: " + shown_path(e.kept))
+                  << "\n";
         return 128 + e.signal;
     } catch (const std::bad_alloc&) {
         std::cerr << app.get_name() << ": out of memory: the run is too large for this machine\n";

@@ -26,19 +26,22 @@ public:
     using std::runtime_error::runtime_error;
 };
 
-// SIGINT or SIGTERM arrived: the run was cancelled cleanly (exit 128 + signal).
+// SIGINT or SIGTERM arrived: the run was cancelled cleanly (exit 128 + signal). kept: what the
+// run had finished and kept in its outputs before it stopped, for the message (empty: nothing).
 class Interrupted : public std::runtime_error {
 public:
-    explicit Interrupted(int signal);
+    explicit Interrupted(int signal, std::string kept = "");
     int signal;
+    std::string kept;
 };
 
 // Whether SIGINT or SIGTERM has arrived (cli::run installs the handlers; the first signal sets
 // this flag so that long runs cancel through their progress callback and clean up; a second
 // one ends the process at once).
 bool interrupted();
-// Throws Interrupted if a signal has arrived.
-void throw_if_interrupted();
+// Throws Interrupted if a signal has arrived; kept says what the run finished and kept in its
+// outputs before it (an interrupted line or diagram keeps the values it has done).
+void throw_if_interrupted(const std::string& kept = "");
 
 // The output paths of one tool run. Every path is checked when it is added, before anything
 // runs: its folder must exist (or be creatable) and be writable, it must not be an input file

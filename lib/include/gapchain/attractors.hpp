@@ -45,6 +45,7 @@
 #include "gapchain/simulation.hpp"
 
 #include <cstdint>
+#include <functional>
 #include <limits>
 #include <optional>
 #include <string_view>
@@ -335,11 +336,17 @@ struct FractionContinuation {
 std::vector<double> fraction_line_values(const ReducedParameters& base, SweptParameter parameter,
                                          double from, double to, int steps);
 
+/// Called once a value of a basin-fraction line is done, with the line so far (its last
+/// value, set and labels are the new ones). What it reported stays in the line: a line
+/// cancelled later returns every value done before (cancelled set).
+using FractionValueCallback = std::function<void(const FractionContinuation& line)>;
+
 /// find_attractors() at every value of `parameter` (each set in parallel over its starts).
 FractionContinuation continue_basin_fractions(const ReducedParameters& base,
                                               SweptParameter parameter,
                                               const std::vector<double>& values,
                                               const AttractorOptions& options,
-                                              const ProgressCallback& progress = {});
+                                              const ProgressCallback& progress = {},
+                                              const FractionValueCallback& on_value = {});
 
 } // namespace gapchain

@@ -1,0 +1,76 @@
+#!/usr/bin/env bash
+# An interrupted basin-fraction line, bifurcation diagram or branch continuation keeps what it
+# had done: the values it reported on stdout, the rows that ran, the orbits found; it exits 130
+# (SIGINT) or 143 (SIGTERM), draws no plot and leaves no staging folder.
+# Usage: interrupt_keeps_done.sh BIN_DIR SCENE_DIR
+set -u
+bin=$1
+scenes=$2
+dir=$(mktemp -d)
+trap 'rm -rf "$dir"' EXIT
+fail=0
+failed() { echo "FAIL: $*"; fail=1; }
+# No staging folder of an interrupted run is left in OUT.
+no_staging() { ! ls -A "$1" | grep -q '^\.gapchain-staging'; }
+
+# 1. A long basin-fraction line, interrupted once it has reported two values done.
+"$bin/gapchain-attractors" "$scenes/fig13.json" --param f_r --from 3.0 --to 3.4 --steps 400 \
+    --samples 8 --set run.periods=300 --out "$dir/line" >"$dir/line.out" 2>"$dir/line.err" &
+pid=$!
+for _ in $(seq 1 1200); do
+    [ "$(grep -c ' of 400)' "$dir/line.out")" -ge 2 ] && break
+    sleep 0.05
+done
+kill -INT "$pid"
+wait "$pid"
+rc=$?
+reported=$(grep -c ' of 400)' "$dir/line.out")
+rows=$(($(wc -l <"$dir/line/fractions.csv") - 1))
+echo "line: exit $rc, $reported values reported, $rows rows kept"
+[ "$rc" -eq 130 ] || failed "line: exit $rc, not 130"
+[ "$reported" -ge 2 ] && [ "$reported" -lt 400 ] || failed "line: $reported values reported"
+[ "$rows" -eq "$reported" ] || failed "line: $rows rows kept for $reported values reported"
+grep -q '"cancelled": true' "$dir/line/fractions.json" || failed "line: fractions.json not marked cancelled"
+[ ! -e "$dir/line/fractions.png" ] || failed "line: a plot of an interrupted line"
+grep -q "kept what was done: the $reported of 400 values" "$dir/line.err" || failed "line: message: $(cat "$dir/line.err")"
+no_staging "$dir/line" || failed "line: staging folder left"
+
+# 2. An independent bifurcation diagram far too long to finish, interrupted (SIGTERM) after 4 s.
+"$bin/gapchain-bifurcation" --from 2 --to 4 --steps 200000 --transient 50 --record 20 \
+    --out "$dir/diagram" >"$dir/diagram.out" 2>"$dir/diagram.err" &
+pid=$!
+sleep 4
+kill -TERM "$pid"
+wait "$pid"
+rc=$?
+ran=$(tail -n +2 "$dir/diagram/summary.csv" | grep -vc ',cancelled,')
+cancelled=$(tail -n +2 "$dir/diagram/summary.csv" | grep -c ',cancelled,')
+echo "diagram: exit $rc, $ran rows ran, $cancelled cancelled"
+[ "$rc" -eq 143 ] || failed "diagram: exit $rc, not 143"
+[ "$ran" -ge 1 ] && [ "$cancelled" -ge 1 ] || failed "diagram: $ran rows ran, $cancelled cancelled"
+# Every row that ran has its section points in points.csv.
+[ "$(tail -n +2 "$dir/diagram/points.csv" | cut -d, -f1 | sort -u | wc -l)" -eq "$ran" ] ||
+    failed "diagram: points.csv does not hold the $ran rows that ran"
+grep -q '"cancelled": true' "$dir/diagram/bifurcation.json" || failed "diagram: JSON not marked cancelled"
+[ ! -e "$dir/diagram/bifurcation.png" ] || failed "diagram: a plot of an interrupted diagram"
+grep -q "kept what was done: $ran of 200000 rows done" "$dir/diagram.err" || failed "diagram: message: $(cat "$dir/diagram.err")"
+no_staging "$dir/diagram" || failed "diagram: staging folder left"
+
+# 3. A continuation in steps far too small to finish, interrupted after 4 s.
+"$bin/gapchain-continue" "$scenes/fig13.json" --from 2 --to 4 --step 1e-5 --max-step 1e-5 \
+    --max-points 1000000 --out "$dir/branch" >"$dir/branch.out" 2>"$dir/branch.err" &
+pid=$!
+sleep 4
+kill -INT "$pid"
+wait "$pid"
+rc=$?
+orbits=$(($(wc -l <"$dir/branch/branch.csv") - 1))
+echo "continuation: exit $rc, $orbits orbits kept"
+[ "$rc" -eq 130 ] || failed "continuation: exit $rc, not 130"
+[ "$orbits" -ge 1 ] || failed "continuation: no orbit kept"
+grep -q "kept what was done: $orbits orbits" "$dir/branch.err" || failed "continuation: message: $(cat "$dir/branch.err")"
+[ ! -e "$dir/branch/branch.png" ] || failed "continuation: a plot of an interrupted branch"
+no_staging "$dir/branch" || failed "continuation: staging folder left"
+
+[ "$fail" -eq 0 ] && echo "interrupt checks passed"
+exit "$fail"

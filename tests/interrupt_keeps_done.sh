@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
-# An interrupted basin-fraction line, bifurcation diagram or branch continuation keeps what it
-# had done: the values it reported on stdout, the rows that ran, the orbits found; it exits 130
-# (SIGINT) or 143 (SIGTERM), draws no plot and leaves no staging folder.
+# An interrupted basin-fraction line, bifurcation diagram, branch continuation or regime map
+# keeps what it had done: the values it reported on stdout, the rows that ran, the orbits found,
+# the cells classified; it exits 130 (SIGINT) or 143 (SIGTERM), draws no plot and leaves no
+# staging folder.
 # Usage: interrupt_keeps_done.sh BIN_DIR SCENE_DIR
 set -u
 bin=$1
@@ -71,6 +72,21 @@ echo "continuation: exit $rc, $orbits orbits kept"
 grep -q "kept what was done: $orbits orbits" "$dir/branch.err" || failed "continuation: message: $(cat "$dir/branch.err")"
 [ ! -e "$dir/branch/branch.png" ] || failed "continuation: a plot of an interrupted branch"
 no_staging "$dir/branch" || failed "continuation: staging folder left"
+
+# 4. The default regime map (10,000 cells), interrupted after 4 s.
+"$bin/gapchain-classify" "$scenes/fig13.json" --map --out "$dir/map" >"$dir/map.out" 2>"$dir/map.err" &
+pid=$!
+sleep 4
+kill -INT "$pid"
+wait "$pid"
+rc=$?
+cells=$(($(wc -l <"$dir/map/map.csv") - 1))
+echo "map: exit $rc, $cells cells kept"
+[ "$rc" -eq 130 ] || failed "map: exit $rc, not 130"
+[ "$cells" -ge 1 ] && [ "$cells" -lt 10000 ] || failed "map: $cells cells kept"
+grep -q "kept what was done: $cells of 10000 cells done" "$dir/map.err" || failed "map: message: $(cat "$dir/map.err")"
+[ ! -e "$dir/map/regimes.png" ] || failed "map: a plot of an interrupted map"
+no_staging "$dir/map" || failed "map: staging folder left"
 
 [ "$fail" -eq 0 ] && echo "interrupt checks passed"
 exit "$fail"

@@ -126,7 +126,12 @@ void classify_map(const ReducedParameters& p, const ClassifyOptions& o, const st
                   bool plot, cli::Outputs& outputs) {
     cli::Progress progress("gapchain-classify");
     const RegimeMap m = regime_map(p, e_r, f_r, o, threads, progress.callback());
-    cli::throw_if_interrupted();
+    // Interrupted: the cells done are written (the others left out of map.csv), not plotted.
+    const auto done = std::count_if(m.cells.begin(), m.cells.end(), [](const Classification& c) {
+        return c.status != RunStatus::cancelled;
+    });
+    if (done == 0) cli::throw_if_interrupted();
+    plot = plot && !m.cancelled && !cli::interrupted();
     outputs.create_folders();
     const std::string staged = outputs.staged(out);
     write_file_atomically(staged + "/map.csv", map_csv(m));
@@ -156,6 +161,8 @@ void classify_map(const ReducedParameters& p, const ClassifyOptions& o, const st
                             {"E_TO", axis_end(e_r, 1.0)},
                             {"STYLE", line ? "with points pt 5 ps 2 lc palette" : "with image"}});
     outputs.keep();
+    cli::throw_if_interrupted(std::to_string(done) + " of " + std::to_string(m.cells.size()) +
+                              " cells done, in " + out + "/map.csv");
     std::printf("gapchain-classify: %zu x %zu map (e_r x f_r), %d threads, %.1f s\n", e_r.size(),
                 f_r.size(), m.threads_used, m.wall_time_s);
     std::printf("  no-contact %d, periodic %d, quasi-periodic %d, chaotic %d\n", counts[0],

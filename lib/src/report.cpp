@@ -858,6 +858,8 @@ std::string map_csv(const RegimeMap& map) {
     for (std::size_t i = 0; i < map.e_r.size(); ++i)
         for (std::size_t k = 0; k < map.f_r.size(); ++k) {
             const Classification& c = map.cells[i * map.f_r.size() + k];
+            // A cancelled map's cells that did not run are left out, not listed as no contact.
+            if (c.status == RunStatus::cancelled) continue;
             os << map.e_r[i] << ',' << map.f_r[k] << ',' << to_string(c.regime) << ','
                << static_cast<int>(c.regime) << ',' << c.period << ',' << c.F_m << ','
                << c.lambda_max << ',';

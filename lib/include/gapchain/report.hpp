@@ -171,7 +171,7 @@ std::string to_json(const Classification& c, const ReducedParameters& p);
 /// settled_in_record (code: 0
 /// no-contact, 1 periodic, 2 quasi-periodic, 3 chaotic; start_dependent 0/1 where the twin ran
 /// its course,
-/// else empty).
+/// else empty). Cells of a cancelled map that did not run (status cancelled) are left out.
 std::string map_csv(const RegimeMap& map);
 
 /// A PSD as CSV: f, f_over_f_r, density.

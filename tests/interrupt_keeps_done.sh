@@ -11,6 +11,18 @@ dir=$(mktemp -d)
 trap 'rm -rf "$dir"' EXIT
 fail=0
 failed() { echo "FAIL: $*"; fail=1; }
+# interrupt_after SECONDS SIGNAL NAME COMMAND...: runs COMMAND (stdout, stderr to NAME.out,
+# NAME.err), sends SIGNAL after SECONDS, and sets rc to its exit status.
+interrupt_after() {
+    local seconds=$1 signal=$2 name=$3
+    shift 3
+    "$@" >"$dir/$name.out" 2>"$dir/$name.err" &
+    local pid=$!
+    sleep "$seconds"
+    kill "-$signal" "$pid"
+    wait "$pid"
+    rc=$?
+}
 # No staging folder of an interrupted run is left in OUT.
 no_staging() { ! ls -A "$1" | grep -q '^\.gapchain-staging'; }
 
@@ -37,13 +49,8 @@ grep -q "kept what was done: the $reported of 400 values" "$dir/line.err" || fai
 no_staging "$dir/line" || failed "line: staging folder left"
 
 # 2. An independent bifurcation diagram far too long to finish, interrupted (SIGTERM) after 4 s.
-"$bin/gapchain-bifurcation" --from 2 --to 4 --steps 200000 --transient 50 --record 20 \
-    --out "$dir/diagram" >"$dir/diagram.out" 2>"$dir/diagram.err" &
-pid=$!
-sleep 4
-kill -TERM "$pid"
-wait "$pid"
-rc=$?
+interrupt_after 4 TERM diagram "$bin/gapchain-bifurcation" --from 2 --to 4 --steps 200000 \
+    --transient 50 --record 20 --out "$dir/diagram"
 ran=$(tail -n +2 "$dir/diagram/summary.csv" | grep -vc ',cancelled,')
 cancelled=$(tail -n +2 "$dir/diagram/summary.csv" | grep -c ',cancelled,')
 echo "diagram: exit $rc, $ran rows ran, $cancelled cancelled"
@@ -58,13 +65,8 @@ grep -q "kept what was done: $ran of 200000 rows done" "$dir/diagram.err" || fai
 no_staging "$dir/diagram" || failed "diagram: staging folder left"
 
 # 3. A continuation in steps far too small to finish, interrupted after 4 s.
-"$bin/gapchain-continue" "$scenes/fig13.json" --from 2 --to 4 --step 1e-5 --max-step 1e-5 \
-    --max-points 1000000 --out "$dir/branch" >"$dir/branch.out" 2>"$dir/branch.err" &
-pid=$!
-sleep 4
-kill -INT "$pid"
-wait "$pid"
-rc=$?
+interrupt_after 4 INT branch "$bin/gapchain-continue" "$scenes/fig13.json" --from 2 --to 4 \
+    --step 1e-5 --max-step 1e-5 --max-points 1000000 --out "$dir/branch"
 orbits=$(($(wc -l <"$dir/branch/branch.csv") - 1))
 echo "continuation: exit $rc, $orbits orbits kept"
 [ "$rc" -eq 130 ] || failed "continuation: exit $rc, not 130"
@@ -74,12 +76,7 @@ grep -q "kept what was done: $orbits orbits" "$dir/branch.err" || failed "contin
 no_staging "$dir/branch" || failed "continuation: staging folder left"
 
 # 4. The default regime map (10,000 cells), interrupted after 4 s.
-"$bin/gapchain-classify" "$scenes/fig13.json" --map --out "$dir/map" >"$dir/map.out" 2>"$dir/map.err" &
-pid=$!
-sleep 4
-kill -INT "$pid"
-wait "$pid"
-rc=$?
+interrupt_after 4 INT map "$bin/gapchain-classify" "$scenes/fig13.json" --map --out "$dir/map"
 cells=$(($(wc -l <"$dir/map/map.csv") - 1))
 echo "map: exit $rc, $cells cells kept"
 [ "$rc" -eq 130 ] || failed "map: exit $rc, not 130"

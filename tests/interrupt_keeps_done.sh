@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# An interrupted basin-fraction line, bifurcation diagram, branch continuation or regime map
-# keeps what it had done: the values it reported on stdout, the rows that ran, the orbits found,
-# the cells classified; it exits 130 (SIGINT) or 143 (SIGTERM), draws no plot and leaves no
-# staging folder.
+# An interrupted basin-fraction line, bifurcation diagram, branch continuation, regime map or
+# work-precision study keeps what it had done: the values it reported on stdout, the rows that
+# ran, the orbits found, the cells classified, the runs measured; it exits 130 (SIGINT) or 143
+# (SIGTERM), draws no plot and leaves no staging folder.
 # Usage: interrupt_keeps_done.sh BIN_DIR SCENE_DIR
 set -u
 bin=$1
@@ -84,6 +84,17 @@ echo "map: exit $rc, $cells cells kept"
 grep -q "kept what was done: $cells of 10000 cells done" "$dir/map.err" || failed "map: message: $(cat "$dir/map.err")"
 [ ! -e "$dir/map/regimes.png" ] || failed "map: a plot of an interrupted map"
 no_staging "$dir/map" || failed "map: staging folder left"
+
+# 5. A work-precision study of 2000-period runs (minutes), interrupted after 4 s.
+interrupt_after 4 INT accuracy "$bin/gapchain-accuracy" "$scenes/fig13.json" --periods 2000 \
+    --repeats 1 --out "$dir/accuracy"
+runs=$(($(wc -l <"$dir/accuracy/work_precision.csv") - 1))
+echo "work-precision study: exit $rc, $runs runs kept"
+[ "$rc" -eq 130 ] || failed "accuracy: exit $rc, not 130"
+[ "$runs" -ge 1 ] || failed "accuracy: no run kept"
+grep -q "kept what was done: $runs runs done" "$dir/accuracy.err" || failed "accuracy: message: $(cat "$dir/accuracy.err")"
+[ ! -e "$dir/accuracy/work_precision.png" ] || failed "accuracy: a plot of an interrupted study"
+no_staging "$dir/accuracy" || failed "accuracy: staging folder left"
 
 [ "$fail" -eq 0 ] && echo "interrupt checks passed"
 exit "$fail"

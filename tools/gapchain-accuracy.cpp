@@ -125,13 +125,17 @@ int main(int argc, char** argv) {
                        {"work_precision.csv", "work_precision.gp", "work_precision.png"});
         cli::Progress progress("gapchain-accuracy");
         const WorkPrecision study = work_precision(scene.dynamics(), o, progress.callback());
-        cli::throw_if_interrupted();
+        // Interrupted: the runs done are written, not plotted.
+        if (study.points.empty()) cli::throw_if_interrupted();
+        no_plot = no_plot || study.cancelled || cli::interrupted();
         outputs.create_folders();
         const std::string staged = outputs.staged(out);
         write_file_atomically(staged + "/work_precision.csv", work_precision_csv(study));
         const std::string title = study_title(scene, o.periods);
         if (!no_plot) cli::plot_template(staged, "work_precision", {{"TITLE", title}});
         outputs.keep();
+        cli::throw_if_interrupted(std::to_string(study.points.size()) + " runs done, in " + out +
+                                  "/work_precision.csv");
         print_study(study, title, target);
         std::printf("wrote %s/work_precision.csv%s (%.1f s)\n", out.c_str(),
                     no_plot ? "" : ", work_precision.png", study.wall_time_s);

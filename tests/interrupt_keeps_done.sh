@@ -2,7 +2,8 @@
 # An interrupted basin-fraction line, bifurcation diagram, branch continuation, regime map or
 # work-precision study keeps what it had done: the values it reported on stdout, the rows that
 # ran, the orbits found, the cells classified, the runs measured; it exits 130 (SIGINT) or 143
-# (SIGTERM), draws no plot and leaves no staging folder.
+# (SIGTERM), draws no plot and leaves no staging folder. So does a run interrupted while gnuplot
+# draws its figure.
 # Usage: interrupt_keeps_done.sh BIN_DIR SCENE_DIR
 set -u
 bin=$1
@@ -33,18 +34,18 @@ kept_checks() {
     ! ls -A "$dir/$name" | grep -q '^\.gapchain-staging' || failed "$name: staging folder left"
 }
 
-# 1. A long basin-fraction line, interrupted once it has reported two values done.
+# 1. A long basin-fraction line, interrupted once it has reported two values done (on stderr).
 "$bin/gapchain-attractors" "$scenes/fig13.json" --param f_r --from 3.0 --to 3.4 --steps 400 \
     --samples 8 --set run.periods=300 --out "$dir/line" >"$dir/line.out" 2>"$dir/line.err" &
 pid=$!
 for _ in $(seq 1 1200); do
-    [ "$(grep -c ' of 400)' "$dir/line.out")" -ge 2 ] && break
+    [ "$(grep -c ' of 400)' "$dir/line.err")" -ge 2 ] && break
     sleep 0.05
 done
 kill -INT "$pid"
 wait "$pid"
 rc=$?
-reported=$(grep -c ' of 400)' "$dir/line.out")
+reported=$(grep -c ' of 400)' "$dir/line.err")
 rows=$(($(wc -l <"$dir/line/fractions.csv") - 1))
 echo "line: exit $rc, $reported values reported, $rows rows kept"
 [ "$reported" -ge 2 ] && [ "$reported" -lt 400 ] || failed "line: $reported values reported"
@@ -55,13 +56,14 @@ kept_checks line 130 "the $reported of 400 values" fractions.png
 # 2. An independent bifurcation diagram far too long to finish, interrupted (SIGTERM) after 4 s.
 interrupt_after 4 TERM diagram "$bin/gapchain-bifurcation" --from 2 --to 4 --steps 200000 \
     --transient 50 --record 20 --out "$dir/diagram"
-ran=$(tail -n +2 "$dir/diagram/summary.csv" | grep -vc ',cancelled,')
-cancelled=$(tail -n +2 "$dir/diagram/summary.csv" | grep -c ',cancelled,')
-echo "diagram: exit $rc, $ran rows ran, $cancelled cancelled"
-[ "$ran" -ge 1 ] && [ "$cancelled" -ge 1 ] || failed "diagram: $ran rows ran, $cancelled cancelled"
-# Every row that ran has its section points in points.csv.
+ran=$(($(wc -l <"$dir/diagram/summary.csv") - 1))
+echo "diagram: exit $rc, $ran rows kept"
+[ "$ran" -ge 1 ] && [ "$ran" -lt 200000 ] || failed "diagram: $ran rows kept"
+! grep -q ',cancelled,' "$dir/diagram/summary.csv" || failed "diagram: a row not run was written"
+# points.csv holds the rows of summary.csv, no row stopped part-way.
 [ "$(tail -n +2 "$dir/diagram/points.csv" | cut -d, -f1 | sort -u | wc -l)" -eq "$ran" ] ||
-    failed "diagram: points.csv does not hold the $ran rows that ran"
+    failed "diagram: points.csv does not hold the $ran rows of summary.csv"
+grep -q "\"rows_done\": $ran," "$dir/diagram/bifurcation.json" || failed "diagram: rows_done is not $ran"
 grep -q '"cancelled": true' "$dir/diagram/bifurcation.json" || failed "diagram: JSON not marked cancelled"
 kept_checks diagram 143 "$ran of 200000 rows done" bifurcation.png
 
@@ -87,6 +89,26 @@ runs=$(($(wc -l <"$dir/accuracy/work_precision.csv") - 1))
 echo "work-precision study: exit $rc, $runs runs kept"
 [ "$runs" -ge 1 ] || failed "accuracy: no run kept"
 kept_checks accuracy 130 "$runs runs done" work_precision.png
+
+# 6. A short line interrupted while gnuplot (a stand-in that waits) draws its figure: both
+# values are kept, no figure.
+mkdir "$dir/slow"
+printf '#!/bin/sh\ntouch "%s/slow/started"\nexec sleep 60\n' "$dir" >"$dir/slow/gnuplot"
+chmod +x "$dir/slow/gnuplot"
+PATH="$dir/slow:$PATH" "$bin/gapchain-attractors" "$scenes/fig13.json" --param f_r --from 3.0 \
+    --to 3.01 --steps 2 --samples 8 --set run.periods=300 --out "$dir/plotted" \
+    >"$dir/plotted.out" 2>"$dir/plotted.err" &
+pid=$!
+for _ in $(seq 1 1200); do
+    [ -e "$dir/slow/started" ] && break
+    sleep 0.05
+done
+kill -INT "$pid"
+wait "$pid"
+rc=$?
+echo "line interrupted while plotting: exit $rc, $(($(wc -l <"$dir/plotted/fractions.csv") - 1)) rows kept"
+[ "$(($(wc -l <"$dir/plotted/fractions.csv") - 1))" -eq 2 ] || failed "plotted: the two values not kept"
+kept_checks plotted 130 "all 2 values" fractions.png
 
 [ "$fail" -eq 0 ] && echo "interrupt checks passed"
 exit "$fail"

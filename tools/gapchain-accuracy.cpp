@@ -80,6 +80,29 @@ void set_schemes(WorkPrecisionOptions& o, const std::vector<std::string>& scheme
 
 } // namespace
 
+// Runs the study, writes its CSV (and figure), keeps them and prints the verdict; an
+// interrupted study keeps the runs done.
+void run_study(const Scene& scene, const WorkPrecisionOptions& o, const std::string& out,
+               bool no_plot, double target, cli::Outputs& outputs) {
+    cli::Progress progress("gapchain-accuracy");
+    const WorkPrecision study = work_precision(scene.dynamics(), o, progress.callback());
+    // Interrupted: the runs done are written, not plotted.
+    if (study.points.empty()) cli::throw_if_interrupted();
+    no_plot = no_plot || study.cancelled || cli::interrupted();
+    outputs.create_folders();
+    const std::string staged = outputs.staged(out);
+    write_file_atomically(staged + "/work_precision.csv", work_precision_csv(study));
+    const std::string title = study_title(scene, o.periods);
+    if (!no_plot)
+        cli::plot_template_unless_interrupted(staged, "work_precision", {{"TITLE", title}});
+    outputs.keep();
+    cli::throw_if_interrupted(std::to_string(study.points.size()) + " runs done, in " + out +
+                              "/work_precision.csv");
+    print_study(study, title, target);
+    std::printf("wrote %s/work_precision.csv%s (%.1f s)\n", out.c_str(),
+                no_plot ? "" : ", work_precision.png", study.wall_time_s);
+}
+
 int main(int argc, char** argv) {
     CLI::App app{"Work-precision study: each scheme over a ladder of tolerances, its F_m error and "
                  "state errors against the exact propagator, its median run time and evaluations.",
@@ -123,21 +146,6 @@ int main(int argc, char** argv) {
         cli::Outputs outputs({scene_args.path});
         outputs.folder(out, "--out",
                        {"work_precision.csv", "work_precision.gp", "work_precision.png"});
-        cli::Progress progress("gapchain-accuracy");
-        const WorkPrecision study = work_precision(scene.dynamics(), o, progress.callback());
-        // Interrupted: the runs done are written, not plotted.
-        if (study.points.empty()) cli::throw_if_interrupted();
-        no_plot = no_plot || study.cancelled || cli::interrupted();
-        outputs.create_folders();
-        const std::string staged = outputs.staged(out);
-        write_file_atomically(staged + "/work_precision.csv", work_precision_csv(study));
-        const std::string title = study_title(scene, o.periods);
-        if (!no_plot) cli::plot_template(staged, "work_precision", {{"TITLE", title}});
-        outputs.keep();
-        cli::throw_if_interrupted(std::to_string(study.points.size()) + " runs done, in " + out +
-                                  "/work_precision.csv");
-        print_study(study, title, target);
-        std::printf("wrote %s/work_precision.csv%s (%.1f s)\n", out.c_str(),
-                    no_plot ? "" : ", work_precision.png", study.wall_time_s);
+        run_study(scene, o, out, no_plot, target, outputs);
     });
 }

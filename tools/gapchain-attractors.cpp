@@ -188,7 +188,8 @@ void print_set(const AttractorSet& s, const AttractorOptions& o) {
 void run_point(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs) {
     cli::Progress progress("gapchain-attractors");
     const AttractorSet set = find_attractors(scene.reduced, a.options, progress.callback());
-    cli::throw_if_interrupted();
+    // Cancelled, nothing was grouped; a search that finished is kept even if a signal came.
+    if (set.cancelled) cli::throw_if_interrupted();
     outputs.create_folders();
     const std::string dir = outputs.staged(a.out_dir);
     write_file_atomically(dir + "/attractors.csv", attractors_csv(set));
@@ -197,14 +198,16 @@ void run_point(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs)
     if (a.options.slice) {
         write_file_atomically(dir + "/basins.csv", basin_slice_csv(set));
         const auto comma = a.grid.find(',');
-        if (!a.no_plot)
-            cli::plot_template(dir, "basins",
-                               {{"TITLE", "Basins: " + cli::row_title(scene.reduced)},
-                                {"XLABEL", a.grid.substr(0, comma)},
-                                {"YLABEL", a.grid.substr(comma + 1)},
-                                {"COUNT", std::to_string(set.attractors.size())}});
+        if (!a.no_plot && !cli::interrupted())
+            cli::plot_template_unless_interrupted(
+                dir, "basins",
+                {{"TITLE", "Basins: " + cli::row_title(scene.reduced)},
+                 {"XLABEL", a.grid.substr(0, comma)},
+                 {"YLABEL", a.grid.substr(comma + 1)},
+                 {"COUNT", std::to_string(set.attractors.size())}});
     }
     outputs.keep();
+    cli::throw_if_interrupted("the whole search, in " + a.out_dir + " (no figure)");
     std::printf("gapchain-attractors: %s\n", cli::row_title(scene.reduced).c_str());
     print_set(set, a.options);
     std::printf("wrote %s/attractors.csv, attractors.json, starts.csv%s\n", a.out_dir.c_str(),
@@ -213,20 +216,24 @@ void run_point(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs)
                                  : ", basins.csv, basins.png");
 }
 
-// One line on stdout per value done, as it is done: a long line shows what it has found, and
-// what it showed is kept if the line is interrupted.
-void print_value_done(const FractionContinuation& line, const AttractorArguments& a) {
+// One line on stderr per value done, as it is done: a long line shows what it has found, and
+// what it showed is kept if the line is interrupted. (Not stdout: a reader that stops early,
+// as `| head`, would end the run by SIGPIPE with nothing kept.)
+void print_value_done(const FractionContinuation& line, const AttractorArguments& a,
+                      cli::Progress& progress) {
     const AttractorSet& set = line.sets.back();
-    std::printf("%s = %g (%zu of %d):", a.param.c_str(), line.values.back(), line.values.size(),
-                a.steps);
+    std::string text = a.param + " = " + cli::number_text(line.values.back(), 6) + " (" +
+                       std::to_string(line.values.size()) + " of " + std::to_string(a.steps) + "):";
+    char cell[160];
     for (std::size_t i = 0; i < set.attractors.size(); ++i) {
         const Attractor& at = set.attractors[i];
-        std::printf(" label %d %s", line.labels.back()[i], std::string(regime_label(at)).c_str());
-        if (at.period > 0) std::printf(" period %d", at.period);
-        std::printf(" F_m %.6g basin %.3f;", at.F_m, at.basin_fraction);
+        text +=
+            " label " + std::to_string(line.labels.back()[i]) + " " + std::string(regime_label(at));
+        if (at.period > 0) text += " period " + std::to_string(at.period);
+        std::snprintf(cell, sizeof cell, " F_m %.6g basin %.3f;", at.F_m, at.basin_fraction);
+        text += cell;
     }
-    std::printf(" %ld failed\n", set.failed);
-    std::fflush(stdout);
+    progress.note(text + " " + std::to_string(set.failed) + " failed");
 }
 
 void run_line(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs) {
@@ -235,7 +242,7 @@ void run_line(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs) 
         scene.reduced, parse_swept_parameter(a.param),
         fraction_line_values(scene.reduced, parse_swept_parameter(a.param), a.from, a.to, a.steps),
         a.options, progress.callback(),
-        [&](const FractionContinuation& line) { print_value_done(line, a); });
+        [&](const FractionContinuation& line) { print_value_done(line, a, progress); });
     if (c.values.empty()) cli::throw_if_interrupted();
     // Interrupted after some values: those are written (fractions.json says "cancelled"), not
     // plotted, and the run still ends as interrupted.
@@ -246,10 +253,11 @@ void run_line(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs) 
     write_file_atomically(dir + "/fractions.json", to_json(c, a.options, scene));
     const bool plotted =
         !a.no_plot && !cut &&
-        cli::plot_template(dir, "fractions",
-                           {{"TITLE", "Basin fractions: " + cli::row_title(scene.reduced, a.param)},
-                            {"PARAM", a.param},
-                            {"COUNT", std::to_string(c.label_count)}});
+        cli::plot_template_unless_interrupted(
+            dir, "fractions",
+            {{"TITLE", "Basin fractions: " + cli::row_title(scene.reduced, a.param)},
+             {"PARAM", a.param},
+             {"COUNT", std::to_string(c.label_count)}});
     outputs.keep();
     const std::string files = a.out_dir + "/fractions.csv and fractions.json";
     cli::throw_if_interrupted(

@@ -86,6 +86,12 @@ struct BifurcationArguments {
     bool no_plot = false, no_newton = false;
 };
 
+// Rows of the whole diagram: each value once, or up and back down in continuation mode.
+long rows_planned(const BifurcationArguments& a) {
+    return a.options.mode == gapchain::SweepMode::continuation ? 2L * a.options.steps
+                                                               : a.options.steps;
+}
+
 void add_options(CLI::App& app, BifurcationArguments& a) {
     using namespace gapchain;
     cli::add_scene_arguments(app, a.scene, false);
@@ -146,14 +152,14 @@ bool write_outputs(const gapchain::BifurcationResult& r, const BifurcationArgume
     write_file_atomically(out_dir + "/summary.csv", summary_csv(r));
     write_file_atomically(out_dir + "/bifurcation.json", to_json(r, a.options, p));
     const bool independent = a.options.mode == SweepMode::independent;
-    return !a.no_plot &&
-           cli::plot_template(out_dir, "bifurcation",
-                              {{"TITLE", diagram_title(p, a.param, a.mode, a.options)},
-                               {"VARIABLE", a.variable},
-                               {"PARAM", a.param},
-                               // Independent runs have no sweep down: the key listed one.
-                               {"UP_TITLE", independent ? "independent runs" : "sweep up"},
-                               {"DOWN_KEY", independent ? "notitle" : "title 'sweep down'"}});
+    return !a.no_plot && cli::plot_template_unless_interrupted(
+                             out_dir, "bifurcation",
+                             {{"TITLE", diagram_title(p, a.param, a.mode, a.options)},
+                              {"VARIABLE", a.variable},
+                              {"PARAM", a.param},
+                              // Independent runs have no sweep down: the key listed one.
+                              {"UP_TITLE", independent ? "independent runs" : "sweep up"},
+                              {"DOWN_KEY", independent ? "notitle" : "title 'sweep down'"}});
 }
 
 } // namespace
@@ -182,8 +188,7 @@ int main(int argc, char** argv) {
                             "bifurcation.png"});
             cli::Progress progress("gapchain-bifurcation");
             const BifurcationResult r = bifurcation(scene.reduced, a.options, progress.callback());
-            // Interrupted: the rows done are written (the others absent or, in
-            // independent mode, with status cancelled), not plotted.
+            // Interrupted: the rows done are written (the others left out), not plotted.
             const long done = rows_done(r);
             if (done == 0) cli::throw_if_interrupted();
             a.no_plot = a.no_plot || r.cancelled || cli::interrupted();
@@ -191,7 +196,7 @@ int main(int argc, char** argv) {
             const bool plotted = write_outputs(r, a, outputs.staged(a.out_dir), scene.reduced);
             outputs.keep();
             cli::throw_if_interrupted(std::to_string(done) + " of " +
-                                      std::to_string(r.rows.size()) + " rows done, in " +
+                                      std::to_string(rows_planned(a)) + " rows done, in " +
                                       a.out_dir + "/points.csv, summary.csv and bifurcation.json" +
                                       (r.cancelled ? " (\"cancelled\": true)" : ""));
             print_summary(r, a.options, a.param, a.mode, a.out_dir, plotted);

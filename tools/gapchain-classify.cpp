@@ -152,14 +152,15 @@ void classify_map(const ReducedParameters& p, const ClassifyOptions& o, const st
         return cli::number_text((side < 0 ? v.front() : v.back()) + pad);
     };
     if (plot)
-        cli::plot_template(staged, "map",
-                           {{"TITLE", title},
-                            {"EPS", cli::number_text(p.eps)},
-                            {"F_FROM", axis_end(f_r, -1.0)},
-                            {"F_TO", axis_end(f_r, 1.0)},
-                            {"E_FROM", axis_end(e_r, -1.0)},
-                            {"E_TO", axis_end(e_r, 1.0)},
-                            {"STYLE", line ? "with points pt 5 ps 2 lc palette" : "with image"}});
+        cli::plot_template_unless_interrupted(
+            staged, "map",
+            {{"TITLE", title},
+             {"EPS", cli::number_text(p.eps)},
+             {"F_FROM", axis_end(f_r, -1.0)},
+             {"F_TO", axis_end(f_r, 1.0)},
+             {"E_FROM", axis_end(e_r, -1.0)},
+             {"E_TO", axis_end(e_r, 1.0)},
+             {"STYLE", line ? "with points pt 5 ps 2 lc palette" : "with image"}});
     outputs.keep();
     cli::throw_if_interrupted(std::to_string(done) + " of " + std::to_string(m.cells.size()) +
                               " cells done, in " + out + "/map.csv");

@@ -211,8 +211,8 @@ bool write_outputs(const ContinuationResult& r, const ContinueArguments& a,
         overlay += c == '\'' ? std::string("''") : std::string(1, c);
     const std::string title = "Periodic orbits: " + cli::row_title(p, a.param);
     return !a.no_plot &&
-           cli::plot_template(out_dir, "branch",
-                              {{"TITLE", title}, {"PARAM", a.param}, {"OVERLAY", overlay}});
+           cli::plot_template_unless_interrupted(
+               out_dir, "branch", {{"TITLE", title}, {"PARAM", a.param}, {"OVERLAY", overlay}});
 }
 
 } // namespace

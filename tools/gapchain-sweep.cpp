@@ -200,8 +200,9 @@ struct SweepTally {
     }
 };
 
-void print_summary(const SweepTally& t, double wall, const SweepArguments& a, long total,
-                   const Ranks& ranks) {
+void print_summary(const SweepTally& t, double wall, const SweepArguments& a,
+                   const gapchain::Study& study, const Ranks& ranks) {
+    const long total = gapchain::point_count(study);
     const long ran = t.periodic + t.other;
     std::printf("gapchain-sweep: %ld points in %.2f s wall (%.3g points/s)%s\n", ran, wall,
                 wall > 0 ? ran / wall : 0.0,
@@ -214,9 +215,10 @@ void print_summary(const SweepTally& t, double wall, const SweepArguments& a, lo
         if (t.on_longer_cycle > 0)
             std::printf(
                 "  of those, %ld repeat on a cycle longer than run.max_steady_period (up to "
-                "%d periods; column longer_cycle_period): \"max_steady_period\": %d in the "
-                "scene's run section lets them settle\n",
-                t.on_longer_cycle, t.longest_cycle, t.longest_cycle);
+                "%d periods%s): run.max_steady_period = %d (in the scene's run section, or "
+                "as an axis value) lets them settle\n",
+                t.on_longer_cycle, t.longest_cycle,
+                study.keep.steady_state ? "; column longer_cycle_period" : "", t.longest_cycle);
         if (a.subset > 0)
             std::printf("  estimate for all %ld points at this rate: %.0f s (%.1f h)\n", total,
                         wall * total / ran, wall * total / ran / 3600.0);
@@ -299,7 +301,7 @@ void sweep(const SweepArguments& a, Ranks& ranks) {
                     ranks.size() - 1);
     const double wall =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    print_summary(tally, wall, a, point_count(study), ranks);
+    print_summary(tally, wall, a, study, ranks);
 }
 
 } // namespace

@@ -203,8 +203,10 @@ void independent_rows(const ReducedParameters& base, const BifurcationOptions& o
             std::vector<double> y = o.initial; // empty: rest (PlannedRun)
             // No value starts from another's end: the label only says which way the line goes.
             const SweepDirection dir = o.from <= o.to ? SweepDirection::up : SweepDirection::down;
-            result.rows[k] = diagram_row(with_value(base, o.parameter, values[k]), o, y, dir,
-                                         values[k], shared.item_callback());
+            BifurcationRow row = diagram_row(with_value(base, o.parameter, values[k]), o, y, dir,
+                                             values[k], shared.item_callback());
+            // A row stopped part-way holds part of its points and maxima: none is kept.
+            if (row.status != RunStatus::cancelled) result.rows[k] = std::move(row);
         },
         [&](long) { return shared.finished(); });
     result.cancelled = end == detail::LoopEnd::cancelled;

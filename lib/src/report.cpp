@@ -342,6 +342,7 @@ std::string points_csv(const BifurcationResult& result, const SectionSpec& secti
     os << '\n';
     for (const auto& row : result.rows)
         for (const auto& p : row.points) {
+            if (row.status == RunStatus::cancelled) break;
             os << row.value << ',' << to_string(row.direction) << ',' << p.values.front() << ','
                << p.t;
             for (double v : p.values)
@@ -357,6 +358,8 @@ std::string summary_csv(const BifurcationResult& result) {
     os << "value,direction,F_m,F_m_error,period,points,status,newton_confirmed,max_multiplier,"
           "points_from_orbit\n";
     for (const auto& row : result.rows) {
+        // A cancelled diagram's rows that did not run are left out (bifurcation.json: cancelled).
+        if (row.status == RunStatus::cancelled) continue;
         os << row.value << ',' << to_string(row.direction) << ',' << row.F_m << ',' << row.F_m_error
            << ',' << row.period << ',' << row.points.size() << ',' << to_string(row.status) << ','
            << (row.newton_confirmed ? 1 : 0) << ',';
@@ -433,6 +436,9 @@ std::string to_json(const BifurcationResult& r, const BifurcationOptions& o,
     j["base"] = {
         {"Nm", base.Nm}, {"fc", base.fc}, {"eps", base.eps}, {"e_r", base.e_r}, {"f_r", base.f_r}};
     j["cancelled"] = r.cancelled;
+    j["rows_done"] = std::count_if(r.rows.begin(), r.rows.end(), [](const BifurcationRow& row) {
+        return row.status != RunStatus::cancelled;
+    });
     j["threads_used"] = r.threads_used;
     j["wall_time_s"] = r.wall_time_s;
     return j.dump(2) + "\n";

@@ -766,6 +766,15 @@ Progress::~Progress() {
     if (m_drawn) std::fputs("\n", stderr);
 }
 
+void Progress::note(const std::string& line) {
+    // On a terminal the progress line is cleared first (ANSI erase line) and redrawn below at
+    // the next update.
+    std::fprintf(stderr, "%s%s\n", m_drawn ? "\r\033[2K" : "", line.c_str());
+    m_drawn = false;
+    m_end_drawn = false;
+    m_last = m_start;
+}
+
 bool Progress::update(double fraction) {
     if (interrupted()) return false;
     if (!m_terminal && !m_lines) return true;

@@ -206,6 +206,9 @@ public:
     std::function<bool(double)> callback() {
         return [this](double f) { return update(f); };
     }
+    // A line on stderr that stays (a part of the run done, as it is done), drawn above the
+    // progress line on a terminal, written at once whatever stderr is.
+    void note(const std::string& line);
 
 private:
     std::string m_label;

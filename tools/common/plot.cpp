@@ -96,8 +96,13 @@ bool plot_with_gnuplot(const std::string& script_path, const std::string& script
     const int status = run_gnuplot(dir, fs::path(script_path).filename().string(), log);
     const std::string reason = last_line_of(log);
     std::remove(log.c_str());
-    // Ctrl-C reaches gnuplot too: the run was interrupted, the figure did not fail.
-    throw_if_interrupted();
+    // Ctrl-C reaches gnuplot too: the run was interrupted, the figure did not fail (nor is it
+    // whole).
+    if (interrupted()) {
+        for (const auto& png : outputs_of(script))
+            std::remove((dir / png).c_str());
+        throw_if_interrupted();
+    }
     if (status == gnuplot_missing) {
         std::fprintf(stderr,
                      "note: gnuplot not found; the CSV files are complete, run "
@@ -146,6 +151,16 @@ bool plot_template(const std::string& folder, const std::string& name,
                    const std::vector<std::pair<std::string, std::string>>& values) {
     return plot_with_gnuplot((fs::path(folder) / (name + ".gp")).string(),
                              plot_script(name, values));
+}
+
+bool plot_template_unless_interrupted(
+    const std::string& folder, const std::string& name,
+    const std::vector<std::pair<std::string, std::string>>& values) {
+    try {
+        return plot_template(folder, name, values);
+    } catch (const Interrupted&) {
+        return false;
+    }
 }
 
 } // namespace gapchain::cli

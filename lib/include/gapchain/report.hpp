@@ -82,7 +82,8 @@ private:
 void write_file_atomically(const std::string& path, const std::string& text);
 
 /// The section points of a diagram as CSV: columns value,direction,point,t,<recorded names>;
-/// `point` is the first recorded variable (the diagram's ordinate).
+/// `point` is the first recorded variable (the diagram's ordinate). Rows of status cancelled
+/// (a cancelled diagram's rows that did not run) are left out, here and in summary_csv().
 std::string points_csv(const BifurcationResult& result, const SectionSpec& section);
 
 /// One row per value and direction: value,direction,F_m,period,points,status (period 0: not

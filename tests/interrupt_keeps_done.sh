@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # An interrupted basin-fraction line, bifurcation diagram, branch continuation, regime map or
-# work-precision study keeps what it had done: the values it reported on stdout, the rows that
+# work-precision study keeps what it had done: the values it reported on stderr, the rows that
 # ran, the orbits found, the cells classified, the runs measured; it exits 130 (SIGINT) or 143
 # (SIGTERM), draws no plot and leaves no staging folder. So does a run interrupted while gnuplot
-# draws its figure.
+# draws its figure, and so does a finished attractor search interrupted while it draws its
+# basin slice.
 # Usage: interrupt_keeps_done.sh BIN_DIR SCENE_DIR
 set -u
 bin=$1
@@ -24,27 +25,37 @@ interrupt_after() {
     wait "$pid"
     rc=$?
 }
+# interrupt_when CONDITION NAME COMMAND...: runs COMMAND (stdout, stderr to NAME.out, NAME.err),
+# sends SIGINT once the shell test CONDITION holds (or the run has ended), and sets rc.
+interrupt_when() {
+    local condition=$1 name=$2
+    shift 2
+    "$@" >"$dir/$name.out" 2>"$dir/$name.err" &
+    local pid=$!
+    for _ in $(seq 1 1200); do
+        eval "$condition" && break
+        kill -0 "$pid" 2>/dev/null || break
+        sleep 0.05
+    done
+    kill -INT "$pid"
+    wait "$pid"
+    rc=$?
+}
 # kept_checks NAME EXIT MESSAGE PLOT: the run NAME exited EXIT, its stderr says "kept what was
-# done: MESSAGE", its folder has no PLOT and no staging folder left.
+# done: MESSAGE", its folder has no PLOT, no gnuplot script and no staging folder left.
 kept_checks() {
     local name=$1 exit_expected=$2 message=$3 plot=$4
     [ "$rc" -eq "$exit_expected" ] || failed "$name: exit $rc, not $exit_expected"
     grep -q "kept what was done: $message" "$dir/$name.err" || failed "$name: message: $(cat "$dir/$name.err")"
     [ ! -e "$dir/$name/$plot" ] || failed "$name: a plot of an interrupted run"
+    ! ls "$dir/$name" | grep -q '\.gp$' || failed "$name: a gnuplot script of an interrupted run"
     ! ls -A "$dir/$name" | grep -q '^\.gapchain-staging' || failed "$name: staging folder left"
 }
 
 # 1. A long basin-fraction line, interrupted once it has reported two values done (on stderr).
-"$bin/gapchain-attractors" "$scenes/fig13.json" --param f_r --from 3.0 --to 3.4 --steps 400 \
-    --samples 8 --set run.periods=300 --out "$dir/line" >"$dir/line.out" 2>"$dir/line.err" &
-pid=$!
-for _ in $(seq 1 1200); do
-    [ "$(grep -c ' of 400)' "$dir/line.err")" -ge 2 ] && break
-    sleep 0.05
-done
-kill -INT "$pid"
-wait "$pid"
-rc=$?
+interrupt_when '[ "$(grep -c " of 400)" "$dir/line.err")" -ge 2 ]' line \
+    "$bin/gapchain-attractors" "$scenes/fig13.json" --param f_r --from 3.0 --to 3.4 --steps 400 \
+    --samples 8 --set run.periods=300 --out "$dir/line"
 reported=$(grep -c ' of 400)' "$dir/line.err")
 rows=$(($(wc -l <"$dir/line/fractions.csv") - 1))
 echo "line: exit $rc, $reported values reported, $rows rows kept"
@@ -73,6 +84,8 @@ interrupt_after 4 INT branch "$bin/gapchain-continue" "$scenes/fig13.json" --fro
 orbits=$(($(wc -l <"$dir/branch/branch.csv") - 1))
 echo "continuation: exit $rc, $orbits orbits kept"
 [ "$orbits" -ge 1 ] || failed "continuation: no orbit kept"
+grep -q "\"orbits\": $orbits," "$dir/branch/continuation.json" || failed "continuation: JSON orbits is not $orbits"
+grep -q '"cancelled": true' "$dir/branch/continuation.json" || failed "continuation: JSON not marked cancelled"
 kept_checks branch 130 "$orbits orbits" branch.png
 
 # 4. The default regime map (10,000 cells), interrupted after 4 s.
@@ -95,20 +108,30 @@ kept_checks accuracy 130 "$runs runs done" work_precision.png
 mkdir "$dir/slow"
 printf '#!/bin/sh\ntouch "%s/slow/started"\nexec sleep 60\n' "$dir" >"$dir/slow/gnuplot"
 chmod +x "$dir/slow/gnuplot"
-PATH="$dir/slow:$PATH" "$bin/gapchain-attractors" "$scenes/fig13.json" --param f_r --from 3.0 \
-    --to 3.01 --steps 2 --samples 8 --set run.periods=300 --out "$dir/plotted" \
-    >"$dir/plotted.out" 2>"$dir/plotted.err" &
-pid=$!
-for _ in $(seq 1 1200); do
-    [ -e "$dir/slow/started" ] && break
-    sleep 0.05
-done
-kill -INT "$pid"
-wait "$pid"
-rc=$?
+# interrupt_while_plotting NAME COMMAND...: runs COMMAND with the stand-in gnuplot and sends
+# SIGINT once that has started.
+interrupt_while_plotting() {
+    local name=$1
+    shift
+    rm -f "$dir/slow/started"
+    interrupt_when '[ -e "$dir/slow/started" ]' "$name" env PATH="$dir/slow:$PATH" "$@"
+}
+interrupt_while_plotting plotted "$bin/gapchain-attractors" "$scenes/fig13.json" --param f_r \
+    --from 3.0 --to 3.01 --steps 2 --samples 8 --set run.periods=300 --out "$dir/plotted"
 echo "line interrupted while plotting: exit $rc, $(($(wc -l <"$dir/plotted/fractions.csv") - 1)) rows kept"
 [ "$(($(wc -l <"$dir/plotted/fractions.csv") - 1))" -eq 2 ] || failed "plotted: the two values not kept"
 kept_checks plotted 130 "all 2 values" fractions.png
+
+# 7. A single-point search with a basin slice, interrupted while gnuplot draws the slice: the
+# whole search is kept, no figure.
+interrupt_while_plotting slice "$bin/gapchain-attractors" "$scenes/fig13.json" --samples 4 \
+    --grid u1,v1 --resolution 3 --set run.periods=300 --out "$dir/slice"
+echo "search interrupted while plotting: exit $rc"
+for f in attractors.csv attractors.json starts.csv basins.csv; do
+    [ -s "$dir/slice/$f" ] || failed "slice: $f not kept"
+done
+[ "$(($(wc -l <"$dir/slice/basins.csv") - 1))" -eq 9 ] || failed "slice: basins.csv has not the 9 cells"
+kept_checks slice 130 "the whole search, in $dir/slice (no figure)" basins.png
 
 [ "$fail" -eq 0 ] && echo "interrupt checks passed"
 exit "$fail"

@@ -194,3 +194,41 @@ TEST_CASE("attractors.json says how many section points a run that does not sett
     o.section_points = 20;
     CHECK(nlohmann::json::parse(to_json(AttractorSet{}, o, scene)).at("section_points_kept") == 20);
 }
+
+TEST_CASE("continuation JSON: the largest F_m error of those estimated, the others counted") {
+    // An interrupted continuation wrote branch.csv alone: nothing said it had been cut short.
+    const Scene scene = parse_scene(R"({"model": {"Nm": 2, "fc": 60}})");
+    ContinuationResult r;
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    for (const double error : {1e-9, 3e-7, nan}) {
+        BranchPoint p;
+        p.F_m_error = error;
+        r.points.push_back(p);
+    }
+    SpecialPoint fold;
+    fold.F_m_error = 2e-6;
+    r.special.push_back(fold);
+    r.branch_end = {"cancelled"};
+    r.cancelled = true;
+    r.wall_time_s = 1.5;
+    ContinuationOptions o;
+    o.from = 2.5;
+    o.to = 3.0;
+    const auto j = nlohmann::json::parse(to_json(r, o, scene));
+    CHECK(j["cancelled"] == true);
+    CHECK(j["orbits"] == 3);
+    CHECK(j["special_points"] == 1);
+    CHECK(j["branches"] == 1);
+    CHECK(j["branch_end"][0] == "cancelled");
+    CHECK(j["max_F_m_error"] == 2e-6);
+    CHECK(j["F_m_errors_not_estimated"] == 1);
+    CHECK(j["from"] == 2.5);
+    CHECK(j["to"] == 3.0);
+    CHECK(j["parameter"] == "f_r");
+    CHECK(j["wall_time_s"] == 1.5);
+    CHECK(j["base"]["fc"] == 60);
+    const ForceErrorSummary summary = force_error_summary(r);
+    CHECK(summary.orbits == 4);
+    CHECK(summary.unestimated == 1);
+    CHECK(summary.largest == 2e-6);
+}

@@ -207,7 +207,8 @@ void run_point(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs)
                  {"COUNT", std::to_string(set.attractors.size())}});
     }
     outputs.keep();
-    cli::throw_if_interrupted("the whole search, in " + a.out_dir + " (no figure)");
+    cli::throw_if_interrupted("the whole search, in " + a.out_dir +
+                              (a.options.slice && !a.no_plot ? " (no figure)" : ""));
     std::printf("gapchain-attractors: %s\n", cli::row_title(scene.reduced).c_str());
     print_set(set, a.options);
     std::printf("wrote %s/attractors.csv, attractors.json, starts.csv%s\n", a.out_dir.c_str(),

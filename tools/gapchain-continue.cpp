@@ -163,23 +163,13 @@ void print_summary(const ContinuationResult& r, const ContinueArguments& a) {
                 "%.2f s\n",
                 a.param.c_str(), a.options.from, a.options.to, r.points.size(), r.branch_end.size(),
                 r.shootings, r.wall_time_s);
-    double largest_error = 0.0;
-    long unestimated = 0;
-    const auto count = [&](double error) {
-        largest_error = std::max(largest_error, std::isnan(error) ? 0.0 : error);
-        unestimated += std::isnan(error) ? 1 : 0;
-    };
-    for (const auto& p : r.points)
-        count(p.F_m_error);
-    for (const auto& s : r.special)
-        count(s.F_m_error);
-    const auto orbits = static_cast<long>(r.points.size() + r.special.size());
-    if (unestimated == orbits)
+    const ForceErrorSummary errors = force_error_summary(r);
+    if (errors.unestimated == errors.orbits)
         std::printf("  F_m errors not estimated (the independent scheme's check did not run)");
     else
-        std::printf("  F_m errors up to %.2g (against an independent scheme)", largest_error);
-    if (unestimated > 0 && unestimated < orbits)
-        std::printf("; %ld of %ld orbits not estimated", unestimated, orbits);
+        std::printf("  F_m errors up to %.2g (against an independent scheme)", errors.largest);
+    if (errors.unestimated > 0 && errors.unestimated < errors.orbits)
+        std::printf("; %ld of %ld orbits not estimated", errors.unestimated, errors.orbits);
     std::printf("\n");
     for (std::size_t b = 0; b < r.branch_end.size(); ++b)
         std::printf("  branch %zu ended: %s\n", b, r.branch_end[b].c_str());
@@ -197,19 +187,20 @@ void print_summary(const ContinuationResult& r, const ContinueArguments& a) {
         if (s.contact >= 0) std::printf(", contact %d", s.contact);
         std::printf(")\n");
     }
-    std::printf("wrote %s/branch.csv, special.csv%s\n", a.out_dir.c_str(),
+    std::printf("wrote %s/branch.csv, special.csv, continuation.json%s\n", a.out_dir.c_str(),
                 a.no_plot ? "" : ", branch.png");
 }
 
 bool write_outputs(const ContinuationResult& r, const ContinueArguments& a,
-                   const std::string& out_dir, const ReducedParameters& p) {
+                   const std::string& out_dir, const Scene& scene) {
     write_file_atomically(out_dir + "/branch.csv", branch_csv(r));
     write_file_atomically(out_dir + "/special.csv", special_csv(r));
+    write_file_atomically(out_dir + "/continuation.json", to_json(r, a.options, scene));
     // The path goes into a single-quoted gnuplot string, where a quote is written twice.
     std::string overlay;
     for (const char c : a.overlay.empty() ? "" : std::filesystem::absolute(a.overlay).string())
         overlay += c == '\'' ? std::string("''") : std::string(1, c);
-    const std::string title = "Periodic orbits: " + cli::row_title(p, a.param);
+    const std::string title = "Periodic orbits: " + cli::row_title(scene.reduced, a.param);
     return !a.no_plot &&
            cli::plot_template_unless_interrupted(
                out_dir, "branch", {{"TITLE", title}, {"PARAM", a.param}, {"OVERLAY", overlay}});
@@ -241,7 +232,8 @@ int main(int argc, char** argv) {
                         }
                         cli::Outputs outputs({a.scene.path, a.overlay});
                         outputs.folder(a.out_dir, "--out",
-                                       {"branch.csv", "special.csv", "branch.gp", "branch.png"});
+                                       {"branch.csv", "special.csv", "continuation.json",
+                                        "branch.gp", "branch.png"});
                         cli::Progress progress("gapchain-continue");
                         const ContinuationResult r = continue_orbits(
                             scene.reduced, a.options, scene.initial, progress.callback());
@@ -252,12 +244,13 @@ int main(int argc, char** argv) {
                             throw cli::NumericalFailure(
                                 r.branch_end.empty() ? "no orbit found" : r.branch_end.front());
                         outputs.create_folders();
-                        write_outputs(r, a, outputs.staged(a.out_dir), scene.reduced);
+                        write_outputs(r, a, outputs.staged(a.out_dir), scene);
                         outputs.keep();
                         cli::throw_if_interrupted(std::to_string(r.points.size()) + " orbits and " +
                                                   std::to_string(r.special.size()) +
                                                   " special points found, in " + a.out_dir +
-                                                  "/branch.csv and special.csv");
+                                                  "/branch.csv, special.csv and "
+                                                  "continuation.json (\"cancelled\": true)");
                         print_summary(r, a);
                     },
                     {{"run.periods", "--transient"},

@@ -1053,4 +1053,20 @@ ContinuationResult continue_orbits(const ReducedParameters& base,
     return result;
 }
 
+ForceErrorSummary force_error_summary(const ContinuationResult& result) {
+    ForceErrorSummary summary;
+    const auto count = [&](double error) {
+        if (std::isnan(error))
+            ++summary.unestimated;
+        else
+            summary.largest = std::max(summary.largest, error);
+        ++summary.orbits;
+    };
+    for (const auto& p : result.points)
+        count(p.F_m_error);
+    for (const auto& s : result.special)
+        count(s.F_m_error);
+    return summary;
+}
+
 } // namespace gapchain

@@ -536,6 +536,39 @@ std::string special_csv(const ContinuationResult& result) {
     return os.str();
 }
 
+std::string to_json(const ContinuationResult& r, const ContinuationOptions& o, const Scene& scene) {
+    nlohmann::ordered_json j;
+    j["parameter"] = std::string(to_string(o.parameter));
+    j["from"] = o.from;
+    j["to"] = o.to;
+    j["period"] = o.period;
+    j["step"] = o.step;
+    j["max_step"] = o.max_step;
+    j["max_points"] = o.max_points;
+    j["follow_doublings"] = o.follow_doublings;
+    j["max_branches"] = o.max_branches;
+    j["locate_tolerance"] = o.locate_tolerance;
+    j["transient_periods"] = o.transient_periods;
+    j["scheme"] = std::string(to_string(o.orbit.scheme));
+    j["integration_tolerance"] = o.orbit.integration_tolerance;
+    j["orbit_tolerance"] = o.orbit.tolerance;
+    j["orbits"] = r.points.size();
+    j["branches"] = r.branch_end.size();
+    j["special_points"] = r.special.size();
+    j["branch_end"] = r.branch_end;
+    j["unfollowed"] = r.unfollowed;
+    const ForceErrorSummary errors = force_error_summary(r);
+    j["max_F_m_error"] = errors.largest;
+    j["F_m_errors_not_estimated"] = errors.unestimated;
+    j["shootings"] = r.shootings;
+    j["cancelled"] = r.cancelled;
+    j["wall_time_s"] = r.wall_time_s;
+    // The row's numbers as read, the continued one replaced along the branches.
+    j["base"] = parameters_json(scene.reduced);
+    j["scene"] = scene.source;
+    return j.dump(2) + "\n";
+}
+
 namespace {
 
 void attractor_row(std::ostream& os, const Attractor& a) {

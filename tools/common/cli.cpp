@@ -26,13 +26,22 @@ namespace {
 
 std::atomic<int> g_signal{0};
 
+// A second signal ends the process at once, its temporaries removed (unlink, signal and raise
+// are async-signal-safe).
+extern "C" void on_second_signal(int signal) {
+    remove_temporary_files();
+    std::signal(signal, SIG_DFL);
+    std::raise(signal);
+}
+
+// The first signal cancels through the progress callbacks, and leaves the files being written
+// alone: a finished run may be in the middle of writing its outputs, and removing a temporary
+// there made the rename fail and lost the run. An OutputFile left uncommitted by the
+// cancellation removes its own temporary.
 extern "C" void on_signal(int signal) {
     g_signal.store(signal);
-    // The first signal cancels through the progress callbacks; a second one ends the process
-    // at once, temporaries removed (unlink is async-signal-safe).
-    std::signal(SIGINT, SIG_DFL);
-    std::signal(SIGTERM, SIG_DFL);
-    remove_temporary_files();
+    std::signal(SIGINT, on_second_signal);
+    std::signal(SIGTERM, on_second_signal);
 }
 
 namespace fs = std::filesystem;

@@ -85,6 +85,8 @@ std::string number_text(double x, int digits) {
 }
 
 bool plot_with_gnuplot(const std::string& script_path, const std::string& script) {
+    // A signal that came while the numbers were written: no figure is started.
+    throw_if_interrupted();
     write_file_atomically(script_path, script);
     const fs::path dir = fs::path(script_path).parent_path().empty()
                              ? fs::path(".")
@@ -97,10 +99,11 @@ bool plot_with_gnuplot(const std::string& script_path, const std::string& script
     const std::string reason = last_line_of(log);
     std::remove(log.c_str());
     // Ctrl-C reaches gnuplot too: the run was interrupted, the figure did not fail (nor is it
-    // whole).
+    // whole). The script goes with it, as it does for a run interrupted before its plot step.
     if (interrupted()) {
         for (const auto& png : outputs_of(script))
             std::remove((dir / png).c_str());
+        std::remove(script_path.c_str());
         throw_if_interrupted();
     }
     if (status == gnuplot_missing) {

@@ -11,8 +11,8 @@ namespace gapchain::cli {
 // Writes script to script_path (atomically) and runs gnuplot on it from its folder.
 // Returns false, with a one-line note on stderr, if gnuplot is missing; throws OutputError
 // (exit 1) if it fails or leaves an empty figure, which is then removed. Its warnings are shown
-// only when it fails. Interrupted (SIGINT, SIGTERM) while it runs: removes the figure and throws
-// Interrupted.
+// only when it fails. Interrupted (SIGINT, SIGTERM) before or while it runs: writes no figure
+// and no script (removes them) and throws Interrupted.
 bool plot_with_gnuplot(const std::string& script_path, const std::string& script);
 
 // The gnuplot template data/plot/<name>.gp with every @KEY@ replaced by its value. Templates

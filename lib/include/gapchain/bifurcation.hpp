@@ -102,9 +102,9 @@ struct BifurcationResult {
     std::vector<BifurcationRow> rows; ///< up sweep in order, then the down sweep if any
     double wall_time_s = 0.0;         ///< wall time of the whole call [s]
     int threads_used = 1;             ///< OpenMP threads that ran it
-    bool cancelled = false; ///< the progress callback stopped it; rows not run or stopped
-                            ///< part-way have status cancelled and no points or maxima
-                            ///< (independent) or are missing (continuation)
+    bool cancelled = false;           ///< the progress callback stopped it; rows not run or stopped
+                                      ///< part-way have status cancelled and no points or maxima
+                                      ///< (independent) or are missing (continuation)
 };
 
 /// Computes the diagram around base (its swept parameter is replaced by each value). Progress

@@ -108,6 +108,16 @@ struct ContinuationResult {
     double wall_time_s = 0.0; ///< [s]
 };
 
+/// How well the F_m of a continuation's orbits and special points are known.
+struct ForceErrorSummary {
+    double largest = 0.0; ///< largest F_m_error among those estimated [reduced force, >= 0]
+    long unestimated = 0; ///< orbits and special points whose F_m_error is NaN (not estimated)
+    long orbits = 0;      ///< orbits and special points in all
+};
+
+/// The F_m errors of result's points and special points, summed up.
+ForceErrorSummary force_error_summary(const ContinuationResult& result);
+
 /// Throws std::invalid_argument naming the first option outside its range.
 void validate(const ContinuationOptions& options);
 

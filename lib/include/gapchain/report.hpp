@@ -118,6 +118,15 @@ std::string branch_csv(const ContinuationResult& result);
 /// value_error,minimal_period.
 std::string special_csv(const ContinuationResult& result);
 
+/// A continuation's summary as JSON: the options that ran (parameter, from, to, period, steps,
+/// scheme and tolerances), the counts of orbits, branches and special points, each branch's
+/// end, the branches not followed, max_F_m_error (over the orbits whose error was estimated,
+/// NaN ones counted in F_m_errors_not_estimated), shootings, "cancelled" (the run was
+/// interrupted: branch.csv holds the orbits found until then), wall_time_s [s], the row's five
+/// numbers as read ("base") and the scene.
+std::string to_json(const ContinuationResult& result, const ContinuationOptions& options,
+                    const Scene& scene);
+
 /// Attractors, one row each: id,regime,period,F_m,F_m_error,lambda_max,lambda_max_error,
 /// basin_fraction,basin_fraction_error,samples,slice_points,settle_median,settle_max,
 /// still_settling,F_m_runs,F_m_runs_error ("nan" where a figure is undefined).

@@ -1,0 +1,122 @@
+// The tools' shared run(): what SIGINT and SIGTERM do to the files a run is writing. Each case
+// runs in a child process, since the signal handlers and the interrupt flag are process-wide.
+#include "common/cli.hpp"
+
+#include "gapchain/report.hpp"
+
+#include <doctest/doctest.h>
+
+#include <csignal>
+#include <cstdio>
+#include <fcntl.h>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <sstream>
+#include <string>
+#include <sys/wait.h>
+#include <unistd.h>
+
+namespace fs = std::filesystem;
+using namespace gapchain;
+
+namespace {
+
+struct ChildEnd {
+    pid_t pid = 0;
+    int status = 0;
+};
+
+// Runs body inside cli::run() in a child process; returns its pid and wait status.
+ChildEnd run_in_child(const std::function<void()>& body) {
+    // Flushed first, or the child would write the parent's buffered output again.
+    std::fflush(stdout);
+    std::fflush(stderr);
+    const pid_t pid = ::fork();
+    if (pid == 0) {
+        // The tool's own message ("interrupted by ...") is not this test's output.
+        const int null = ::open("/dev/null", O_WRONLY);
+        ::dup2(null, STDOUT_FILENO);
+        ::dup2(null, STDERR_FILENO);
+        CLI::App app{"signal test", "test-tool"};
+        char name[] = "test-tool";
+        char* argv[] = {name, nullptr};
+        ::_exit(cli::run(app, 1, argv, body));
+    }
+    ChildEnd end{pid, 0};
+    ::waitpid(pid, &end.status, 0);
+    return end;
+}
+
+fs::path fresh_folder(const std::string& name) {
+    const fs::path dir = fs::temp_directory_path() /
+                         ("gapchain-test-cli-" + name + "-" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    return dir;
+}
+
+std::string contents(const fs::path& path) {
+    std::ifstream in(path);
+    std::ostringstream text;
+    text << in.rdbuf();
+    return text.str();
+}
+
+} // namespace
+
+TEST_CASE("a signal that lands while a finished run writes its output leaves the file whole") {
+    const fs::path dir = fresh_folder("first");
+    const fs::path out = dir / "result.csv";
+    for (const int sig : {SIGINT, SIGTERM}) {
+        CAPTURE(sig);
+        const ChildEnd end = run_in_child([&] {
+            OutputFile file(out.string());
+            file.stream() << "a,b\n";
+            std::raise(sig);
+            file.stream() << "1,2\n";
+            file.commit();
+        });
+        REQUIRE(WIFEXITED(end.status));
+        // The run was done: nothing was cancelled, so it succeeds with its file in place.
+        CHECK(WEXITSTATUS(end.status) == 0);
+        CHECK(contents(out) == "a,b\n1,2\n");
+        CHECK_FALSE(fs::exists(out.string() + ".tmp." + std::to_string(end.pid)));
+    }
+    fs::remove_all(dir);
+}
+
+TEST_CASE("the first signal cancels where the run asks, and its unfinished file is removed") {
+    const fs::path dir = fresh_folder("cancel");
+    const fs::path out = dir / "result.csv";
+    const ChildEnd end = run_in_child([&] {
+        OutputFile file(out.string());
+        file.stream() << "a,b\n";
+        std::raise(SIGTERM);
+        cli::throw_if_interrupted();
+        file.commit();
+    });
+    REQUIRE(WIFEXITED(end.status));
+    CHECK(WEXITSTATUS(end.status) == 128 + SIGTERM);
+    CHECK_FALSE(fs::exists(out));
+    CHECK(fs::is_empty(dir));
+    fs::remove_all(dir);
+}
+
+TEST_CASE("a second signal ends the process at once and removes the temporaries") {
+    const fs::path dir = fresh_folder("second");
+    const fs::path out = dir / "result.csv";
+    const ChildEnd end = run_in_child([&] {
+        OutputFile file(out.string());
+        file.stream() << "a,b\n";
+        file.stream().flush();
+        std::raise(SIGINT);
+        std::raise(SIGINT);
+        file.commit();
+    });
+    REQUIRE(WIFSIGNALED(end.status));
+    CHECK(WTERMSIG(end.status) == SIGINT);
+    CHECK_FALSE(fs::exists(out));
+    CHECK(fs::is_empty(dir));
+    fs::remove_all(dir);
+}

@@ -3,8 +3,8 @@
 # work-precision study keeps what it had done: the values it reported on stderr, the rows that
 # ran, the orbits found, the cells classified, the runs measured; it exits 130 (SIGINT) or 143
 # (SIGTERM), draws no plot and leaves no staging folder. So does a run interrupted while gnuplot
-# draws its figure, and so does a finished attractor search interrupted while it draws its
-# basin slice.
+# draws its figure, and so does any finished run interrupted while it draws its figure (an
+# attractor search's basin slice, a Poincare section).
 # Usage: interrupt_keeps_done.sh BIN_DIR SCENE_DIR
 set -u
 bin=$1
@@ -132,6 +132,17 @@ for f in attractors.csv attractors.json starts.csv basins.csv; do
 done
 [ "$(($(wc -l <"$dir/slice/basins.csv") - 1))" -eq 9 ] || failed "slice: basins.csv has not the 9 cells"
 kept_checks slice 130 "the whole search, in $dir/slice (no figure)" basins.png
+
+# 8. A finished Poincare section interrupted while gnuplot draws it: section.csv kept (before,
+# the whole run was dropped), no figure, exit 130.
+interrupt_while_plotting section "$bin/gapchain-poincare" "$scenes/fig13.json" \
+    --set run.periods=300 --out "$dir/section"
+echo "section interrupted while plotting: exit $rc"
+[ -s "$dir/section/section.csv" ] || failed "section: section.csv not kept"
+[ "$rc" -eq 130 ] || failed "section: exit $rc, not 130"
+grep -q "once the run was done: its outputs were kept" "$dir/section.err" || failed "section: message: $(cat "$dir/section.err")"
+[ ! -e "$dir/section/section.png" ] || failed "section: a plot of an interrupted run"
+! ls "$dir/section" | grep -q '\.gp$' || failed "section: a gnuplot script of an interrupted run"
 
 [ "$fail" -eq 0 ] && echo "interrupt checks passed"
 exit "$fail"

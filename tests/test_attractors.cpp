@@ -1117,3 +1117,41 @@ TEST_CASE("a start that ends on a cycle longer than run.max_steady_period settle
     CHECK(set.F_m_max == doctest::Approx(*plain.F_m_orbit).epsilon(1e-6));
     CHECK(set.F_m_max > 1.1 * 1.47504);
 }
+
+TEST_CASE("a chaotic label read on a chaotic saddle's transient is told apart from a chaotic "
+          "attractor (classify against the row's attractors)") {
+    // Fig 13's row at f_r = 2.05: from rest classify reads chaos (lambda_max +1.6, F_m 1.148)
+    // through its 400 periods; the row's one attractor is the period-3 orbit of F_m 1.15579
+    // (an independent probe saw every one of 100 starts end on it, the previous case). At
+    // f_r = 3.35 the chaos is an attractor (docs/attractors.md's line: label 3, chaotic from
+    // 3.3 to 3.45) and the label stands.
+    AttractorOptions o;
+    o.samples = 8;
+    o.run.periods = 400;
+    o.run.transient_periods = 100;
+    const auto answer_of = [](const Classification& c) {
+        return RunAnswer{c.status == RunStatus::completed || c.status == RunStatus::steady_state,
+                         c.F_m, c.F_m_error};
+    };
+    const ReducedParameters saddle{5, 60, 0.5, 0.06, 2.05};
+    const Classification c = classify(saddle, ClassifyOptions{});
+    REQUIRE(c.regime == Regime::chaotic);
+    const DesignValue d = design_value(saddle, o, answer_of(c));
+    CHECK_FALSE(settled_on_non_periodic(d.search));
+    CHECK(label_is_transient(c, d));
+    CHECK(d.start_below);
+    CHECK_FALSE(d.from_run);
+    CHECK(d.F_m_max == doctest::Approx(1.15579).epsilon(1e-5));
+
+    const ReducedParameters chaos{5, 60, 0.5, 0.06, 3.35};
+    const Classification k = classify(chaos, ClassifyOptions{});
+    REQUIRE(k.regime == Regime::chaotic);
+    const DesignValue e = design_value(chaos, o, answer_of(k));
+    CHECK(settled_on_non_periodic(e.search));
+    CHECK_FALSE(label_is_transient(k, e));
+    CHECK_FALSE(e.start_below);
+    // A periodic label is never called a transient, whatever the search found.
+    Classification periodic = c;
+    periodic.regime = Regime::periodic;
+    CHECK_FALSE(label_is_transient(periodic, d));
+}

@@ -232,3 +232,36 @@ TEST_CASE("continuation JSON: the largest F_m error of those estimated, the othe
     CHECK(summary.unestimated == 1);
     CHECK(summary.largest == 2e-6);
 }
+
+TEST_CASE("classification JSON against the attractors: multistable, label_is_transient, the "
+          "design value") {
+    const Scene scene = parse_scene(R"({"model": {"Nm": 5, "fc": 60}})");
+    Classification c;
+    c.regime = Regime::chaotic;
+    c.F_m = 1.148;
+    DesignValue d;
+    Attractor orbit;
+    orbit.regime = Regime::periodic;
+    orbit.period = 3;
+    orbit.F_m = 1.15579;
+    d.search.attractors = {orbit};
+    d.search.F_m_max = orbit.F_m;
+    d.search.F_m_max_id = 0;
+    d.F_m_max = orbit.F_m;
+    d.start_below = true;
+    const auto j = nlohmann::json::parse(to_json(c, scene, d, AttractorOptions{}));
+    CHECK(j["regime"] == "chaotic");
+    CHECK(j["multistable"] == true);
+    CHECK(j["label_is_transient"] == true);
+    CHECK(j["design_value"]["F_m_max"] == 1.15579);
+    CHECK(j["design_value"]["attractor"]["period"] == 3);
+    // A chaotic attractor among those found: the label stands, and without start_below or a
+    // start-dependent twin nothing says multistable.
+    Attractor chaos;
+    chaos.regime = Regime::chaotic;
+    d.search.attractors.push_back(chaos);
+    d.start_below = false;
+    const auto k = nlohmann::json::parse(to_json(c, scene, d, AttractorOptions{}));
+    CHECK(k["label_is_transient"] == false);
+    CHECK(k["multistable"] == false);
+}

@@ -93,8 +93,7 @@ void run_study(const Scene& scene, const WorkPrecisionOptions& o, const std::str
     const std::string staged = outputs.staged(out);
     write_file_atomically(staged + "/work_precision.csv", work_precision_csv(study));
     const std::string title = study_title(scene, o.periods);
-    if (!no_plot)
-        cli::plot_template_unless_interrupted(staged, "work_precision", {{"TITLE", title}});
+    if (!no_plot) cli::plot_template(staged, "work_precision", {{"TITLE", title}});
     outputs.keep();
     cli::throw_if_interrupted(std::to_string(study.points.size()) + " runs done, in " + out +
                               "/work_precision.csv");

@@ -199,12 +199,11 @@ void run_point(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs)
         write_file_atomically(dir + "/basins.csv", basin_slice_csv(set));
         const auto comma = a.grid.find(',');
         if (!a.no_plot && !cli::interrupted())
-            cli::plot_template_unless_interrupted(
-                dir, "basins",
-                {{"TITLE", "Basins: " + cli::row_title(scene.reduced)},
-                 {"XLABEL", a.grid.substr(0, comma)},
-                 {"YLABEL", a.grid.substr(comma + 1)},
-                 {"COUNT", std::to_string(set.attractors.size())}});
+            cli::plot_template(dir, "basins",
+                               {{"TITLE", "Basins: " + cli::row_title(scene.reduced)},
+                                {"XLABEL", a.grid.substr(0, comma)},
+                                {"YLABEL", a.grid.substr(comma + 1)},
+                                {"COUNT", std::to_string(set.attractors.size())}});
     }
     outputs.keep();
     cli::throw_if_interrupted("the whole search, in " + a.out_dir +
@@ -254,11 +253,10 @@ void run_line(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs) 
     write_file_atomically(dir + "/fractions.json", to_json(c, a.options, scene));
     const bool plotted =
         !a.no_plot && !cut &&
-        cli::plot_template_unless_interrupted(
-            dir, "fractions",
-            {{"TITLE", "Basin fractions: " + cli::row_title(scene.reduced, a.param)},
-             {"PARAM", a.param},
-             {"COUNT", std::to_string(c.label_count)}});
+        cli::plot_template(dir, "fractions",
+                           {{"TITLE", "Basin fractions: " + cli::row_title(scene.reduced, a.param)},
+                            {"PARAM", a.param},
+                            {"COUNT", std::to_string(c.label_count)}});
     outputs.keep();
     const std::string files = a.out_dir + "/fractions.csv and fractions.json";
     cli::throw_if_interrupted(

@@ -152,14 +152,14 @@ bool write_outputs(const gapchain::BifurcationResult& r, const BifurcationArgume
     write_file_atomically(out_dir + "/summary.csv", summary_csv(r));
     write_file_atomically(out_dir + "/bifurcation.json", to_json(r, a.options, p));
     const bool independent = a.options.mode == SweepMode::independent;
-    return !a.no_plot && cli::plot_template_unless_interrupted(
-                             out_dir, "bifurcation",
-                             {{"TITLE", diagram_title(p, a.param, a.mode, a.options)},
-                              {"VARIABLE", a.variable},
-                              {"PARAM", a.param},
-                              // Independent runs have no sweep down: the key listed one.
-                              {"UP_TITLE", independent ? "independent runs" : "sweep up"},
-                              {"DOWN_KEY", independent ? "notitle" : "title 'sweep down'"}});
+    return !a.no_plot &&
+           cli::plot_template(out_dir, "bifurcation",
+                              {{"TITLE", diagram_title(p, a.param, a.mode, a.options)},
+                               {"VARIABLE", a.variable},
+                               {"PARAM", a.param},
+                               // Independent runs have no sweep down: the key listed one.
+                               {"UP_TITLE", independent ? "independent runs" : "sweep up"},
+                               {"DOWN_KEY", independent ? "notitle" : "title 'sweep down'"}});
 }
 
 } // namespace

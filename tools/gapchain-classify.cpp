@@ -1,7 +1,9 @@
 // gapchain-classify: regime of one point, or a regime map over (e_r, f_r) as Fig 2 of the paper.
 #include "common/cli.hpp"
+#include "common/design_search.hpp"
 #include "common/plot.hpp"
 
+#include "gapchain/attractors.hpp"
 #include "gapchain/classify.hpp"
 #include "gapchain/grid.hpp"
 #include "gapchain/report.hpp"
@@ -11,6 +13,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <optional>
 
 namespace {
 
@@ -81,13 +84,43 @@ void print_twin(const Classification& c) {
                     t.regime != c.regime ? "another label" : "F_m beyond three error bars");
 }
 
-void classify_point(const ReducedParameters& p, const ClassifyOptions& o, const std::string& out,
-                    cli::Outputs& outputs) {
+// What the row's attractors say of the label: a non-periodic label where the search settled
+// on orbits alone was read on a transient; with no search, that other starts were not tried.
+void print_search_verdict(const Classification& c, const std::optional<DesignValue>& design) {
+    const bool non_periodic = c.regime == Regime::chaotic || c.regime == Regime::quasi_periodic;
+    if (!design) {
+        if (non_periodic)
+            std::printf("note: other starts were not tried; a chaotic transient reads as chaos "
+                        "until it ends (--attractors N searches the row's attractors from N "
+                        "starts)\n");
+        return;
+    }
+    if (label_is_transient(c, *design))
+        std::printf("transient: the %s motion read from this start is not one of the row's "
+                    "attractors: the search settled on orbits alone (a chaotic transient that "
+                    "outlasts --transient); the row's answer is the design value's\n",
+                    std::string(to_string(c.regime)).c_str());
+}
+
+void classify_point(const Scene& scene, const ClassifyOptions& o, const std::string& out,
+                    const cli::DesignSearch& search, cli::Outputs& outputs) {
+    const ReducedParameters& p = scene.reduced;
     // The run asks as it goes: a signal stops it (a long --record took a minute to notice).
     const Classification c = classify(p, o, [](double) { return !cli::interrupted(); });
     cli::throw_if_interrupted();
     if (c.status == RunStatus::non_finite) throw cli::NumericalFailure("the run became non-finite");
-    if (!out.empty()) write_file_atomically(out, to_json(c, p));
+    std::optional<DesignValue> design;
+    if (search.wanted()) {
+        cli::Progress progress("gapchain-classify: attractors");
+        const RunAnswer answer{c.status == RunStatus::completed ||
+                                   c.status == RunStatus::steady_state,
+                               c.F_m, c.F_m_error};
+        design = design_value(p, search.options(), answer, progress.callback());
+        cli::throw_if_interrupted();
+    }
+    if (!out.empty())
+        write_file_atomically(out, design ? to_json(c, scene, *design, search.options())
+                                          : to_json(c, p));
     outputs.keep();
     std::printf("gapchain-classify: Nm=%d fc=%g eps=%g e_r=%g f_r=%g\n", p.Nm, p.fc, p.eps, p.e_r,
                 p.f_r);
@@ -119,6 +152,10 @@ void classify_point(const ReducedParameters& p, const ClassifyOptions& o, const 
                     "end elsewhere from other starts (gapchain-attractors)\n",
                     o.transient_periods, c.periods_run);
     print_twin(c);
+    print_search_verdict(c, design);
+    if (design)
+        cli::print_design(scene, {c.F_m, false, label_is_transient(c, *design)}, *design,
+                          search.options());
 }
 
 void classify_map(const ReducedParameters& p, const ClassifyOptions& o, const std::string& out,
@@ -152,15 +189,14 @@ void classify_map(const ReducedParameters& p, const ClassifyOptions& o, const st
         return cli::number_text((side < 0 ? v.front() : v.back()) + pad);
     };
     if (plot)
-        cli::plot_template_unless_interrupted(
-            staged, "map",
-            {{"TITLE", title},
-             {"EPS", cli::number_text(p.eps)},
-             {"F_FROM", axis_end(f_r, -1.0)},
-             {"F_TO", axis_end(f_r, 1.0)},
-             {"E_FROM", axis_end(e_r, -1.0)},
-             {"E_TO", axis_end(e_r, 1.0)},
-             {"STYLE", line ? "with points pt 5 ps 2 lc palette" : "with image"}});
+        cli::plot_template(staged, "map",
+                           {{"TITLE", title},
+                            {"EPS", cli::number_text(p.eps)},
+                            {"F_FROM", axis_end(f_r, -1.0)},
+                            {"F_TO", axis_end(f_r, 1.0)},
+                            {"E_FROM", axis_end(e_r, -1.0)},
+                            {"E_TO", axis_end(e_r, 1.0)},
+                            {"STYLE", line ? "with points pt 5 ps 2 lc palette" : "with image"}});
     outputs.keep();
     cli::throw_if_interrupted(std::to_string(done) + " of " + std::to_string(m.cells.size()) +
                               " cells done, in " + out + "/map.csv");
@@ -200,6 +236,22 @@ void add_point_run_options(CLI::App& app, ClassifyOptions& o, bool& no_twin) {
                  "(half their cost; start_dependent then unknown)");
 }
 
+// --map and the options only it reads: its axes and --no-plot.
+struct MapArguments {
+    bool on = false;
+    std::string e_r = "0:1.5:100", f_r = "0.1:5:100";
+    bool no_plot = false;
+
+    void add_options(CLI::App& app) {
+        auto* map = app.add_flag("--map", on, "Classify a grid of (e_r, f_r)");
+        app.add_option("--e_r", e_r, "Map rows: from:to:count")->needs(map)->capture_default_str();
+        app.add_option("--f_r", f_r, "Map columns: from:to:count")
+            ->needs(map)
+            ->capture_default_str();
+        app.add_flag("--no-plot", no_plot, "Write the CSV only")->needs(map);
+    }
+};
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -211,29 +263,23 @@ int main(int argc, char** argv) {
     cli::SceneArguments scene_args;
     cli::add_scene_arguments(app, scene_args, true);
     ClassifyOptions o;
-    std::string out, e_r_range = "0:1.5:100", f_r_range = "0.1:5:100";
-    bool no_plot = false;
+    std::string out;
     int threads = 0;
     app.add_option("--out", out, "JSON result (one point) or output folder (--map; default map)");
-    bool map_flag = false;
-    auto* map = app.add_flag("--map", map_flag, "Classify a grid of (e_r, f_r)");
-    app.add_option("--e_r", e_r_range, "Map rows: from:to:count")
-        ->needs(map)
-        ->capture_default_str();
-    app.add_option("--f_r", f_r_range, "Map columns: from:to:count")
-        ->needs(map)
-        ->capture_default_str();
+    MapArguments map;
+    map.add_options(app);
     bool no_twin = false;
     add_point_run_options(app, o, no_twin);
-    app.add_option("--threads", threads, "OpenMP threads for --map (0: all)")
-        ->check(cli::range(0, 4096))
-        ->needs(map)
-        ->capture_default_str();
-    app.add_flag("--no-plot", no_plot, "Write the CSV only")->needs(map);
+    auto* threads_option =
+        app.add_option("--threads", threads, "OpenMP threads of --map or --attractors (0: all)")
+            ->check(cli::range(0, 4096))
+            ->capture_default_str();
+    cli::DesignSearch search("gapchain-classify --attractors");
+    search.add_options(app, false);
     return cli::run(
         app, argc, argv,
         [&] {
-            require_sets_read(scene_args, map_flag);
+            require_sets_read(scene_args, map.on);
             const Scene scene = cli::load(scene_args);
             require_paper_row(scene, "gapchain-classify");
             take_run_settings(scene, o);
@@ -243,17 +289,25 @@ int main(int argc, char** argv) {
             if (out.empty() && app.get_option("--out")->count() > 0)
                 throw std::invalid_argument("--out: must name a file (or, with --map, a folder); "
                                             "leave it out to print the summary only");
-            if (!map_flag) {
+            if (!map.on) {
+                if (threads_option->count() > 0 && !search.wanted())
+                    throw std::invalid_argument("--threads: applies to --map or --attractors");
+                search.set_threads(threads);
+                search.check(scene, with_classify_lengths(scene.run, o));
                 outputs.file(out, "--out");
-                return classify_point(scene.reduced, o, out, outputs);
+                return classify_point(scene, o, out, search, outputs);
             }
+            if (search.wanted())
+                throw std::invalid_argument("--attractors: applies to one point; "
+                                            "gapchain-attractors --param gives the attractors "
+                                            "along a line");
             if (out.empty()) out = "map";
             outputs.folder(out, "--out", {"map.csv", "map.gp", "regimes.png", "force.png"});
             const std::vector<double> e_r =
-                parse_range(e_r_range, "--e_r", scene.reduced, SweptParameter::e_r);
+                parse_range(map.e_r, "--e_r", scene.reduced, SweptParameter::e_r);
             const std::vector<double> f_r =
-                parse_range(f_r_range, "--f_r", scene.reduced, SweptParameter::f_r);
-            classify_map(scene.reduced, o, out, e_r, f_r, threads, !no_plot, outputs);
+                parse_range(map.f_r, "--f_r", scene.reduced, SweptParameter::f_r);
+            classify_map(scene.reduced, o, out, e_r, f_r, threads, !map.no_plot, outputs);
         },
         {{"run.periods", "--transient / --record"}});
 }

@@ -202,8 +202,8 @@ bool write_outputs(const ContinuationResult& r, const ContinueArguments& a,
         overlay += c == '\'' ? std::string("''") : std::string(1, c);
     const std::string title = "Periodic orbits: " + cli::row_title(scene.reduced, a.param);
     return !a.no_plot &&
-           cli::plot_template_unless_interrupted(
-               out_dir, "branch", {{"TITLE", title}, {"PARAM", a.param}, {"OVERLAY", overlay}});
+           cli::plot_template(out_dir, "branch",
+                              {{"TITLE", title}, {"PARAM", a.param}, {"OVERLAY", overlay}});
 }
 
 } // namespace
@@ -250,7 +250,8 @@ int main(int argc, char** argv) {
                                                   std::to_string(r.special.size()) +
                                                   " special points found, in " + a.out_dir +
                                                   "/branch.csv, special.csv and "
-                                                  "continuation.json (\"cancelled\": true)");
+                                                  "continuation.json" +
+                                                  (r.cancelled ? " (\"cancelled\": true)" : ""));
                         print_summary(r, a);
                     },
                     {{"run.periods", "--transient"},

@@ -1,5 +1,6 @@
 // gapchain-sim: one simulation of a row; prints F_m and writes a JSON result.
 #include "common/cli.hpp"
+#include "common/design_search.hpp"
 
 #include "gapchain/attractors.hpp"
 #include "gapchain/report.hpp"
@@ -154,108 +155,6 @@ void print_result(const Scene& scene, const SimulationResult& r, bool searched) 
     std::printf("wall time %.4f s\n", r.wall_time_s);
 }
 
-// The design value's line: what the search found and how this run's F_m compares.
-void print_design(const Scene& scene, const SimulationResult& r, const DesignValue& d,
-                  const AttractorOptions& o) {
-    const AttractorSet& set = d.search;
-    // The run starts at the scene's initial state; the search's box stays around rest.
-    std::printf(
-        "design value over %s from %ld starts%s (%.2f s): ", cli::attractor_count(set).c_str(),
-        o.samples, scene.initial.empty() ? "" : " around rest", set.wall_time_s);
-    if (set.F_m_max_id < 0) {
-        std::printf("no attractor found (every start failed)\n");
-        return;
-    }
-    const Attractor& a = set.attractors[static_cast<std::size_t>(set.F_m_max_id)];
-    const auto describe = [&a] {
-        std::printf("%s", std::string(regime_label(a)).c_str());
-        if (a.period > 0) std::printf(", period %d", a.period);
-        std::printf(", basin %.3f +- %.3f", a.basin_fraction, a.basin_fraction_error);
-    };
-    if (d.run_above) {
-        std::printf("this run's F_m; it is above every attractor found (the largest: F_m = %.6g "
-                    "+- %.2g, ",
-                    set.F_m_max, set.F_m_max_error);
-        describe();
-        std::printf(")\nmultistable: this run's F_m was taken in a transient%s, not on an "
-                    "attractor\n",
-                    r.accuracy_mode_used == AccuracyUsed::relaxed
-                        ? ", or on the relaxed plan's motion, which the strict dynamics leave "
-                          "(run.accuracy_mode = \"strict\")"
-                        : "");
-    } else if (d.from_run) {
-        std::printf("this run's F_m (no attractor found hits harder)\n");
-    } else {
-        std::printf("F_m_max = %.6g +- %.2g", d.F_m_max, d.F_m_max_error);
-        // Beside the run's F_m in newtons, the design value in newtons too (it was only in the
-        // JSON's F_m_max_newton).
-        if (scene.physical)
-            std::printf("  (%.6g N +- %.2g N)", force_in_newtons(d.F_m_max, *scene.physical),
-                        force_in_newtons(d.F_m_max_error, *scene.physical));
-        std::printf(" (");
-        describe();
-        if (d.start_below)
-            std::printf(")\nmultistable: this run's start reached a weaker attractor, its F_m is "
-                        "%.0f %% below the design value; gapchain-attractors shows the basins\n",
-                        100.0 * (d.F_m_max - r.F_m) / d.F_m_max);
-        else if (!set.any_settled())
-            std::printf("): no group settled, so this is a transient's F_m, above this run's "
-                        "%.6g\n",
-                        r.F_m);
-        else
-            std::printf("), this run's F_m within the errors\n");
-    }
-    cli::print_transients(set.transients);
-    if (set.unsettled > 0)
-        std::printf("  %d group(s) were still converging when their runs ended: their F_m is a "
-                    "transient's; raise run.periods, or run.max_steady_period (now %d) if their "
-                    "orbits may be longer\n",
-                    set.unsettled, scene.run.max_steady_period);
-}
-
-// --attractors N with its --seed, --box and --threads: the design value's search.
-struct DesignSearch {
-    static AttractorOptions no_search() {
-        AttractorOptions o;
-        o.samples = 0;
-        return o;
-    }
-    AttractorOptions options = no_search();
-    long long seed = 1;
-    std::vector<CLI::Option*> start_options; // --seed, --box, --threads
-
-    void add_options(CLI::App& app) {
-        app.add_option("--attractors", options.samples,
-                       "Also search the row's attractors from N random starts "
-                       "(gapchain-attractors' search) and report the design value F_m_max over "
-                       "them and this run (0: no search)")
-            ->check(cli::range(0L, 10'000'000L))
-            ->capture_default_str();
-        const auto [seed_option, box_option] = cli::add_start_box(app, seed, options.box, "rest");
-        start_options = {seed_option, box_option,
-                         app.add_option("--threads", options.threads,
-                                        "OpenMP threads of the attractor search (0: all)")
-                             ->check(cli::range(0, 4096))
-                             ->capture_default_str()};
-    }
-    [[nodiscard]] bool wanted() const { return options.samples > 0; }
-    // Before anything runs: the search's options apply, and the scene is one it takes.
-    void check(const Scene& scene) {
-        if (!wanted()) {
-            for (const CLI::Option* option : start_options)
-                if (option->count() > 0)
-                    throw SceneError(option->get_name() +
-                                     ": applies to the attractor search only; add --attractors "
-                                     "N (1 .. 1e7 starts)");
-            return;
-        }
-        require_paper_row(scene, "gapchain-sim --attractors");
-        options.seed = static_cast<std::uint64_t>(seed);
-        options.run = scene.run;
-        validate(scene.reduced, options);
-    }
-};
-
 // The scene; a --set of output.trajectory_every is refused without --trajectory, which alone
 // reads it (it changed nothing, without a word).
 Scene load_scene_for(const cli::SceneArguments& args, const std::string& trajectory_path) {
@@ -294,14 +193,14 @@ int main(int argc, char** argv) {
                    "Write the (decimated: output.trajectory_every) trajectory as CSV")
         ->check(cli::non_empty_path());
     app.add_flag("--quiet,-q", quiet, "Print nothing on success");
-    DesignSearch search;
+    cli::DesignSearch search("gapchain-sim --attractors");
     search.add_options(app);
 
     return cli::run(
         app, argc, argv,
         [&] {
             const Scene scene = load_scene_for(scene_args, trajectory_path);
-            search.check(scene);
+            search.check(scene, scene.run);
             // A record scene's accelerogram is an input too: --out rec.csv replaced it.
             cli::Outputs outputs({scene_args.path, scene.record_file});
             outputs.file(out_path, "--out");
@@ -317,7 +216,8 @@ int main(int argc, char** argv) {
             std::optional<DesignValue> design;
             if (search.wanted()) {
                 cli::Progress search_progress("gapchain-sim: attractors", !quiet);
-                design = design_value(scene.reduced, search.options, r, search_progress.callback());
+                design =
+                    design_value(scene.reduced, search.options(), r, search_progress.callback());
                 cli::throw_if_interrupted();
             }
             if (trajectory) {
@@ -325,12 +225,16 @@ int main(int argc, char** argv) {
                 trajectory->commit();
             }
             if (!out_path.empty())
-                write_file_atomically(out_path, design ? to_json(r, scene, *design, search.options)
-                                                       : to_json(r, scene));
+                write_file_atomically(out_path, design
+                                                    ? to_json(r, scene, *design, search.options())
+                                                    : to_json(r, scene));
             outputs.keep();
             if (!quiet) {
                 print_result(scene, r, design.has_value());
-                if (design) print_design(scene, r, *design, search.options);
+                if (design)
+                    cli::print_design(scene,
+                                      {r.F_m, r.accuracy_mode_used == AccuracyUsed::relaxed, false},
+                                      *design, search.options());
             }
         },
         {{"samples", "--attractors"}, {"box", "--box"}, {"threads", "--threads"}});

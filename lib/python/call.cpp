@@ -176,4 +176,34 @@ py::dict run_dict(const Scene& scene) {
     return d;
 }
 
+AttractorOptions design_search(const Scene& scene, const RunOptions& run,
+                               const std::string& function, long attractors,
+                               std::optional<std::uint64_t> seed, std::optional<double> box,
+                               std::optional<int> threads) {
+    AttractorOptions search;
+    // 0 is no search; the search's own range starts at 1.
+    if (attractors < 0 || attractors > 10'000'000)
+        throw std::invalid_argument("attractors: must be an integer in [0, 10000000] (0: no "
+                                    "search), got " +
+                                    std::to_string(attractors));
+    if (attractors != 0) {
+        search.samples = attractors;
+        search.seed = seed.value_or(search.seed);
+        search.box = box.value_or(search.box);
+        search.threads = threads.value_or(search.threads);
+        search.run = run;
+        // Not paper_row(): "simulate(attractors=...)()" read as a call of a call.
+        require_paper_row(scene, function + "() with attractors=" + std::to_string(attractors));
+        validate(scene.reduced, search);
+    } else if (seed || box || threads) {
+        // Given at its default value too: a seed without a search is a mistake either way.
+        throw std::invalid_argument(std::string(seed  ? "seed"
+                                                : box ? "box"
+                                                      : "threads") +
+                                    ": applies to the attractor search only; give attractors, "
+                                    "1 .. 1e7");
+    }
+    return search;
+}
+
 } // namespace gapchain::python

@@ -3,6 +3,7 @@
 // parsing, so validation and messages are the tools'), a long call run with the GIL released
 // that reports progress and stops on KeyboardInterrupt, and NumPy arrays of results.
 
+#include "gapchain/attractors.hpp"
 #include "gapchain/observers.hpp"
 #include "gapchain/run.hpp"
 #include "gapchain/scene.hpp"
@@ -11,6 +12,7 @@
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <utility>
@@ -120,6 +122,14 @@ py::dict per_contact_dict(const std::vector<ContactMaximum>& contacts);
 py::dict run_dict(const Scene& scene);
 
 // Registration of each group of functions (one source file each).
+// The attractor search of simulate(attractors=N) and classify(attractors=N), checked before the
+// run: each start runs as run; function names the caller in messages. Unused where attractors
+// is 0, and then no seed, box or threads may be given.
+AttractorOptions design_search(const Scene& scene, const RunOptions& run,
+                               const std::string& function, long attractors,
+                               std::optional<std::uint64_t> seed, std::optional<double> box,
+                               std::optional<int> threads);
+
 void register_simulate(py::module_& m);
 void register_analyses(py::module_& m);
 void register_regimes(py::module_& m);

@@ -11,6 +11,7 @@
 #include <cmath>
 #include <cstring>
 #include <limits>
+#include <optional>
 
 namespace gapchain::python {
 
@@ -23,7 +24,7 @@ double estimated_or_nan(double error) {
 }
 
 constexpr const char* classify_doc =
-    R"(classify(scene=None, *, transient=100, record=300, confirm=True, twin=True, **keys) -> dict
+    R"(classify(scene=None, *, transient=100, record=300, confirm=True, twin=True, attractors=0, seed=None, box=None, threads=None, **keys) -> dict
 
 Classify the paper's uniform row at one point as "no-contact", "periodic" (with its period),
 "quasi-periodic" or "chaotic", with the evidence: gapchain-classify in-process.
@@ -33,6 +34,11 @@ record     periods of evidence for non-periodic motion, >= 20
 confirm    confirm a periodic regime by Newton shooting (period = the orbit's minimal period)
 twin       on a quasi-periodic or chaotic label, classify again from a start moved by 1e-8
           (doubles such a point's cost): start_dependent says whether the label or F_m moved
+attractors also search the row's attractors from this many random starts, 0 .. 1e7, each run
+          as long as the classification's (seed, box, threads as in simulate()), and set the
+          label against them: adds multistable, label_is_transient (a chaotic or quasi-periodic
+          label where the search settled on orbits alone: read on a chaotic transient, as on
+          Fig 13's row at f_r = 2.05) and design_value, as gapchain-classify --attractors N
 scene, **keys  the row (Nm, fc, eps, e_r, f_r; of the run section scheme, tolerance and
           max_work are used) and its initial state.
 
@@ -115,16 +121,30 @@ ClassifyOptions classify_options(const Scene& scene, long transient, long record
 }
 
 py::dict classify_py(const py::object& scene_arg, long transient, long record, bool confirm,
-                     bool twin, const py::kwargs& keys) {
+                     bool twin, long attractors, std::optional<std::uint64_t> seed,
+                     std::optional<double> box, std::optional<int> threads,
+                     const py::kwargs& keys) {
     refuse_run_keys(keys, "classify", run_settings_keys, classify_runs);
     const Scene scene = to_scene(scene_arg, keys);
     const ClassifyOptions o = classify_options(scene, transient, record, confirm, twin);
+    // Each start of the search runs as long as the classification (gapchain-classify's).
+    const AttractorOptions search = design_search(scene, with_classify_lengths(scene.run, o),
+                                                  "classify", attractors, seed, box, threads);
     Call call;
     const ReducedParameters& row = paper_row(scene, "classify");
     const Classification c = call.run([&] { return classify(row, o, call.callback()); });
+    std::string json = to_json(c, row);
+    if (attractors != 0 && c.status != RunStatus::cancelled) {
+        const RunAnswer answer{c.status == RunStatus::completed ||
+                                   c.status == RunStatus::steady_state,
+                               c.F_m, c.F_m_error};
+        const DesignValue design =
+            call.run([&] { return design_value(row, search, answer, call.callback()); });
+        json = to_json(c, scene, design, search);
+    }
     // The JSON gapchain-classify writes (report.cpp, the one list of the fields), as a dict; an
     // error nothing estimated (too few periods averaged) stays None, as the JSON's null.
-    py::dict d = py::module_::import("json").attr("loads")(to_json(c, row));
+    py::dict d = py::module_::import("json").attr("loads")(json);
     d["max_multiplier"] = c.max_multiplier;
     return d;
 }
@@ -328,7 +348,9 @@ void register_regimes(py::module_& m) {
     const ClassifyOptions o;
     m.def("classify", &classify_py, classify_doc, py::arg("scene") = py::none(), py::kw_only(),
           py::arg("transient") = o.transient_periods, py::arg("record") = o.record_periods,
-          py::arg("confirm") = o.confirm_by_newton, py::arg("twin") = o.twin_check);
+          py::arg("confirm") = o.confirm_by_newton, py::arg("twin") = o.twin_check,
+          py::arg("attractors") = 0, py::arg("seed") = py::none(), py::arg("box") = py::none(),
+          py::arg("threads") = py::none());
     m.def("regime_map", &regime_map_py, regime_map_doc, py::arg("scene") = py::none(),
           py::kw_only(), py::arg("e_r"), py::arg("f_r"), py::arg("transient") = o.transient_periods,
           py::arg("record") = o.record_periods, py::arg("confirm") = o.confirm_by_newton,

@@ -127,37 +127,6 @@ py::dict result_dict(const std::string& report, const SimulationResult& r, const
     return d;
 }
 
-/// The attractor search of simulate(attractors=N), checked before the run; unused where
-/// attractors is 0, and then no seed, box or threads may be given.
-AttractorOptions design_search(const Scene& scene, long attractors,
-                               std::optional<std::uint64_t> seed, std::optional<double> box,
-                               std::optional<int> threads) {
-    AttractorOptions search;
-    // 0 is no search; the search's own range starts at 1.
-    if (attractors < 0 || attractors > 10'000'000)
-        throw std::invalid_argument("attractors: must be an integer in [0, 10000000] (0: no "
-                                    "search), got " +
-                                    std::to_string(attractors));
-    if (attractors != 0) {
-        search.samples = attractors;
-        search.seed = seed.value_or(search.seed);
-        search.box = box.value_or(search.box);
-        search.threads = threads.value_or(search.threads);
-        search.run = scene.run;
-        // Not paper_row(): "simulate(attractors=...)()" read as a call of a call.
-        require_paper_row(scene, "simulate() with attractors=" + std::to_string(attractors));
-        validate(scene.reduced, search);
-    } else if (seed || box || threads) {
-        // Given at its default value too: a seed without a search is a mistake either way.
-        throw std::invalid_argument(std::string(seed  ? "seed"
-                                                : box ? "box"
-                                                      : "threads") +
-                                    ": applies to the attractor search only; give attractors, "
-                                    "1 .. 1e7");
-    }
-    return search;
-}
-
 py::dict simulate_py(const py::object& scene_arg, bool trajectory, long attractors,
                      std::optional<std::uint64_t> seed, std::optional<double> box,
                      std::optional<int> threads, const py::object& progress,
@@ -166,7 +135,8 @@ py::dict simulate_py(const py::object& scene_arg, bool trajectory, long attracto
     if (!trajectory)
         refuse_run_keys(keys, "simulate", {"run."}, "it returns a trajectory with trajectory=True");
     const Scene scene = to_scene(scene_arg, keys);
-    const AttractorOptions search = design_search(scene, attractors, seed, box, threads);
+    const AttractorOptions search =
+        design_search(scene, scene.run, "simulate", attractors, seed, box, threads);
     const Dynamics dyn = scene.dynamics();
     Call call(progress);
     std::vector<double> t, states;

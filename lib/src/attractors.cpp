@@ -1328,6 +1328,15 @@ AttractorSet find_attractors(const ReducedParameters& p, const AttractorOptions&
 
 DesignValue design_value(const ReducedParameters& p, const AttractorOptions& options,
                          const SimulationResult& run, const ProgressCallback& progress) {
+    RunAnswer answer;
+    answer.answered = run.status == RunStatus::completed || run.status == RunStatus::steady_state;
+    answer.F_m = run.F_m;
+    if (has_error_estimate(run)) answer.F_m_error = run.F_m_error;
+    return design_value(p, options, answer, progress);
+}
+
+DesignValue design_value(const ReducedParameters& p, const AttractorOptions& options,
+                         const RunAnswer& run, const ProgressCallback& progress) {
     DesignValue d;
     d.search = find_attractors(p, options, progress);
     if (d.search.cancelled) return d;
@@ -1335,12 +1344,9 @@ DesignValue design_value(const ReducedParameters& p, const AttractorOptions& opt
     d.F_m_max_error = d.search.F_m_max_error;
     // A run that failed or was stopped has no F_m to set against the attractors; a search
     // whose groups were all still converging has no attractor's F_m to set it against.
-    const bool run_answered =
-        run.status == RunStatus::completed || run.status == RunStatus::steady_state;
     const bool attractor_found = d.search.F_m_max_id >= 0 && d.search.any_settled();
-    if (!run_answered) return d;
-    const double run_error =
-        has_error_estimate(run) ? run.F_m_error : std::numeric_limits<double>::quiet_NaN();
+    if (!run.answered) return d;
+    const double run_error = run.F_m_error;
     // Where every group was still converging, the search's F_m_max is a transient's; the larger
     // of it and the run's stands all the same, and from_run says which (it once said "the run's"
     // whenever nothing settled, next to the group's larger F_m).
@@ -1362,6 +1368,17 @@ DesignValue design_value(const ReducedParameters& p, const AttractorOptions& opt
 
 bool multistable(const SimulationResult& run, const DesignValue& design) {
     return run.multistable || design.start_below || design.run_above;
+}
+
+bool settled_on_non_periodic(const AttractorSet& set) {
+    return std::any_of(set.attractors.begin(), set.attractors.end(), [](const Attractor& a) {
+        return a.settled && (a.regime == Regime::chaotic || a.regime == Regime::quasi_periodic);
+    });
+}
+
+bool label_is_transient(const Classification& c, const DesignValue& design) {
+    return (c.regime == Regime::chaotic || c.regime == Regime::quasi_periodic) &&
+           design.search.any_settled() && !settled_on_non_periodic(design.search);
 }
 
 namespace {

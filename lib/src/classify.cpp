@@ -530,4 +530,10 @@ RegimeMap regime_map(const ReducedParameters& base, const std::vector<double>& e
     return map;
 }
 
+RunOptions with_classify_lengths(RunOptions base, const ClassifyOptions& options) {
+    base.transient_periods = options.transient_periods;
+    base.periods = options.transient_periods + options.record_periods;
+    return base;
+}
+
 } // namespace gapchain

@@ -197,10 +197,11 @@ std::string to_json(const SimulationResult& r, const Scene& scene) {
     return simulation_json(r, scene).dump(2) + "\n";
 }
 
-std::string to_json(const SimulationResult& r, const Scene& scene, const DesignValue& design,
-                    const AttractorOptions& options) {
-    json j = simulation_json(r, scene);
-    j["multistable"] = multistable(r, design);
+namespace {
+
+/// The "design_value" block of a run set against its row's attractors.
+json design_value_json(const DesignValue& design, const AttractorOptions& options,
+                       const Scene& scene) {
     const AttractorSet& set = design.search;
     json d = {{"samples", options.samples},
               {"seed", options.seed},
@@ -230,7 +231,16 @@ std::string to_json(const SimulationResult& r, const Scene& scene, const DesignV
         d["attractor"] = nullptr;
     }
     if (scene.physical) d["F_m_max_newton"] = force_in_newtons(design.F_m_max, *scene.physical);
-    j["design_value"] = d;
+    return d;
+}
+
+} // namespace
+
+std::string to_json(const SimulationResult& r, const Scene& scene, const DesignValue& design,
+                    const AttractorOptions& options) {
+    json j = simulation_json(r, scene);
+    j["multistable"] = multistable(r, design);
+    j["design_value"] = design_value_json(design, options, scene);
     return j.dump(2) + "\n";
 }
 
@@ -241,14 +251,17 @@ namespace {
 constexpr int k_temp_slots = 64;
 constexpr std::size_t k_temp_length = 4096;
 char g_temp_paths[k_temp_slots][k_temp_length];
+std::atomic<bool> g_temp_claimed[k_temp_slots];
+// Set once the slot's path is whole: a handler never reads a path being copied.
 std::atomic<bool> g_temp_used[k_temp_slots];
 
 int register_temporary(const std::string& path) {
     if (path.size() >= k_temp_length) return -1;
     for (int i = 0; i < k_temp_slots; ++i) {
         bool expected = false;
-        if (g_temp_used[i].compare_exchange_strong(expected, true)) {
+        if (g_temp_claimed[i].compare_exchange_strong(expected, true)) {
             std::memcpy(g_temp_paths[i], path.c_str(), path.size() + 1);
+            g_temp_used[i].store(true);
             return i;
         }
     }
@@ -256,7 +269,9 @@ int register_temporary(const std::string& path) {
 }
 
 void release_temporary(int slot) {
-    if (slot >= 0) g_temp_used[slot].store(false);
+    if (slot < 0) return;
+    g_temp_used[slot].store(false);
+    g_temp_claimed[slot].store(false);
 }
 
 std::string reason() {
@@ -886,6 +901,16 @@ json classification_json(const Classification& c) {
 std::string to_json(const Classification& c, const ReducedParameters& p) {
     json j = classification_json(c);
     j["parameters"] = parameters_json(p);
+    return j.dump(2) + "\n";
+}
+
+std::string to_json(const Classification& c, const Scene& scene, const DesignValue& design,
+                    const AttractorOptions& options) {
+    json j = classification_json(c);
+    j["parameters"] = parameters_json(scene.reduced);
+    j["multistable"] = c.start_dependent || design.start_below || design.run_above;
+    j["label_is_transient"] = label_is_transient(c, design);
+    j["design_value"] = design_value_json(design, options, scene);
     return j.dump(2) + "\n";
 }
 

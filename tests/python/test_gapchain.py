@@ -295,6 +295,26 @@ MIRROR_PAIR = {"model": {"Nm": 1, "fc": 100, "eps": 0.1, "e_r": 0.6}, "excitatio
                "run": {"periods": 600}}
 
 
+def test_classify_against_the_attractors_calls_a_saddles_chaos_a_transient():
+    # Fig 13's row at f_r = 2.05 reads chaotic from rest on a chaotic saddle's transient; its one
+    # attractor is the period-3 orbit of F_m 1.15579 (docs/attractors.md).
+    scene = os.path.join(os.environ.get("GAPCHAIN_SCENES", ""), "fig13.json")
+    c = gapchain.classify(scene, f_r=2.05, attractors=8)
+    assert c["regime"] == "chaotic"
+    assert c["label_is_transient"] and c["multistable"]
+    assert c["design_value"]["start_below"]
+    assert abs(c["design_value"]["F_m_max"] - 1.15579) < 1e-5
+    assert c["design_value"]["attractor"]["period"] == 3
+    plain = gapchain.classify(scene, f_r=2.05)
+    assert "design_value" not in plain and "label_is_transient" not in plain
+    for extra in ({"seed": 3}, {"box": 1.0}, {"threads": 0}):
+        name = next(iter(extra))
+        with pytest.raises(ValueError, match="^%s: applies to the attractor search only" % name):
+            gapchain.classify(scene, f_r=2.05, **extra)
+    with pytest.raises(ValueError, match="^attractors: must be an integer in"):
+        gapchain.classify(scene, f_r=2.05, attractors=-1)
+
+
 def test_simulate_design_value_matches_gapchain_sim(tmp_path):
     # Fig 13's line at f_r = 3.2: from rest the weaker attractor, the torus is the design value.
     keys = dict(f_r=3.2, periods=600, transient_periods=300)
@@ -763,7 +783,8 @@ def test_an_integer_beyond_its_cpp_type_names_the_keys_own_range():
     # one whose range reaches the type's limit (the clamped retry would then run) fails here.
     required = {"basin_fractions": dict(param="f_r", from_=1.0, to=1.1, steps=2),
                 "regime_map": dict(e_r=[0.1], f_r=[1.0]), "sweep": dict(study={"parameters": {"fc": [1]}}),
-                "attractors": dict(grid=("u1", "v1")), "simulate": dict(attractors=2)}
+                "attractors": dict(grid=("u1", "v1")), "simulate": dict(attractors=2),
+                "classify": dict(attractors=2)}
     asked = 0
     for name in gapchain._FUNCTIONS:
         compiled = getattr(gapchain._gapchain, name)
@@ -783,7 +804,7 @@ def test_an_integer_beyond_its_cpp_type_names_the_keys_own_range():
                 assert "2**31" not in message and "2**63" not in message, (name, message)
                 assert message.endswith("got %d" % value), (name, message)
                 asked += 1
-    assert asked == 3 * 32  # 32 integer arguments in 12 functions
+    assert asked == 3 * 34  # 34 integer arguments in 12 functions
     assert str(pytest.raises(ValueError, gapchain.bifurcation, steps=2 ** 33).value) == \
         "steps: must be an integer in [1, 10000000], got 8589934592"
     # Two at once: the message names one, with its own value (it took the other's).

@@ -26,11 +26,24 @@ namespace {
 
 std::atomic<int> g_signal{0};
 
-// A second signal ends the process at once, its temporaries removed (unlink, signal and raise
-// are async-signal-safe).
+// Installs handler for SIGINT and SIGTERM, each blocking the other while it runs (so that the
+// two arriving together are a first and a second, not two firsts). Async-signal-safe.
+void handle_signals(void (*handler)(int)) {
+    struct sigaction action {};
+    action.sa_handler = handler;
+    sigemptyset(&action.sa_mask);
+    sigaddset(&action.sa_mask, SIGINT);
+    sigaddset(&action.sa_mask, SIGTERM);
+    action.sa_flags = SA_RESTART;
+    ::sigaction(SIGINT, &action, nullptr);
+    ::sigaction(SIGTERM, &action, nullptr);
+}
+
+// A second signal ends the process at once, its temporaries removed (unlink, sigaction and raise
+// are async-signal-safe). A staging folder or a file set aside may stay, as after SIGKILL.
 extern "C" void on_second_signal(int signal) {
     remove_temporary_files();
-    std::signal(signal, SIG_DFL);
+    handle_signals(SIG_DFL);
     std::raise(signal);
 }
 
@@ -40,8 +53,7 @@ extern "C" void on_second_signal(int signal) {
 // cancellation removes its own temporary.
 extern "C" void on_signal(int signal) {
     g_signal.store(signal);
-    std::signal(SIGINT, on_second_signal);
-    std::signal(SIGTERM, on_second_signal);
+    handle_signals(on_second_signal);
 }
 
 namespace fs = std::filesystem;
@@ -720,8 +732,7 @@ int run(CLI::App& app, int argc, char** argv, const std::function<void()>& body,
     app.set_version_flag("--version", std::string(GAPCHAIN_VERSION));
     require_decimal_numbers(app);
     refuse_flag_values(app);
-    std::signal(SIGINT, on_signal);
-    std::signal(SIGTERM, on_signal);
+    handle_signals(on_signal);
     if (const auto flag = flag_given_empty_value(app, argc, argv)) {
         std::cerr << app.get_name() << ": "
                   << readable(*flag + " was given a disallowed flag override") << " (see --help)\n";
@@ -744,6 +755,15 @@ int run(CLI::App& app, int argc, char** argv, const std::function<void()>& body,
             std::cerr << app.get_name()
                       << ": cannot write to standard output: " << std::strerror(errno) << "\n";
             return static_cast<int>(ExitCode::failure);
+        }
+        // The run was done when the signal came (it landed while the outputs were written, or
+        // the tool had nothing left to cancel): they are whole, and kept; no figure was drawn
+        // after it.
+        if (interrupted()) {
+            std::cerr << app.get_name() << ": " << Interrupted(g_signal.load()).what()
+                      << " once the run was done: its outputs were kept (a figure not drawn "
+                         "by then was left out)\n";
+            return 128 + g_signal.load();
         }
         return static_cast<int>(ExitCode::success);
     } catch (const Interrupted& e) {

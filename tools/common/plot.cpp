@@ -85,8 +85,9 @@ std::string number_text(double x, int digits) {
 }
 
 bool plot_with_gnuplot(const std::string& script_path, const std::string& script) {
-    // A signal that came while the numbers were written: no figure is started.
-    throw_if_interrupted();
+    // A signal that came while the numbers were written: no figure is started; the numbers
+    // are kept (cli::run ends the run as interrupted).
+    if (interrupted()) return false;
     write_file_atomically(script_path, script);
     const fs::path dir = fs::path(script_path).parent_path().empty()
                              ? fs::path(".")
@@ -99,12 +100,12 @@ bool plot_with_gnuplot(const std::string& script_path, const std::string& script
     const std::string reason = last_line_of(log);
     std::remove(log.c_str());
     // Ctrl-C reaches gnuplot too: the run was interrupted, the figure did not fail (nor is it
-    // whole). The script goes with it, as it does for a run interrupted before its plot step.
+    // whole). The script goes with it, as for a run interrupted before its plot step.
     if (interrupted()) {
         for (const auto& png : outputs_of(script))
             std::remove((dir / png).c_str());
         std::remove(script_path.c_str());
-        throw_if_interrupted();
+        return false;
     }
     if (status == gnuplot_missing) {
         std::fprintf(stderr,
@@ -154,16 +155,6 @@ bool plot_template(const std::string& folder, const std::string& name,
                    const std::vector<std::pair<std::string, std::string>>& values) {
     return plot_with_gnuplot((fs::path(folder) / (name + ".gp")).string(),
                              plot_script(name, values));
-}
-
-bool plot_template_unless_interrupted(
-    const std::string& folder, const std::string& name,
-    const std::vector<std::pair<std::string, std::string>>& values) {
-    try {
-        return plot_template(folder, name, values);
-    } catch (const Interrupted&) {
-        return false;
-    }
 }
 
 } // namespace gapchain::cli

@@ -11,8 +11,9 @@ namespace gapchain::cli {
 // Writes script to script_path (atomically) and runs gnuplot on it from its folder.
 // Returns false, with a one-line note on stderr, if gnuplot is missing; throws OutputError
 // (exit 1) if it fails or leaves an empty figure, which is then removed. Its warnings are shown
-// only when it fails. Interrupted (SIGINT, SIGTERM) before or while it runs: writes no figure
-// and no script (removes them) and throws Interrupted.
+// only when it fails. Interrupted (SIGINT, SIGTERM) before or while it runs: returns false and
+// leaves no figure and no script (the run's numbers are done and kept; cli::run ends it as
+// interrupted).
 bool plot_with_gnuplot(const std::string& script_path, const std::string& script);
 
 // The gnuplot template data/plot/<name>.gp with every @KEY@ replaced by its value. Templates
@@ -28,11 +29,5 @@ std::string number_text(double x, int digits = 17);
 // Fills template `name` and plots it into folder (the script is kept there as name.gp).
 bool plot_template(const std::string& folder, const std::string& name,
                    const std::vector<std::pair<std::string, std::string>>& values);
-
-// plot_template(), except that an interrupt while gnuplot runs returns false (no figure) where
-// plot_template() throws: for a run whose numbers are done and kept even when interrupted.
-bool plot_template_unless_interrupted(
-    const std::string& folder, const std::string& name,
-    const std::vector<std::pair<std::string, std::string>>& values);
 
 } // namespace gapchain::cli

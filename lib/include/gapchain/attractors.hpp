@@ -304,10 +304,34 @@ struct DesignValue {
     bool run_above = false;
 };
 
-/// find_attractors(p, options) and the comparison with run, a simulate() result of row p under
-/// options.run (from any start). Throws std::invalid_argument as find_attractors() does.
+/// What one run from one start answered, as design_value() sets it against the attractors:
+/// a simulate() result, or a classification's F_m.
+struct RunAnswer {
+    bool answered = false; ///< the run completed or stopped at its steady state
+    double F_m = 0.0;      ///< its largest reduced impact force, >= 0
+    /// its error [reduced force, >= 0]; NaN where not estimated
+    double F_m_error = std::numeric_limits<double>::quiet_NaN();
+};
+
+/// find_attractors(p, options) and the comparison with run, the answer of one run of row p
+/// (from any start). Throws std::invalid_argument as find_attractors() does.
+DesignValue design_value(const ReducedParameters& p, const AttractorOptions& options,
+                         const RunAnswer& run, const ProgressCallback& progress = {});
+
+/// design_value() of a simulate() result of row p under options.run.
 DesignValue design_value(const ReducedParameters& p, const AttractorOptions& options,
                          const SimulationResult& run, const ProgressCallback& progress = {});
+
+/// Whether the search settled on a chaotic or quasi-periodic attractor. Where it found
+/// attractors and none of them is non-periodic, a non-periodic motion read from one start is
+/// not one of the row's attractors: most likely a chaotic transient (of a chaotic saddle) that
+/// outlasted that run's discarded periods, as on Fig 13's row at f_r = 2.05.
+bool settled_on_non_periodic(const AttractorSet& set);
+
+/// Whether c's non-periodic label (chaotic or quasi-periodic) was read on a transient: the
+/// search of design found attractors, none of them non-periodic (settled_on_non_periodic()).
+/// False for periodic and no-contact labels, and where the search settled on nothing.
+bool label_is_transient(const Classification& c, const DesignValue& design);
 
 /// Whether run's answer depends on its start: its own checks said so (run.multistable), or
 /// another attractor hits harder (start_below), or none reaches its F_m (run_above).

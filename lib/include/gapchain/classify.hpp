@@ -63,6 +63,10 @@ struct ClassifyOptions {
 /// Throws std::invalid_argument naming the first invalid option.
 void validate(const ClassifyOptions& options);
 
+/// base with the classification's lengths: transient_periods discarded of transient_periods +
+/// record_periods (the run of each start of an attractor search set against the label).
+RunOptions with_classify_lengths(RunOptions base, const ClassifyOptions& options);
+
 /// The label and its evidence.
 struct Classification {
     Regime regime = Regime::no_contact;

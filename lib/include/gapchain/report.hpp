@@ -176,6 +176,12 @@ std::string history_csv(const LyapunovResult& result);
 /// wall_time_s, parameters.
 std::string to_json(const Classification& c, const ReducedParameters& p);
 
+/// The classification of the scene's row set against its attractors (design_value() of the
+/// classification's answer): to_json(c, p)'s keys, then multistable (start_dependent,
+/// start_below or run_above), label_is_transient, and design_value as the simulation JSON's.
+std::string to_json(const Classification& c, const Scene& scene, const DesignValue& design,
+                    const AttractorOptions& options);
+
 /// A regime map as CSV: e_r,f_r,regime,code,period,F_m,lambda_max,lambda_max_error,
 /// distinct_points,broadband_share,F_m_error,broadband_share_error,start_dependent,
 /// settled_in_record (code: 0

@@ -1,0 +1,110 @@
+#include "design_search.hpp"
+
+#include "cli.hpp"
+
+#include "gapchain/report.hpp"
+
+#include <cstdio>
+
+namespace gapchain::cli {
+
+DesignSearch::DesignSearch(std::string tool) : m_tool(std::move(tool)) {
+    m_options.samples = 0;
+}
+
+void DesignSearch::add_options(CLI::App& app, bool with_threads) {
+    app.add_option("--attractors", m_options.samples,
+                   "Also search the row's attractors from N random starts "
+                   "(gapchain-attractors' search) and report the design value F_m_max over "
+                   "them and this run (0: no search)")
+        ->check(range(0L, 10'000'000L))
+        ->capture_default_str();
+    const auto [seed_option, box_option] = add_start_box(app, m_seed, m_options.box, "rest");
+    m_start_options = {seed_option, box_option};
+    if (with_threads)
+        m_start_options.push_back(app.add_option("--threads", m_options.threads,
+                                                 "OpenMP threads of the attractor search (0: all)")
+                                      ->check(range(0, 4096))
+                                      ->capture_default_str());
+}
+
+void DesignSearch::check(const Scene& scene, const RunOptions& run) {
+    if (!wanted()) {
+        for (const CLI::Option* option : m_start_options)
+            if (option->count() > 0)
+                throw SceneError(option->get_name() +
+                                 ": applies to the attractor search only; add --attractors "
+                                 "N (1 .. 1e7 starts)");
+        return;
+    }
+    require_paper_row(scene, m_tool);
+    m_options.seed = static_cast<std::uint64_t>(m_seed);
+    m_options.run = run;
+    validate(scene.reduced, m_options);
+}
+
+namespace {
+
+// The attractor that gives the search's F_m_max: its label, period and basin.
+void describe(const Attractor& a) {
+    std::printf("%s", std::string(regime_label(a)).c_str());
+    if (a.period > 0) std::printf(", period %d", a.period);
+    std::printf(", basin %.3f +- %.3f", a.basin_fraction, a.basin_fraction_error);
+}
+
+} // namespace
+
+void print_design(const Scene& scene, const SearchedRun& run, const DesignValue& d,
+                  const AttractorOptions& o) {
+    const AttractorSet& set = d.search;
+    // The run starts at the scene's initial state; the search's box stays around rest.
+    std::printf("design value over %s from %ld starts%s (%.2f s): ", attractor_count(set).c_str(),
+                o.samples, scene.initial.empty() ? "" : " around rest", set.wall_time_s);
+    if (set.F_m_max_id < 0) {
+        std::printf("no attractor found (every start failed)\n");
+        return;
+    }
+    const Attractor& a = set.attractors[static_cast<std::size_t>(set.F_m_max_id)];
+    if (d.run_above) {
+        std::printf("this run's F_m; it is above every attractor found (the largest: F_m = %.6g "
+                    "+- %.2g, ",
+                    set.F_m_max, set.F_m_max_error);
+        describe(a);
+        std::printf(")\nmultistable: this run's F_m was taken in a transient%s, not on an "
+                    "attractor\n",
+                    run.relaxed
+                        ? ", or on the relaxed plan's motion, which the strict dynamics leave "
+                          "(run.accuracy_mode = \"strict\")"
+                        : "");
+    } else if (d.from_run) {
+        std::printf("this run's F_m (no attractor found hits harder)\n");
+    } else {
+        std::printf("F_m_max = %.6g +- %.2g", d.F_m_max, d.F_m_max_error);
+        // Beside the run's F_m in newtons, the design value in newtons too (it was only in the
+        // JSON's F_m_max_newton).
+        if (scene.physical)
+            std::printf("  (%.6g N +- %.2g N)", force_in_newtons(d.F_m_max, *scene.physical),
+                        force_in_newtons(d.F_m_max_error, *scene.physical));
+        std::printf(" (");
+        describe(a);
+        if (d.start_below)
+            std::printf(")\nmultistable: this run's start reached %s, its F_m is %.0f %% below "
+                        "the design value; gapchain-attractors shows the basins\n",
+                        run.transient ? "a transient, not an attractor" : "a weaker attractor",
+                        100.0 * (d.F_m_max - run.F_m) / d.F_m_max);
+        else if (!set.any_settled())
+            std::printf("): no group settled, so this is a transient's F_m, above this run's "
+                        "%.6g\n",
+                        run.F_m);
+        else
+            std::printf("), this run's F_m within the errors\n");
+    }
+    print_transients(set.transients);
+    if (set.unsettled > 0)
+        std::printf("  %d group(s) were still converging when their runs ended: their F_m is a "
+                    "transient's; raise run.periods, or run.max_steady_period (now %d) if their "
+                    "orbits may be longer\n",
+                    set.unsettled, o.run.max_steady_period);
+}
+
+} // namespace gapchain::cli

@@ -1,0 +1,53 @@
+#pragma once
+// The design-value search a one-point tool adds with --attractors N (gapchain-sim,
+// gapchain-classify): its options (--seed, --box, --threads) and its printout, the row's
+// attractors set against the one run's F_m.
+
+#include "gapchain/attractors.hpp"
+#include "gapchain/scene.hpp"
+
+#include <CLI/CLI.hpp>
+
+#include <string>
+#include <vector>
+
+namespace gapchain::cli {
+
+// --attractors N with its --seed, --box and (unless the tool has its own) --threads.
+class DesignSearch {
+public:
+    // tool names the search in messages ("gapchain-sim --attractors").
+    explicit DesignSearch(std::string tool);
+    // Adds the options; with_threads false where the tool's own --threads is passed on by
+    // set_threads().
+    void add_options(CLI::App& app, bool with_threads = true);
+    [[nodiscard]] bool wanted() const { return m_options.samples > 0; }
+    // Before anything runs: --seed, --box and --threads need --attractors, and the scene must be
+    // one the search takes (the paper's uniform row). run: each start's run.
+    void check(const Scene& scene, const RunOptions& run);
+    // The search's --threads, where the tool's own option gave it (0: all).
+    void set_threads(int threads) { m_options.threads = threads; }
+    // The options the search runs with (valid once check() has passed).
+    [[nodiscard]] const AttractorOptions& options() const { return m_options; }
+
+private:
+    std::string m_tool;
+    AttractorOptions m_options;
+    long long m_seed = 1;
+    std::vector<CLI::Option*> m_start_options; // --seed, --box, and --threads if added
+};
+
+// The one run the search is set against, for the printout.
+struct SearchedRun {
+    double F_m = 0.0; // its F_m [reduced force]
+    // It finished on the relaxed plan: a run above every attractor may be that plan's motion.
+    bool relaxed = false;
+    // Its label is non-periodic and the search settled on orbits only (label_is_transient()).
+    bool transient = false;
+};
+
+// The design value's lines: what the search found and how the run's F_m compares.
+void print_design(const Scene& scene, const SearchedRun& run, const DesignValue& d,
+                  const AttractorOptions& o);
+
+} // namespace gapchain::cli

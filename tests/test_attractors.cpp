@@ -1137,8 +1137,7 @@ TEST_CASE("a chaotic label read on a chaotic saddle's transient is told apart fr
     const Classification c = classify(saddle, ClassifyOptions{});
     REQUIRE(c.regime == Regime::chaotic);
     const DesignValue d = design_value(saddle, o, answer_of(c));
-    CHECK_FALSE(settled_on_non_periodic(d.search));
-    CHECK(label_is_transient(c, d));
+    CHECK(label_in_search(c, d) == LabelInSearch::transient);
     CHECK(d.start_below);
     CHECK_FALSE(d.from_run);
     CHECK(d.F_m_max == doctest::Approx(1.15579).epsilon(1e-5));
@@ -1147,11 +1146,51 @@ TEST_CASE("a chaotic label read on a chaotic saddle's transient is told apart fr
     const Classification k = classify(chaos, ClassifyOptions{});
     REQUIRE(k.regime == Regime::chaotic);
     const DesignValue e = design_value(chaos, o, answer_of(k));
-    CHECK(settled_on_non_periodic(e.search));
-    CHECK_FALSE(label_is_transient(k, e));
+    CHECK(label_in_search(k, e) == LabelInSearch::attractor);
     CHECK_FALSE(e.start_below);
     // A periodic label is never called a transient, whatever the search found.
     Classification periodic = c;
     periodic.regime = Regime::periodic;
-    CHECK_FALSE(label_is_transient(periodic, d));
+    CHECK(label_in_search(periodic, d) == LabelInSearch::not_applicable);
+    // Nor is a chaotic motion no start of the search reached (a reviewer's probe: a start on
+    // f_r = 3.15's chaotic attractor of basin 0.067, which 8 starts missed, read "transient"
+    // while the rule was "the search settled on orbits alone").
+    Classification unreached = c;
+    unreached.F_m = 0.8;
+    CHECK(label_in_search(unreached, d) == LabelInSearch::not_reached);
+}
+
+TEST_CASE("label_in_search matches a non-periodic label to a group by F_m, not by label") {
+    // Fig 13's row at f_r = 3.2 (a reviewer's probe): the label's motion was the search's
+    // unsettled group (the slow approach to the period-15 orbit, F_m 0.2518) while an unrelated
+    // torus (F_m 0.385) settled; "any settled non-periodic attractor" called the label an
+    // attractor's.
+    Classification c;
+    c.regime = Regime::chaotic;
+    c.F_m = 0.2535;
+    c.F_m_error = 0.002;
+    DesignValue d;
+    Attractor torus;
+    torus.regime = Regime::quasi_periodic;
+    torus.F_m = 0.385;
+    torus.F_m_error = 1e-4;
+    Attractor approach;
+    approach.regime = Regime::quasi_periodic;
+    approach.settled = false;
+    approach.F_m = 0.2518;
+    approach.F_m_error = 0.001;
+    d.search.attractors = {torus, approach};
+    CHECK(label_in_search(c, d) == LabelInSearch::transient);
+    // The same F_m on a settled group: the label is that attractor's.
+    d.search.attractors[1].settled = true;
+    CHECK(label_in_search(c, d) == LabelInSearch::attractor);
+    // Beyond three error bars and 5 %: not that group.
+    c.F_m = 0.30;
+    CHECK(label_in_search(c, d) == LabelInSearch::not_reached);
+    // An orbit of the same F_m is no match for a non-periodic motion.
+    Attractor orbit;
+    orbit.period = 3;
+    orbit.F_m = 0.30;
+    d.search.attractors = {orbit};
+    CHECK(label_in_search(c, d) == LabelInSearch::not_reached);
 }

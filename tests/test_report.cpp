@@ -233,7 +233,7 @@ TEST_CASE("continuation JSON: the largest F_m error of those estimated, the othe
     CHECK(summary.largest == 2e-6);
 }
 
-TEST_CASE("classification JSON against the attractors: multistable, label_is_transient, the "
+TEST_CASE("classification JSON against the attractors: multistable, label_in_search, the "
           "design value") {
     const Scene scene = parse_scene(R"({"model": {"Nm": 5, "fc": 60}})");
     Classification c;
@@ -244,7 +244,11 @@ TEST_CASE("classification JSON against the attractors: multistable, label_is_tra
     orbit.regime = Regime::periodic;
     orbit.period = 3;
     orbit.F_m = 1.15579;
-    d.search.attractors = {orbit};
+    Attractor saddle;
+    saddle.regime = Regime::chaotic;
+    saddle.settled = false;
+    saddle.F_m = 1.149;
+    d.search.attractors = {orbit, saddle};
     d.search.F_m_max = orbit.F_m;
     d.search.F_m_max_id = 0;
     d.F_m_max = orbit.F_m;
@@ -252,16 +256,18 @@ TEST_CASE("classification JSON against the attractors: multistable, label_is_tra
     const auto j = nlohmann::json::parse(to_json(c, scene, d, AttractorOptions{}));
     CHECK(j["regime"] == "chaotic");
     CHECK(j["multistable"] == true);
-    CHECK(j["label_is_transient"] == true);
+    CHECK(j["label_in_search"] == "transient");
     CHECK(j["design_value"]["F_m_max"] == 1.15579);
     CHECK(j["design_value"]["attractor"]["period"] == 3);
-    // A chaotic attractor among those found: the label stands, and without start_below or a
+    // The same group settled: the label is an attractor's, and without start_below or a
     // start-dependent twin nothing says multistable.
-    Attractor chaos;
-    chaos.regime = Regime::chaotic;
-    d.search.attractors.push_back(chaos);
+    d.search.attractors[1].settled = true;
     d.start_below = false;
     const auto k = nlohmann::json::parse(to_json(c, scene, d, AttractorOptions{}));
-    CHECK(k["label_is_transient"] == false);
+    CHECK(k["label_in_search"] == "attractor");
     CHECK(k["multistable"] == false);
+    // A periodic label has no place among the non-periodic groups: null.
+    c.regime = Regime::periodic;
+    CHECK(nlohmann::json::parse(to_json(c, scene, d, AttractorOptions{}))["label_in_search"]
+              .is_null());
 }

@@ -84,22 +84,64 @@ void print_twin(const Classification& c) {
                     t.regime != c.regime ? "another label" : "F_m beyond three error bars");
 }
 
-// What the row's attractors say of the label: a non-periodic label where the search settled
-// on orbits alone was read on a transient; with no search, that other starts were not tried.
-void print_search_verdict(const Classification& c, const std::optional<DesignValue>& design) {
-    const bool non_periodic = c.regime == Regime::chaotic || c.regime == Regime::quasi_periodic;
+// What the row's attractors say of a non-periodic label: whether the search found its motion
+// as an attractor or as a transient, or did not reach it; with no search, that other starts
+// were not tried.
+void print_search_verdict(const Classification& c, const std::optional<DesignValue>& design,
+                          long samples) {
+    const std::string label(to_string(c.regime));
     if (!design) {
-        if (non_periodic)
+        if (c.regime == Regime::chaotic || c.regime == Regime::quasi_periodic)
             std::printf("note: other starts were not tried; a chaotic transient reads as chaos "
                         "until it ends (--attractors N searches the row's attractors from N "
                         "starts)\n");
         return;
     }
-    if (label_is_transient(c, *design))
+    switch (label_in_search(c, *design)) {
+    case LabelInSearch::not_applicable: return;
+    case LabelInSearch::attractor:
+        std::printf("attractor: the search settled on a non-periodic attractor of this F_m\n");
+        return;
+    case LabelInSearch::transient:
         std::printf("transient: the %s motion read from this start is not one of the row's "
-                    "attractors: the search settled on orbits alone (a chaotic transient that "
-                    "outlasts --transient); the row's answer is the design value's\n",
-                    std::string(to_string(c.regime)).c_str());
+                    "attractors: the search's starts that reached it left it for orbits or were "
+                    "still converging (a transient that outlasts --transient)\n",
+                    label.c_str());
+        return;
+    case LabelInSearch::not_reached:
+        std::printf("not reached: no start of the search reached the %s motion read from this "
+                    "start (%ld starts miss a basin of 10 %% with odds %.0f %%): no verdict on "
+                    "it; raise --attractors\n",
+                    label.c_str(), samples, 100.0 * std::pow(0.9, static_cast<double>(samples)));
+        return;
+    }
+}
+
+// The row's attractors from the search's starts, set against c's F_m (none if not wanted).
+std::optional<DesignValue> set_against_search(const Classification& c, const ReducedParameters& p,
+                                              const cli::DesignSearch& search) {
+    if (!search.wanted()) return std::nullopt;
+    cli::Progress progress("gapchain-classify: attractors");
+    const RunAnswer answer{c.status == RunStatus::completed || c.status == RunStatus::steady_state,
+                           c.F_m, c.F_m_error};
+    DesignValue design = design_value(p, search.options(), answer, progress.callback());
+    cli::throw_if_interrupted();
+    return design;
+}
+
+// The design value's lines, the classified run set against the attractors: a stable orbit
+// the search missed is no transient, and a non-periodic motion is named as the search saw it.
+void print_design(const Scene& scene, const Classification& c, const DesignValue& design,
+                  const AttractorOptions& options) {
+    cli::SearchedRun run;
+    run.F_m = c.F_m;
+    run.on_stable_orbit =
+        c.regime == Regime::periodic && c.newton_confirmed && c.max_multiplier < 1.0;
+    const LabelInSearch where = label_in_search(c, design);
+    if (where == LabelInSearch::transient) run.reached = "a transient, not an attractor";
+    if (where == LabelInSearch::not_reached)
+        run.reached = "a weaker motion, which the search did not reach";
+    cli::print_design(scene, run, design, options);
 }
 
 void classify_point(const Scene& scene, const ClassifyOptions& o, const std::string& out,
@@ -109,15 +151,7 @@ void classify_point(const Scene& scene, const ClassifyOptions& o, const std::str
     const Classification c = classify(p, o, [](double) { return !cli::interrupted(); });
     cli::throw_if_interrupted();
     if (c.status == RunStatus::non_finite) throw cli::NumericalFailure("the run became non-finite");
-    std::optional<DesignValue> design;
-    if (search.wanted()) {
-        cli::Progress progress("gapchain-classify: attractors");
-        const RunAnswer answer{c.status == RunStatus::completed ||
-                                   c.status == RunStatus::steady_state,
-                               c.F_m, c.F_m_error};
-        design = design_value(p, search.options(), answer, progress.callback());
-        cli::throw_if_interrupted();
-    }
+    const std::optional<DesignValue> design = set_against_search(c, p, search);
     if (!out.empty())
         write_file_atomically(out, design ? to_json(c, scene, *design, search.options())
                                           : to_json(c, p));
@@ -152,10 +186,8 @@ void classify_point(const Scene& scene, const ClassifyOptions& o, const std::str
                     "end elsewhere from other starts (gapchain-attractors)\n",
                     o.transient_periods, c.periods_run);
     print_twin(c);
-    print_search_verdict(c, design);
-    if (design)
-        cli::print_design(scene, {c.F_m, false, label_is_transient(c, *design)}, *design,
-                          search.options());
+    print_search_verdict(c, design, search.options().samples);
+    if (design) print_design(scene, c, *design, search.options());
 }
 
 void classify_map(const ReducedParameters& p, const ClassifyOptions& o, const std::string& out,
@@ -291,7 +323,8 @@ int main(int argc, char** argv) {
                                             "leave it out to print the summary only");
             if (!map.on) {
                 if (threads_option->count() > 0 && !search.wanted())
-                    throw std::invalid_argument("--threads: applies to --map or --attractors");
+                    throw std::invalid_argument(
+                        "--threads: applies to --map or --attractors N (1 .. 1e7 starts)");
                 search.set_threads(threads);
                 search.check(scene, with_classify_lengths(scene.run, o));
                 outputs.file(out, "--out");
@@ -301,6 +334,8 @@ int main(int argc, char** argv) {
                 throw std::invalid_argument("--attractors: applies to one point; "
                                             "gapchain-attractors --param gives the attractors "
                                             "along a line");
+            // No search on a map: this refuses its --seed and --box.
+            search.check(scene, with_classify_lengths(scene.run, o));
             if (out.empty()) out = "map";
             outputs.folder(out, "--out", {"map.csv", "map.gp", "regimes.png", "force.png"});
             const std::vector<double> e_r =

@@ -155,6 +155,15 @@ void print_result(const Scene& scene, const SimulationResult& r, bool searched) 
     std::printf("wall time %.4f s\n", r.wall_time_s);
 }
 
+// The design value's lines, this run set against the attractors.
+void print_design(const Scene& scene, const SimulationResult& r, const DesignValue& design,
+                  const AttractorOptions& options) {
+    cli::SearchedRun run;
+    run.F_m = r.F_m;
+    run.relaxed = r.accuracy_mode_used == AccuracyUsed::relaxed;
+    cli::print_design(scene, run, design, options);
+}
+
 // The scene; a --set of output.trajectory_every is refused without --trajectory, which alone
 // reads it (it changed nothing, without a word).
 Scene load_scene_for(const cli::SceneArguments& args, const std::string& trajectory_path) {
@@ -231,10 +240,7 @@ int main(int argc, char** argv) {
             outputs.keep();
             if (!quiet) {
                 print_result(scene, r, design.has_value());
-                if (design)
-                    cli::print_design(scene,
-                                      {r.F_m, r.accuracy_mode_used == AccuracyUsed::relaxed, false},
-                                      *design, search.options());
+                if (design) print_design(scene, r, *design, search.options());
             }
         },
         {{"samples", "--attractors"}, {"box", "--box"}, {"threads", "--threads"}});

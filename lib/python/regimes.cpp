@@ -36,9 +36,11 @@ twin       on a quasi-periodic or chaotic label, classify again from a start mov
           (doubles such a point's cost): start_dependent says whether the label or F_m moved
 attractors also search the row's attractors from this many random starts, 0 .. 1e7, each run
           as long as the classification's (seed, box, threads as in simulate()), and set the
-          label against them: adds multistable, label_is_transient (a chaotic or quasi-periodic
-          label where the search settled on orbits alone: read on a chaotic transient, as on
-          Fig 13's row at f_r = 2.05) and design_value, as gapchain-classify --attractors N
+          label against them: adds multistable, label_in_search ("attractor": a settled
+          chaotic or quasi-periodic group has the label's F_m; "transient": only an unsettled
+          one, as on Fig 13's row at f_r = 2.05, a chaotic saddle; "not_reached": none, no
+          verdict; None for a periodic label) and design_value, as gapchain-classify
+          --attractors N
 scene, **keys  the row (Nm, fc, eps, e_r, f_r; of the run section scheme, tolerance and
           max_work are used) and its initial state.
 

@@ -1370,15 +1370,32 @@ bool multistable(const SimulationResult& run, const DesignValue& design) {
     return run.multistable || design.start_below || design.run_above;
 }
 
-bool settled_on_non_periodic(const AttractorSet& set) {
-    return std::any_of(set.attractors.begin(), set.attractors.end(), [](const Attractor& a) {
-        return a.settled && (a.regime == Regime::chaotic || a.regime == Regime::quasi_periodic);
-    });
+std::string_view to_string(LabelInSearch where) {
+    switch (where) {
+    case LabelInSearch::not_applicable: return "not_applicable";
+    case LabelInSearch::attractor: return "attractor";
+    case LabelInSearch::transient: return "transient";
+    case LabelInSearch::not_reached: return "not_reached";
+    }
+    return "not_applicable";
 }
 
-bool label_is_transient(const Classification& c, const DesignValue& design) {
-    return (c.regime == Regime::chaotic || c.regime == Regime::quasi_periodic) &&
-           design.search.any_settled() && !settled_on_non_periodic(design.search);
+LabelInSearch label_in_search(const Classification& c, const DesignValue& design) {
+    if (c.regime != Regime::chaotic && c.regime != Regime::quasi_periodic)
+        return LabelInSearch::not_applicable;
+    // Matched by F_m, not by label: the search calls a group unsettled for reasons the
+    // classification does not weigh (members that left for orbits, an exponent still negative).
+    const auto same_force = [&c](const Attractor& a) {
+        const double bar = 3.0 * (c.F_m_error + a.F_m_error);
+        return std::abs(c.F_m - a.F_m) <= std::max(bar, 0.05 * std::max(c.F_m, a.F_m));
+    };
+    bool unsettled_match = false;
+    for (const Attractor& a : design.search.attractors) {
+        if (a.period != 0 || !same_force(a)) continue;
+        if (a.settled) return LabelInSearch::attractor;
+        unsettled_match = true;
+    }
+    return unsettled_match ? LabelInSearch::transient : LabelInSearch::not_reached;
 }
 
 namespace {

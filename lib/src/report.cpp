@@ -909,7 +909,9 @@ std::string to_json(const Classification& c, const Scene& scene, const DesignVal
     json j = classification_json(c);
     j["parameters"] = parameters_json(scene.reduced);
     j["multistable"] = c.start_dependent || design.start_below || design.run_above;
-    j["label_is_transient"] = label_is_transient(c, design);
+    const LabelInSearch where = label_in_search(c, design);
+    j["label_in_search"] =
+        where == LabelInSearch::not_applicable ? json(nullptr) : json(to_string(where));
     j["design_value"] = design_value_json(design, options, scene);
     return j.dump(2) + "\n";
 }

@@ -301,12 +301,12 @@ def test_classify_against_the_attractors_calls_a_saddles_chaos_a_transient():
     scene = os.path.join(os.environ.get("GAPCHAIN_SCENES", ""), "fig13.json")
     c = gapchain.classify(scene, f_r=2.05, attractors=8)
     assert c["regime"] == "chaotic"
-    assert c["label_is_transient"] and c["multistable"]
+    assert c["label_in_search"] == "transient" and c["multistable"]
     assert c["design_value"]["start_below"]
     assert abs(c["design_value"]["F_m_max"] - 1.15579) < 1e-5
     assert c["design_value"]["attractor"]["period"] == 3
     plain = gapchain.classify(scene, f_r=2.05)
-    assert "design_value" not in plain and "label_is_transient" not in plain
+    assert "design_value" not in plain and "label_in_search" not in plain
     for extra in ({"seed": 3}, {"box": 1.0}, {"threads": 0}):
         name = next(iter(extra))
         with pytest.raises(ValueError, match="^%s: applies to the attractor search only" % name):

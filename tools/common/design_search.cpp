@@ -70,12 +70,16 @@ void print_design(const Scene& scene, const SearchedRun& run, const DesignValue&
                     "+- %.2g, ",
                     set.F_m_max, set.F_m_max_error);
         describe(a);
-        std::printf(")\nmultistable: this run's F_m was taken in a transient%s, not on an "
-                    "attractor\n",
-                    run.relaxed
-                        ? ", or on the relaxed plan's motion, which the strict dynamics leave "
-                          "(run.accuracy_mode = \"strict\")"
-                        : "");
+        if (run.on_stable_orbit)
+            std::printf(")\nmultistable: this run ended on a stable orbit that no start of the "
+                        "search reached (a small basin): it hits harder than every attractor "
+                        "found\n");
+        else
+            std::printf(")\nmultistable: this run's F_m was taken in a transient%s, not on an "
+                        "attractor\n",
+                        run.relaxed ? ", or on the relaxed plan's motion, which the strict "
+                                      "dynamics leave (run.accuracy_mode = \"strict\")"
+                                    : "");
     } else if (d.from_run) {
         std::printf("this run's F_m (no attractor found hits harder)\n");
     } else {
@@ -90,8 +94,7 @@ void print_design(const Scene& scene, const SearchedRun& run, const DesignValue&
         if (d.start_below)
             std::printf(")\nmultistable: this run's start reached %s, its F_m is %.0f %% below "
                         "the design value; gapchain-attractors shows the basins\n",
-                        run.transient ? "a transient, not an attractor" : "a weaker attractor",
-                        100.0 * (d.F_m_max - run.F_m) / d.F_m_max);
+                        run.reached.c_str(), 100.0 * (d.F_m_max - run.F_m) / d.F_m_max);
         else if (!set.any_settled())
             std::printf("): no group settled, so this is a transient's F_m, above this run's "
                         "%.6g\n",

@@ -42,8 +42,12 @@ struct SearchedRun {
     double F_m = 0.0; // its F_m [reduced force]
     // It finished on the relaxed plan: a run above every attractor may be that plan's motion.
     bool relaxed = false;
-    // Its label is non-periodic and the search settled on orbits only (label_is_transient()).
-    bool transient = false;
+    // What its start reached, for "this run's start reached ..." where an attractor hits
+    // harder: a classification whose non-periodic motion the search saw only as a transient,
+    // or did not reach, says so.
+    std::string reached = "a weaker attractor";
+    // It ended on a stable orbit Newton confirmed: an attractor, whatever the search reached.
+    bool on_stable_orbit = false;
 };
 
 // The design value's lines: what the search found and how the run's F_m compares.

@@ -322,16 +322,28 @@ DesignValue design_value(const ReducedParameters& p, const AttractorOptions& opt
 DesignValue design_value(const ReducedParameters& p, const AttractorOptions& options,
                          const SimulationResult& run, const ProgressCallback& progress = {});
 
-/// Whether the search settled on a chaotic or quasi-periodic attractor. Where it found
-/// attractors and none of them is non-periodic, a non-periodic motion read from one start is
-/// not one of the row's attractors: most likely a chaotic transient (of a chaotic saddle) that
-/// outlasted that run's discarded periods, as on Fig 13's row at f_r = 2.05.
-bool settled_on_non_periodic(const AttractorSet& set);
+/// Where a non-periodic label read from one start stands among the groups of an attractor
+/// search of its row.
+enum class LabelInSearch {
+    not_applicable, ///< the label is periodic or no-contact (its state repeats: no question)
+    /// a settled chaotic or quasi-periodic attractor of the search has the label's F_m
+    attractor,
+    /// only an unsettled group has it (a chaotic transient whose starts left it for orbits, or
+    /// runs still converging): the label was read on a transient, as on Fig 13's row at
+    /// f_r = 2.05 (a chaotic saddle) and 3.2 (the slow approach to the period-15 orbit)
+    transient,
+    /// no group has it: the search's starts did not reach the motion read (N starts miss a
+    /// basin of fraction q with odds (1 - q)^N); no verdict
+    not_reached,
+};
 
-/// Whether c's non-periodic label (chaotic or quasi-periodic) was read on a transient: the
-/// search of design found attractors, none of them non-periodic (settled_on_non_periodic()).
-/// False for periodic and no-contact labels, and where the search settled on nothing.
-bool label_is_transient(const Classification& c, const DesignValue& design);
+/// "not_applicable", "attractor", "transient" or "not_reached".
+std::string_view to_string(LabelInSearch where);
+
+/// Where c's label stands among design's search. A non-periodic group has the label's F_m where
+/// the two differ by at most three times the sum of their errors, or 5 % of the larger (the
+/// maximum of a chaotic record moves more than its error bar says from one sample to the next).
+LabelInSearch label_in_search(const Classification& c, const DesignValue& design);
 
 /// Whether run's answer depends on its start: its own checks said so (run.multistable), or
 /// another attractor hits harder (start_below), or none reaches its F_m (run_above).

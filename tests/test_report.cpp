@@ -266,6 +266,13 @@ TEST_CASE("classification JSON against the attractors: multistable, label_in_sea
     const auto k = nlohmann::json::parse(to_json(c, scene, d, AttractorOptions{}));
     CHECK(k["label_in_search"] == "attractor");
     CHECK(k["multistable"] == false);
+    // Above every attractor found, on the attractor the search settled on: one chaos sampled
+    // longer, not multistable.
+    d.run_above = true;
+    CHECK(nlohmann::json::parse(to_json(c, scene, d, AttractorOptions{}))["multistable"] == false);
+    d.search.attractors[1].settled = false;
+    CHECK(nlohmann::json::parse(to_json(c, scene, d, AttractorOptions{}))["multistable"] == true);
+    d.search.attractors[1].settled = true;
     // A periodic label has no place among the non-periodic groups: null.
     c.regime = Regime::periodic;
     CHECK(nlohmann::json::parse(to_json(c, scene, d, AttractorOptions{}))["label_in_search"]

@@ -135,9 +135,14 @@ void print_design(const Scene& scene, const Classification& c, const DesignValue
                   const AttractorOptions& options) {
     cli::SearchedRun run;
     run.F_m = c.F_m;
-    run.on_stable_orbit =
-        c.regime == Regime::periodic && c.newton_confirmed && c.max_multiplier < 1.0;
     const LabelInSearch where = label_in_search(c, design);
+    if (c.regime == Regime::periodic && c.newton_confirmed && c.max_multiplier < 1.0)
+        run.above_reason = "multistable: this run ended on a stable orbit that no start of the "
+                           "search reached (a small basin): it hits harder than every attractor "
+                           "found";
+    if (where == LabelInSearch::attractor)
+        run.above_reason = "this run's record of that non-periodic attractor reached a larger "
+                           "maximum than the search's runs did (the design value is this run's)";
     if (where == LabelInSearch::transient) run.reached = "a transient, not an attractor";
     if (where == LabelInSearch::not_reached)
         run.reached = "a weaker motion, which the search did not reach";

@@ -908,8 +908,11 @@ std::string to_json(const Classification& c, const Scene& scene, const DesignVal
                     const AttractorOptions& options) {
     json j = classification_json(c);
     j["parameters"] = parameters_json(scene.reduced);
-    j["multistable"] = c.start_dependent || design.start_below || design.run_above;
     const LabelInSearch where = label_in_search(c, design);
+    // A record of a chaotic attractor above the search's records of it is one attractor
+    // sampled longer, not a second steady state.
+    j["multistable"] = c.start_dependent || design.start_below ||
+                       (design.run_above && where != LabelInSearch::attractor);
     j["label_in_search"] =
         where == LabelInSearch::not_applicable ? json(nullptr) : json(to_string(where));
     j["design_value"] = design_value_json(design, options, scene);

@@ -70,10 +70,8 @@ void print_design(const Scene& scene, const SearchedRun& run, const DesignValue&
                     "+- %.2g, ",
                     set.F_m_max, set.F_m_max_error);
         describe(a);
-        if (run.on_stable_orbit)
-            std::printf(")\nmultistable: this run ended on a stable orbit that no start of the "
-                        "search reached (a small basin): it hits harder than every attractor "
-                        "found\n");
+        if (!run.above_reason.empty())
+            std::printf(")\n%s\n", run.above_reason.c_str());
         else
             std::printf(")\nmultistable: this run's F_m was taken in a transient%s, not on an "
                         "attractor\n",

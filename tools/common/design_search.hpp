@@ -46,8 +46,9 @@ struct SearchedRun {
     // harder: a classification whose non-periodic motion the search saw only as a transient,
     // or did not reach, says so.
     std::string reached = "a weaker attractor";
-    // It ended on a stable orbit Newton confirmed: an attractor, whatever the search reached.
-    bool on_stable_orbit = false;
+    // Why the run is above every attractor found, where that is not a transient (a stable
+    // orbit the search missed); empty: "taken in a transient".
+    std::string above_reason;
 };
 
 // The design value's lines: what the search found and how the run's F_m compares.

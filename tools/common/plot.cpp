@@ -84,14 +84,29 @@ std::string number_text(double x, int digits) {
     return text;
 }
 
+namespace {
+
+// Removes the figures script draws and the script itself: an interrupted run has none (a
+// figure of an earlier run left beside the new numbers would pass for theirs).
+void remove_figure(const fs::path& dir, const std::string& script_path, const std::string& script) {
+    for (const auto& png : outputs_of(script))
+        std::remove((dir / png).c_str());
+    std::remove(script_path.c_str());
+}
+
+} // namespace
+
 bool plot_with_gnuplot(const std::string& script_path, const std::string& script) {
-    // A signal that came while the numbers were written: no figure is started; the numbers
-    // are kept (cli::run ends the run as interrupted).
-    if (interrupted()) return false;
-    write_file_atomically(script_path, script);
     const fs::path dir = fs::path(script_path).parent_path().empty()
                              ? fs::path(".")
                              : fs::path(script_path).parent_path();
+    // A signal that came while the numbers were written: no figure is started; the numbers
+    // are kept (cli::run ends the run as interrupted).
+    if (interrupted()) {
+        remove_figure(dir, script_path, script);
+        return false;
+    }
+    write_file_atomically(script_path, script);
     // gnuplot's own chatter (font warnings) goes to a log that is shown only if it fails.
     const std::string log = fs::absolute(script_path + ".log." + std::to_string(::getpid()));
     for (const auto& png : outputs_of(script))
@@ -102,9 +117,7 @@ bool plot_with_gnuplot(const std::string& script_path, const std::string& script
     // Ctrl-C reaches gnuplot too: the run was interrupted, the figure did not fail (nor is it
     // whole). The script goes with it, as for a run interrupted before its plot step.
     if (interrupted()) {
-        for (const auto& png : outputs_of(script))
-            std::remove((dir / png).c_str());
-        std::remove(script_path.c_str());
+        remove_figure(dir, script_path, script);
         return false;
     }
     if (status == gnuplot_missing) {

@@ -178,7 +178,8 @@ std::string to_json(const Classification& c, const ReducedParameters& p);
 
 /// The classification of the scene's row set against its attractors (design_value() of the
 /// classification's answer): to_json(c, p)'s keys, then multistable (start_dependent,
-/// start_below or run_above), label_in_search (label_in_search(): "attractor", "transient",
+/// start_below, or run_above unless the label's motion is a settled attractor of the search:
+/// then one chaos sampled longer), label_in_search (label_in_search(): "attractor", "transient",
 /// "not_reached", null for a periodic or no-contact label), and design_value as the
 /// simulation JSON's.
 std::string to_json(const Classification& c, const Scene& scene, const DesignValue& design,

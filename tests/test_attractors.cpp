@@ -1129,14 +1129,10 @@ TEST_CASE("a chaotic label read on a chaotic saddle's transient is told apart fr
     o.samples = 8;
     o.run.periods = 400;
     o.run.transient_periods = 100;
-    const auto answer_of = [](const Classification& c) {
-        return RunAnswer{c.status == RunStatus::completed || c.status == RunStatus::steady_state,
-                         c.F_m, c.F_m_error};
-    };
     const ReducedParameters saddle{5, 60, 0.5, 0.06, 2.05};
     const Classification c = classify(saddle, ClassifyOptions{});
     REQUIRE(c.regime == Regime::chaotic);
-    const DesignValue d = design_value(saddle, o, answer_of(c));
+    const DesignValue d = design_value(saddle, o, c);
     CHECK(label_in_search(c, d) == LabelInSearch::transient);
     CHECK(d.start_below);
     CHECK_FALSE(d.from_run);
@@ -1145,7 +1141,7 @@ TEST_CASE("a chaotic label read on a chaotic saddle's transient is told apart fr
     const ReducedParameters chaos{5, 60, 0.5, 0.06, 3.35};
     const Classification k = classify(chaos, ClassifyOptions{});
     REQUIRE(k.regime == Regime::chaotic);
-    const DesignValue e = design_value(chaos, o, answer_of(k));
+    const DesignValue e = design_value(chaos, o, k);
     CHECK(label_in_search(k, e) == LabelInSearch::attractor);
     CHECK_FALSE(e.start_below);
     // A periodic label is never called a transient, whatever the search found.

@@ -122,9 +122,7 @@ std::optional<DesignValue> set_against_search(const Classification& c, const Red
                                               const cli::DesignSearch& search) {
     if (!search.wanted()) return std::nullopt;
     cli::Progress progress("gapchain-classify: attractors");
-    const RunAnswer answer{c.status == RunStatus::completed || c.status == RunStatus::steady_state,
-                           c.F_m, c.F_m_error};
-    DesignValue design = design_value(p, search.options(), answer, progress.callback());
+    DesignValue design = design_value(p, search.options(), c, progress.callback());
     cli::throw_if_interrupted();
     return design;
 }

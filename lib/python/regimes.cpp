@@ -137,11 +137,8 @@ py::dict classify_py(const py::object& scene_arg, long transient, long record, b
     const Classification c = call.run([&] { return classify(row, o, call.callback()); });
     std::string json = to_json(c, row);
     if (attractors != 0 && c.status != RunStatus::cancelled) {
-        const RunAnswer answer{c.status == RunStatus::completed ||
-                                   c.status == RunStatus::steady_state,
-                               c.F_m, c.F_m_error};
         const DesignValue design =
-            call.run([&] { return design_value(row, search, answer, call.callback()); });
+            call.run([&] { return design_value(row, search, c, call.callback()); });
         json = to_json(c, scene, design, search);
     }
     // The JSON gapchain-classify writes (report.cpp, the one list of the fields), as a dict; an

@@ -1336,6 +1336,16 @@ DesignValue design_value(const ReducedParameters& p, const AttractorOptions& opt
 }
 
 DesignValue design_value(const ReducedParameters& p, const AttractorOptions& options,
+                         const Classification& classified, const ProgressCallback& progress) {
+    RunAnswer answer;
+    answer.answered =
+        classified.status == RunStatus::completed || classified.status == RunStatus::steady_state;
+    answer.F_m = classified.F_m;
+    answer.F_m_error = classified.F_m_error;
+    return design_value(p, options, answer, progress);
+}
+
+DesignValue design_value(const ReducedParameters& p, const AttractorOptions& options,
                          const RunAnswer& run, const ProgressCallback& progress) {
     DesignValue d;
     d.search = find_attractors(p, options, progress);

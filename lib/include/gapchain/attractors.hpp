@@ -322,6 +322,11 @@ DesignValue design_value(const ReducedParameters& p, const AttractorOptions& opt
 DesignValue design_value(const ReducedParameters& p, const AttractorOptions& options,
                          const SimulationResult& run, const ProgressCallback& progress = {});
 
+/// design_value() of a classification of row p (its F_m and F_m_error; answered where its run
+/// completed or stopped at its steady state).
+DesignValue design_value(const ReducedParameters& p, const AttractorOptions& options,
+                         const Classification& classified, const ProgressCallback& progress = {});
+
 /// Where a non-periodic label read from one start stands among the groups of an attractor
 /// search of its row.
 enum class LabelInSearch {

@@ -2,7 +2,10 @@
 // runs in a child process, since the signal handlers and the interrupt flag are process-wide.
 #include "common/cli.hpp"
 
+#include "gapchain/output_file.hpp"
 #include "gapchain/report.hpp"
+
+#include "scratch_files.hpp"
 
 #include <doctest/doctest.h>
 
@@ -48,26 +51,11 @@ ChildEnd run_in_child(const std::function<void()>& body) {
     return end;
 }
 
-fs::path fresh_folder(const std::string& name) {
-    const fs::path dir = fs::temp_directory_path() /
-                         ("gapchain-test-cli-" + name + "-" + std::to_string(::getpid()));
-    fs::remove_all(dir);
-    fs::create_directories(dir);
-    return dir;
-}
-
-std::string contents(const fs::path& path) {
-    std::ifstream in(path);
-    std::ostringstream text;
-    text << in.rdbuf();
-    return text.str();
-}
-
 } // namespace
 
 TEST_CASE("a signal that lands while a finished run writes its output leaves the file whole") {
     // The first signal removed the temporaries: the rename failed (exit 1) and the run was lost.
-    const fs::path dir = fresh_folder("first");
+    const fs::path dir = scratch::fresh_folder("cli-first");
     const fs::path out = dir / "result.csv";
     for (const int sig : {SIGINT, SIGTERM}) {
         CAPTURE(sig);
@@ -81,14 +69,14 @@ TEST_CASE("a signal that lands while a finished run writes its output leaves the
         REQUIRE(WIFEXITED(end.status));
         // The run was done: its file is whole and in place, and the run ends as interrupted.
         CHECK(WEXITSTATUS(end.status) == 128 + sig);
-        CHECK(contents(out) == "a,b\n1,2\n");
+        CHECK(scratch::contents(out) == "a,b\n1,2\n");
         CHECK_FALSE(fs::exists(out.string() + ".tmp." + std::to_string(end.pid)));
     }
     fs::remove_all(dir);
 }
 
 TEST_CASE("the first signal cancels where the run asks, and its unfinished file is removed") {
-    const fs::path dir = fresh_folder("cancel");
+    const fs::path dir = scratch::fresh_folder("cli-cancel");
     const fs::path out = dir / "result.csv";
     const ChildEnd end = run_in_child([&] {
         OutputFile file(out.string());
@@ -105,7 +93,7 @@ TEST_CASE("the first signal cancels where the run asks, and its unfinished file 
 }
 
 TEST_CASE("a second signal ends the process at once and removes the temporaries") {
-    const fs::path dir = fresh_folder("second");
+    const fs::path dir = scratch::fresh_folder("cli-second");
     const fs::path out = dir / "result.csv";
     const ChildEnd end = run_in_child([&] {
         OutputFile file(out.string());
@@ -123,7 +111,7 @@ TEST_CASE("a second signal ends the process at once and removes the temporaries"
 }
 
 TEST_CASE("SIGINT then SIGTERM: the second ends the process whichever signal it is") {
-    const fs::path dir = fresh_folder("mixed");
+    const fs::path dir = scratch::fresh_folder("cli-mixed");
     const fs::path out = dir / "result.csv";
     const ChildEnd end = run_in_child([&] {
         OutputFile file(out.string());
@@ -135,5 +123,29 @@ TEST_CASE("SIGINT then SIGTERM: the second ends the process whichever signal it 
     REQUIRE(WIFSIGNALED(end.status));
     CHECK(WTERMSIG(end.status) == SIGTERM);
     CHECK(fs::is_empty(dir));
+    fs::remove_all(dir);
+}
+
+TEST_CASE("a second signal puts back the files a run had set aside to rewrite in place") {
+    // Before, the handler removed only temporaries: the new file stayed at the path, and the
+    // previous one stayed aside as FILE.gapchain-old.PID.
+    const fs::path dir = scratch::fresh_folder("cli-aside");
+    const fs::path numbers = dir / "result.json", figure = dir / "result.png";
+    write_file_atomically(numbers.string(), "previous\n");
+    const ChildEnd end = run_in_child([&] {
+        cli::Outputs outputs({});
+        outputs.replacing(numbers.string());
+        outputs.replacing(figure.string());
+        write_file_atomically(numbers.string(), "new\n");
+        write_file_atomically(figure.string(), "half a figure");
+        std::raise(SIGTERM);
+        std::raise(SIGTERM);
+        outputs.keep();
+    });
+    REQUIRE(WIFSIGNALED(end.status));
+    CHECK(WTERMSIG(end.status) == SIGTERM);
+    CHECK(scratch::contents(numbers) == "previous\n");
+    CHECK_FALSE(fs::exists(figure));
+    CHECK_FALSE(fs::exists(numbers.string() + ".gapchain-old." + std::to_string(end.pid)));
     fs::remove_all(dir);
 }

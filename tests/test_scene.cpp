@@ -260,30 +260,6 @@ TEST_CASE("hostile shapes: deep nesting, huge values and overlapping --set keys 
               .find("overlaps") != std::string::npos);
 }
 
-TEST_CASE("OutputFile leaves nothing behind unless committed") {
-    const std::string path =
-        (std::filesystem::temp_directory_path() / "gapchain_outfile.txt").string();
-    std::remove(path.c_str());
-    {
-        OutputFile f(path);
-        f.stream() << "partial";
-    }
-    CHECK_FALSE(std::filesystem::exists(path));
-    write_file_atomically(path, "whole\n");
-    std::ifstream in(path);
-    std::string line;
-    std::getline(in, line);
-    CHECK(line == "whole");
-    std::remove(path.c_str());
-    // A directory in the way: the rename's reason, not "a write failed" (its errno was lost).
-    const auto folder = std::filesystem::temp_directory_path() / "gapchain_outfile_folder";
-    std::filesystem::create_directories(folder);
-    CHECK_THROWS_WITH_AS(write_file_atomically(folder.string(), "x\n"),
-                         doctest::Contains("cannot write the output file: Is a directory"),
-                         OutputError);
-    std::filesystem::remove_all(folder);
-}
-
 TEST_CASE("non-uniform rows: arrays equal to the nominal values give the homogeneous run exactly") {
     // The arrays replace eps and e_r, which the array scene therefore does not give.
     const std::string base =

@@ -3,6 +3,7 @@
 #include "common/plot.hpp"
 
 #include "gapchain/accuracy.hpp"
+#include "gapchain/output_file.hpp"
 #include "gapchain/report.hpp"
 
 #include <algorithm>

@@ -4,6 +4,7 @@
 #include "common/plot.hpp"
 
 #include "gapchain/bifurcation.hpp"
+#include "gapchain/output_file.hpp"
 #include "gapchain/report.hpp"
 
 #include <algorithm>

@@ -3,6 +3,7 @@
 
 #include "gapchain/bounds.hpp"
 #include "gapchain/modes.hpp"
+#include "gapchain/output_file.hpp"
 #include "gapchain/report.hpp"
 
 #include <algorithm>

@@ -6,6 +6,7 @@
 #include "gapchain/attractors.hpp"
 #include "gapchain/classify.hpp"
 #include "gapchain/grid.hpp"
+#include "gapchain/output_file.hpp"
 #include "gapchain/report.hpp"
 
 #include <algorithm>

@@ -5,6 +5,7 @@
 #include "common/plot.hpp"
 
 #include "gapchain/continuation.hpp"
+#include "gapchain/output_file.hpp"
 #include "gapchain/report.hpp"
 
 #include <nlohmann/json.hpp>

@@ -3,6 +3,7 @@
 #include "common/plot.hpp"
 
 #include "gapchain/lyapunov.hpp"
+#include "gapchain/output_file.hpp"
 #include "gapchain/report.hpp"
 
 #include <cmath>

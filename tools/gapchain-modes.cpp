@@ -5,6 +5,7 @@
 
 #include "gapchain/grid.hpp"
 #include "gapchain/modes.hpp"
+#include "gapchain/output_file.hpp"
 #include "gapchain/report.hpp"
 
 #include <cmath>

@@ -2,6 +2,7 @@
 #include "common/cli.hpp"
 
 #include "gapchain/orbit.hpp"
+#include "gapchain/output_file.hpp"
 #include "gapchain/report.hpp"
 
 #include <cmath>

@@ -3,6 +3,7 @@
 #include "common/design_search.hpp"
 
 #include "gapchain/attractors.hpp"
+#include "gapchain/output_file.hpp"
 #include "gapchain/report.hpp"
 #include "gapchain/simulation.hpp"
 

@@ -2,6 +2,7 @@
 #include "common/cli.hpp"
 #include "common/plot.hpp"
 
+#include "gapchain/output_file.hpp"
 #include "gapchain/report.hpp"
 #include "gapchain/signal.hpp"
 #include "gapchain/spectrum.hpp"

@@ -2,6 +2,7 @@
 // kill -9 and resumes where it stopped.
 #include "common/cli.hpp"
 
+#include "gapchain/output_file.hpp"
 #include "gapchain/report.hpp"
 #include "gapchain/study.hpp"
 

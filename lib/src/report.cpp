@@ -5,7 +5,6 @@
 #include <nlohmann/json.hpp>
 
 #include <algorithm>
-#include <atomic>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -16,7 +15,6 @@
 #include <numbers>
 #include <sstream>
 #include <sys/file.h>
-#include <sys/statvfs.h>
 #include <unistd.h>
 
 namespace gapchain {
@@ -24,6 +22,11 @@ namespace gapchain {
 using nlohmann::json;
 
 namespace {
+
+/// The operating system's reason for the last failed call.
+std::string reason() {
+    return std::strerror(errno);
+}
 
 /// A CSV field that may be unknown (NaN: not computed; inf: a window too short for a standard
 /// error): the number, or nothing, as the attractor, map and sweep rows write it.
@@ -242,110 +245,6 @@ std::string to_json(const SimulationResult& r, const Scene& scene, const DesignV
     j["multistable"] = multistable(r, design);
     j["design_value"] = design_value_json(design, options, scene);
     return j.dump(2) + "\n";
-}
-
-namespace {
-
-// The temporaries of open OutputFiles, in fixed slots that a signal handler can read without
-// allocating or locking.
-constexpr int k_temp_slots = 64;
-constexpr std::size_t k_temp_length = 4096;
-char g_temp_paths[k_temp_slots][k_temp_length];
-std::atomic<bool> g_temp_claimed[k_temp_slots];
-// Set once the slot's path is whole: a handler never reads a path being copied.
-std::atomic<bool> g_temp_used[k_temp_slots];
-
-int register_temporary(const std::string& path) {
-    if (path.size() >= k_temp_length) return -1;
-    for (int i = 0; i < k_temp_slots; ++i) {
-        bool expected = false;
-        if (g_temp_claimed[i].compare_exchange_strong(expected, true)) {
-            std::memcpy(g_temp_paths[i], path.c_str(), path.size() + 1);
-            g_temp_used[i].store(true);
-            return i;
-        }
-    }
-    return -1;
-}
-
-void release_temporary(int slot) {
-    if (slot < 0) return;
-    g_temp_used[slot].store(false);
-    g_temp_claimed[slot].store(false);
-}
-
-std::string reason() {
-    return std::strerror(errno);
-}
-
-/// Why writing path failed, given the errno saved at the failure (0 if none was): a stream that
-/// failed in an earlier write keeps no errno, and a full disk was reported as "Success".
-std::string write_failure_reason(const std::string& path, int saved) {
-    if (saved != 0) return std::strerror(saved);
-    struct statvfs fs {};
-    if (::statvfs(path.c_str(), &fs) == 0 && fs.f_bavail == 0) return std::strerror(ENOSPC);
-    return "a write failed (the file system gave no reason)";
-}
-
-} // namespace
-
-void remove_temporary_files() noexcept {
-    for (int i = 0; i < k_temp_slots; ++i)
-        if (g_temp_used[i].load()) ::unlink(g_temp_paths[i]);
-}
-
-OutputFile::OutputFile(std::string path) : m_path(std::move(path)) {
-    m_temp = m_path + ".tmp." + std::to_string(::getpid());
-    m_slot = register_temporary(m_temp);
-    errno = 0;
-    m_stream.open(m_temp, std::ios::out | std::ios::trunc);
-    if (!m_stream) {
-        const int saved = errno;
-        release_temporary(m_slot);
-        throw SceneError(m_path +
-                         ": cannot open for writing: " + write_failure_reason(m_path, saved));
-    }
-    m_stream.precision(17);
-}
-
-OutputFile::~OutputFile() {
-    if (!m_committed) {
-        m_stream.close();
-        std::remove(m_temp.c_str());
-    }
-    release_temporary(m_slot);
-}
-
-void OutputFile::commit() {
-    errno = 0;
-    m_stream.flush();
-    const bool ok = static_cast<bool>(m_stream);
-    const int flush_errno = errno;
-    errno = 0;
-    m_stream.close();
-    const bool closed = static_cast<bool>(m_stream) || ok;
-    int failure_errno = flush_errno ? flush_errno : errno;
-    bool renamed = false;
-    if (ok && closed) {
-        errno = 0;
-        renamed = std::rename(m_temp.c_str(), m_path.c_str()) == 0;
-        if (!renamed) failure_errno = errno;
-    }
-    if (!renamed) {
-        // The errno of the step that failed (a directory in the way of the rename said "a write
-        // failed"); none when an earlier buffered write failed.
-        const std::string why = write_failure_reason(m_temp, failure_errno);
-        std::remove(m_temp.c_str());
-        m_committed = true;
-        throw OutputError(m_path + ": cannot write the output file: " + why);
-    }
-    m_committed = true;
-}
-
-void write_file_atomically(const std::string& path, const std::string& text) {
-    OutputFile f(path);
-    f.stream() << text;
-    f.commit();
 }
 
 std::string points_csv(const BifurcationResult& result, const SectionSpec& section) {

@@ -39,10 +39,11 @@ void handle_signals(void (*handler)(int)) {
     ::sigaction(SIGTERM, &action, nullptr);
 }
 
-// A second signal ends the process at once, its temporaries removed (unlink, sigaction and raise
-// are async-signal-safe). A staging folder or a file set aside may stay, as after SIGKILL.
+// A second signal ends the process at once, its temporaries removed and the files it set aside
+// put back (unlink, rename, sigaction and raise are async-signal-safe). A staging folder may
+// stay, as after SIGKILL; the next run into its folder removes it.
 extern "C" void on_second_signal(int signal) {
-    remove_temporary_files();
+    abandon_unfinished_outputs();
     handle_signals(SIG_DFL);
     std::raise(signal);
 }
@@ -146,11 +147,8 @@ bool remove_empty_tree(const fs::path& p) {
 
 Outputs::~Outputs() {
     if (m_kept) return;
+    m_replaced.clear(); // each puts its previous file back
     std::error_code ec;
-    for (const auto& [path, aside] : m_replaced) {
-        fs::remove(path, ec);
-        if (!aside.empty()) fs::rename(aside, path, ec);
-    }
     for (const auto& f : m_folders)
         if (!f.staging.empty()) fs::remove_all(f.staging, ec);
     for (auto it = m_created.rbegin(); it != m_created.rend(); ++it)
@@ -265,52 +263,32 @@ std::string Outputs::staged(const std::string& path) const {
 namespace {
 
 // Moves the staged files of one folder into place, all or nothing: the files they replace are
-// first moved aside into the staging folder, and put back if any step fails. Returns the names
-// placed.
-std::vector<fs::path> commit_staged(const fs::path& folder, const fs::path& staging) {
+// set aside first, and put back if a step fails (or a second signal ends the run) before the
+// returned SetAsideFiles are kept.
+std::vector<SetAsideFile> commit_staged(const fs::path& folder, const fs::path& staging) {
     std::error_code ec;
     std::vector<fs::path> staged;
     for (const auto& entry : fs::directory_iterator(staging, ec))
         staged.push_back(entry.path().filename());
-    const fs::path aside = staging / ".replaced";
-    fs::create_directory(aside, ec);
-    std::vector<fs::path> set_aside, placed;
-    const auto undo = [&](const std::string& reason) {
-        std::error_code ignored;
-        for (const auto& name : placed)
-            fs::rename(folder / name, staging / name, ignored);
-        for (const auto& name : set_aside)
-            fs::rename(aside / name, folder / name, ignored);
-        throw OutputError(reason);
-    };
+    std::vector<SetAsideFile> replaced;
     for (const auto& name : staged) {
         const fs::path target = folder / name;
-        if (!fs::exists(fs::symlink_status(target, ec))) continue;
         if (fs::is_directory(fs::symlink_status(target, ec)))
-            undo(target.string() + ": cannot write: a folder of that name is in the way");
-        fs::rename(target, aside / name, ec);
-        if (ec) undo(target.string() + ": cannot write: " + ec.message());
-        set_aside.push_back(name);
+            throw OutputError(target.string() +
+                              ": cannot write: a folder of that name is in the way");
+        replaced.emplace_back(target.string());
     }
     for (const auto& name : staged) {
         fs::rename(staging / name, folder / name, ec);
-        if (ec) undo((folder / name).string() + ": cannot write: " + ec.message());
-        placed.push_back(name);
+        if (ec) throw OutputError((folder / name).string() + ": cannot write: " + ec.message());
     }
-    return placed;
+    return replaced;
 }
 
 } // namespace
 
 void Outputs::replacing(const std::string& path) {
-    std::error_code ec;
-    std::string aside;
-    if (fs::exists(path, ec)) {
-        aside = path + ".gapchain-old." + std::to_string(::getpid());
-        fs::rename(path, aside, ec);
-        if (ec) throw OutputError(path + ": cannot set the previous file aside: " + ec.message());
-    }
-    m_replaced.emplace_back(path, aside);
+    m_replaced.emplace_back(path);
 }
 
 namespace {
@@ -373,20 +351,26 @@ void Outputs::keep() {
         stale[k] = stale_outputs(f.path, f.staging, f.owned);
         stage_written_list(f.path, f.staging, stale[k]);
     }
+    // Every folder is committed before any replaced file is dropped, so that a folder that
+    // cannot be written puts the others back too.
+    std::vector<SetAsideFile> replaced;
+    for (const FolderOutput& f : m_folders)
+        if (!f.staging.empty())
+            for (auto& file : commit_staged(f.path, f.staging))
+                replaced.push_back(std::move(file));
     for (std::size_t k = 0; k < m_folders.size(); ++k) {
         FolderOutput& f = m_folders[k];
         if (f.staging.empty()) continue;
-        (void)commit_staged(f.path, f.staging);
         std::error_code ec;
         for (const auto& name : stale[k])
             fs::remove(fs::path(f.path) / name, ec);
         fs::remove_all(f.staging, ec);
         f.staging.clear();
     }
-    for (const auto& [path, aside] : m_replaced) {
-        std::error_code ec;
-        if (!aside.empty()) fs::remove(aside, ec);
-    }
+    for (auto& file : replaced)
+        file.keep();
+    for (auto& file : m_replaced)
+        file.keep();
     m_kept = true;
 }
 

@@ -3,6 +3,7 @@
 // and progress on stderr. Exit codes: 0 success, 2 bad input, 1 numerical or internal failure.
 
 #include "gapchain/attractors.hpp"
+#include "gapchain/output_file.hpp"
 #include "gapchain/scene.hpp"
 
 #include <CLI/CLI.hpp>
@@ -70,7 +71,8 @@ public:
     void required_file(const std::string& path, const std::string& flag);
     // A file output about to be written in place before the run is over (a plot reads it):
     // whatever is at the path is set aside, and put back (the new file removed) if the run then
-    // fails, so that a failed run leaves the path as it was; keep() drops what was set aside.
+    // fails or a second signal ends it, so that the path is left as it was; keep() drops what
+    // was set aside (SetAsideFile).
     void replacing(const std::string& path);
     // A folder output given by flag. owned: every file name the tool may write there, in any
     // of its modes; keep() removes those this run did not write that an earlier run wrote (it
@@ -100,8 +102,7 @@ private:
     std::vector<std::pair<std::string, std::string>> m_paths; // path, flag
     std::vector<FolderOutput> m_folders;
     std::vector<std::string> m_created;
-    std::vector<std::pair<std::string, std::string>> m_replaced; // path, its previous file set
-                                                                 // aside (empty: none)
+    std::vector<SetAsideFile> m_replaced;
     bool m_kept = false;
 };
 

@@ -2,6 +2,7 @@
 
 #include "cli.hpp"
 
+#include "gapchain/output_file.hpp"
 #include "gapchain/report.hpp"
 
 #include <cerrno>

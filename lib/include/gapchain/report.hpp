@@ -1,6 +1,6 @@
 #pragma once
 /// \file report.hpp
-/// Scene output: result structs -> JSON and CSV, and files that appear whole or not at all.
+/// Scene output: result structs -> JSON and CSV, and the sweep's append-only result file.
 
 #include "gapchain/accuracy.hpp"
 #include "gapchain/attractors.hpp"
@@ -11,6 +11,7 @@
 #include "gapchain/lyapunov.hpp"
 #include "gapchain/modes.hpp"
 #include "gapchain/orbit.hpp"
+#include "gapchain/output_file.hpp"
 #include "gapchain/scene.hpp"
 #include "gapchain/simulation.hpp"
 #include "gapchain/spectrum.hpp"
@@ -41,45 +42,6 @@ std::string to_json(const SimulationResult& result, const Scene& scene);
 /// "multistable" is also true when start_below or run_above.
 std::string to_json(const SimulationResult& result, const Scene& scene, const DesignValue& design,
                     const AttractorOptions& options);
-
-/// An output that could not be written once the run was under way (disk full, I/O error): the
-/// message names the file and the operating system's reason. Not bad input (tools exit 1).
-class OutputError : public std::runtime_error {
-public:
-    using std::runtime_error::runtime_error;
-};
-
-/// Removes the temporary files of every OutputFile still open in this process. Async-signal-
-/// safe (only unlink(2)): for a SIGINT/SIGTERM handler.
-void remove_temporary_files() noexcept;
-
-/// Writes a file so that readers never see it half-written and a failure leaves nothing:
-/// the text goes to a temporary file next to path, which is renamed over path on commit().
-/// Destroying an uncommitted OutputFile removes the temporary.
-class OutputFile {
-public:
-    /// Opens path + ".tmp.<pid>" for writing; throws SceneError naming the path and the
-    /// system's reason if it cannot.
-    explicit OutputFile(std::string path);
-    ~OutputFile();
-    OutputFile(const OutputFile&) = delete;
-    OutputFile& operator=(const OutputFile&) = delete;
-    /// The stream to write to.
-    std::ostream& stream() { return m_stream; }
-    /// Flushes, closes and renames onto the final path; throws OutputError (file and reason) on
-    /// I/O failure, leaving neither the temporary nor a partial file.
-    void commit();
-
-private:
-    std::string m_path;
-    std::string m_temp;
-    std::ofstream m_stream;
-    bool m_committed = false;
-    int m_slot = -1; ///< registry slot of m_temp (remove_temporary_files)
-};
-
-/// Writes text to path through an OutputFile.
-void write_file_atomically(const std::string& path, const std::string& text);
 
 /// The section points of a diagram as CSV: columns value,direction,point,t,<recorded names>;
 /// `point` is the first recorded variable (the diagram's ordinate). Rows of status cancelled

@@ -482,8 +482,10 @@ TEST_CASE("the twin flags a chaotic transient that outlasts the record; the twin
     CHECK_FALSE(without.twin_checked);
     CHECK_FALSE(without.start_dependent);
     // The JSON says null where no twin ran.
-    CHECK(to_json(without, row).find("\"start_dependent\": null") != std::string::npos);
-    CHECK(to_json(c, row).find("\"start_dependent\": true") != std::string::npos);
+    CHECK(to_json(without, ClassifyOptions{}, row).find("\"start_dependent\": null") !=
+          std::string::npos);
+    CHECK(to_json(c, ClassifyOptions{}, row).find("\"start_dependent\": true") !=
+          std::string::npos);
 }
 
 TEST_CASE("a chaotic transient that ends while recording labels the steady state, not the "

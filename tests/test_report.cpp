@@ -253,7 +253,8 @@ TEST_CASE("classification JSON against the attractors: multistable, label_in_sea
     d.search.F_m_max_id = 0;
     d.F_m_max = orbit.F_m;
     d.start_below = true;
-    const auto j = nlohmann::json::parse(to_json(c, scene, d, AttractorOptions{}));
+    const auto j =
+        nlohmann::json::parse(to_json(c, ClassifyOptions{}, scene, d, AttractorOptions{}));
     CHECK(j["regime"] == "chaotic");
     CHECK(j["multistable"] == true);
     CHECK(j["label_in_search"] == "transient");
@@ -263,18 +264,22 @@ TEST_CASE("classification JSON against the attractors: multistable, label_in_sea
     // start-dependent twin nothing says multistable.
     d.search.attractors[1].settled = true;
     d.start_below = false;
-    const auto k = nlohmann::json::parse(to_json(c, scene, d, AttractorOptions{}));
+    const auto k =
+        nlohmann::json::parse(to_json(c, ClassifyOptions{}, scene, d, AttractorOptions{}));
     CHECK(k["label_in_search"] == "attractor");
     CHECK(k["multistable"] == false);
     // Above every attractor found, on the attractor the search settled on: one chaos sampled
     // longer, not multistable.
     d.run_above = true;
-    CHECK(nlohmann::json::parse(to_json(c, scene, d, AttractorOptions{}))["multistable"] == false);
+    CHECK(nlohmann::json::parse(
+              to_json(c, ClassifyOptions{}, scene, d, AttractorOptions{}))["multistable"] == false);
     d.search.attractors[1].settled = false;
-    CHECK(nlohmann::json::parse(to_json(c, scene, d, AttractorOptions{}))["multistable"] == true);
+    CHECK(nlohmann::json::parse(
+              to_json(c, ClassifyOptions{}, scene, d, AttractorOptions{}))["multistable"] == true);
     d.search.attractors[1].settled = true;
     // A periodic label has no place among the non-periodic groups: null.
     c.regime = Regime::periodic;
-    CHECK(nlohmann::json::parse(to_json(c, scene, d, AttractorOptions{}))["label_in_search"]
+    CHECK(nlohmann::json::parse(
+              to_json(c, ClassifyOptions{}, scene, d, AttractorOptions{}))["label_in_search"]
               .is_null());
 }

@@ -258,6 +258,12 @@ TEST_CASE("hostile shapes: deep nesting, huge values and overlapping --set keys 
     CHECK(error_of(R"({"model": {"Nm": 2}})",
                    {R"(model.scatter={"clearance": 0.1})", "model.scatter.seed=2"})
               .find("overlaps") != std::string::npos);
+    // An integer with a leading 0 is refused, as the flags refuse it (model.fc=010 ran fc = 10,
+    // octal 8 elsewhere); a decimal fraction with one is a number.
+    CHECK(error_of("{}", {"model.fc=010"}).rfind("model.fc: got \"010\": a leading 0", 0) == 0);
+    CHECK(error_of("{}", {"model.Nm=-02"}).find("would make it octal") != std::string::npos);
+    CHECK(parse_scene("{}", {"model.fc=00.5"}).reduced.fc == 0.5);
+    CHECK(parse_scene("{}", {"model.eps=0"}).reduced.eps == 0.0);
 }
 
 TEST_CASE("non-uniform rows: arrays equal to the nominal values give the homogeneous run exactly") {

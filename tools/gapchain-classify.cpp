@@ -134,6 +134,8 @@ void print_design(const Scene& scene, const Classification& c, const DesignValue
                   const AttractorOptions& options) {
     cli::SearchedRun run;
     run.F_m = c.F_m;
+    run.longer_runs = "--record";
+    run.reads_max_steady_period = false;
     const LabelInSearch where = label_in_search(c, design);
     if (c.regime == Regime::periodic && c.newton_confirmed && c.max_multiplier < 1.0)
         run.above_reason = "multistable: this run ended on a stable orbit that no start of the "
@@ -157,8 +159,8 @@ void classify_point(const Scene& scene, const ClassifyOptions& o, const std::str
     if (c.status == RunStatus::non_finite) throw cli::NumericalFailure("the run became non-finite");
     const std::optional<DesignValue> design = set_against_search(c, p, search);
     if (!out.empty())
-        write_file_atomically(out, design ? to_json(c, scene, *design, search.options())
-                                          : to_json(c, p));
+        write_file_atomically(out, design ? to_json(c, o, scene, *design, search.options())
+                                          : to_json(c, o, p));
     outputs.keep();
     std::printf("gapchain-classify: Nm=%d fc=%g eps=%g e_r=%g f_r=%g\n", p.Nm, p.fc, p.eps, p.e_r,
                 p.f_r);
@@ -288,6 +290,17 @@ struct MapArguments {
     }
 };
 
+// --map: the axes read, then the grid classified into the output folder.
+void run_map(const Scene& scene, const ClassifyOptions& o, const MapArguments& map,
+             const std::string& out, int threads, cli::Outputs& outputs) {
+    outputs.folder(out, "--out", {"map.csv", "map.gp", "regimes.png", "force.png"});
+    const std::vector<double> e_r =
+        parse_range(map.e_r, "--e_r", scene.reduced, SweptParameter::e_r);
+    const std::vector<double> f_r =
+        parse_range(map.f_r, "--f_r", scene.reduced, SweptParameter::f_r);
+    classify_map(scene.reduced, o, out, e_r, f_r, threads, !map.no_plot, outputs);
+}
+
 } // namespace
 
 int main(int argc, char** argv) {
@@ -312,6 +325,10 @@ int main(int argc, char** argv) {
             ->capture_default_str();
     cli::DesignSearch search("gapchain-classify --attractors");
     search.add_options(app, false);
+    // A map runs no search: its refusal of --seed and --box said "add --attractors N", which a
+    // map refuses too.
+    for (const char* name : {"--seed", "--box"})
+        app.get_option(name)->excludes(app.get_option("--map"));
     return cli::run(
         app, argc, argv,
         [&] {
@@ -330,7 +347,7 @@ int main(int argc, char** argv) {
                     throw std::invalid_argument(
                         "--threads: applies to --map or --attractors N (1 .. 1e7 starts)");
                 search.set_threads(threads);
-                search.check(scene, with_classify_lengths(scene.run, o));
+                search.check(scene, classify_search_run(o));
                 outputs.file(out, "--out");
                 return classify_point(scene, o, out, search, outputs);
             }
@@ -338,15 +355,7 @@ int main(int argc, char** argv) {
                 throw std::invalid_argument("--attractors: applies to one point; "
                                             "gapchain-attractors --param gives the attractors "
                                             "along a line");
-            // No search on a map: this refuses its --seed and --box.
-            search.check(scene, with_classify_lengths(scene.run, o));
-            if (out.empty()) out = "map";
-            outputs.folder(out, "--out", {"map.csv", "map.gp", "regimes.png", "force.png"});
-            const std::vector<double> e_r =
-                parse_range(map.e_r, "--e_r", scene.reduced, SweptParameter::e_r);
-            const std::vector<double> f_r =
-                parse_range(map.f_r, "--f_r", scene.reduced, SweptParameter::f_r);
-            classify_map(scene.reduced, o, out, e_r, f_r, threads, !map.no_plot, outputs);
+            run_map(scene, o, map, out.empty() ? "map" : out, threads, outputs);
         },
         {{"run.periods", "--transient / --record"}});
 }

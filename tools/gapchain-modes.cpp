@@ -35,6 +35,16 @@ void grid_study(const GridArguments& a, const std::string& out, cli::Outputs& ou
         throw std::invalid_argument(
             "--grid-fc-max: must be >= --grid-fc-min = " + cli::number_text(a.fc_min, 9) +
             ", got " + cli::number_text(a.fc_max, 9));
+    // One point ran --grid-fc-min alone, and equal ends ran one fc again and again.
+    if (a.fc_points == 1 && a.fc_min != a.fc_max)
+        throw std::invalid_argument("--grid-fc-points: 1 point needs --grid-fc-min = "
+                                    "--grid-fc-max, got " +
+                                    cli::number_text(a.fc_min, 9) + " and " +
+                                    cli::number_text(a.fc_max, 9));
+    if (a.fc_points > 1 && a.fc_min == a.fc_max)
+        throw std::invalid_argument("--grid-fc-points: --grid-fc-min = --grid-fc-max (" +
+                                    cli::number_text(a.fc_min, 9) +
+                                    ") is one value, 1 point, got " + std::to_string(a.fc_points));
     if (!out.empty()) outputs.folder(out, "--out", {"grid.csv", "grid.gp", "grid-f1-error.png"});
     std::vector<int> Nms;
     for (int n = 1; n <= a.Nm_max; ++n)
@@ -125,6 +135,8 @@ void add_options(CLI::App& app, ModesArguments& a) {
             ->capture_default_str(),
         app.add_flag("--no-shapes", a.no_shapes, "Do not compute the mode shapes"),
         app.add_option("--csv", a.csv, "Mode shapes as CSV (body, then one column per mode)")};
+    // --csv writes the shapes: with --no-shapes one of the two was silently ignored.
+    app.get_option("--no-shapes")->excludes(app.get_option("--csv"));
     // The grid is eq (26) alone: a scene or --set would be ignored.
     single.push_back(a.scene.option);
     single.push_back(app.get_option("--set"));

@@ -46,6 +46,24 @@ void refuse_run_keys(const py::kwargs& keys, const std::string& function,
                      const std::vector<std::string>& read, const std::string& instead,
                      const std::vector<std::string>& unread = {});
 
+// Runs body; a std::invalid_argument whose advice names a library key in parentheses ("fewer
+// periods (run.periods)") is raised naming instead what the function takes (`keywords`, e.g.
+// "transient, record"): classify() advised run.periods, a keyword it refuses.
+template <class Body>
+auto advising_keywords(const std::string& key, const std::string& keywords, Body&& body)
+    -> decltype(body()) {
+    try {
+        return body();
+    } catch (const std::invalid_argument& e) {
+        std::string message = e.what();
+        const std::string from = "(" + key + ")", to = "(" + keywords + ")";
+        for (auto at = message.find(from); at != std::string::npos;
+             at = message.find(from, at + to.size()))
+            message.replace(at, from.size(), to);
+        throw std::invalid_argument(message);
+    }
+}
+
 // The run keys take_run_settings() reads (scene.hpp): all that classify(), regime_map() and
 // bifurcation() read of the run section.
 inline const std::vector<std::string> run_settings_keys{"run.scheme", "run.tolerance",

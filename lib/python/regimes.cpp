@@ -109,6 +109,8 @@ physical scenes (and F_m_max_newton, F_m_max_error_newton with "attractors"); an
 
 // How classify() and regime_map() run, for the refusal of a run key they do not read.
 const std::string classify_runs = "it runs transient, then record periods";
+// The run key a library message advises to change, and the keywords that change it here.
+const std::pair<std::string, std::string> classify_lengths{"run.periods", "transient, record"};
 
 ClassifyOptions classify_options(const Scene& scene, long transient, long record, bool confirm,
                                  bool twin) {
@@ -129,18 +131,20 @@ py::dict classify_py(const py::object& scene_arg, long transient, long record, b
     refuse_run_keys(keys, "classify", run_settings_keys, classify_runs);
     const Scene scene = to_scene(scene_arg, keys);
     const ClassifyOptions o = classify_options(scene, transient, record, confirm, twin);
-    // Each start of the search runs as long as the classification (gapchain-classify's).
-    const AttractorOptions search = design_search(scene, with_classify_lengths(scene.run, o),
-                                                  "classify", attractors, seed, box, threads);
     Call call;
     const ReducedParameters& row = paper_row(scene, "classify");
-    const Classification c = call.run([&] { return classify(row, o, call.callback()); });
-    std::string json = to_json(c, row);
-    if (attractors != 0 && c.status != RunStatus::cancelled) {
-        const DesignValue design =
-            call.run([&] { return design_value(row, search, c, call.callback()); });
-        json = to_json(c, scene, design, search);
-    }
+    Classification c;
+    const std::string json =
+        advising_keywords(classify_lengths.first, classify_lengths.second, [&] {
+            // Each start of the search runs as long as the classification (gapchain-classify's).
+            const AttractorOptions search = design_search(scene, classify_search_run(o), "classify",
+                                                          attractors, seed, box, threads);
+            c = call.run([&] { return classify(row, o, call.callback()); });
+            if (attractors == 0 || c.status == RunStatus::cancelled) return to_json(c, o, row);
+            const DesignValue design =
+                call.run([&] { return design_value(row, search, c, call.callback()); });
+            return to_json(c, o, scene, design, search);
+        });
     // The JSON gapchain-classify writes (report.cpp, the one list of the fields), as a dict; an
     // error nothing estimated (too few periods averaged) stays None, as the JSON's null.
     py::dict d = py::module_::import("json").attr("loads")(json);
@@ -196,8 +200,10 @@ py::dict regime_map_py(const py::object& scene_arg, const std::vector<double>& e
     Call call(progress);
     const ReducedParameters& row = paper_row(scene, "regime_map");
     try {
-        return regime_map_dict(
-            call.run([&] { return regime_map(row, e_r, f_r, o, threads, call.callback()); }));
+        return advising_keywords(classify_lengths.first, classify_lengths.second, [&] {
+            return regime_map_dict(
+                call.run([&] { return regime_map(row, e_r, f_r, o, threads, call.callback()); }));
+        });
     } catch (const std::invalid_argument& e) {
         // The scene loaded, so a value the row refuses is one of the lists': named as the
         // argument ("model.e_r: ..." read as the scene's key).

@@ -182,7 +182,7 @@ void validate(const ReducedParameters& p, const AttractorOptions& options) {
     detail::require_work(
         work.body_steps, options.run.max_work, "this search runs up to", work.breakdown,
         std::string("fewer starts, ") + (options.slice ? "a coarser slice, " : "") +
-            "a shorter run.periods, or raise run.max_work");
+            "shorter runs (run.periods), or raise run.max_work");
     // A box narrower than 1e-12 of its center's entry draws starts a few doubles apart (around
     // 1e9, 1e-9 A is below one double's spacing): the fractions would count the same start
     // many times.

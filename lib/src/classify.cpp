@@ -530,10 +530,18 @@ RegimeMap regime_map(const ReducedParameters& base, const std::vector<double>& e
     return map;
 }
 
-RunOptions with_classify_lengths(RunOptions base, const ClassifyOptions& options) {
-    base.transient_periods = options.transient_periods;
-    base.periods = options.transient_periods + options.record_periods;
-    return base;
+RunOptions classify_search_run(const ClassifyOptions& options) {
+    // Built from the defaults, not from the scene's run section: a scene's
+    // run.max_steady_period changed the search's transients while gapchain-classify refused a
+    // --set of it as a key it does not read.
+    RunOptions run;
+    run.scheme = options.scheme;
+    run.tolerance = options.tolerance;
+    run.max_work = options.max_work;
+    run.max_steady_period = options.max_period;
+    run.transient_periods = options.transient_periods;
+    run.periods = options.transient_periods + options.record_periods;
+    return run;
 }
 
 } // namespace gapchain

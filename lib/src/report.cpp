@@ -202,6 +202,23 @@ std::string to_json(const SimulationResult& r, const Scene& scene) {
 
 namespace {
 
+/// The run options each start of an attractor search ran with.
+nlohmann::ordered_json search_run_json(const RunOptions& run) {
+    return {
+        {"periods", run.periods},
+        {"transient_periods", run.transient_periods == auto_transient
+                                  ? nlohmann::ordered_json("auto")
+                                  : nlohmann::ordered_json(run.transient_periods)},
+        {"scheme", to_string(run.scheme)},
+        {"tolerance", run.tolerance},
+        {"step", run.step ? nlohmann::ordered_json(*run.step) : nlohmann::ordered_json(nullptr)},
+        {"accuracy_mode", to_string(run.accuracy_mode)},
+        {"steady_state", run.stop_at_steady_state},
+        {"steady_tolerance", run.steady_tolerance},
+        {"max_steady_period", run.max_steady_period},
+        {"max_work", run.max_work}};
+}
+
 /// The "design_value" block of a run set against its row's attractors.
 json design_value_json(const DesignValue& design, const AttractorOptions& options,
                        const Scene& scene) {
@@ -222,6 +239,7 @@ json design_value_json(const DesignValue& design, const AttractorOptions& option
               {"attractors_F_m_max", set.F_m_max},
               {"attractors_F_m_max_error", set.F_m_max_error},
               {"transients", transients_json(set.transients)},
+              {"run", search_run_json(options.run)},
               {"wall_time_s", set.wall_time_s}};
     if (set.F_m_max_id >= 0) {
         const Attractor& a = set.attractors[static_cast<std::size_t>(set.F_m_max_id)];
@@ -523,21 +541,6 @@ std::string attractor_starts_csv(const AttractorSet& set) {
 
 namespace {
 
-/// The run options each start of an attractor search ran with.
-nlohmann::ordered_json search_run_json(const RunOptions& run) {
-    return {
-        {"periods", run.periods},
-        {"transient_periods", run.transient_periods == auto_transient
-                                  ? nlohmann::ordered_json("auto")
-                                  : nlohmann::ordered_json(run.transient_periods)},
-        {"scheme", to_string(run.scheme)},
-        {"tolerance", run.tolerance},
-        {"step", run.step ? nlohmann::ordered_json(*run.step) : nlohmann::ordered_json(nullptr)},
-        {"accuracy_mode", to_string(run.accuracy_mode)},
-        {"steady_state", run.stop_at_steady_state},
-        {"max_work", run.max_work}};
-}
-
 /// Each group of a search, as attractors.json lists them.
 nlohmann::ordered_json attractor_list_json(const AttractorSet& set,
                                            const std::optional<PhysicalParameters>& physical) {
@@ -797,16 +800,38 @@ json classification_json(const Classification& c) {
 }
 } // namespace
 
-std::string to_json(const Classification& c, const ReducedParameters& p) {
+namespace {
+
+/// How a point was classified: its run's lengths, scheme and accuracy, the checks it ran, and its
+/// start where that is not rest (a result read alone names the start it ran).
+json classify_options_json(const ClassifyOptions& o) {
+    json j = {{"transient_periods", o.transient_periods},
+              {"record_periods", o.record_periods},
+              {"scheme", to_string(o.scheme)},
+              {"tolerance", o.tolerance},
+              {"max_work", o.max_work},
+              {"max_period", o.max_period},
+              {"confirm_by_newton", o.confirm_by_newton},
+              {"twin_check", o.twin_check}};
+    if (std::any_of(o.initial.begin(), o.initial.end(), [](double x) { return x != 0.0; }))
+        j["initial"] = o.initial;
+    return j;
+}
+
+} // namespace
+
+std::string to_json(const Classification& c, const ClassifyOptions& o, const ReducedParameters& p) {
     json j = classification_json(c);
     j["parameters"] = parameters_json(p);
+    j["options"] = classify_options_json(o);
     return j.dump(2) + "\n";
 }
 
-std::string to_json(const Classification& c, const Scene& scene, const DesignValue& design,
-                    const AttractorOptions& options) {
+std::string to_json(const Classification& c, const ClassifyOptions& o, const Scene& scene,
+                    const DesignValue& design, const AttractorOptions& options) {
     json j = classification_json(c);
     j["parameters"] = parameters_json(scene.reduced);
+    j["options"] = classify_options_json(o);
     const LabelInSearch where = label_in_search(c, design);
     // A record of a chaotic attractor above the search's records of it is one attractor
     // sampled longer, not a second steady state.

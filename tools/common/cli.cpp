@@ -462,14 +462,14 @@ std::string attractor_count(const AttractorSet& set) {
     return text;
 }
 
-void print_transients(const TransientLifetime& t) {
+void print_transients(const TransientLifetime& t, const std::string& longer_runs) {
     if (std::isnan(t.lifetime)) {
         // Saying nothing here read as "no long transients" where most were still going.
         if (!std::isnan(t.from_period) && t.censored > 0)
             std::printf("transients: half last beyond %.0f periods; beyond, %ld ended and %ld were "
                         "still going when their runs ended: too few endings to measure a "
-                        "lifetime (raise run.periods, or the starts)\n",
-                        t.from_period, t.ended, t.censored);
+                        "lifetime (raise %s, or the starts)\n",
+                        t.from_period, t.ended, t.censored, longer_runs.c_str());
         return;
     }
     std::printf("transients: half last beyond %.0f periods; beyond, lifetime %.3g +- %.2g periods "
@@ -690,9 +690,11 @@ void refuse_flag_values(CLI::App& app) {
         refuse_flag_values(*sub);
 }
 
-/// The flag an argument "--name=" gives an empty value, if any (CLI11 reads it as the bare
-/// flag, so "--no-plot=" ran as --no-plot); searched in app and its subcommands.
-std::optional<std::string> flag_given_empty_value(CLI::App& app, int argc, char** argv) {
+/// The message for an argument "--name=" with nothing after the "=", if any: CLI11 reads it as
+/// the bare flag ("--no-plot=" ran as --no-plot), and an option then takes the next argument as
+/// its value ("--transient= 50" ran with 50, "--out= e.json" wrote e.json). Searched in app and
+/// its subcommands.
+std::optional<std::string> empty_value_message(CLI::App& app, int argc, char** argv) {
     std::vector<CLI::App*> apps{&app};
     for (CLI::App* sub : app.get_subcommands({}))
         apps.push_back(sub);
@@ -703,7 +705,11 @@ std::optional<std::string> flag_given_empty_value(CLI::App& app, int argc, char*
         const std::string name = argument.substr(0, argument.size() - 1);
         for (CLI::App* a : apps) {
             const CLI::Option* option = a->get_option_no_throw(name);
-            if (option != nullptr && option->get_expected_max() == 0) return name.substr(2);
+            if (option == nullptr) continue;
+            if (option->get_expected_max() == 0)
+                return readable(name.substr(2) + " was given a disallowed flag override");
+            return readable(name + ": an empty value (\"" + argument +
+                            "\"); give the value after the =, or drop the option");
         }
     }
     return std::nullopt;
@@ -717,9 +723,8 @@ int run(CLI::App& app, int argc, char** argv, const std::function<void()>& body,
     require_decimal_numbers(app);
     refuse_flag_values(app);
     handle_signals(on_signal);
-    if (const auto flag = flag_given_empty_value(app, argc, argv)) {
-        std::cerr << app.get_name() << ": "
-                  << readable(*flag + " was given a disallowed flag override") << " (see --help)\n";
+    if (const auto message = empty_value_message(app, argc, argv)) {
+        std::cerr << app.get_name() << ": " << *message << " (see --help)\n";
         return static_cast<int>(ExitCode::bad_input);
     }
     try {

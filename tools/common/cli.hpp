@@ -166,8 +166,9 @@ void refuse_unread_sets(const SceneArguments& args, const std::string& tool,
 
 // How long the transients before the periodic attractors last (gapchain-attractors and
 // gapchain-sim --attractors), and what a run must discard for the attractors' F_m; nothing
-// where fewer than 10 end beyond the median.
-void print_transients(const TransientLifetime& t);
+// where fewer than 10 end beyond the median. longer_runs: what the user raises to lengthen the
+// runs where too few transients ended ("run.periods", classify's "--record").
+void print_transients(const TransientLifetime& t, const std::string& longer_runs = "run.periods");
 
 // "2 attractor(s)", or "0 attractor(s) and 12 unsettled group(s)": an unsettled group is a
 // transient's, not an attractor (gapchain-attractors and gapchain-sim --attractors).

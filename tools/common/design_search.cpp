@@ -100,12 +100,16 @@ void print_design(const Scene& scene, const SearchedRun& run, const DesignValue&
         else
             std::printf("), this run's F_m within the errors\n");
     }
-    print_transients(set.transients);
-    if (set.unsettled > 0)
+    print_transients(set.transients, run.longer_runs);
+    if (set.unsettled > 0) {
         std::printf("  %d group(s) were still converging when their runs ended: their F_m is a "
-                    "transient's; raise run.periods, or run.max_steady_period (now %d) if their "
-                    "orbits may be longer\n",
-                    set.unsettled, o.run.max_steady_period);
+                    "transient's; raise %s",
+                    set.unsettled, run.longer_runs.c_str());
+        if (run.reads_max_steady_period)
+            std::printf(", or run.max_steady_period (now %d) if their orbits may be longer",
+                        o.run.max_steady_period);
+        std::printf("\n");
+    }
 }
 
 } // namespace gapchain::cli

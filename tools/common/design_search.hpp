@@ -49,6 +49,12 @@ struct SearchedRun {
     // Why the run is above every attractor found, where that is not a transient (a stable
     // orbit the search missed); empty: "taken in a transient".
     std::string above_reason;
+    // What the tool's user raises to lengthen the runs, the search's starts' too:
+    // gapchain-sim's run.periods, gapchain-classify's --record.
+    std::string longer_runs = "run.periods";
+    // Whether the tool reads run.max_steady_period for the search (gapchain-classify's search
+    // tries cycles up to its own max_period, 16).
+    bool reads_max_steady_period = true;
 };
 
 // The design value's lines: what the search found and how the run's F_m compares.

@@ -63,9 +63,11 @@ struct ClassifyOptions {
 /// Throws std::invalid_argument naming the first invalid option.
 void validate(const ClassifyOptions& options);
 
-/// base with the classification's lengths: transient_periods discarded of transient_periods +
-/// record_periods (the run of each start of an attractor search set against the label).
-RunOptions with_classify_lengths(RunOptions base, const ClassifyOptions& options);
+/// The run of each start of an attractor search set against a classification: as long as the
+/// classification's (transient_periods discarded of transient_periods + record_periods), with
+/// its scheme, tolerance and max_work, steady cycles tried up to its max_period, and every other
+/// run option at its default, since a classification reads no other run key.
+RunOptions classify_search_run(const ClassifyOptions& options);
 
 /// The label and its evidence.
 struct Classification {

@@ -37,7 +37,9 @@ std::string to_json(const SimulationResult& result, const Scene& scene);
 /// object with the search's samples, seed and box, attractors found, unsettled, failed,
 /// F_m_max (the design value) with F_m_max_error, from_run, start_below, run_above, the
 /// search's own attractors_F_m_max with its error and that attractor (regime, period,
-/// basin_fraction with its error, initial_state; null if none), its wall_time_s, and for a
+/// basin_fraction with its error, initial_state; null if none), transients, the run options of
+/// its starts (run: periods, transient_periods, scheme, tolerance, step, accuracy_mode,
+/// steady_state, steady_tolerance, max_steady_period, max_work), its wall_time_s, and for a
 /// physical scene F_m_max_newton.
 /// "multistable" is also true when start_below or run_above.
 std::string to_json(const SimulationResult& result, const Scene& scene, const DesignValue& design,
@@ -135,17 +137,19 @@ std::string history_csv(const LyapunovResult& result);
 /// (regime, period, F_m, F_m_error, lambda_max, lambda_max_error, newton_confirmed,
 /// settled_in_record, status; where one ran), start_dependent (null where no twin ran its
 /// course), periods_run,
-/// wall_time_s, parameters.
-std::string to_json(const Classification& c, const ReducedParameters& p);
+/// wall_time_s, parameters, and options (how it ran: transient_periods, record_periods, scheme,
+/// tolerance, max_work, max_period, confirm_by_newton, twin_check, and initial where the start
+/// is not rest).
+std::string to_json(const Classification& c, const ClassifyOptions& o, const ReducedParameters& p);
 
 /// The classification of the scene's row set against its attractors (design_value() of the
-/// classification's answer): to_json(c, p)'s keys, then multistable (start_dependent,
+/// classification's answer): to_json(c, o, p)'s keys, then multistable (start_dependent,
 /// start_below, or run_above unless the label's motion is a settled attractor of the search:
 /// then one chaos sampled longer), label_in_search (label_in_search(): "attractor", "transient",
 /// "not_reached", null for a periodic or no-contact label), and design_value as the
-/// simulation JSON's.
-std::string to_json(const Classification& c, const Scene& scene, const DesignValue& design,
-                    const AttractorOptions& options);
+/// simulation JSON's, with the search's run options ("run").
+std::string to_json(const Classification& c, const ClassifyOptions& o, const Scene& scene,
+                    const DesignValue& design, const AttractorOptions& options);
 
 /// A regime map as CSV: e_r,f_r,regime,code,period,F_m,lambda_max,lambda_max_error,
 /// distinct_points,broadband_share,F_m_error,broadband_share_error,start_dependent,

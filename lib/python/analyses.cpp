@@ -65,7 +65,7 @@ confirmed orbit's largest |Floquet multiplier|, NaN unless confirmed), points_fr
 row's section points are one cycle of the confirmed orbit, whose minimal period was shorter
 than the window's); and "section": a dict
 of columns value, direction, t (reduced time), point (the variable) of every section point;
-wall_time_s, threads_used, cancelled.)";
+wall_time_s, threads_used, cancelled (an interrupted call, by KeyboardInterrupt or an exception progress raises, sets what it had done, cancelled true, as the exception's partial).)";
 
 constexpr const char* poincare_doc =
     R"(poincare(scene=None, *, section="stroboscopic", phase=None, trigger=None, level=None, direction=None, record=("u1", "v1"), progress=None, **keys) -> dict
@@ -227,9 +227,8 @@ py::dict bifurcation_py(const py::object& scene_arg, const std::string& param, d
     o.confirm_by_newton = confirm;
     validate(o, scene.reduced);
     Call call(progress);
-    const BifurcationResult r =
-        call.run([&] { return bifurcation(scene.reduced, o, call.callback()); });
-    return bifurcation_dict(r);
+    return call.run([&] { return bifurcation(scene.reduced, o, call.callback()); },
+                    bifurcation_dict);
 }
 
 /// The section asked for. A keyword of the other kind of section is refused, as

@@ -48,7 +48,7 @@ the later half's ending rate over the earlier's; constant_rate, "untested", "con
 "rejected"; periods_until_1_percent, NaN unless consistent),
 failed, confirmation_periods (how far the continued members of each non-periodic group ran on beyond
 run.periods to confirm it; 0: none), amplitude (A), center (the box's center: 2 Nm reduced values), and with grid: slice_x, slice_y and slice_attractor
-(resolution x resolution, rows along y); wall_time_s, cancelled.)";
+(resolution x resolution, rows along y); wall_time_s, cancelled (an interrupted call, by KeyboardInterrupt or an exception progress raises, sets what it had done, cancelled true, as the exception's partial).)";
 
 constexpr const char* basin_fractions_doc =
     R"(basin_fractions(scene=None, *, param="f_r", from_, to, steps, samples=200, seed=1, box=1.0, section_points=200, threads=0, progress=None, **keys) -> dict
@@ -63,7 +63,7 @@ fraction_error, F_m, F_m_error, period (NaN where the label is absent; period 0 
 non-periodic attractor); unsettled (per value: groups still converging, whose F_m is a
 transient's); transient_lifetime and transient_lifetime_error (per value: the transients'
 lifetime of attractors(), NaN where not measured); center (the box's center, 2 Nm reduced
-values); label_count, wall_time_s, cancelled.)";
+values); label_count, wall_time_s, cancelled (an interrupted call, by KeyboardInterrupt or an exception progress raises, sets what it had done, cancelled true, as the exception's partial).)";
 
 AttractorOptions search_options(const Scene& scene, long samples, std::uint64_t seed, double box,
                                 int section_points, int threads) {
@@ -167,6 +167,16 @@ constexpr const char* search_runs =
     "every start estimates its error and runs no twin; it returns no trajectory";
 const std::vector<std::string> search_sets_itself{"run.estimate_error", "run.multistability_check"};
 
+// The forces of a physical scene in newtons: the design value, its error and each attractor's.
+void add_newtons(py::dict& d, const AttractorSet& s, const PhysicalParameters& physical) {
+    d["F_m_max_newton"] = force_in_newtons(s.F_m_max, physical);
+    d["F_m_max_error_newton"] = force_in_newtons(s.F_m_max_error, physical);
+    std::vector<double> newtons;
+    for (const auto& a : s.attractors)
+        newtons.push_back(force_in_newtons(a.F_m, physical));
+    d["attractors"].attr("__setitem__")("F_m_newton", array(newtons));
+}
+
 py::dict attractors_py(const py::object& scene_arg, long samples, std::uint64_t seed, double box,
                        int section_points, const py::object& grid, int resolution, int threads,
                        const py::object& progress, const py::kwargs& keys) {
@@ -181,18 +191,13 @@ py::dict attractors_py(const py::object& scene_arg, long samples, std::uint64_t 
         throw std::invalid_argument("resolution: applies only with grid");
     }
     Call call(progress);
-    const AttractorSet s = call.run([&] { return find_attractors(p, o, call.callback()); });
-    py::dict d = set_dict(s);
-    d["center"] = array(box_center(o, p.Nm));
-    if (scene.physical) {
-        d["F_m_max_newton"] = force_in_newtons(s.F_m_max, *scene.physical);
-        d["F_m_max_error_newton"] = force_in_newtons(s.F_m_max_error, *scene.physical);
-        std::vector<double> newtons;
-        for (const auto& a : s.attractors)
-            newtons.push_back(force_in_newtons(a.F_m, *scene.physical));
-        d["attractors"].attr("__setitem__")("F_m_newton", array(newtons));
-    }
-    return d;
+    return call.run([&] { return find_attractors(p, o, call.callback()); },
+                    [&](const AttractorSet& s) {
+                        py::dict d = set_dict(s);
+                        d["center"] = array(box_center(o, p.Nm));
+                        if (scene.physical) add_newtons(d, s, *scene.physical);
+                        return d;
+                    });
 }
 
 // values x labels, NaN (or `absent`) where a label is absent at a value.
@@ -210,21 +215,8 @@ py::array_t<double> per_label(const FractionContinuation& c, F field, double abs
     return out;
 }
 
-py::dict basin_fractions_py(const py::object& scene_arg, const std::string& param, double from,
-                            double to, int steps, long samples, std::uint64_t seed, double box,
-                            int section_points, int threads, const py::object& progress,
-                            const py::kwargs& keys) {
-    refuse_run_keys(keys, "basin_fractions", {"run."}, search_runs, search_sets_itself);
-    const Scene scene = to_swept_scene(scene_arg, param, keys, "basin_fractions");
-    const ReducedParameters& p = paper_row(scene, "basin_fractions");
-    const std::vector<double> values =
-        fraction_line_values(p, parse_swept_parameter(param), from, to, steps);
-    const AttractorOptions o = search_options(scene, samples, seed, box, section_points, threads);
-    Call call(progress);
-    const FractionContinuation c = call.run([&] {
-        return continue_basin_fractions(p, parse_swept_parameter(param), values, o,
-                                        call.callback());
-    });
+// The basin-fraction line as basin_fractions() returns it.
+py::dict fractions_dict(const FractionContinuation& c, const std::vector<double>& center) {
     const double nan = std::numeric_limits<double>::quiet_NaN();
     py::dict d;
     d["values"] = array(c.values);
@@ -243,11 +235,30 @@ py::dict basin_fractions_py(const py::object& scene_arg, const std::string& para
         column<double>(c.sets, [](const AttractorSet& set) { return set.transients.lifetime; });
     d["transient_lifetime_error"] = column<double>(
         c.sets, [](const AttractorSet& set) { return set.transients.lifetime_error; });
-    d["center"] = array(box_center(o, p.Nm));
+    d["center"] = array(center);
     d["label_count"] = c.label_count;
     d["wall_time_s"] = c.wall_time_s;
     d["cancelled"] = c.cancelled;
     return d;
+}
+
+py::dict basin_fractions_py(const py::object& scene_arg, const std::string& param, double from,
+                            double to, int steps, long samples, std::uint64_t seed, double box,
+                            int section_points, int threads, const py::object& progress,
+                            const py::kwargs& keys) {
+    refuse_run_keys(keys, "basin_fractions", {"run."}, search_runs, search_sets_itself);
+    const Scene scene = to_swept_scene(scene_arg, param, keys, "basin_fractions");
+    const ReducedParameters& p = paper_row(scene, "basin_fractions");
+    const std::vector<double> values =
+        fraction_line_values(p, parse_swept_parameter(param), from, to, steps);
+    const AttractorOptions o = search_options(scene, samples, seed, box, section_points, threads);
+    Call call(progress);
+    return call.run(
+        [&] {
+            return continue_basin_fractions(p, parse_swept_parameter(param), values, o,
+                                            call.callback());
+        },
+        [&](const FractionContinuation& c) { return fractions_dict(c, box_center(o, p.Nm)); });
 }
 
 } // namespace

@@ -132,6 +132,14 @@ ProgressCallback Call::callback() {
     };
 }
 
+void Call::keep_partial(const std::function<py::object()>& partial) {
+    try {
+        py::setattr(m_error->value(), "partial", partial());
+    } catch (const std::exception&) {
+        // error_already_set fetched (and so cleared) the conversion's own Python error.
+    }
+}
+
 int choice(const std::string& value, const std::string& keyword,
            const std::vector<std::string>& names) {
     std::string list;

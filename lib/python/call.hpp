@@ -13,6 +13,7 @@
 #include <pybind11/pybind11.h>
 
 #include <cstdint>
+#include <functional>
 #include <optional>
 #include <string>
 #include <utility>
@@ -97,8 +98,25 @@ public:
         if (m_error) throw std::move(*m_error);
         return result;
     }
+    // As run(body), returning to_python(result). Where a Python exception cancelled the run
+    // (KeyboardInterrupt, or one progress raised), what it had done, to_python(result) (its
+    // "cancelled" true), is set as the exception's `partial` attribute before it is raised: an
+    // interrupted diagram lost every row it had finished.
+    template <class F, class Convert>
+    py::dict run(F&& body, Convert&& to_python) {
+        auto result = [&] {
+            py::gil_scoped_release release;
+            return body();
+        }();
+        if (!m_error) return to_python(result);
+        keep_partial([&] { return py::object(to_python(result)); });
+        throw std::move(*m_error);
+    }
 
 private:
+    // Sets m_error's `partial` attribute to partial(); a conversion that fails leaves the
+    // exception as it was (the interruption, not the conversion, is what the caller sees).
+    void keep_partial(const std::function<py::object()>& partial);
     py::object m_progress;
     std::optional<py::error_already_set> m_error;
 };

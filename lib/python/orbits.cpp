@@ -66,7 +66,7 @@ special (dict of columns type ("fold", "period_doubling", "neimark_sacker", "gra
 "branch_point"), value, period, F_m, F_m_error, branch, contact (-1 unless grazing), value_error (the
 special point lies within it of value), minimal_period),
 branch_end (why each branch ended), unfollowed (branches found and not traced because
-max_branches was reached, where each would start), shootings, cancelled, wall_time_s.)";
+max_branches was reached, where each would start), shootings, cancelled (an interrupted call, by KeyboardInterrupt or an exception progress raises, sets what it had done, cancelled true, as the exception's partial), wall_time_s.)";
 
 py::dict orbit_py(const py::object& scene_arg, int period, long transient, double tolerance,
                   int max_iterations, const std::string& scheme, const py::kwargs& keys) {
@@ -175,9 +175,9 @@ py::dict continuation_py(const py::object& scene_arg, const std::string& param, 
     o.orbit.max_work = scene.run.max_work;
     validate(o);
     Call call(progress);
-    const ContinuationResult r =
-        call.run([&] { return continue_orbits(scene.reduced, o, scene.initial, call.callback()); });
-    return continuation_dict(r);
+    return call.run(
+        [&] { return continue_orbits(scene.reduced, o, scene.initial, call.callback()); },
+        continuation_dict);
 }
 
 } // namespace

@@ -80,7 +80,7 @@ lambda_max_error (NaN where not estimated), distinct_points, broadband_share,
 broadband_share_error (NaN where not estimated), twin_checked, start_dependent (False also
 where no twin ran), settled_in_record, status;
 wall_time_s, threads_used,
-cancelled.)";
+cancelled (an interrupted call, by KeyboardInterrupt or an exception progress raises, sets what it had done, cancelled true, as the exception's partial).)";
 
 constexpr const char* sweep_doc = R"(sweep(study, *, threads=0, progress=None) -> dict
 
@@ -105,7 +105,7 @@ recording, the label is the steady state's); with "F_m_orbit" kept, F_m_orbit (N
 and maximum_in_transient (bool; False also where the run settled on no orbit, which the CSV
 leaves empty); with "attractors", F_m_max, F_m_max_error (NaN: not
 estimated), attractors and unsettled; F_m_newton and F_m_error_newton (NaN: not estimated) for
-physical scenes (and F_m_max_newton, F_m_max_error_newton with "attractors"); and cancelled.)";
+physical scenes (and F_m_max_newton, F_m_max_error_newton with "attractors"); and cancelled (an interrupted call, by KeyboardInterrupt or an exception progress raises, sets what it had done, cancelled true, as the exception's partial).)";
 
 // How classify() and regime_map() run, for the refusal of a run key they do not read.
 const std::string classify_runs = "it runs transient, then record periods";
@@ -201,8 +201,8 @@ py::dict regime_map_py(const py::object& scene_arg, const std::vector<double>& e
     const ReducedParameters& row = paper_row(scene, "regime_map");
     try {
         return advising_keywords(classify_lengths.first, classify_lengths.second, [&] {
-            return regime_map_dict(
-                call.run([&] { return regime_map(row, e_r, f_r, o, threads, call.callback()); }));
+            return call.run([&] { return regime_map(row, e_r, f_r, o, threads, call.callback()); },
+                            regime_map_dict);
         });
     } catch (const std::invalid_argument& e) {
         // The scene loaded, so a value the row refuses is one of the lists': named as the
@@ -337,14 +337,18 @@ py::dict sweep_py(const py::object& study_arg, int threads, const py::object& pr
     selection.threads = threads;
     std::vector<SweepPointResult> rows;
     Call call(progress);
-    const SweepEnd end = call.run([&] {
-        return run_study(
-            study, selection, [&rows](const SweepPointResult& r) { rows.push_back(r); },
-            call.callback());
-    });
-    py::dict d = sweep_dict(study, std::move(rows));
-    d["cancelled"] = end == SweepEnd::cancelled;
-    return d;
+    return call.run(
+        [&] {
+            return run_study(
+                study, selection, [&rows](const SweepPointResult& r) { rows.push_back(r); },
+                call.callback());
+        },
+        [&](SweepEnd end) {
+            // Rows arrive in the order they finish; sweep_dict orders them by index.
+            py::dict d = sweep_dict(study, rows);
+            d["cancelled"] = end == SweepEnd::cancelled;
+            return d;
+        });
 }
 
 } // namespace

@@ -196,6 +196,34 @@ def test_progress_is_called_with_fractions_and_its_exception_cancels():
         gapchain.simulate(periods=2000, steady_state=False, progress=stop)
 
 
+def test_an_interrupted_call_keeps_what_it_had_done_on_the_exception():
+    # A KeyboardInterrupt (or progress's exception) an hour into a diagram lost every finished
+    # row; they now ride on the exception as `partial`, with "cancelled" true.
+    class Stop(Exception):
+        pass
+
+    def stop_at_a_quarter(fraction):
+        if fraction >= 0.25:
+            raise Stop()
+
+    line = dict(Nm=2, fc=100, eps=0.5, e_r=0.5, from_=1.0, to=2.0, steps=8, transient=20,
+                record=20, mode="continuation")
+    with pytest.raises(Stop) as stopped:
+        gapchain.bifurcation(progress=stop_at_a_quarter, **line)
+    partial = stopped.value.partial
+    whole = gapchain.bifurcation(**line)
+    assert partial["cancelled"] is True and whole["cancelled"] is False
+    # Continuation mode runs the 16 rows in order: 4 were done at a quarter.
+    assert partial["value"].tolist() == whole["value"][:4].tolist()
+    assert partial["F_m"].tolist() == whole["F_m"][:4].tolist()
+    study = {"scene": {"run": {"periods": 40}}, "parameters": {"e_r": [0.1, 0.2, 0.3, 0.4]}}
+    with pytest.raises(Stop) as stopped:
+        gapchain.sweep(study, threads=1, progress=stop_at_a_quarter)
+    rows = stopped.value.partial
+    assert rows["cancelled"] is True and 1 <= len(rows["index"]) < 4
+    assert rows["F_m"][0] == gapchain.sweep(study, threads=1)["F_m"][0]
+
+
 def test_keyboard_interrupt_stops_a_long_run():
     timer = threading.Timer(0.3, os.kill, (os.getpid(), signal.SIGINT))
     start = time.monotonic()

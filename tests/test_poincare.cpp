@@ -106,3 +106,84 @@ TEST_CASE("section variables parse, and bad names are refused with the key") {
     bad.phase = 1.0;
     CHECK_THROWS_AS(validate(bad, 3), std::invalid_argument);
 }
+
+namespace {
+
+// The section the library's take_section() streams for options, kept.
+std::vector<SectionPoint> section_of(const Dynamics& dyn, const RunOptions& options,
+                                     const SectionSpec& spec) {
+    std::vector<SectionPoint> points;
+    (void)gapchain::take_section(dyn, options, spec,
+                                 [&](const SectionPoint& p) { points.push_back(p); });
+    return points;
+}
+
+} // namespace
+
+TEST_CASE("a section's error estimate covers an independent run's difference, and is not loose") {
+    // The Fig 5 row settles on an orbit: the estimate (twice the difference from half the step)
+    // is set against the difference from rk8pd at 1e-12, a scheme of another family.
+    const ReducedParameters p{5, 100, 0.5, 0.5, 1.0};
+    const Dynamics dyn = Dynamics::paper_row(p);
+    for (const bool event : {false, true}) {
+        CAPTURE(event);
+        SectionSpec spec;
+        if (event) {
+            spec.kind = SectionSpec::Kind::event;
+            spec.trigger = SectionVariable::parse("u1", 5, "trigger");
+        }
+        spec.record = {SectionVariable::parse("u1", 5, "r"), SectionVariable::parse("v3", 5, "r")};
+        RunOptions o;
+        o.scheme = Scheme::rk4;
+        o.tolerance = 1e-4;
+        o.periods = 150;
+        o.transient_periods = 100;
+        const std::vector<SectionPoint> main = section_of(dyn, o, spec);
+        RunOptions reference_options = o;
+        reference_options.scheme = Scheme::rk8pd;
+        reference_options.tolerance = 1e-12;
+        const std::vector<SectionPoint> reference = section_of(dyn, reference_options, spec);
+        REQUIRE(main.size() == reference.size());
+        REQUIRE(main.size() >= 50);
+        const SectionAccuracy a = section_accuracy(dyn, o, spec, {}, main);
+        CHECK(a.compared == static_cast<long>(main.size()));
+        CHECK(a.parted_at == -1);
+        CHECK(a.comparison == "half the step");
+        // The trigger u1 is the level at every event: no error of its own.
+        if (event) CHECK(std::isnan(a.error[0]));
+        for (std::size_t i = event ? 1 : 0; i < 2; ++i) {
+            double actual = 0.0;
+            for (std::size_t k = 0; k < main.size(); ++k)
+                actual = std::max(actual, std::abs(main[k].values[i] - reference[k].values[i]));
+            MESSAGE("variable " << i << ": estimate " << a.error[i] << ", actual " << actual);
+            CHECK(a.error[i] >= actual);
+            CHECK(a.error[i] <= 10.0 * actual);
+        }
+    }
+}
+
+TEST_CASE("a chaotic record's points part from the finer run's: only the set is meaningful") {
+    // Fig 13's row at f_r = 3.35 is chaotic (docs/chaos.md): from rest, nothing recorded
+    // discarded, the run and one at half its step agree over the first periods (the start is
+    // the same, rest), then part.
+    const Dynamics dyn = Dynamics::paper_row({5, 60, 0.5, 0.06, 3.35});
+    SectionSpec spec;
+    spec.record = {SectionVariable::parse("u1", 5, "r"), SectionVariable::parse("v1", 5, "r")};
+    RunOptions o;
+    o.periods = 600;
+    o.transient_periods = 0;
+    const std::vector<SectionPoint> main = section_of(dyn, o, spec);
+    const SectionAccuracy a = section_accuracy(dyn, o, spec, {}, main);
+    CHECK(a.compared == 600);
+    MESSAGE("parted at point " << a.parted_at << ", error before: u1 " << a.error[0]);
+    CHECK(a.parted_at >= 1);
+    CHECK(a.parted_at < 100);
+    // Before they part the points are known; the estimate stays below the parting threshold.
+    CHECK(std::isfinite(a.error[0]));
+    CHECK(a.error[0] < 2e-3 * std::abs(main[0].values[0]) + 2e-3);
+    // A record that starts once they have parted has no point of this start's trajectory.
+    o.transient_periods = 100;
+    const SectionAccuracy late = section_accuracy(dyn, o, spec, {}, section_of(dyn, o, spec));
+    CHECK(late.parted_at == 0);
+    CHECK(std::isnan(late.error[0]));
+}

@@ -7,8 +7,10 @@
 #include "gapchain/report.hpp"
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 #include <stdexcept>
 #include <string>
@@ -63,17 +65,21 @@ int csv_column(const SectionSpec& spec, std::size_t index) {
     return column;
 }
 
-// Streams the section into out_dir/section.csv; returns the number of points and the run
-// time [s].
-std::pair<long, double> take_section_to_csv(const Scene& scene, const SectionSpec& spec,
-                                            const std::string& out_dir) {
-    const auto start = std::chrono::steady_clock::now();
+// What the section run gave: its points, the first of them kept for the error estimate.
+struct TakenSection {
+    long count = 0;
+    std::vector<SectionPoint> first;
+};
+
+// Streams the section into out_dir/section.csv.
+TakenSection take_section_to_csv(const Scene& scene, const SectionSpec& spec,
+                                 const std::string& out_dir) {
     OutputFile csv(out_dir + "/section.csv");
     csv.stream() << "t";
     for (const auto& v : spec.record)
         if (!is_time(v)) csv.stream() << ',' << v.name();
     csv.stream() << '\n';
-    long count = 0;
+    TakenSection taken;
     cli::Progress progress("gapchain-poincare");
     const RunOutcome outcome = take_section(
         scene.dynamics(), scene.run, spec,
@@ -82,13 +88,50 @@ std::pair<long, double> take_section_to_csv(const Scene& scene, const SectionSpe
             for (std::size_t i = 0; i < p.values.size(); ++i)
                 if (!is_time(spec.record[i])) csv.stream() << ',' << p.values[i];
             csv.stream() << '\n';
-            ++count;
+            ++taken.count;
+            if (taken.first.size() < section_error_points) taken.first.push_back(p);
         },
         scene.initial, progress.callback());
     cli::throw_if_interrupted();
     if (outcome.status == RunStatus::non_finite) throw cli::NumericalFailure(outcome.message);
     csv.commit();
-    return {count, std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count()};
+    return taken;
+}
+
+// The points' error estimate against a finer run, and what it says.
+SectionAccuracy estimate_point_error(const Scene& scene, const SectionSpec& spec,
+                                     const std::vector<SectionPoint>& first) {
+    cli::Progress progress("gapchain-poincare: error estimate");
+    const SectionAccuracy a = section_accuracy(scene.dynamics(), scene.run, spec, scene.initial,
+                                               first, progress.callback());
+    cli::throw_if_interrupted();
+    return a;
+}
+
+void print_point_error(const SectionSpec& spec, const SectionAccuracy& a) {
+    if (a.status != RunStatus::completed || a.compared == 0) {
+        std::printf("  point error not estimated (the finer run: %s)\n",
+                    a.compared == 0 ? "no point to compare"
+                                    : std::string(to_string(a.status)).c_str());
+        return;
+    }
+    if (a.parted_at == 0) {
+        std::printf("  against a run at %s, the points differ from the first on: not this "
+                    "start's trajectory; only the set is meaningful\n",
+                    a.comparison.c_str());
+        return;
+    }
+    std::printf("  point error (first %ld points, against a run at %s):",
+                a.parted_at < 0 ? a.compared : a.parted_at, a.comparison.c_str());
+    for (std::size_t i = 0; i < spec.record.size(); ++i)
+        if (!std::isnan(a.error[i]))
+            std::printf(" %s %.2g", spec.record[i].name().c_str(), a.error[i]);
+    std::printf("\n");
+    if (a.parted_at > 0)
+        std::printf(
+            "  the runs part at point %ld of %ld compared (a chaotic record): beyond it the "
+            "points sample the attractor, not this start's trajectory\n",
+            a.parted_at, a.compared);
 }
 
 // DIR/section.gp and section.png: the first two recorded variables against each other.
@@ -104,19 +147,8 @@ void plot_section(const std::string& dir, const SectionSpec& spec, const Section
                         {"COUNT", std::to_string(count)}});
 }
 
-} // namespace
-
-int main(int argc, char** argv) {
-    CLI::App app{"Poincare section of a row: stroboscopic (once per forcing period at a phase) or "
-                 "event (a coordinate crossing a level). Uses the scene's run.periods and "
-                 "run.transient_periods.",
-                 "gapchain-poincare"};
-    cli::SceneArguments scene_args;
-    cli::add_scene_arguments(app, scene_args, true);
-    SectionArguments a;
-    std::string out_dir = "section";
-    SectionSpec spec;
-    bool no_plot = false;
+// The section's own options: its kind, where it is taken, and what it records.
+void add_section_options(CLI::App& app, SectionArguments& a, SectionSpec& spec) {
     app.add_option("--section", a.kind, "stroboscopic or event")
         ->check(CLI::IsMember({"stroboscopic", "event"}))
         ->capture_default_str();
@@ -131,8 +163,27 @@ int main(int argc, char** argv) {
     app.add_option("--record", a.record, "Recorded variables: t, u1.., v1.., g0.., F0..")
         ->delimiter(',')
         ->capture_default_str();
+}
+
+} // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"Poincare section of a row: stroboscopic (once per forcing period at a phase) or "
+                 "event (a coordinate crossing a level). Uses the scene's run.periods and "
+                 "run.transient_periods.",
+                 "gapchain-poincare"};
+    cli::SceneArguments scene_args;
+    cli::add_scene_arguments(app, scene_args, true);
+    SectionArguments a;
+    std::string out_dir = "section";
+    SectionSpec spec;
+    add_section_options(app, a, spec);
+    bool no_plot = false, no_error = false;
     app.add_option("--out", out_dir, "Output folder")->capture_default_str();
-    app.add_flag("--no-plot", no_plot, "Write the CSV file only");
+    app.add_flag("--no-plot", no_plot, "Write the CSV and JSON files only");
+    app.add_flag("--no-error", no_error,
+                 "No point error estimate (it reruns the transient and up to 1000 recorded "
+                 "periods on a finer plan)");
 
     return cli::run(
         app, argc, argv,
@@ -143,18 +194,28 @@ int main(int argc, char** argv) {
             const Scene scene = cli::load(scene_args);
             spec = section_spec(a, spec, scene.reduced.Nm);
             cli::Outputs outputs({scene_args.path});
-            outputs.folder(out_dir, "--out", {"section.csv", "section.gp", "section.png"});
+            outputs.folder(out_dir, "--out",
+                           {"section.csv", "section.json", "section.gp", "section.png"});
             outputs.create_folders();
             const std::string staged = outputs.staged(out_dir);
-            const auto [count, wall] = take_section_to_csv(scene, spec, staged);
+            const auto start = std::chrono::steady_clock::now();
+            const TakenSection taken = take_section_to_csv(scene, spec, staged);
+            std::optional<SectionAccuracy> accuracy;
+            if (!no_error) accuracy = estimate_point_error(scene, spec, taken.first);
+            const double wall =
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+            write_file_atomically(
+                staged + "/section.json",
+                to_json(spec, taken.count, accuracy ? &*accuracy : nullptr, wall, scene));
             // No point (an event never met, a contact that never closes): nothing to draw.
-            if (count == 0 && !no_plot)
+            if (taken.count == 0 && !no_plot)
                 std::fprintf(stderr, "note: the section has no points: no figure\n");
-            if (!no_plot && spec.record.size() >= 2 && count > 0)
-                plot_section(staged, spec, a, count);
+            if (!no_plot && spec.record.size() >= 2 && taken.count > 0)
+                plot_section(staged, spec, a, taken.count);
             outputs.keep();
-            std::printf("gapchain-poincare: %ld section points in %s/section.csv (%.3f s)\n", count,
-                        out_dir.c_str(), wall);
+            std::printf("gapchain-poincare: %ld section points in %s/section.csv (%.3f s)\n",
+                        taken.count, out_dir.c_str(), wall);
+            if (accuracy) print_point_error(spec, *accuracy);
         },
         {{"section.phase", "--phase"},
          {"section.trigger", "--trigger"},

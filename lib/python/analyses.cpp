@@ -5,6 +5,7 @@
 #include "gapchain/lyapunov.hpp"
 #include "gapchain/modes.hpp"
 #include "gapchain/poincare.hpp"
+#include "gapchain/report.hpp"
 #include "gapchain/signal.hpp"
 #include "gapchain/spectrum.hpp"
 
@@ -68,7 +69,7 @@ of columns value, direction, t (reduced time), point (the variable) of every sec
 wall_time_s, threads_used, cancelled (an interrupted call, by KeyboardInterrupt or an exception progress raises, sets what it had done, cancelled true, as the exception's partial).)";
 
 constexpr const char* poincare_doc =
-    R"(poincare(scene=None, *, section="stroboscopic", phase=None, trigger=None, level=None, direction=None, record=("u1", "v1"), progress=None, **keys) -> dict
+    R"(poincare(scene=None, *, section="stroboscopic", phase=None, trigger=None, level=None, direction=None, record=("u1", "v1"), error=True, progress=None, **keys) -> dict
 
 Poincare section of the scene's run (run.periods after run.transient_periods), points located
 on the dense output between steps: gapchain-poincare in-process.
@@ -78,9 +79,15 @@ section    "stroboscopic" (once per forcing period at phase in [0, 1), default 0
            a keyword of the other kind of section is refused
 trigger    u1..uNm, v1..vNm or g0..gNm (event sections)
 record     names of the recorded values, each once: u1..uNm, v1..vNm, g0..gNm, F0..FNm or t
+error      estimate the points' error: the first 1000 set against a run at half the step (a
+           tenth of an adaptive scheme's tolerance); it reruns the transient and those periods
 
 Returns a dict: t ((n,) reduced times), points ((n, len(record)) float64), names (record),
-status, message, wall_time_s.)";
+point_error (None with error=False, else a dict as section.json's: compared, error (per
+recorded name: twice the largest difference before the runs part; None for t and an event's
+trigger), parted_at (the first compared point where the runs differ by more than 1e-3 of a
+variable's largest value, a chaotic record: None if never), comparison, status), status,
+message, wall_time_s.)";
 
 constexpr const char* spectrum_doc =
     R"(spectrum(scene=None, *, variable="u1", samples_per_period=32, segment=0, window="hann", order=4, progress=None, **keys) -> dict
@@ -269,7 +276,7 @@ py::dict poincare_py(const py::object& scene_arg, const std::string& section,
                      const std::optional<double>& phase, const std::optional<std::string>& trigger,
                      const std::optional<double>& level,
                      const std::optional<std::string>& direction,
-                     const std::vector<std::string>& record, const py::object& progress,
+                     const std::vector<std::string>& record, bool error, const py::object& progress,
                      const py::kwargs& keys) {
     refuse_run_keys(keys, "poincare", once_through_run_keys, plain_run_reason);
     const Scene scene = to_scene(scene_arg, keys);
@@ -277,17 +284,29 @@ py::dict poincare_py(const py::object& scene_arg, const std::string& section,
     const SectionSpec spec =
         section_spec(section, phase, trigger, level, direction, record, dyn.bodies());
     std::vector<double> t, values;
+    std::vector<SectionPoint> first;
     const SectionSink sink = [&](const SectionPoint& p) {
         t.push_back(p.t);
         values.insert(values.end(), p.values.begin(), p.values.end());
+        if (first.size() < section_error_points) first.push_back(p);
     };
     Call call(progress);
     const auto start = std::chrono::steady_clock::now();
     const RunOutcome outcome = call.run(
         [&] { return take_section(dyn, scene.run, spec, sink, scene.initial, call.callback()); });
-    py::dict d;
-    d["wall_time_s"] =
+    std::optional<SectionAccuracy> accuracy;
+    if (error && outcome.status == RunStatus::completed)
+        accuracy = call.run([&] {
+            return section_accuracy(dyn, scene.run, spec, scene.initial, first, call.callback());
+        });
+    const double wall =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    py::dict d;
+    // The point error as gapchain-poincare's section.json gives it (report.cpp's one list).
+    d["point_error"] = py::module_::import("json").attr("loads")(
+        to_json(spec, static_cast<long>(t.size()), accuracy ? &*accuracy : nullptr, wall,
+                scene))["point_error"];
+    d["wall_time_s"] = wall;
     d["t"] = array(t);
     d["points"] = matrix(values, t.size(), record.size());
     d["names"] = record;
@@ -402,7 +421,7 @@ void register_analyses(py::module_& m) {
           py::arg("section") = "stroboscopic", py::arg("phase") = py::none(),
           py::arg("trigger") = py::none(), py::arg("level") = py::none(),
           py::arg("direction") = py::none(),
-          py::arg("record") = std::vector<std::string>{"u1", "v1"},
+          py::arg("record") = std::vector<std::string>{"u1", "v1"}, py::arg("error") = true,
           py::arg("progress") = py::none());
     m.def("spectrum", &spectrum_py, spectrum_doc, py::arg("scene") = py::none(), py::kw_only(),
           py::arg("variable") = "u1", py::arg("samples_per_period") = 32, py::arg("segment") = 0,

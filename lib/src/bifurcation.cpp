@@ -121,13 +121,7 @@ void confirm_row_orbit(const Dynamics& dyn, const std::vector<double>& end_state
 void bound_by_finer_run(const Dynamics& dyn, const RunOptions& options, const StepPlan& plan,
                         const std::vector<double>& start, const ProgressCallback& keep_going,
                         BifurcationRow& row) {
-    StepPlan finer = plan;
-    if (traits(plan.scheme).adaptive) {
-        finer.tolerance = std::max(1e-12, plan.tolerance / 100.0);
-    } else {
-        finer.steps_per_period = 2 * plan.steps_per_period;
-        finer.step = dyn.period() / finer.steps_per_period;
-    }
+    const StepPlan finer = finer_plan(dyn, plan, 100.0);
     if (run_work(dyn, finer, static_cast<double>(options.periods)) > options.max_work) return;
     PlannedRun comparison(dyn, options, finer, start);
     MaxForceTracker forces(dyn);

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 namespace gapchain {
@@ -242,6 +243,73 @@ RunOutcome take_section(const Dynamics& dyn, const RunOptions& options, const Se
     PoincareSampler sampler(dyn, spec, sink);
     Observer* observers[] = {&sampler};
     return planned.run(observers, progress);
+}
+
+namespace {
+
+/// Asks the run to stop once the sampler it watches has emitted `wanted` points: the finer run
+/// needs no more than the main points it is set against.
+class EnoughPoints final : public Observer {
+public:
+    EnoughPoints(const PoincareSampler& sampler, long wanted)
+        : m_sampler(sampler), m_wanted(wanted) {}
+    void on_step(const StepView&) override {}
+    bool on_period(long, double, const double*) override { return m_sampler.count() >= m_wanted; }
+
+private:
+    const PoincareSampler& m_sampler;
+    long m_wanted;
+};
+
+
+} // namespace
+
+SectionAccuracy section_accuracy(const Dynamics& dyn, const RunOptions& options,
+                                 const SectionSpec& spec, const std::vector<double>& initial,
+                                 const std::vector<SectionPoint>& main_points,
+                                 const ProgressCallback& progress) {
+    SectionAccuracy a;
+    const std::size_t variables = spec.record.size();
+    a.error.assign(variables, std::numeric_limits<double>::quiet_NaN());
+    const StepPlan plan = plan_run(dyn, options);
+    const StepPlan finer = finer_plan(dyn, plan, 10.0);
+    a.comparison = traits(plan.scheme).adaptive ? "a tenth of the tolerance" : "half the step";
+    std::vector<SectionPoint> points;
+    PoincareSampler sampler(dyn, spec, [&points](const SectionPoint& p) { points.push_back(p); });
+    EnoughPoints enough(sampler, static_cast<long>(main_points.size()));
+    Observer* observers[] = {&sampler, &enough};
+    PlannedRun planned(dyn, options, finer, initial);
+    const RunOutcome outcome = planned.run(observers, progress);
+    a.status = outcome.status == RunStatus::steady_state ? RunStatus::completed : outcome.status;
+    if (a.status != RunStatus::completed) return a;
+    a.compared = static_cast<long>(std::min(points.size(), main_points.size()));
+    if (a.compared == 0) return a;
+    // A variable parts the runs when it differs by more than 1e-3 of its own largest |value|:
+    // units differ between variables (u, v, gaps, forces).
+    std::vector<double> largest(variables, 0.0), difference(variables, 0.0);
+    for (long k = 0; k < a.compared; ++k)
+        for (std::size_t i = 0; i < variables; ++i)
+            largest[i] = std::max(largest[i], std::abs(main_points[k].values[i]));
+    // The section time, and an event section's trigger, which equals the level at every point,
+    // carry no error of the trajectory.
+    const auto estimated = [&spec](const SectionVariable& v) {
+        return v.kind != SectionVariable::Kind::time &&
+               !(spec.kind == SectionSpec::Kind::event && v.kind == spec.trigger.kind &&
+                 v.index == spec.trigger.index);
+    };
+    for (long k = 0; k < a.compared && a.parted_at < 0; ++k)
+        for (std::size_t i = 0; i < variables; ++i) {
+            if (!estimated(spec.record[i])) continue;
+            const double d = std::abs(main_points[k].values[i] - points[k].values[i]);
+            if (d > 1e-3 * largest[i]) {
+                a.parted_at = k;
+                break;
+            }
+            difference[i] = std::max(difference[i], d);
+        }
+    for (std::size_t i = 0; i < variables; ++i)
+        if (estimated(spec.record[i]) && a.parted_at != 0) a.error[i] = 2.0 * difference[i];
+    return a;
 }
 
 } // namespace gapchain

@@ -421,6 +421,44 @@ std::string grid_csv(const ApproximationGrid& grid) {
     return os.str();
 }
 
+std::string to_json(const SectionSpec& spec, long points, const SectionAccuracy* accuracy,
+                    double wall_time_s, const Scene& scene) {
+    json j;
+    json section = {{"kind", spec.kind == SectionSpec::Kind::event ? "event" : "stroboscopic"}};
+    if (spec.kind == SectionSpec::Kind::event) {
+        section["trigger"] = spec.trigger.name();
+        section["level"] = spec.level;
+        section["direction"] = spec.direction == CrossingDirection::up     ? "up"
+                               : spec.direction == CrossingDirection::down ? "down"
+                                                                           : "both";
+    } else {
+        section["phase"] = spec.phase;
+    }
+    json record = json::array();
+    for (const auto& v : spec.record)
+        record.push_back(v.name());
+    section["record"] = record;
+    j["section"] = section;
+    j["points"] = points;
+    if (accuracy) {
+        json error = json::object();
+        for (std::size_t i = 0; i < spec.record.size(); ++i)
+            error[spec.record[i].name()] =
+                std::isnan(accuracy->error[i]) ? json(nullptr) : json(accuracy->error[i]);
+        j["point_error"] = {
+            {"compared", accuracy->compared},
+            {"error", error},
+            {"parted_at", accuracy->parted_at < 0 ? json(nullptr) : json(accuracy->parted_at)},
+            {"comparison", accuracy->comparison},
+            {"status", to_string(accuracy->status)}};
+    } else {
+        j["point_error"] = nullptr;
+    }
+    j["wall_time_s"] = wall_time_s;
+    add_provenance(j, scene, true);
+    return j.dump(2) + "\n";
+}
+
 std::string to_json(const LyapunovResult& r, const Scene& scene) {
     json j;
     j["exponents"] = r.exponents;

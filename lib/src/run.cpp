@@ -508,6 +508,17 @@ RunOptions with_transient_resolved(const Dynamics& dyn, RunOptions options) {
     return options;
 }
 
+StepPlan finer_plan(const Dynamics& dyn, const StepPlan& plan, double tolerance_divisor) {
+    StepPlan finer = plan;
+    if (traits(plan.scheme).adaptive) {
+        finer.tolerance = std::max(1e-12, plan.tolerance / tolerance_divisor);
+    } else {
+        finer.steps_per_period = 2 * plan.steps_per_period;
+        finer.step = dyn.period() / finer.steps_per_period;
+    }
+    return finer;
+}
+
 StepPlan plan_run(const Dynamics& dyn, const RunOptions& options, int samples_per_period) {
     StepPlan plan = plan_step(dyn, options.scheme, options.tolerance, options.step);
     if (samples_per_period == 0) return plan;

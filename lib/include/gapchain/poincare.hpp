@@ -136,4 +136,40 @@ RunOutcome take_section(const Dynamics& dyn, const RunOptions& options, const Se
                         const SectionSink& sink, const std::vector<double>& initial = {},
                         const ProgressCallback& progress = {});
 
+/// How far a section's points can be trusted: the run's first points set against the same
+/// points of a run on a finer plan from the same start (section_accuracy()).
+struct SectionAccuracy {
+    long compared = 0; ///< points compared (the first of the record)
+    /// Per recorded variable (SectionSpec::record order), twice the largest difference between
+    /// the two runs over the points before they part: the error estimate of those points, in
+    /// the variable's own units (twice, so that it covers the run's own error for any scheme of
+    /// order >= 1; the finer run is half the step, a tenth of the tolerance). NaN where nothing
+    /// was compared, for the section time t, and for an event section's trigger variable (the
+    /// level at every point).
+    std::vector<double> error;
+    /// First compared point (0-based) at which some variable differs by more than 1e-3 of its
+    /// largest |value| over the compared points: from there on the runs follow different
+    /// trajectories (a chaotic record), so the points still sample the attractor but are no
+    /// longer this start's; -1: they never part within the compared points.
+    long parted_at = -1;
+    /// The finer plan: "half the step", "a tenth of the tolerance" (adaptive schemes).
+    std::string comparison;
+    /// The comparison run's end: cancelled or non_finite leave error NaN.
+    RunStatus status = RunStatus::completed;
+};
+
+/// How many of a section's first points gapchain-poincare and Python poincare() set against
+/// the finer run (section_accuracy()).
+constexpr std::size_t section_error_points = 1000;
+
+/// The accuracy of main_points, the first points take_section() streamed for (dyn, options,
+/// spec, initial): the same section is taken on a finer plan until it has as many points, and
+/// the two are compared point by point (compared = the fewer of the two counts). Costs a run
+/// of the transient and as many recorded periods on the finer plan (about twice the work of
+/// that part of the main run).
+SectionAccuracy section_accuracy(const Dynamics& dyn, const RunOptions& options,
+                                 const SectionSpec& spec, const std::vector<double>& initial,
+                                 const std::vector<SectionPoint>& main_points,
+                                 const ProgressCallback& progress = {});
+
 } // namespace gapchain

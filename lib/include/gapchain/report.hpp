@@ -68,6 +68,14 @@ std::string to_json(const ModalResult& result, int Nm, double fc);
 /// The eq (26) grid as CSV: Nm,fc,f1_error,other_error,other_mode.
 std::string grid_csv(const ApproximationGrid& grid);
 
+/// A Poincare section's sidecar (section.json beside section.csv): the section (kind; phase, or
+/// trigger, level and direction; record), points, point_error (null where not estimated, else
+/// compared, error per recorded variable (null for t and an event's trigger), parted_at (null:
+/// never), comparison and status, as SectionAccuracy), wall_time_s [s], and the run's
+/// provenance (parameters, the run keys a once-through run reads, chain, initial).
+std::string to_json(const SectionSpec& spec, long points, const SectionAccuracy* accuracy,
+                    double wall_time_s, const Scene& scene);
+
 /// Lyapunov exponents as JSON: exponents, error, sum, expected_sum (-sum of the damping
 /// rates, MODEL.md §5; when all 2 Nm were computed), averaging_time, status, wall_time_s, the
 /// parameters and run options, and the chain that ran where the scene gives one (arrays,

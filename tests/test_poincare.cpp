@@ -118,6 +118,22 @@ std::vector<SectionPoint> section_of(const Dynamics& dyn, const RunOptions& opti
     return points;
 }
 
+// A stroboscopic section recording u1 and v1 of a row of `bodies`.
+SectionSpec u1_v1(int bodies) {
+    SectionSpec spec;
+    spec.record = {SectionVariable::parse("u1", bodies, "r"),
+                   SectionVariable::parse("v1", bodies, "r")};
+    return spec;
+}
+
+// The default run options at another length.
+RunOptions lasting(long periods, long transient_periods) {
+    RunOptions o;
+    o.periods = periods;
+    o.transient_periods = transient_periods;
+    return o;
+}
+
 } // namespace
 
 TEST_CASE("a section's error estimate covers an independent run's difference, and is not loose") {
@@ -167,11 +183,8 @@ TEST_CASE("a chaotic record's points part from the finer run's: only the set is 
     // discarded, the run and one at half its step agree over the first periods (the start is
     // the same, rest), then part.
     const Dynamics dyn = Dynamics::paper_row({5, 60, 0.5, 0.06, 3.35});
-    SectionSpec spec;
-    spec.record = {SectionVariable::parse("u1", 5, "r"), SectionVariable::parse("v1", 5, "r")};
-    RunOptions o;
-    o.periods = 600;
-    o.transient_periods = 0;
+    const SectionSpec spec = u1_v1(5);
+    RunOptions o = lasting(600, 0);
     const std::vector<SectionPoint> main = section_of(dyn, o, spec);
     const SectionAccuracy a = section_accuracy(dyn, o, spec, {}, main);
     CHECK(a.compared == 600);
@@ -181,9 +194,41 @@ TEST_CASE("a chaotic record's points part from the finer run's: only the set is 
     // Before they part the points are known; the estimate stays below the parting threshold.
     CHECK(std::isfinite(a.error[0]));
     CHECK(a.error[0] < 2e-3 * std::abs(main[0].values[0]) + 2e-3);
+    // The point where they part adds nothing to any variable's error, whatever the order of
+    // the record (u1 first had its difference there counted, v1's check parting the runs).
+    SectionSpec reversed = spec;
+    std::swap(reversed.record[0], reversed.record[1]);
+    const SectionAccuracy b = section_accuracy(dyn, o, reversed, {}, section_of(dyn, o, reversed));
+    CHECK(b.parted_at == a.parted_at);
+    CHECK(b.error[1] == a.error[0]);
+    CHECK(b.error[0] == a.error[1]);
     // A record that starts once they have parted has no point of this start's trajectory.
     o.transient_periods = 100;
     const SectionAccuracy late = section_accuracy(dyn, o, spec, {}, section_of(dyn, o, spec));
     CHECK(late.parted_at == 0);
     CHECK(std::isnan(late.error[0]));
+}
+
+TEST_CASE("a section's error estimate says why it is missing, and never refuses the run") {
+    const Dynamics dyn = Dynamics::paper_row({5, 100, 0.5, 0.5, 1.0});
+    const SectionSpec spec = u1_v1(5);
+    RunOptions o = lasting(40, 20);
+    const std::vector<SectionPoint> main = section_of(dyn, o, spec);
+    // A run.max_work the main run fits and the finer run does not: the estimate is skipped (it
+    // threw, and the whole tool failed).
+    o.max_work = 1.2 * run_work(dyn, plan_run(dyn, o), 40.0);
+    const SectionAccuracy over = section_accuracy(dyn, o, spec, {}, main);
+    CHECK(over.not_estimated.find("above run.max_work") != std::string::npos);
+    CHECK(std::isnan(over.error[0]));
+    // An adaptive run at the smallest tolerance has no finer run (its comparison was itself).
+    RunOptions tight = lasting(25, 20);
+    tight.scheme = Scheme::rk8pd;
+    tight.tolerance = 1e-12;
+    const SectionAccuracy floor =
+        section_accuracy(dyn, tight, spec, {}, section_of(dyn, tight, spec));
+    CHECK(floor.not_estimated.find("within 10 times the smallest") != std::string::npos);
+    CHECK(std::isnan(floor.error[1]));
+    // No point to compare.
+    const SectionAccuracy none = section_accuracy(dyn, RunOptions{}, spec, {}, {});
+    CHECK(none.not_estimated == "no point to compare");
 }

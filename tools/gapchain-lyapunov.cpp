@@ -45,15 +45,17 @@ void print_exponents(const Scene& scene, const LyapunovResult& r, int k) {
 } // namespace
 
 // The JSON, the history CSV and (unless no_plot) its figure, written in place: the plot reads
-// them, so a failed plot puts the previous files back (Outputs::replacing). An earlier run's
-// figure is set aside with no_plot too, and dropped with the run kept: it stayed beside the
-// new numbers.
+// them, so a failed plot puts the previous files back (Outputs::replacing). With no_plot an
+// earlier run's figure (a plain file at the figure's paths, which were not checked as
+// outputs) is set aside too, and dropped with the run kept: it stayed beside the new numbers.
 void write_results(cli::Outputs& outputs, const LyapunovResult& r, const Scene& scene, int k,
                    const std::string& out, const std::string& stem, bool no_plot) {
     outputs.replacing(out);
     outputs.replacing(stem + "_history.csv");
-    outputs.replacing(stem + "_convergence.gp");
-    outputs.replacing(stem + "_convergence.png");
+    for (const char* figure : {"_convergence.gp", "_convergence.png"})
+        if (!no_plot ||
+            std::filesystem::is_regular_file(std::filesystem::symlink_status(stem + figure)))
+            outputs.replacing(stem + figure);
     write_file_atomically(out, to_json(r, scene));
     write_file_atomically(stem + "_history.csv", history_csv(r));
     if (!no_plot) {

@@ -98,27 +98,25 @@ TakenSection take_section_to_csv(const Scene& scene, const SectionSpec& spec,
     return taken;
 }
 
-// The points' error estimate against a finer run, and what it says.
+// The points' error estimate against a finer run. The section is done and written by then: a
+// signal here cancels the estimate only (not estimated), and the run ends as interrupted once
+// its outputs are kept.
 SectionAccuracy estimate_point_error(const Scene& scene, const SectionSpec& spec,
                                      const std::vector<SectionPoint>& first) {
     cli::Progress progress("gapchain-poincare: error estimate");
-    const SectionAccuracy a = section_accuracy(scene.dynamics(), scene.run, spec, scene.initial,
-                                               first, progress.callback());
-    cli::throw_if_interrupted();
-    return a;
+    return section_accuracy(scene.dynamics(), scene.run, spec, scene.initial, first,
+                            progress.callback());
 }
 
 void print_point_error(const SectionSpec& spec, const SectionAccuracy& a) {
-    if (a.status != RunStatus::completed || a.compared == 0) {
-        std::printf("  point error not estimated (the finer run: %s)\n",
-                    a.compared == 0 ? "no point to compare"
-                                    : std::string(to_string(a.status)).c_str());
-        return;
-    }
     if (a.parted_at == 0) {
         std::printf("  against a run at %s, the points differ from the first on: not this "
                     "start's trajectory; only the set is meaningful\n",
                     a.comparison.c_str());
+        return;
+    }
+    if (!a.not_estimated.empty()) {
+        std::printf("  point error not estimated: %s\n", a.not_estimated.c_str());
         return;
     }
     std::printf("  point error (first %ld points, against a run at %s):",
@@ -182,8 +180,8 @@ int main(int argc, char** argv) {
     app.add_option("--out", out_dir, "Output folder")->capture_default_str();
     app.add_flag("--no-plot", no_plot, "Write the CSV and JSON files only");
     app.add_flag("--no-error", no_error,
-                 "No point error estimate (it reruns the transient and up to 1000 recorded "
-                 "periods on a finer plan)");
+                 "No point error estimate (it reruns the transient and the first 1000 points on "
+                 "a finer plan)");
 
     return cli::run(
         app, argc, argv,

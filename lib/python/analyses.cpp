@@ -83,11 +83,12 @@ error      estimate the points' error: the first 1000 set against a run at half 
            tenth of an adaptive scheme's tolerance); it reruns the transient and those periods
 
 Returns a dict: t ((n,) reduced times), points ((n, len(record)) float64), names (record),
-point_error (None with error=False, else a dict as section.json's: compared, error (per
-recorded name: twice the largest difference before the runs part; None for t and an event's
-trigger), parted_at (the first compared point where the runs differ by more than 1e-3 of a
-variable's largest value, a chaotic record: None if never), comparison, status), status,
-message, wall_time_s.)";
+point_error (None with error=False or a run that did not complete, else a dict as
+section.json's: compared, error (per recorded name: twice the largest difference before the
+runs part; None for t and an event's trigger), parted_at (the first compared point where the
+runs differ by more than 1e-3 of a variable's largest value, a chaotic record: None if never),
+comparison, status, not_estimated (why not, or None)), status, message, wall_time_s. An
+interrupted call keeps the points so far on the exception as `partial`.)";
 
 constexpr const char* spectrum_doc =
     R"(spectrum(scene=None, *, variable="u1", samples_per_period=32, segment=0, window="hann", order=4, progress=None, **keys) -> dict
@@ -194,8 +195,12 @@ py::dict section_points_dict(const BifurcationResult& r) {
     return d;
 }
 
-py::dict bifurcation_dict(const BifurcationResult& r) {
+py::dict bifurcation_dict(const BifurcationResult& all) {
     using Row = BifurcationRow;
+    // The rows an interrupted diagram did not run (status cancelled, F_m 0 with an error of 0)
+    // are left out, as gapchain-bifurcation's CSVs leave them out.
+    BifurcationResult r = all;
+    std::erase_if(r.rows, [](const Row& w) { return w.status == RunStatus::cancelled; });
     py::dict d;
     d["value"] = column<double>(r.rows, [](const Row& w) { return w.value; });
     d["direction"] = strings(r.rows, [](const Row& w) { return to_string(w.direction); });
@@ -292,27 +297,35 @@ py::dict poincare_py(const py::object& scene_arg, const std::string& section,
     };
     Call call(progress);
     const auto start = std::chrono::steady_clock::now();
-    const RunOutcome outcome = call.run(
-        [&] { return take_section(dyn, scene.run, spec, sink, scene.initial, call.callback()); });
-    std::optional<SectionAccuracy> accuracy;
-    if (error && outcome.status == RunStatus::completed)
-        accuracy = call.run([&] {
+    RunOutcome outcome;
+    // The points so far, and the point error as gapchain-poincare's section.json gives it
+    // (report.cpp's one list): what an interrupted call keeps as `partial` too.
+    const auto section_dict = [&](const SectionAccuracy* accuracy) {
+        const double wall =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        py::dict d;
+        d["point_error"] = py::module_::import("json").attr("loads")(
+            to_json(spec, static_cast<long>(t.size()), accuracy, wall, scene))["point_error"];
+        d["wall_time_s"] = wall;
+        d["t"] = array(t);
+        d["points"] = matrix(values, t.size(), record.size());
+        d["names"] = record;
+        d["status"] = std::string(to_string(outcome.status));
+        d["message"] = outcome.message;
+        return d;
+    };
+    py::dict d = call.run(
+        [&] {
+            outcome = take_section(dyn, scene.run, spec, sink, scene.initial, call.callback());
+            return outcome;
+        },
+        [&](const RunOutcome&) { return section_dict(nullptr); });
+    if (!error || outcome.status != RunStatus::completed) return d;
+    return call.run(
+        [&] {
             return section_accuracy(dyn, scene.run, spec, scene.initial, first, call.callback());
-        });
-    const double wall =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    py::dict d;
-    // The point error as gapchain-poincare's section.json gives it (report.cpp's one list).
-    d["point_error"] = py::module_::import("json").attr("loads")(
-        to_json(spec, static_cast<long>(t.size()), accuracy ? &*accuracy : nullptr, wall,
-                scene))["point_error"];
-    d["wall_time_s"] = wall;
-    d["t"] = array(t);
-    d["points"] = matrix(values, t.size(), record.size());
-    d["names"] = record;
-    d["status"] = std::string(to_string(outcome.status));
-    d["message"] = outcome.message;
-    return d;
+        },
+        [&](const SectionAccuracy& accuracy) { return section_dict(&accuracy); });
 }
 
 py::dict peaks_dict(const SpectralContent& content) {

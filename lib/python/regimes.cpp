@@ -160,23 +160,33 @@ py::array grid(const RegimeMap& m, F field) {
 
 py::dict regime_map_dict(const RegimeMap& m) {
     using C = Classification;
+    // A cell an interrupted map did not run (status cancelled) is no classification: not
+    // "no-contact" with F_m 0, as the cell's defaults read (the CSV leaves such cells out).
+    const auto ran = [](const C& c) { return c.status != RunStatus::cancelled; };
+    const auto number = [&ran](double (*field)(const C&)) {
+        return [&ran, field](const C& c) {
+            return ran(c) ? field(c) : std::numeric_limits<double>::quiet_NaN();
+        };
+    };
     py::dict d;
     d["e_r"] = array(m.e_r);
     d["f_r"] = array(m.f_r);
-    d["regime"] = strings(m.cells, [](const C& c) {
-                      return to_string(c.regime);
+    d["regime"] = strings(m.cells, [&ran](const C& c) {
+                      return ran(c) ? to_string(c.regime) : std::string_view("not run");
                   }).attr("reshape")(m.e_r.size(), m.f_r.size());
-    d["code"] = grid<int>(m, [](const C& c) { return static_cast<int>(c.regime); });
-    d["period"] = grid<int>(m, [](const C& c) { return c.period; });
-    d["F_m"] = grid<double>(m, [](const C& c) { return c.F_m; });
-    d["F_m_error"] = grid<double>(m, [](const C& c) { return c.F_m_error; });
-    d["lambda_max"] = grid<double>(m, [](const C& c) { return c.lambda_max; });
+    d["code"] =
+        grid<int>(m, [&ran](const C& c) { return ran(c) ? static_cast<int>(c.regime) : -1; });
+    d["period"] = grid<int>(m, [&ran](const C& c) { return ran(c) ? c.period : -1; });
+    d["F_m"] = grid<double>(m, number([](const C& c) { return c.F_m; }));
+    d["F_m_error"] = grid<double>(m, number([](const C& c) { return c.F_m_error; }));
+    d["lambda_max"] = grid<double>(m, number([](const C& c) { return c.lambda_max; }));
     d["lambda_max_error"] =
-        grid<double>(m, [](const C& c) { return estimated_or_nan(c.lambda_max_error); });
-    d["distinct_points"] = grid<int>(m, [](const C& c) { return c.distinct_points; });
-    d["broadband_share"] = grid<double>(m, [](const C& c) { return c.broadband_share; });
+        grid<double>(m, number([](const C& c) { return estimated_or_nan(c.lambda_max_error); }));
+    d["distinct_points"] =
+        grid<int>(m, [&ran](const C& c) { return ran(c) ? c.distinct_points : -1; });
+    d["broadband_share"] = grid<double>(m, number([](const C& c) { return c.broadband_share; }));
     d["broadband_share_error"] =
-        grid<double>(m, [](const C& c) { return c.broadband_share_error; });
+        grid<double>(m, number([](const C& c) { return c.broadband_share_error; }));
     d["twin_checked"] = grid<bool>(m, [](const C& c) { return c.twin_checked; });
     d["start_dependent"] = grid<bool>(m, [](const C& c) { return c.start_dependent; });
     d["settled_in_record"] = grid<bool>(m, [](const C& c) { return c.settled_in_record; });

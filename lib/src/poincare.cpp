@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <stdexcept>
 
@@ -261,6 +262,42 @@ private:
     long m_wanted;
 };
 
+} // namespace
+
+namespace {
+
+/// The finer run's plan and length, or why there is none: its tolerance cannot go a tenth
+/// lower (rkf45 and rk8pd stop at 1e-12), or it would exceed run.max_work (it runs only as far
+/// as the points need: a stroboscopic section the transient and one period a point).
+struct FinerRun {
+    StepPlan plan;
+    RunOptions options;
+    std::string not_run;
+};
+
+FinerRun finer_run(const Dynamics& dyn, const RunOptions& options, const SectionSpec& spec,
+                   std::size_t points) {
+    const StepPlan plan = plan_run(dyn, options);
+    FinerRun f{finer_plan(dyn, plan, 10.0), options, {}};
+    if (traits(plan.scheme).adaptive && f.plan.tolerance > plan.tolerance / 10.0 * (1 + 1e-9))
+        f.not_run = "the run's tolerance is within 10 times the smallest (1e-12): no finer run";
+    const long transient = with_transient_resolved(dyn, options).transient_periods;
+    if (spec.kind == SectionSpec::Kind::stroboscopic)
+        f.options.periods = std::min(options.periods, transient + static_cast<long>(points) + 1);
+    const double work = run_work(dyn, f.plan, static_cast<double>(f.options.periods));
+    if (f.not_run.empty() && work > options.max_work)
+        f.not_run = "the finer run would take " + detail::format_number(work) +
+                    " body-steps, above run.max_work = " + detail::format_number(options.max_work);
+    return f;
+}
+
+/// The section time, and an event section's trigger, which equals the level at every point,
+/// carry no error of the trajectory.
+bool estimated(const SectionSpec& spec, const SectionVariable& v) {
+    return v.kind != SectionVariable::Kind::time &&
+           !(spec.kind == SectionSpec::Kind::event && v.kind == spec.trigger.kind &&
+             v.index == spec.trigger.index);
+}
 
 } // namespace
 
@@ -271,44 +308,49 @@ SectionAccuracy section_accuracy(const Dynamics& dyn, const RunOptions& options,
     SectionAccuracy a;
     const std::size_t variables = spec.record.size();
     a.error.assign(variables, std::numeric_limits<double>::quiet_NaN());
-    const StepPlan plan = plan_run(dyn, options);
-    const StepPlan finer = finer_plan(dyn, plan, 10.0);
-    a.comparison = traits(plan.scheme).adaptive ? "a tenth of the tolerance" : "half the step";
+    const FinerRun finer = finer_run(dyn, options, spec, main_points.size());
+    char tolerance[32];
+    std::snprintf(tolerance, sizeof tolerance, "tolerance %.3g", finer.plan.tolerance);
+    a.comparison = traits(finer.plan.scheme).adaptive ? tolerance : "half the step";
+    if (!finer.not_run.empty()) {
+        a.not_estimated = finer.not_run;
+        return a;
+    }
     std::vector<SectionPoint> points;
     PoincareSampler sampler(dyn, spec, [&points](const SectionPoint& p) { points.push_back(p); });
     EnoughPoints enough(sampler, static_cast<long>(main_points.size()));
     Observer* observers[] = {&sampler, &enough};
-    PlannedRun planned(dyn, options, finer, initial);
+    PlannedRun planned(dyn, finer.options, finer.plan, initial);
     const RunOutcome outcome = planned.run(observers, progress);
     a.status = outcome.status == RunStatus::steady_state ? RunStatus::completed : outcome.status;
-    if (a.status != RunStatus::completed) return a;
+    if (a.status != RunStatus::completed) {
+        a.not_estimated = "the finer run ended " + std::string(to_string(a.status));
+        return a;
+    }
     a.compared = static_cast<long>(std::min(points.size(), main_points.size()));
-    if (a.compared == 0) return a;
+    if (a.compared == 0) {
+        a.not_estimated = "no point to compare";
+        return a;
+    }
     // A variable parts the runs when it differs by more than 1e-3 of its own largest |value|:
     // units differ between variables (u, v, gaps, forces).
-    std::vector<double> largest(variables, 0.0), difference(variables, 0.0);
+    std::vector<double> largest(variables, 0.0), difference(variables, 0.0), at_point(variables);
     for (long k = 0; k < a.compared; ++k)
         for (std::size_t i = 0; i < variables; ++i)
             largest[i] = std::max(largest[i], std::abs(main_points[k].values[i]));
-    // The section time, and an event section's trigger, which equals the level at every point,
-    // carry no error of the trajectory.
-    const auto estimated = [&spec](const SectionVariable& v) {
-        return v.kind != SectionVariable::Kind::time &&
-               !(spec.kind == SectionSpec::Kind::event && v.kind == spec.trigger.kind &&
-                 v.index == spec.trigger.index);
-    };
-    for (long k = 0; k < a.compared && a.parted_at < 0; ++k)
+    for (long k = 0; k < a.compared && a.parted_at < 0; ++k) {
+        // The whole point first: a point where the runs part adds nothing to the error.
         for (std::size_t i = 0; i < variables; ++i) {
-            if (!estimated(spec.record[i])) continue;
-            const double d = std::abs(main_points[k].values[i] - points[k].values[i]);
-            if (d > 1e-3 * largest[i]) {
-                a.parted_at = k;
-                break;
-            }
-            difference[i] = std::max(difference[i], d);
+            at_point[i] = std::abs(main_points[k].values[i] - points[k].values[i]);
+            if (estimated(spec, spec.record[i]) && at_point[i] > 1e-3 * largest[i]) a.parted_at = k;
         }
+        if (a.parted_at >= 0) break;
+        for (std::size_t i = 0; i < variables; ++i)
+            difference[i] = std::max(difference[i], at_point[i]);
+    }
+    if (a.parted_at == 0) a.not_estimated = "the runs differ from the first point on";
     for (std::size_t i = 0; i < variables; ++i)
-        if (estimated(spec.record[i]) && a.parted_at != 0) a.error[i] = 2.0 * difference[i];
+        if (estimated(spec, spec.record[i]) && a.parted_at != 0) a.error[i] = 2.0 * difference[i];
     return a;
 }
 

@@ -450,12 +450,17 @@ std::string to_json(const SectionSpec& spec, long points, const SectionAccuracy*
             {"error", error},
             {"parted_at", accuracy->parted_at < 0 ? json(nullptr) : json(accuracy->parted_at)},
             {"comparison", accuracy->comparison},
-            {"status", to_string(accuracy->status)}};
+            {"status", to_string(accuracy->status)},
+            {"not_estimated",
+             accuracy->not_estimated.empty() ? json(nullptr) : json(accuracy->not_estimated)}};
     } else {
         j["point_error"] = nullptr;
     }
     j["wall_time_s"] = wall_time_s;
     add_provenance(j, scene, true);
+    // The error estimate's finer plan follows from them.
+    j["parameters"]["scheme"] = to_string(scene.run.scheme);
+    j["parameters"]["step"] = scene.run.step ? json(*scene.run.step) : json(nullptr);
     return j.dump(2) + "\n";
 }
 

@@ -48,11 +48,13 @@ json override_value(const std::string& key, const std::string& text) {
     const std::string number_error = number_text_error(text);
     if (number_error.rfind("must be 0 or finite", 0) == 0)
         throw SceneError(key + ": a number " + number_error);
-    // An integer with a leading 0 (model.Nm=02, model.fc=010) is refused, as the flags refuse it:
-    // read as decimal here, it would be octal to a shell's printf or to C.
+    // A whole number with a leading 0 (model.Nm=02, model.fc=010) is refused, as an integer flag
+    // refuses it (read as decimal here, it would be octal to a shell's printf or to C), for a
+    // real key too: --set does not know the key's type; 10 or 10.0 says what is meant.
     if (number_error.empty() && number_text_error(text, true).find("octal") != std::string::npos)
         throw SceneError(key + ": got \"" + text +
-                         "\": a leading 0 would make it octal; write the number without it");
+                         "\": a leading 0 would make it octal; write it without the 0 (or "
+                         "as a decimal, 10.0)");
     json value = json::parse(text, nullptr, false);
     // A decimal that JSON does not spell (+5, .5, 5., 00.5) is a number all the same, as on the
     // command line.

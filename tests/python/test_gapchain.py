@@ -222,6 +222,21 @@ def test_an_interrupted_call_keeps_what_it_had_done_on_the_exception():
     rows = stopped.value.partial
     assert rows["cancelled"] is True and 1 <= len(rows["index"]) < 4
     assert rows["F_m"][0] == gapchain.sweep(study, threads=1)["F_m"][0]
+    # Work not done is not reported as data: a map's cells not run read "not run" with NaN
+    # forces (they read no-contact with F_m 0), a diagram's rows not run are left out (they
+    # read F_m 0 +- 0).
+    with pytest.raises(Stop) as stopped:
+        gapchain.regime_map(e_r=[0.3], f_r=[1.0, 1.1, 1.2, 1.3], transient=20, record=20,
+                            threads=1, progress=stop_at_a_quarter, Nm=2, fc=100, eps=0.5)
+    cells = stopped.value.partial
+    assert cells["cancelled"] is True and cells["regime"][0][-1] == "not run"
+    assert np.isnan(cells["F_m"][0][-1]) and cells["code"][0][-1] == -1
+    assert cells["regime"][0][0] != "not run" and cells["F_m"][0][0] > 0
+    with pytest.raises(Stop) as stopped:
+        gapchain.bifurcation(progress=stop_at_a_quarter, threads=1,
+                             **dict(line, mode="independent"))
+    diagram = stopped.value.partial
+    assert 1 <= len(diagram["value"]) < 8 and all(s != "cancelled" for s in diagram["status"])
 
 
 def test_keyboard_interrupt_stops_a_long_run():

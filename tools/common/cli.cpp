@@ -358,12 +358,14 @@ void Outputs::keep() {
         if (!f.staging.empty())
             for (auto& file : commit_staged(f.path, f.staging))
                 replaced.push_back(std::move(file));
-    for (std::size_t k = 0; k < m_folders.size(); ++k) {
-        FolderOutput& f = m_folders[k];
+    // Stale files are set aside too, not removed: a second signal before the end puts the
+    // whole folder back as it was.
+    for (std::size_t k = 0; k < m_folders.size(); ++k)
+        for (const auto& name : stale[k])
+            replaced.emplace_back((fs::path(m_folders[k].path) / name).string());
+    for (FolderOutput& f : m_folders) {
         if (f.staging.empty()) continue;
         std::error_code ec;
-        for (const auto& name : stale[k])
-            fs::remove(fs::path(f.path) / name, ec);
         fs::remove_all(f.staging, ec);
         f.staging.clear();
     }

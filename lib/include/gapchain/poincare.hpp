@@ -152,10 +152,16 @@ struct SectionAccuracy {
     /// trajectories (a chaotic record), so the points still sample the attractor but are no
     /// longer this start's; -1: they never part within the compared points.
     long parted_at = -1;
-    /// The finer plan: "half the step", "a tenth of the tolerance" (adaptive schemes).
+    /// The finer plan: "half the step", or "tolerance X" (adaptive schemes: a tenth of the
+    /// run's).
     std::string comparison;
     /// The comparison run's end: cancelled or non_finite leave error NaN.
     RunStatus status = RunStatus::completed;
+    /// Why error is NaN for every variable, empty where it was estimated: no finer run (an
+    /// adaptive tolerance within 10 times 1e-12, or a finer run beyond run.max_work, which it
+    /// is held to on its own: the main run is not refused for it), the finer run cancelled or
+    /// non-finite, no point to compare, or runs that differ from the first point on.
+    std::string not_estimated;
 };
 
 /// How many of a section's first points gapchain-poincare and Python poincare() set against
@@ -166,7 +172,7 @@ constexpr std::size_t section_error_points = 1000;
 /// spec, initial): the same section is taken on a finer plan until it has as many points, and
 /// the two are compared point by point (compared = the fewer of the two counts). Costs a run
 /// of the transient and as many recorded periods on the finer plan (about twice the work of
-/// that part of the main run).
+/// that part of the main run; an event section's may run all of run.periods).
 SectionAccuracy section_accuracy(const Dynamics& dyn, const RunOptions& options,
                                  const SectionSpec& spec, const std::vector<double>& initial,
                                  const std::vector<SectionPoint>& main_points,

@@ -71,8 +71,9 @@ std::string grid_csv(const ApproximationGrid& grid);
 /// A Poincare section's sidecar (section.json beside section.csv): the section (kind; phase, or
 /// trigger, level and direction; record), points, point_error (null where not estimated, else
 /// compared, error per recorded variable (null for t and an event's trigger), parted_at (null:
-/// never), comparison and status, as SectionAccuracy), wall_time_s [s], and the run's
-/// provenance (parameters, the run keys a once-through run reads, chain, initial).
+/// never), comparison, status and not_estimated (null where estimated), as SectionAccuracy),
+/// wall_time_s [s], and the run's provenance (parameters, the run keys a once-through run
+/// reads with its scheme and step, chain, initial).
 std::string to_json(const SectionSpec& spec, long points, const SectionAccuracy* accuracy,
                     double wall_time_s, const Scene& scene);
 

@@ -4,7 +4,8 @@
 # ran, the orbits found, the cells classified, the runs measured; it exits 130 (SIGINT) or 143
 # (SIGTERM), draws no plot and leaves no staging folder. So does a run interrupted while gnuplot
 # draws its figure, and so does any finished run interrupted while it draws its figure (an
-# attractor search's basin slice, a Poincare section).
+# attractor search's basin slice, a Poincare section), and a section interrupted while it
+# estimates its points' error.
 # Usage: interrupt_keeps_done.sh BIN_DIR SCENE_DIR
 set -u
 bin=$1
@@ -143,6 +144,18 @@ echo "section interrupted while plotting: exit $rc"
 grep -q "once the run was done: its outputs were kept" "$dir/section.err" || failed "section: message: $(cat "$dir/section.err")"
 [ ! -e "$dir/section/section.png" ] || failed "section: a plot of an interrupted run"
 ! ls "$dir/section" | grep -q '\.gp$' || failed "section: a gnuplot script of an interrupted run"
+
+# 9. A Poincare section interrupted during its point error estimate (a finer run, after the
+# section is written): the section is kept with point_error not estimated, exit 130 (before,
+# the whole folder was dropped).
+interrupt_when 'ls "$dir"/estimate/.gapchain-staging.*/section.csv >/dev/null 2>&1' estimate \
+    "$bin/gapchain-poincare" "$scenes/fig13.json" --set run.periods=1200 --set run.scheme=rkf45 \
+    --set run.tolerance=1e-10 --no-plot --out "$dir/estimate"
+echo "section interrupted during its error estimate: exit $rc"
+[ "$rc" -eq 130 ] || failed "estimate: exit $rc, not 130"
+[ "$(($(wc -l <"$dir/estimate/section.csv") - 1))" -eq 1000 ] || failed "estimate: section.csv not whole"
+grep -q '"not_estimated": "the finer run ended cancelled"' "$dir/estimate/section.json" ||
+    failed "estimate: section.json: $(cat "$dir/estimate/section.json")"
 
 [ "$fail" -eq 0 ] && echo "interrupt checks passed"
 exit "$fail"

@@ -59,3 +59,10 @@ TEST_CASE("require_line: one value needs equal ends, several need distinct ones"
     CHECK_NOTHROW(require_line(3.0, 3.0 + 1e-12, 5));
     CHECK_NOTHROW(require_line(0.0, 1e-300, 10000));
 }
+
+TEST_CASE("an end given as -0 is 0") {
+    // It was written "-0" in the CSVs and -0.0 in the JSON (a map's e_r row, a diagram's value).
+    CHECK_FALSE(std::signbit(linspace(-0.0, 1.0, 3).front()));
+    CHECK_FALSE(std::signbit(linspace(-0.0, -0.0, 1).front()));
+    CHECK_FALSE(std::signbit(linspace(-1.0, -0.0, 2).back()));
+}

@@ -33,6 +33,9 @@ std::vector<double> spaced(double from, double to, long count, bool log) {
     }
     // (x (count - 1)) / (count - 1) may round off x: the ends are the ends.
     if (count > 1) v.back() = to;
+    // -0 + 0 is +0: an end given as -0 was written "-0" in the CSVs and -0.0 in the JSON.
+    for (double& x : v)
+        x += 0.0;
     return v;
 }
 

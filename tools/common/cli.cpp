@@ -678,6 +678,16 @@ void require_decimal_numbers(CLI::App& app) {
                                                            : number_text_error(text, integer);
             },
             ""));
+        // "-0" is 0: kept, it was written "-0" in the CSVs and -0.0 in the JSON. (A transform:
+        // a check may not change the text.)
+        option->transform(CLI::Validator(
+            [integer](std::string& text) {
+                if (!text.empty() && text[0] == '-' && number_text_error(text, integer).empty() &&
+                    std::strtod(text.c_str(), nullptr) == 0.0)
+                    text.erase(0, 1);
+                return std::string();
+            },
+            ""));
     }
     for (CLI::App* sub : app.get_subcommands({}))
         require_decimal_numbers(*sub);

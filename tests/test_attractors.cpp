@@ -1190,3 +1190,37 @@ TEST_CASE("label_in_search matches a non-periodic label to a group by F_m, not b
     d.search.attractors = {orbit};
     CHECK(label_in_search(c, d) == LabelInSearch::not_reached);
 }
+
+TEST_CASE("label_in_search: two motions of one F_m are told apart by their section points") {
+    // Matched by F_m alone, a chaotic saddle whose F_m a settled chaotic attractor shares would
+    // read `attractor`. Where the classification kept its section states the clouds must
+    // overlap as the search's own grouping tests them.
+    const ReducedParameters row{1, 100, 0.5, 0.5, 1.0};
+    const auto cloud = [](double u_center, double v_center, int n) {
+        std::vector<std::vector<double>> points;
+        for (int k = 0; k < n; ++k)
+            points.push_back(
+                {u_center + 0.01 * std::sin(1.3 * k), v_center + 0.01 * std::cos(0.7 * k)});
+        return points;
+    };
+    Classification c;
+    c.regime = Regime::chaotic;
+    c.F_m = 0.5;
+    c.F_m_error = 0.001;
+    c.section_states = cloud(0.3, 0.0, 300);
+    Attractor elsewhere;
+    elsewhere.F_m = 0.5;
+    elsewhere.F_m_error = 0.001;
+    elsewhere.section = cloud(-0.3, 0.5, 200);
+    DesignValue d;
+    d.row = row;
+    d.search.attractors = {elsewhere};
+    CHECK(label_in_search(c, d) == LabelInSearch::not_reached);
+    // The same cloud sampled again: that attractor.
+    d.search.attractors[0].section = cloud(0.3, 0.0, 200);
+    CHECK(label_in_search(c, d) == LabelInSearch::attractor);
+    // Without section states (a classification that did not keep them), F_m alone decides.
+    d.search.attractors[0].section = cloud(-0.3, 0.5, 200);
+    c.section_states.clear();
+    CHECK(label_in_search(c, d) == LabelInSearch::attractor);
+}

@@ -337,6 +337,8 @@ int main(int argc, char** argv) {
             require_paper_row(scene, "gapchain-classify");
             take_run_settings(scene, o);
             o.twin_check = !no_twin;
+            // The label is set against the search's groups by their section points too.
+            o.keep_section_states = search.wanted();
             validate(o);
             cli::Outputs outputs({scene_args.path});
             if (out.empty() && app.get_option("--out")->count() > 0)

@@ -130,7 +130,9 @@ py::dict classify_py(const py::object& scene_arg, long transient, long record, b
                      const py::kwargs& keys) {
     refuse_run_keys(keys, "classify", run_settings_keys, classify_runs);
     const Scene scene = to_scene(scene_arg, keys);
-    const ClassifyOptions o = classify_options(scene, transient, record, confirm, twin);
+    ClassifyOptions o = classify_options(scene, transient, record, confirm, twin);
+    // The label is set against the search's groups by their section points too.
+    o.keep_section_states = attractors != 0;
     Call call;
     const ReducedParameters& row = paper_row(scene, "classify");
     Classification c;

@@ -1348,6 +1348,8 @@ DesignValue design_value(const ReducedParameters& p, const AttractorOptions& opt
 DesignValue design_value(const ReducedParameters& p, const AttractorOptions& options,
                          const RunAnswer& run, const ProgressCallback& progress) {
     DesignValue d;
+    d.row = p;
+    d.overlap_factor = options.overlap_factor;
     d.search = find_attractors(p, options, progress);
     if (d.search.cancelled) return d;
     d.F_m_max = d.search.F_m_max;
@@ -1393,15 +1395,20 @@ std::string_view to_string(LabelInSearch where) {
 LabelInSearch label_in_search(const Classification& c, const DesignValue& design) {
     if (c.regime != Regime::chaotic && c.regime != Regime::quasi_periodic)
         return LabelInSearch::not_applicable;
-    // Matched by F_m, not by label: the search calls a group unsettled for reasons the
+    // Matched by motion, not by label: the search calls a group unsettled for reasons the
     // classification does not weigh (members that left for orbits, an exponent still negative).
     const auto same_force = [&c](const Attractor& a) {
         const double bar = 3.0 * (c.F_m_error + a.F_m_error);
         return std::abs(c.F_m - a.F_m) <= std::max(bar, 0.05 * std::max(c.F_m, a.F_m));
     };
+    const StateScale scale = state_scale(design.row);
+    const auto same_set = [&](const Attractor& a) {
+        return c.section_states.empty() || a.section.empty() ||
+               clouds_overlap(c.section_states, a.section, scale, design.overlap_factor);
+    };
     bool unsettled_match = false;
     for (const Attractor& a : design.search.attractors) {
-        if (a.period != 0 || !same_force(a)) continue;
+        if (a.period != 0 || !same_force(a) || !same_set(a)) continue;
         if (a.settled) return LabelInSearch::attractor;
         unsettled_match = true;
     }

@@ -319,6 +319,16 @@ void flag_start_up(const Dynamics& dyn, const ClassifyOptions& o, Classification
     c.start_up_in_record = o.transient_periods < c.start_up_periods;
 }
 
+/// A stroboscopic section recording the whole state, u_1 .. u_Nm then v_1 .. v_Nm.
+SectionSpec whole_state_section(int bodies) {
+    SectionSpec spec;
+    spec.record.clear();
+    for (const auto kind : {SectionVariable::Kind::displacement, SectionVariable::Kind::velocity})
+        for (int i = 0; i < bodies; ++i)
+            spec.record.push_back({kind, i});
+    return spec;
+}
+
 /// The observers of a record and what they keep: the forces (split in halves at `split`
 /// periods, -1: not split), the stroboscopic section and u_1 at twice the asked rate.
 struct Recording {
@@ -418,13 +428,18 @@ Classification classify_from(const Dynamics& dyn, double f_r, const ClassifyOpti
     // after 278 periods).
     std::optional<Recording> record;
     double transient_maximum = 0.0;
+    std::vector<std::vector<double>> states;
     if (!period) {
         // Split in two: the halves' maxima give F_m's sampling spread.
         record.emplace(dyn, o, o.record_periods / 2);
         SteadyStateDetector watch(dyn.dimension(), o.max_period, o.steady_tolerance, 0,
                                   natural_angular_frequency);
-        Observer* recording[] = {&record->forces, &tangent, &record->sampler, &record->recorder,
-                                 &watch};
+        PoincareSampler state_sampler(
+            dyn, whole_state_section(dyn.bodies()),
+            [&states](const SectionPoint& s) { states.push_back(s.values); });
+        std::vector<Observer*> recording{&record->forces, &tangent, &record->sampler,
+                                         &record->recorder, &watch};
+        if (o.keep_section_states) recording.push_back(&state_sampler);
         const RunOutcome second = planned.run({o.record_periods, 0, t}, recording, keep_going);
         if (phase_ends(second, c)) return c;
         lyap = tangent.result();
@@ -440,6 +455,7 @@ Classification classify_from(const Dynamics& dyn, double f_r, const ClassifyOpti
     }
     if (period && record_cycle(dyn, o, *period, t, keep_going, planned, record, lyap, c)) return c;
     label_recorded(dyn, f_r, o, planned.state(), *record, period, lyap, transient_maximum, c);
+    if (!period) c.section_states = std::move(states);
     return c;
 }
 

@@ -302,6 +302,8 @@ struct DesignValue {
     /// the run's window held a transient (or, for a run that finished relaxed, motion of the
     /// relaxed plan that the strict dynamics leave). Same conditions.
     bool run_above = false;
+    ReducedParameters row;       ///< the row searched (its state scale, for label_in_search())
+    double overlap_factor = 3.0; ///< the search's AttractorOptions::overlap_factor
 };
 
 /// What one run from one start answered, as design_value() sets it against the attractors:
@@ -345,9 +347,12 @@ enum class LabelInSearch {
 /// "not_applicable", "attractor", "transient" or "not_reached".
 std::string_view to_string(LabelInSearch where);
 
-/// Where c's label stands among design's search. A non-periodic group has the label's F_m where
-/// the two differ by at most three times the sum of their errors, or 5 % of the larger (the
-/// maximum of a chaotic record moves more than its error bar says from one sample to the next).
+/// Where c's label stands among design's search. A non-periodic group has the label's motion
+/// where their F_m differ by at most three times the sum of their errors, or 5 % of the larger
+/// (the maximum of a chaotic record moves more than its error bar says from one sample to the
+/// next), and, where c kept its section states (ClassifyOptions::keep_section_states), their
+/// section points overlap as the search's own grouping tests them (two motions of one F_m are
+/// not one).
 LabelInSearch label_in_search(const Classification& c, const DesignValue& design);
 
 /// Whether run's answer depends on its start: its own checks said so (run.multistable), or

@@ -58,6 +58,10 @@ struct ClassifyOptions {
     /// Start of the run (of every cell of a map): 2 Nm reduced numbers (u then v, relative to
     /// the ground), finite; empty: rest.
     std::vector<double> initial;
+    /// Keep the whole state at each stroboscopic point of a record that never settled
+    /// (Classification::section_states): what label_in_search() sets against an attractor
+    /// search's groups. Off for maps (2 Nm x record_periods doubles a cell).
+    bool keep_section_states = false;
 };
 
 /// Throws std::invalid_argument naming the first invalid option.
@@ -148,6 +152,10 @@ struct Classification {
     double tolerance_used = 0.0;
     RunStatus status = RunStatus::completed;
     double wall_time_s = 0.0; ///< [s], the twin's included
+    /// With ClassifyOptions::keep_section_states, the whole state (u then v, 2 Nm reduced
+    /// values) at each stroboscopic point of a record that never settled, in time order; empty
+    /// otherwise.
+    std::vector<std::vector<double>> section_states;
 };
 
 /// Classifies one point: one run with the max-force tracker, the steady-state detector, a

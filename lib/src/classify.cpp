@@ -337,11 +337,22 @@ struct Recording {
           sampler(dyn, SectionSpec{},
                   [this](const SectionPoint& s) { evidence.section.push_back(s); }),
           recorder(dyn, SectionVariable{}, dyn.period() / (2 * o.samples_per_period), evidence.u1) {
+        if (o.keep_section_states)
+            state_sampler.emplace(dyn, whole_state_section(dyn.bodies()),
+                                  [this](const SectionPoint& s) { states.push_back(s.values); });
+    }
+    /// Its observers, to run with the phase's own.
+    std::vector<Observer*> observers() {
+        std::vector<Observer*> list{&forces, &sampler, &recorder};
+        if (state_sampler) list.push_back(&*state_sampler);
+        return list;
     }
     RecordedEvidence evidence;
     MaxForceTracker forces;
     PoincareSampler sampler;
     SignalRecorder recorder;
+    std::vector<std::vector<double>> states; ///< with keep_section_states: the whole states
+    std::optional<PoincareSampler> state_sampler;
 };
 
 /// Whether a phase's outcome ends the classification (the run went non-finite or was
@@ -386,7 +397,7 @@ bool record_cycle(const Dynamics& dyn, const ClassifyOptions& o, int period, dou
     record.emplace(dyn, o, -1);
     // A settle in the discarded periods keeps their average: no tangent vector rides along.
     TangentObserver restarted(dyn, 1, 0);
-    std::vector<Observer*> cycle{&record->forces, &record->sampler, &record->recorder};
+    std::vector<Observer*> cycle = record->observers();
     if (c.settled_in_record) cycle.push_back(&restarted);
     if (phase_ends(planned.run({period, 0, t}, cycle, keep_going), c)) return true;
     if (c.settled_in_record) lyap = restarted.result();
@@ -428,18 +439,13 @@ Classification classify_from(const Dynamics& dyn, double f_r, const ClassifyOpti
     // after 278 periods).
     std::optional<Recording> record;
     double transient_maximum = 0.0;
-    std::vector<std::vector<double>> states;
     if (!period) {
         // Split in two: the halves' maxima give F_m's sampling spread.
         record.emplace(dyn, o, o.record_periods / 2);
         SteadyStateDetector watch(dyn.dimension(), o.max_period, o.steady_tolerance, 0,
                                   natural_angular_frequency);
-        PoincareSampler state_sampler(
-            dyn, whole_state_section(dyn.bodies()),
-            [&states](const SectionPoint& s) { states.push_back(s.values); });
-        std::vector<Observer*> recording{&record->forces, &tangent, &record->sampler,
-                                         &record->recorder, &watch};
-        if (o.keep_section_states) recording.push_back(&state_sampler);
+        std::vector<Observer*> recording = record->observers();
+        recording.insert(recording.end(), {&tangent, &watch});
         const RunOutcome second = planned.run({o.record_periods, 0, t}, recording, keep_going);
         if (phase_ends(second, c)) return c;
         lyap = tangent.result();
@@ -455,7 +461,7 @@ Classification classify_from(const Dynamics& dyn, double f_r, const ClassifyOpti
     }
     if (period && record_cycle(dyn, o, *period, t, keep_going, planned, record, lyap, c)) return c;
     label_recorded(dyn, f_r, o, planned.state(), *record, period, lyap, transient_maximum, c);
-    if (!period) c.section_states = std::move(states);
+    if (!period) c.section_states = std::move(record->states);
     return c;
 }
 

@@ -249,6 +249,35 @@ TEST_CASE("a periodic row Newton does not confirm keeps a bar that covers an ind
     }
 }
 
+TEST_CASE("a row that is not periodic keeps a bar that covers an independent run") {
+    // A reviewer's probe (helper-74): Fig 13's row after 100 discarded periods is still in its
+    // transient at f_r = 2.4 and 2.6. With 1 recorded period the bar was the tolerance alone
+    // (8.9e-5 and 3.6e-5) where rk8pd at 1e-11 and the exact scheme at 1e-10 agree on values
+    // 6.1e-3 and 1.5e-2 away; with 50, 7 bars off at 2.4.
+    for (const long record : {1L, 50L}) {
+        BifurcationOptions o;
+        o.from = 2.4;
+        o.to = 2.6;
+        o.steps = 2;
+        o.transient_periods = 100;
+        o.record_periods = record;
+        const BifurcationResult diagram = bifurcation(fig13, o);
+        BifurcationOptions reference = o;
+        reference.scheme = Scheme::rk8pd;
+        reference.tolerance = 1e-11;
+        reference.confirm_by_newton = false;
+        const BifurcationResult truth = bifurcation(fig13, reference);
+        for (std::size_t k = 0; k < 2; ++k) {
+            const BifurcationRow& row = diagram.rows.at(k);
+            CAPTURE(record);
+            CAPTURE(row.value);
+            CHECK(row.period == 0);
+            CHECK(std::abs(row.F_m - truth.rows.at(k).F_m) <= row.F_m_error);
+            CHECK(row.F_m_error < 0.1 * row.F_m);
+        }
+    }
+}
+
 TEST_CASE("a spurious rk4 period doubling reads the exact orbit's minimal period") {
     // Fig 13's row at 4.1092: rk4 settles on a period-4 orbit of its own (by period 28, for
     // thousands of periods), where the exact scheme's section and Newton both read 2 (|mu| 0.83).

@@ -246,7 +246,7 @@ absent 20 s20.csv
 verdict 20
 
 # 21. The message gives the real reason.
-expect 21 2 "--trigger: must be a displacement, velocity or gap" "$bin/gapchain-poincare" fig5.json --section event --trigger t --out p21
+expect 21 2 "--trigger: must be a linear signal of the state" "$bin/gapchain-poincare" fig5.json --section event --trigger t --out p21
 expect 21 2 "contact_law" "$bin/gapchain-bifurcation" --set model.contact_law=hertz --steps 2 --out b21
 expect 21 2 "contact_law" "$bin/gapchain-classify" fig5.json --set model.contact_law=hertz --out c21.json
 verdict 21

@@ -175,6 +175,16 @@ TEST_CASE("a physical scene's attractors and orbit are also given in newtons") {
     const auto j = nlohmann::json::parse(to_json(orbit, scene));
     CHECK(j.at("F_m_newton").get<double>() == doctest::Approx(0.5 * newtons));
     CHECK(j.at("F_m_error_newton").get<double>() == doctest::Approx(1e-4 * newtons));
+    // A run set against the attractors (gapchain-sim --attractors): the design value's error in
+    // newtons too (it was missing there, a reviewer's probe found).
+    DesignValue d;
+    d.search = set;
+    d.F_m_max = 0.7;
+    d.F_m_max_error = 0.01;
+    const auto s = nlohmann::json::parse(
+        to_json(SimulationResult{}, scene, d, AttractorOptions{}))["design_value"];
+    CHECK(s.at("F_m_max_newton").get<double>() == doctest::Approx(0.7 * newtons));
+    CHECK(s.at("F_m_max_error_newton").get<double>() == doctest::Approx(0.01 * newtons));
     // A reduced scene has none.
     const Scene reduced = parse_scene(R"({"model": {"Nm": 2}})");
     CHECK_FALSE(nlohmann::json::parse(to_json(set, AttractorOptions{}, reduced))

@@ -266,6 +266,23 @@ TEST_CASE("hostile shapes: deep nesting, huge values and overlapping --set keys 
     CHECK(parse_scene("{}", {"model.eps=0"}).reduced.eps == 0.0);
 }
 
+TEST_CASE("a ground-motion record refuses the steady-state keys it would ignore") {
+    // A reviewer's probe (helper-74): run.steady_state true and run.max_steady_period were
+    // taken and the run was the plain one.
+    const std::string scene = R"({"units": "physical", "model": {"Nm": 2, "M": 100, "K": 1e5,
+        "C": 500, "Kc": 5e6, "e": 0.002}, "excitation": {"type": "kanai_tajimi", "a0": 5,
+        "ground_frequency": 2.5, "ground_damping": 0.6, "duration": 2, "sample_interval": 0.01,
+        "rise": 0.5, "hold": 1, "decay": 0.5}})";
+    CHECK_NOTHROW(parse_scene(scene));
+    for (const char* set :
+         {"run.steady_state=true", "run.steady_tolerance=1e-3", "run.max_steady_period=2"}) {
+        CAPTURE(set);
+        const std::string key = std::string(set).substr(0, std::string(set).find('='));
+        CHECK(error_of(scene, {set})
+                  .rfind(key + ": not used with excitation.type = kanai_tajimi", 0) == 0);
+    }
+}
+
 TEST_CASE("non-uniform rows: arrays equal to the nominal values give the homogeneous run exactly") {
     // The arrays replace eps and e_r, which the array scene therefore does not give.
     const std::string base =

@@ -29,7 +29,7 @@ struct SectionArguments {
 
 SectionSpec section_spec(const SectionArguments& a, SectionSpec spec, int bodies) {
     spec.kind = a.kind == "event" ? SectionSpec::Kind::event : SectionSpec::Kind::stroboscopic;
-    spec.trigger = SectionVariable::parse(a.trigger, bodies, "--trigger");
+    spec.trigger = SectionVariable::parse_trigger(a.trigger, bodies, "--trigger");
     spec.direction = a.direction == "up"     ? CrossingDirection::up
                      : a.direction == "down" ? CrossingDirection::down
                                              : CrossingDirection::both;

@@ -266,7 +266,7 @@ SectionSpec section_spec(const std::string& section, const std::optional<double>
         throw std::invalid_argument("phase: applies to section=\"stroboscopic\" only");
     }
     spec.phase = phase.value_or(0.0);
-    spec.trigger = SectionVariable::parse(trigger.value_or("u1"), bodies, "trigger");
+    spec.trigger = SectionVariable::parse_trigger(trigger.value_or("u1"), bodies, "trigger");
     spec.level = level.value_or(0.0);
     spec.direction = static_cast<CrossingDirection>(
         choice(direction.value_or("up"), "direction", {"up", "down", "both"}));

@@ -57,6 +57,20 @@ SectionVariable SectionVariable::parse_state(std::string_view name, int bodies,
     throw std::invalid_argument(refusal);
 }
 
+SectionVariable SectionVariable::parse_trigger(std::string_view name, int bodies,
+                                               const std::string& key) {
+    const std::string n = std::to_string(bodies);
+    const std::string refusal = key + ": must be a linear signal of the state, u1..u" + n +
+                                ", v1..v" + n + " or g0..g" + n + ", got \"" + std::string(name) +
+                                "\"";
+    try {
+        const SectionVariable v = parse(name, bodies, key);
+        if (v.kind != Kind::time && v.kind != Kind::force) return v;
+    } catch (const std::invalid_argument&) {
+    }
+    throw std::invalid_argument(refusal);
+}
+
 std::string SectionVariable::name() const {
     // Built with append rather than "u" + std::string: GCC 12 warns falsely (-Wrestrict) on
     // the latter.

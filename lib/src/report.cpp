@@ -251,7 +251,14 @@ json design_value_json(const DesignValue& design, const AttractorOptions& option
     } else {
         d["attractor"] = nullptr;
     }
-    if (scene.physical) d["F_m_max_newton"] = force_in_newtons(design.F_m_max, *scene.physical);
+    if (scene.physical) {
+        d["F_m_max_newton"] = force_in_newtons(design.F_m_max, *scene.physical);
+        // As gapchain-attractors and a sweep's attractors give it (it was missing here).
+        d["F_m_max_error_newton"] =
+            std::isnan(design.F_m_max_error)
+                ? json(nullptr)
+                : json(force_in_newtons(design.F_m_max_error, *scene.physical));
+    }
     return d;
 }
 

@@ -428,6 +428,13 @@ void read_run_length(SectionReader& run, const std::string& type, Scene& scene) 
                              (run.has("periods") ? "periods" : "transient_periods") +
                              ": not used with excitation.type = " + type +
                              " (the record's length plus excitation.tail sets the run)");
+        // A record has no periodic steady state to stop at: the keys were taken and ignored.
+        for (const char* key : {"steady_state", "steady_tolerance", "max_steady_period"})
+            if (run.has(key))
+                throw SceneError(std::string("run.") + key +
+                                 ": not used with excitation.type = " + type +
+                                 " (the run covers the whole record and its tail; a transient "
+                                 "excitation has no periodic steady state to stop at)");
         // The loop's unit is one natural period (reduced time 1); the run covers the record
         // and the tail.
         o.periods = std::max<long>(

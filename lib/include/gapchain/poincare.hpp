@@ -39,6 +39,9 @@ struct SectionVariable {
     /// parse() of a state variable only, for what plots or transforms a variable (a spectrum,
     /// a diagram): "t" is refused with the rest, in one message naming key and what it takes.
     static SectionVariable parse_state(std::string_view name, int bodies, const std::string& key);
+    /// parse() of an event section's trigger: u, v or g only (a linear signal of the state), in
+    /// one message naming key and what it takes (parse()'s listed t and F, refused later).
+    static SectionVariable parse_trigger(std::string_view name, int bodies, const std::string& key);
     /// The name parse() reads.
     [[nodiscard]] std::string name() const;
     /// Its value at reduced time t and state y.

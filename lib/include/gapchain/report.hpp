@@ -40,7 +40,7 @@ std::string to_json(const SimulationResult& result, const Scene& scene);
 /// basin_fraction with its error, initial_state; null if none), transients, the run options of
 /// its starts (run: periods, transient_periods, scheme, tolerance, step, accuracy_mode,
 /// steady_state, steady_tolerance, max_steady_period, max_work), its wall_time_s, and for a
-/// physical scene F_m_max_newton.
+/// physical scene F_m_max_newton with F_m_max_error_newton (null where not estimated).
 /// "multistable" is also true when start_below or run_above.
 std::string to_json(const SimulationResult& result, const Scene& scene, const DesignValue& design,
                     const AttractorOptions& options);

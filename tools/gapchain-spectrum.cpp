@@ -61,7 +61,8 @@ void print_spectrum(const RowSpectrumOptions& o, const RowSpectrum& s) {
                     "%s\n",
                     s.segment_periods, s.segment_periods, 100.0 * s.content.fraction_bin_share,
                     longer_segment_advice(o, s).c_str());
-    std::printf("broadband share %.4f %s (power away from m/n f_r, n <= %d)\n",
+    // Three significant digits, not four decimals: 7.3e-5 +- 2.2e-5 was printed 0.0001.
+    std::printf("broadband share %.3g %s (power away from m/n f_r, n <= %d)\n",
                 s.content.broadband_share,
                 cli::plus_minus(s.content.broadband_share_error, "%.2g").c_str(), o.order);
     // The Nyquist frequency in forcing harmonics is half the samples per period.
@@ -119,9 +120,12 @@ void add_options(CLI::App& app, SpectrumArguments& a) {
 }
 
 void write_outputs(const SpectrumArguments& a, const std::string& dir, const RowSpectrum& s,
-                   double f_r) {
+                   const Scene& scene) {
+    const double f_r = scene.reduced.f_r;
     write_file_atomically(dir + "/psd.csv", psd_csv(s.psd, f_r));
     write_file_atomically(dir + "/peaks.csv", peaks_csv(s.content, f_r));
+    // The readings printed (broadband share and its error, aliasing, run time) were in no file.
+    write_file_atomically(dir + "/spectrum.json", to_json(s, a.spectrum, scene));
     // A variable that never moves (a contact that never closes) has no power to draw on the
     // figure's log scale: its CSV files say so, and there is no figure.
     const bool flat =
@@ -146,31 +150,32 @@ int main(int argc, char** argv) {
                  "gapchain-spectrum"};
     SpectrumArguments a;
     add_options(app, a);
-    return cli::run(
-        app, argc, argv,
-        [&] {
-            cli::require_sets_read(a.scene, "gapchain-spectrum", once_through_run_keys,
-                                   cli::plain_run_reason);
-            const Scene scene = cli::load(a.scene);
-            const Dynamics dyn = scene.dynamics();
-            a.spectrum.window = parse_window(a.window);
-            validate(a.spectrum, dyn, scene.run);
-            cli::Outputs outputs({a.scene.path});
-            outputs.folder(a.out, "--out", {"psd.csv", "peaks.csv", "spectrum.gp", "spectrum.png"});
-            cli::Progress progress("gapchain-spectrum");
-            const RowSpectrum s =
-                row_spectrum(dyn, scene.run, a.spectrum, scene.initial, progress.callback());
-            cli::throw_if_interrupted();
-            if (s.outcome.status == RunStatus::non_finite)
-                throw cli::NumericalFailure(s.outcome.message);
-            outputs.create_folders();
-            write_outputs(a, outputs.staged(a.out), s, scene.reduced.f_r);
-            outputs.keep();
-            print_spectrum(a.spectrum, s);
-        },
-        {{"segment", "--segment"},
-         {"order", "--order"},
-         {"samples_per_period", "--samples-per-period"},
-         {"variable", "--variable"},
-         {"window", "--window"}});
+    return cli::run(app, argc, argv,
+                    [&] {
+                        cli::require_sets_read(a.scene, "gapchain-spectrum", once_through_run_keys,
+                                               cli::plain_run_reason);
+                        const Scene scene = cli::load(a.scene);
+                        const Dynamics dyn = scene.dynamics();
+                        a.spectrum.window = parse_window(a.window);
+                        validate(a.spectrum, dyn, scene.run);
+                        cli::Outputs outputs({a.scene.path});
+                        outputs.folder(a.out, "--out",
+                                       {"psd.csv", "peaks.csv", "spectrum.json", "spectrum.gp",
+                                        "spectrum.png"});
+                        cli::Progress progress("gapchain-spectrum");
+                        const RowSpectrum s = row_spectrum(dyn, scene.run, a.spectrum,
+                                                           scene.initial, progress.callback());
+                        cli::throw_if_interrupted();
+                        if (s.outcome.status == RunStatus::non_finite)
+                            throw cli::NumericalFailure(s.outcome.message);
+                        outputs.create_folders();
+                        write_outputs(a, outputs.staged(a.out), s, scene);
+                        outputs.keep();
+                        print_spectrum(a.spectrum, s);
+                    },
+                    {{"segment", "--segment"},
+                     {"order", "--order"},
+                     {"samples_per_period", "--samples-per-period"},
+                     {"variable", "--variable"},
+                     {"window", "--window"}});
 }

@@ -428,6 +428,29 @@ std::string grid_csv(const ApproximationGrid& grid) {
     return os.str();
 }
 
+std::string to_json(const RowSpectrum& s, const RowSpectrumOptions& o, const Scene& scene) {
+    const auto estimated = [](double x) { return std::isfinite(x) ? json(x) : json(nullptr); };
+    json j = {{"variable", o.variable},
+              {"samples_per_period", o.samples_per_period},
+              {"samples", s.samples},
+              {"sample_rate", s.sample_rate},
+              {"segment", s.segment},
+              {"segments", s.psd.segments},
+              {"segment_periods", s.segment_periods},
+              {"whole_periods", s.whole_periods},
+              {"order", o.order},
+              {"broadband_share", s.content.broadband_share},
+              {"broadband_share_error", estimated(s.content.broadband_share_error)},
+              {"fraction_bin_share", s.content.fraction_bin_share},
+              {"aliased_share", s.aliased_share},
+              {"sampled_range_share", s.sampled_range_share},
+              {"peaks", s.content.peaks.size()},
+              {"status", to_string(s.outcome.status)},
+              {"wall_time_s", s.wall_time_s}};
+    add_provenance(j, scene, true);
+    return j.dump(2) + "\n";
+}
+
 std::string to_json(const SectionSpec& spec, long points, const SectionAccuracy* accuracy,
                     double wall_time_s, const Scene& scene) {
     json j;

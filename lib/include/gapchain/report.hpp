@@ -13,6 +13,7 @@
 #include "gapchain/orbit.hpp"
 #include "gapchain/output_file.hpp"
 #include "gapchain/scene.hpp"
+#include "gapchain/signal.hpp"
 #include "gapchain/simulation.hpp"
 #include "gapchain/spectrum.hpp"
 #include "gapchain/sweep.hpp"
@@ -67,6 +68,13 @@ std::string to_json(const ModalResult& result, int Nm, double fc);
 
 /// The eq (26) grid as CSV: Nm,fc,f1_error,other_error,other_mode.
 std::string grid_csv(const ApproximationGrid& grid);
+
+/// A spectrum's sidecar (spectrum.json beside psd.csv and peaks.csv): variable,
+/// samples_per_period, samples, sample_rate, segment, segments, segment_periods, whole_periods,
+/// order, broadband_share with broadband_share_error (null where not estimated),
+/// fraction_bin_share, aliased_share, sampled_range_share, peaks (how many; peaks.csv lists
+/// them), status, wall_time_s [s], and the run's provenance.
+std::string to_json(const RowSpectrum& s, const RowSpectrumOptions& o, const Scene& scene);
 
 /// A Poincare section's sidecar (section.json beside section.csv): the section (kind; phase, or
 /// trigger, level and direction; record), points, point_error (null where not estimated, else

@@ -93,13 +93,15 @@ void run_study(const Scene& scene, const WorkPrecisionOptions& o, const std::str
     outputs.create_folders();
     const std::string staged = outputs.staged(out);
     write_file_atomically(staged + "/work_precision.csv", work_precision_csv(study));
+    // The reference, the observed orders, the verdict and the run time were only printed.
+    write_file_atomically(staged + "/accuracy.json", to_json(study, o, target, scene));
     const std::string title = study_title(scene, o.periods);
     if (!no_plot) cli::plot_template(staged, "work_precision", {{"TITLE", title}});
     outputs.keep();
     cli::throw_if_interrupted(std::to_string(study.points.size()) + " runs done, in " + out +
                               "/work_precision.csv");
     print_study(study, title, target);
-    std::printf("wrote %s/work_precision.csv%s (%.1f s)\n", out.c_str(),
+    std::printf("wrote %s/work_precision.csv, accuracy.json%s (%.1f s)\n", out.c_str(),
                 no_plot ? "" : ", work_precision.png", study.wall_time_s);
 }
 
@@ -144,8 +146,9 @@ int main(int argc, char** argv) {
         set_schemes(o, schemes, no_unsplit);
         o.max_work = scene.run.max_work;
         cli::Outputs outputs({scene_args.path});
-        outputs.folder(out, "--out",
-                       {"work_precision.csv", "work_precision.gp", "work_precision.png"});
+        outputs.folder(
+            out, "--out",
+            {"work_precision.csv", "accuracy.json", "work_precision.gp", "work_precision.png"});
         run_study(scene, o, out, no_plot, target, outputs);
     });
 }

@@ -428,6 +428,35 @@ std::string grid_csv(const ApproximationGrid& grid) {
     return os.str();
 }
 
+std::string to_json(const WorkPrecision& study, const WorkPrecisionOptions& o, double target,
+                    const Scene& scene) {
+    json orders = json::object();
+    for (const Scheme s : {Scheme::central_difference, Scheme::rk4})
+        for (const bool split : {true, false})
+            if (const auto q = observed_order(study, s, split))
+                orders[std::string(to_string(s)) + (split ? "" : " (no split)")] = *q;
+    json fastest = nullptr;
+    if (const auto best = fastest_for(study, target))
+        fastest = {{"scheme", to_string(best->scheme)},
+                   {"tolerance", best->tolerance},
+                   {"F_m_error", best->F_m_error},
+                   {"wall_time_s", best->wall_time_s}};
+    json j = {{"F_m_reference", study.F_m_reference},
+              {"F_m_reference_scheme", "exact, half its default interval"},
+              {"periods", o.periods},
+              {"runs", study.points.size()},
+              {"observed_order", orders},
+              {"target", target},
+              {"fastest_for_target", fastest},
+              {"cancelled", study.cancelled},
+              {"wall_time_s", study.wall_time_s}};
+    add_provenance(j, scene, true);
+    // The study sets its runs' length and tolerances itself: the scene's are not what ran.
+    for (const char* key : {"periods", "transient_periods", "tolerance"})
+        j["parameters"].erase(key);
+    return j.dump(2) + "\n";
+}
+
 std::string to_json(const RowSpectrum& s, const RowSpectrumOptions& o, const Scene& scene) {
     const auto estimated = [](double x) { return std::isfinite(x) ? json(x) : json(nullptr); };
     json j = {{"variable", o.variable},

@@ -69,6 +69,13 @@ std::string to_json(const ModalResult& result, int Nm, double fc);
 /// The eq (26) grid as CSV: Nm,fc,f1_error,other_error,other_mode.
 std::string grid_csv(const ApproximationGrid& grid);
 
+/// A work-precision study's sidecar (accuracy.json beside work_precision.csv): F_m_reference
+/// and how it was made, periods, runs, observed_order (per scheme with at least 3 points above
+/// 1e-12), target and fastest_for_target (scheme, tolerance, F_m_error, wall_time_s; null if no
+/// run met it), cancelled, wall_time_s [s], and the run's provenance.
+std::string to_json(const WorkPrecision& study, const WorkPrecisionOptions& o, double target,
+                    const Scene& scene);
+
 /// A spectrum's sidecar (spectrum.json beside psd.csv and peaks.csv): variable,
 /// samples_per_period, samples, sample_rate, segment, segments, segment_periods, whole_periods,
 /// order, broadband_share with broadband_share_error (null where not estimated),

@@ -59,7 +59,8 @@ scene, **keys  the row (Nm, fc, eps, e_r, f_r; of the run section scheme, tolera
 Returns a dict of columns, one row per value and direction: value, direction ("up"/"down"),
 F_m (over the orbit Newton confirmed, else over the recorded periods), F_m_error (the recorded
 halves' spread of F_m, at least tolerance * F_m; on a confirmed orbit at least the recorded
-maximum's difference from it; on a periodic row Newton did not confirm, with confirm=True, at
+maximum's difference from it; on a row that is not periodic, and on a periodic row Newton did
+not confirm with confirm=True, at
 least twice its difference from the same window on a finer plan), period (0: not periodic; the orbit's minimal period where
 confirmed), points (section points recorded; the orbit's where points_from_orbit), status, newton_confirmed, max_multiplier (the
 confirmed orbit's largest |Floquet multiplier|, NaN unless confirmed), points_from_orbit (the

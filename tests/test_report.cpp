@@ -136,6 +136,11 @@ TEST_CASE("simulation JSON of a recorded ground motion names the record file and
         "kanai_tajimi", "duration": 1}})")));
     CHECK(kanai_tajimi["excitation"]["type"] == "kanai_tajimi");
     CHECK_FALSE(kanai_tajimi["excitation"].contains("record_file"));
+    // No forcing frequency: f_r is null, not the reduced 1 (a reviewer's probe, helper-74).
+    CHECK(j["parameters"]["f_r"].is_null());
+    CHECK(kanai_tajimi["parameters"]["f_r"].is_null());
+    const auto harmonic = nlohmann::json::parse(to_json(SimulationResult{}, parse_scene("{}")));
+    CHECK(harmonic["parameters"]["f_r"].is_number());
 }
 
 TEST_CASE(

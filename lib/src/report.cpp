@@ -76,6 +76,8 @@ json scene_parameters_json(const Scene& scene) {
     json j = parameters_json(scene.reduced);
     if (scene.clearance_array) j["e_r"] = nullptr;
     if (scene.damping_array) j["eps"] = nullptr;
+    // A record or Kanai-Tajimi motion has no forcing frequency: its reduced f_r (1) read as one.
+    if (!scene.harmonic()) j["f_r"] = nullptr;
     return j;
 }
 

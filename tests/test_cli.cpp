@@ -93,37 +93,25 @@ TEST_CASE("the first signal cancels where the run asks, and its unfinished file 
 }
 
 TEST_CASE("a second signal ends the process at once and removes the temporaries") {
-    const fs::path dir = scratch::fresh_folder("cli-second");
-    const fs::path out = dir / "result.csv";
-    const ChildEnd end = run_in_child([&] {
-        OutputFile file(out.string());
-        file.stream() << "a,b\n";
-        file.stream().flush();
-        std::raise(SIGINT);
-        std::raise(SIGINT);
-        file.commit();
-    });
-    REQUIRE(WIFSIGNALED(end.status));
-    CHECK(WTERMSIG(end.status) == SIGINT);
-    // The temporary was there when the signals came (flushed); the handler removed it.
-    CHECK(fs::is_empty(dir));
-    fs::remove_all(dir);
-}
-
-TEST_CASE("SIGINT then SIGTERM: the second ends the process whichever signal it is") {
-    const fs::path dir = scratch::fresh_folder("cli-mixed");
-    const fs::path out = dir / "result.csv";
-    const ChildEnd end = run_in_child([&] {
-        OutputFile file(out.string());
-        file.stream() << "a,b\n";
-        std::raise(SIGINT);
-        std::raise(SIGTERM);
-        file.commit();
-    });
-    REQUIRE(WIFSIGNALED(end.status));
-    CHECK(WTERMSIG(end.status) == SIGTERM);
-    CHECK(fs::is_empty(dir));
-    fs::remove_all(dir);
+    // SIGINT then SIGTERM: the second ends the process whichever signal it is.
+    for (const int second : {SIGINT, SIGTERM}) {
+        CAPTURE(second);
+        const fs::path dir = scratch::fresh_folder("cli-second");
+        const fs::path out = dir / "result.csv";
+        const ChildEnd end = run_in_child([&] {
+            OutputFile file(out.string());
+            file.stream() << "a,b\n";
+            file.stream().flush();
+            std::raise(SIGINT);
+            std::raise(second);
+            file.commit();
+        });
+        REQUIRE(WIFSIGNALED(end.status));
+        CHECK(WTERMSIG(end.status) == second);
+        // The temporary was there when the signals came (flushed); the handler removed it.
+        CHECK(fs::is_empty(dir));
+        fs::remove_all(dir);
+    }
 }
 
 TEST_CASE("a second signal puts back the files a run had set aside to rewrite in place") {

@@ -39,10 +39,7 @@ struct PlottedSection {
 PlottedSection state_section(const SectionSpec& o, int Nm) {
     PlottedSection section{o, {}};
     std::vector<SectionVariable>& record = section.spec.record;
-    record.clear();
-    for (const auto kind : {SectionVariable::Kind::displacement, SectionVariable::Kind::velocity})
-        for (int i = 0; i < Nm; ++i)
-            record.push_back({kind, i});
+    record = SectionVariable::whole_state(Nm);
     for (const auto& v : o.record) {
         const auto same = [&v](const SectionVariable& w) {
             return w.kind == v.kind && w.index == v.index;

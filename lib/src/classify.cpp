@@ -319,13 +319,10 @@ void flag_start_up(const Dynamics& dyn, const ClassifyOptions& o, Classification
     c.start_up_in_record = o.transient_periods < c.start_up_periods;
 }
 
-/// A stroboscopic section recording the whole state, u_1 .. u_Nm then v_1 .. v_Nm.
+/// A stroboscopic section recording the whole state.
 SectionSpec whole_state_section(int bodies) {
     SectionSpec spec;
-    spec.record.clear();
-    for (const auto kind : {SectionVariable::Kind::displacement, SectionVariable::Kind::velocity})
-        for (int i = 0; i < bodies; ++i)
-            spec.record.push_back({kind, i});
+    spec.record = SectionVariable::whole_state(bodies);
     return spec;
 }
 

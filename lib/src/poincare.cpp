@@ -57,6 +57,14 @@ SectionVariable SectionVariable::parse_state(std::string_view name, int bodies,
     throw std::invalid_argument(refusal);
 }
 
+std::vector<SectionVariable> SectionVariable::whole_state(int bodies) {
+    std::vector<SectionVariable> state;
+    for (const auto kind : {Kind::displacement, Kind::velocity})
+        for (int i = 0; i < bodies; ++i)
+            state.push_back({kind, i});
+    return state;
+}
+
 SectionVariable SectionVariable::parse_trigger(std::string_view name, int bodies,
                                                const std::string& key) {
     const std::string n = std::to_string(bodies);

@@ -42,6 +42,9 @@ struct SectionVariable {
     /// parse() of an event section's trigger: u, v or g only (a linear signal of the state), in
     /// one message naming key and what it takes (parse()'s listed t and F, refused later).
     static SectionVariable parse_trigger(std::string_view name, int bodies, const std::string& key);
+    /// The whole state of a row of `bodies` bodies, u_1 .. u_Nm then v_1 .. v_Nm: what a
+    /// section records to tell states apart (a diagram's period, a label's section points).
+    static std::vector<SectionVariable> whole_state(int bodies);
     /// The name parse() reads.
     [[nodiscard]] std::string name() const;
     /// Its value at reduced time t and state y.

@@ -116,7 +116,7 @@ TEST_CASE("keep \"F_m_orbit\": the orbit's maximum and the transient flag, as si
         s, {}, [&](long i) { return sweep_point_input(scenes.scene(i)); },
         [&](const SweepPointResult& r) { results[static_cast<std::size_t>(r.index)] = r; });
     const std::string header = sweep_csv_header(s);
-    CHECK(header.find(",F_m_orbit,maximum_in_transient") != std::string::npos);
+    CHECK(header.find(",F_m_orbit,F_m_orbit_error,maximum_in_transient") != std::string::npos);
     const std::string flagged = sweep_csv_row(s, results[0]);
     CHECK(flagged.substr(flagged.size() - 2) == ",1");
     REQUIRE(results[0].simulation.F_m_orbit);
@@ -193,6 +193,28 @@ TEST_CASE("a record study's fingerprint covers the record's content, not only it
     CHECK(first == study_fingerprint(parse_study(text, "study.json")));
     std::ofstream(record) << "0,0\n0.01,2\n0.02,-1\n0.03,0\n";
     CHECK(study_fingerprint(parse_study(text, "study.json")) != first);
+    std::remove(record.c_str());
+}
+
+TEST_CASE("a record study's row leaves f_r empty: a record has no forcing frequency") {
+    // The reduced f_r of a record is 1 (its time unit), which the CSV wrote as if it were one
+    // (a reviewer's probe, helper-74). A harmonic study's row keeps its f_r.
+    const std::string record = "test_sweep_f_r_record.csv";
+    std::ofstream(record) << "0,0\n0.01,1\n0.02,-1\n0.03,0\n";
+    const std::string scene = R"({"units": "physical", "model": {"Nm": 2, "M": 100, "K": 1e5,
+        "C": 500, "Kc": 5e7, "e": 0.003}, "excitation": {"type": "record", "file": ")" +
+                              record + R"("}})";
+    const Study rec = parse_study(
+        R"({"scene": )" + scene + R"(, "parameters": {"model.e": [0.002]}})", "study.json");
+    const Study harmonic = parse_study(
+        R"({"scene": {"model": {"Nm": 2}, "run": {"periods": 2}}, "parameters": {"f_r": [0.7]}})");
+    for (const Study* s : {&rec, &harmonic}) {
+        std::vector<SweepPointResult> rows;
+        run_study(*s, {}, [&](const SweepPointResult& r) { rows.push_back(r); });
+        REQUIRE(rows.size() == 1);
+        const std::string cell = csv_cell(sweep_csv_header(*s), sweep_csv_row(*s, rows[0]), "f_r");
+        CHECK(cell == (s == &rec ? "" : "0.7"));
+    }
     std::remove(record.c_str());
 }
 

@@ -7,6 +7,7 @@
 #include "gapchain/report.hpp"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <tuple>
@@ -105,14 +106,18 @@ int main(int argc, char** argv) {
         require_paper_row(scene, "gapchain-bounds");
         cli::Outputs outputs({scene_args.path});
         outputs.file(out, "--out");
+        const auto start = std::chrono::steady_clock::now();
         ModalOptions o;
         o.count = 1;
         o.shapes = false;
         const double f1 = modal_analysis(scene.chain(), o).frequencies.front();
         const ReducedParameters& p = scene.reduced;
         const AnalyticEstimates a = analytic_estimates(p.Nm, p.fc, p.eps, p.e_r, p.f_r, f1);
-        if (!out.empty()) write_file_atomically(out, to_json(a, scene));
+        const double seconds =
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+        if (!out.empty()) write_file_atomically(out, to_json(a, scene, seconds));
         outputs.keep();
         print_estimates(scene, a);
+        std::printf("wall time %.3g s\n", seconds);
     });
 }

@@ -101,8 +101,8 @@ not settle within run.max_steady_period), wall_time_s; with "per_body" kept, per
 NaN to the largest Nm) and per_body_error (the same shape; NaN where not estimated); with "regime" kept, regime,
 period, lambda_max, lambda_max_error, regime_start_dependent (bool; False also where no twin
 ran, which the CSV leaves empty), regime_settled_in_record (bool: the transient ended while
-recording, the label is the steady state's); with "F_m_orbit" kept, F_m_orbit (NaN: did not settle)
-and maximum_in_transient (bool; False also where the run settled on no orbit, which the CSV
+recording, the label is the steady state's); with "F_m_orbit" kept, F_m_orbit (NaN: did not settle),
+F_m_orbit_error (NaN: not estimated) and maximum_in_transient (bool; False also where the run settled on no orbit, which the CSV
 leaves empty); with "attractors", F_m_max, F_m_max_error (NaN: not
 estimated), attractors and unsettled; F_m_newton and F_m_error_newton (NaN: not estimated) for
 physical scenes (and F_m_max_newton, F_m_max_error_newton with "attractors"); and cancelled (an interrupted call, by KeyboardInterrupt or an exception progress raises, sets what it had done, cancelled true, as the exception's partial).)";
@@ -237,7 +237,9 @@ void axis_columns(py::dict& d, const Study& study, const std::vector<SweepPointR
     d["fc"] = column<double>(rows, [](const R& r) { return r.parameters.fc; });
     d["eps"] = column<double>(rows, [](const R& r) { return r.parameters.eps; });
     d["e_r"] = column<double>(rows, [](const R& r) { return r.parameters.e_r; });
-    d["f_r"] = column<double>(rows, [](const R& r) { return r.parameters.f_r; });
+    d["f_r"] = column<double>(rows, [](const R& r) {
+        return r.harmonic ? r.parameters.f_r : std::numeric_limits<double>::quiet_NaN();
+    });
 }
 
 /// per_body and per_body_error, points x Nm x 2.
@@ -280,6 +282,9 @@ void kept_columns(py::dict& d, const Study& study, const std::vector<SweepPointR
     if (study.keep.orbit) {
         d["F_m_orbit"] = column<double>(rows, [](const R& r) {
             return r.simulation.F_m_orbit.value_or(std::numeric_limits<double>::quiet_NaN());
+        });
+        d["F_m_orbit_error"] = column<double>(rows, [](const R& r) {
+            return r.simulation.F_m_orbit_error.value_or(std::numeric_limits<double>::quiet_NaN());
         });
         d["maximum_in_transient"] =
             column<bool>(rows, [](const R& r) { return r.simulation.maximum_in_transient; });

@@ -50,7 +50,9 @@ covers the difference; None when run.multistability_check is false), F_m_twin (o
 run's F_m, or None), comparison_ended_elsewhere (bool: that run, from the same start on another
 step, did not settle where this one did, or settled on an orbit whose largest force differs by
 more than max(0.1, 1000 tolerance); the twin run then decides), F_m_orbit (the largest
-force over one cycle of the orbit a periodic run settled on, or None), maximum_in_transient
+force over one cycle of the orbit a periodic run settled on, or None), F_m_orbit_error (its
+error, from the comparison run where that run settled on the same orbit; None where none did
+or the error was not estimated; no start check widens it), maximum_in_transient
 (bool: F_m fell before that orbit was reached, F_m_error covers F_m - F_m_orbit; None where
 the run settled on no orbit),
 start_up_periods and start_up_in_window (a run that did not settle: the periods the row's
@@ -90,7 +92,8 @@ released while it runs; Ctrl-C (KeyboardInterrupt) stops it.)";
 // out infinite (a comparison run that blew up) is put back as inf.
 py::dict result_dict(const std::string& report, const SimulationResult& r, const Scene& scene) {
     py::dict d = py::module_::import("json").attr("loads")(report);
-    for (const char* optional : {"F_m_twin", "F_m_comparison", "F_m_orbit", "relaxed_from_period"})
+    for (const char* optional :
+         {"F_m_twin", "F_m_comparison", "F_m_orbit", "F_m_orbit_error", "relaxed_from_period"})
         if (!d.contains(optional)) d[optional] = py::none();
     if (!d.contains("comparison_ended_elsewhere")) d["comparison_ended_elsewhere"] = false;
     if (has_error_estimate(r)) {

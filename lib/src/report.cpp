@@ -136,7 +136,11 @@ json simulation_json(const SimulationResult& r, const Scene& scene) {
         j["F_m_comparison"] = *r.F_m_comparison;
         j["comparison_ended_elsewhere"] = r.comparison_ended_elsewhere;
     }
-    if (r.F_m_orbit) j["F_m_orbit"] = *r.F_m_orbit;
+    if (r.F_m_orbit) {
+        j["F_m_orbit"] = *r.F_m_orbit;
+        // null where not estimated (json() of a non-finite number reads the same).
+        j["F_m_orbit_error"] = r.F_m_orbit_error ? json(*r.F_m_orbit_error) : json(nullptr);
+    }
     j["maximum_in_transient"] = r.F_m_orbit ? json(r.maximum_in_transient) : json(nullptr);
     j["start_up_periods"] = r.start_up_periods;
     j["start_up_in_window"] = r.start_up_in_window;
@@ -979,7 +983,7 @@ std::string psd_csv(const Psd& psd, double f_r) {
     return os.str();
 }
 
-std::string to_json(const AnalyticEstimates& a, const Scene& scene) {
+std::string to_json(const AnalyticEstimates& a, const Scene& scene, double wall_time_s) {
     json j;
     j["parameters"] = scene_parameters_json(scene);
     j["eq20_amplitude"] = a.amplitude;
@@ -998,6 +1002,7 @@ std::string to_json(const AnalyticEstimates& a, const Scene& scene) {
         if (scene.physical && std::isfinite(value))
             j[std::string(key) + "_N"] = force_in_newtons(value, *scene.physical);
     }
+    j["wall_time_s"] = wall_time_s;
     return j.dump(2) + "\n";
 }
 
@@ -1042,7 +1047,7 @@ std::string sweep_csv_header(const Study& study) {
     if (study.attractor_starts > 0 && physical) h += ",F_m_max_newton,F_m_max_error_newton";
     if (study.keep.steady_state) h += ",steady_state_period,longer_cycle_period";
     if (study.keep.wall_time) h += ",wall_time_s";
-    if (study.keep.orbit) h += ",F_m_orbit,maximum_in_transient";
+    if (study.keep.orbit) h += ",F_m_orbit,F_m_orbit_error,maximum_in_transient";
     if (study.keep.regime)
         h += ",regime,period,lambda_max,lambda_max_error,regime_start_dependent,"
              "regime_settled_in_record";
@@ -1082,8 +1087,10 @@ std::string sweep_csv_row(const Study& study, const SweepPointResult& r) {
         os << ',' << v;
     const ReducedParameters& p = r.parameters;
     const SimulationResult& s = r.simulation;
-    os << ',' << p.Nm << ',' << p.fc << ',' << p.eps << ',' << p.e_r << ',' << p.f_r << ',' << s.F_m
-       << ',';
+    os << ',' << p.Nm << ',' << p.fc << ',' << p.eps << ',' << p.e_r << ',';
+    // A record has no forcing frequency: its reduced 1 read as one (as the sim JSON's null).
+    if (r.harmonic) os << p.f_r;
+    os << ',' << s.F_m << ',';
     if (has_error_estimate(s)) os << s.F_m_error;
     os << ',' << to_string(s.status) << ',';
     // Unknown where the check was off and no attractor search ran: empty, never 0.
@@ -1113,6 +1120,8 @@ std::string sweep_csv_row(const Study& study, const SweepPointResult& r) {
         // Both empty where the run settled on no orbit: there is no orbit maximum to compare
         // (a 0 there read as "the maximum was the orbit's").
         if (s.F_m_orbit) os << *s.F_m_orbit;
+        os << ',';
+        if (s.F_m_orbit_error) os << *s.F_m_orbit_error;
         os << ',';
         if (s.F_m_orbit) os << (s.maximum_in_transient ? 1 : 0);
     }

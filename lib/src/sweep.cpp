@@ -133,6 +133,7 @@ SweepPointResult run_point(const Study& s, const SweepPointFactory& make_point, 
     r.values = point_values(s, index);
     const SweepPointInput in = make_point(index);
     r.parameters = in.reduced;
+    r.harmonic = in.harmonic;
     SimulationHooks hooks;
     hooks.progress = keep_going;
     r.simulation = simulate(in.dynamics, in.run, in.initial, hooks);

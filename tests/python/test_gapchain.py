@@ -262,6 +262,9 @@ def test_sweep_columns_follow_the_study():
     assert s["maximum_in_transient"][3] == one["maximum_in_transient"]
     orbit = one["F_m_orbit"]
     assert (np.isnan(s["F_m_orbit"][3]) if orbit is None else s["F_m_orbit"][3] == orbit)
+    bar = one["F_m_orbit_error"]
+    assert (np.isnan(s["F_m_orbit_error"][3]) if bar is None
+            else s["F_m_orbit_error"][3] == bar)
     assert s["per_body_error"].shape == (4, 5, 2)
     if one["per_body_error"] is None:
         assert np.all(np.isnan(s["per_body_error"][3]))
@@ -298,6 +301,14 @@ def test_a_physical_sweep_gives_F_m_and_its_error_in_newtons():
     assert np.allclose(a["attractors"]["F_m_newton"], a["attractors"]["F_m"] * newtons)
     o = gapchain.orbit(scene)
     assert o["F_m_newton"] == pytest.approx(o["F_m"] * newtons, rel=1e-12)
+    # A Kanai-Tajimi motion has no forcing frequency: f_r is NaN, not the reduced 1.
+    quake = {"units": "physical", "model": scene["model"],
+             "excitation": {"type": "kanai_tajimi", "a0": 5, "ground_frequency": 2.5,
+                            "ground_damping": 0.6, "duration": 1.0, "sample_interval": 0.005,
+                            "rise": 0.2, "hold": 0.5, "decay": 0.5, "seed": 1}}
+    q = gapchain.sweep({"scene": quake, "parameters": {"model.e": [0.002]}})
+    assert np.isnan(q["f_r"][0]) and np.isfinite(q["F_m"][0])
+    assert s["f_r"][0] == pytest.approx(4 / (math.sqrt(1e5 / 100) / (2 * math.pi)), rel=1e-12)
 
 
 def test_accuracy_mode_is_reported_and_strict_keeps_a_periodic_answer():

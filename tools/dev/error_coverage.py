@@ -4,7 +4,8 @@ ranges (Nm 2-10, fc 60-2000, eps 0.05-0.5, e_r 0-0.4, f_r 0.3-3; 400 periods), e
 a user would (default scheme and tolerance), then again with rk8pd at tolerance 1e-9 on the same
 recorded window (run.transient_periods as the default run used). For the periodic points with
 contact it counts how often |F_m - F_m(rk8pd)| and |F_m_orbit - F_m_orbit(rk8pd)| stay within
-F_m_error, how many took their maximum in the transient, and how many the tool calls
+F_m_error, how often the latter stays within the orbit's own bar F_m_orbit_error (where the
+build reports one and rk8pd settled with the same period), how many took their maximum in the transient, and how many the tool calls
 multistable (and why). Prints a summary and, with --list, one line per point.
 
     python3 tools/dev/error_coverage.py build/bin/gapchain-sim [--points 300] [--list]
@@ -81,8 +82,9 @@ def main():
                                     range(1, args.points + 1)) if r]
     os.rmdir(workdir)
     counts = {"window": 0, "orbit": 0, "orbit_n": 0, "transient": 0, "multistable": 0,
-              "twin": 0, "elsewhere": 0}
+              "twin": 0, "elsewhere": 0, "own": 0, "own_n": 0, "own_none": 0, "own_other": 0}
     worst_orbit = 0.0
+    own_ratios = []
     for r in rows:
         run, ref = r["run"], r["ref"]
         err = run["F_m_error"] or 0.0
@@ -93,6 +95,16 @@ def main():
             counts["orbit_n"] += 1
             counts["orbit"] += orbit_gap <= err
             worst_orbit = max(worst_orbit, orbit_gap / err if err > 0 else float("inf"))
+            own = run.get("F_m_orbit_error")
+            if run["steady_state_period"] != ref["steady_state_period"]:
+                counts["own_other"] += 1  # rk8pd settled on another orbit: not this one's error
+            elif own is None:
+                counts["own_none"] += 1
+            else:
+                counts["own_n"] += 1
+                counts["own"] += orbit_gap <= own
+                own_ratios.append(orbit_gap / own if own > 0
+                                  else (0.0 if orbit_gap == 0.0 else float("inf")))
         counts["transient"] += run["maximum_in_transient"]
         counts["multistable"] += run["multistable"]
         counts["twin"] += run["multistable"] and run.get("F_m_twin") is not None
@@ -102,7 +114,8 @@ def main():
             print(f"seed {r['seed']:4d} Nm {m['Nm']:2d} fc {m['fc']:8.3f} eps {m['eps']:.3f} "
                   f"e_r {m['e_r']:.3f} f_r {r['scene']['excitation']['f_r']:.3f}: "
                   f"F_m {run['F_m']:.6g} +- {err:.2g}, rk8pd {ref['F_m']:.6g}; orbit "
-                  f"{run.get('F_m_orbit')}, rk8pd {ref.get('F_m_orbit')}; "
+                  f"{run.get('F_m_orbit')} +- {run.get('F_m_orbit_error')}, "
+                  f"rk8pd {ref.get('F_m_orbit')}; "
                   f"transient {run['maximum_in_transient']}, multistable {run['multistable']}, "
                   f"comparison elsewhere {run.get('comparison_ended_elsewhere')}")
     n = len(rows)
@@ -110,6 +123,12 @@ def main():
     print(f"  window maximum within F_m_error of rk8pd's (same window): {counts['window']}/{n}")
     print(f"  orbit maximum within F_m_error of rk8pd's orbit: {counts['orbit']}/"
           f"{counts['orbit_n']} (largest gap / F_m_error: {worst_orbit:.2f})")
+    if counts["own_n"]:
+        own_ratios.sort()
+        print(f"  orbit maximum within its own F_m_orbit_error: {counts['own']}/{counts['own_n']}"
+              f" ({counts['own_none']} not estimated, {counts['own_other']} where rk8pd settled "
+              f"with another period; gap / bar: median "
+              f"{own_ratios[len(own_ratios) // 2]:.2g}, largest {own_ratios[-1]:.2f})")
     print(f"  maximum in the transient: {counts['transient']}/{n}")
     print(f"  multistable: {counts['multistable']}/{n} ({counts['twin']} with a twin run, "
           f"{counts['elsewhere']} whose comparison run ended elsewhere)")

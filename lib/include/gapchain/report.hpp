@@ -188,7 +188,7 @@ std::string psd_csv(const Psd& psd, double f_r);
 
 /// The analytic estimates of a scene as JSON (reduced forces, and newtons for physical scenes;
 /// null where an estimate does not exist).
-std::string to_json(const AnalyticEstimates& estimates, const Scene& scene);
+std::string to_json(const AnalyticEstimates& estimates, const Scene& scene, double wall_time_s);
 
 /// The labelled spectral peaks as CSV: f,f_over_f_r,power,label.
 std::string peaks_csv(const SpectralContent& content, double f_r);
@@ -219,9 +219,10 @@ std::string study_json(const Study& study);
 /// empty, not 0, where the run settled on no orbit; regime_settled_in_record added), 8 since
 /// 2026-11-29 (longer_cycle_period follows steady_state_period: a run that did not settle within
 /// run.max_steady_period but whose states repeat every k periods,
-/// SimulationResult::longer_cycle_period). A CSV is resumed only by a build of the same version, so
-/// that no file mixes two meanings.
-inline constexpr int sweep_results_version = 8;
+/// SimulationResult::longer_cycle_period), 9 since 2026-11-29 later (an F_m_error from a
+/// comparison run that is not Richardson's is twice the difference; a record's f_r is empty). A
+/// CSV is resumed only by a build of the same version, so that no file mixes two meanings.
+inline constexpr int sweep_results_version = 9;
 /// A hash (16 hex digits) of everything that decides a study's rows: the base scene, the axes
 /// and their values, the sampling, what is kept and results_version (sweep_results_version
 /// unless a test asks otherwise). Not the file name, nor a build of the same results version.

@@ -123,6 +123,10 @@ struct SimulationResult {
     /// A run that settled on a periodic orbit (harmonic forcing; see simulate()): the largest
     /// force over one cycle of that orbit, >= 0.
     std::optional<double> F_m_orbit;
+    /// F_m_orbit's error estimate, from the comparison run where it settled on the same orbit
+    /// (see simulate()); empty where none did, or the error was not estimated. Start checks
+    /// do not widen it, as they widen F_m_error: another attractor does not move this orbit.
+    std::optional<double> F_m_orbit_error;
     /// F_m_orbit is below F_m by more than the accuracy asked (max(tolerance, 1e-9) F_m): the
     /// maximum fell before the orbit was reached (a start-up that decays slower than MODEL.md §2's
     /// discarded periods assume, or a chaotic transient; the latter is also multistable). F_m_error

@@ -83,7 +83,10 @@ struct SweepPointResult {
     long index = 0;               ///< the point's index in the study, 0 .. points - 1 (its CSV row)
     std::vector<double> values;   ///< axis values
     ReducedParameters parameters; ///< the point's reduced parameters
-    SimulationResult simulation;  ///< F_m and the rest
+    /// Harmonic forcing. A record or Kanai-Tajimi motion has none: parameters.f_r is then the
+    /// reduced 1, not a forcing frequency, and the CSV's f_r cell is empty (Python: NaN)
+    bool harmonic = true;
+    SimulationResult simulation; ///< F_m and the rest
     /// The answer depends on the start: simulation.multistable, or with attractors > 0
     /// multistable(simulation, its design value) (attractors.hpp)
     bool multistable = false;

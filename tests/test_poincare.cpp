@@ -134,6 +134,15 @@ RunOptions lasting(long periods, long transient_periods) {
     return o;
 }
 
+// The largest difference of variable i between two sections, point by point.
+double largest_gap(const std::vector<SectionPoint>& a, const std::vector<SectionPoint>& b,
+                   std::size_t i) {
+    double gap = 0.0;
+    for (std::size_t k = 0; k < std::min(a.size(), b.size()); ++k)
+        gap = std::max(gap, std::abs(a[k].values[i] - b[k].values[i]));
+    return gap;
+}
+
 } // namespace
 
 TEST_CASE("a section's error estimate covers an independent run's difference, and is not loose") {
@@ -168,12 +177,60 @@ TEST_CASE("a section's error estimate covers an independent run's difference, an
         // The trigger u1 is the level at every event: no error of its own.
         if (event) CHECK(std::isnan(a.error[0]));
         for (std::size_t i = event ? 1 : 0; i < 2; ++i) {
-            double actual = 0.0;
-            for (std::size_t k = 0; k < main.size(); ++k)
-                actual = std::max(actual, std::abs(main[k].values[i] - reference[k].values[i]));
+            const double actual = largest_gap(main, reference, i);
             MESSAGE("variable " << i << ": estimate " << a.error[i] << ", actual " << actual);
             CHECK(a.error[i] >= actual);
             CHECK(a.error[i] <= 10.0 * actual);
+        }
+    }
+}
+
+TEST_CASE("an adaptive scheme's section error covers the truth where its output interval, not "
+          "its tolerance, sets the steps; the exact scheme's is not 0") {
+    // A reviewer's probe (helper-75): Fig 13's row at f_r = 2.5 settles on an orbit; rkf45's
+    // points stay 2.4e-5 off at every tolerance from 0.1 to 1e-4 (the output interval caps its
+    // steps), and the finer run at a tenth of the tolerance alone took the same steps: the
+    // estimate said 5e-11 at 0.1, 1.4e-6 at 1e-2. Set against the exact scheme at 1e-10.
+    const Dynamics dyn = Dynamics::paper_row({5, 60, 0.5, 0.06, 2.5});
+    SectionSpec spec = u1_v1(5);
+    spec.record[1] = SectionVariable::parse("v3", 5, "r");
+    RunOptions reference_options = lasting(260, 30);
+    reference_options.scheme = Scheme::exact;
+    reference_options.tolerance = 1e-10;
+    const std::vector<SectionPoint> reference = section_of(dyn, reference_options, spec);
+    struct Case {
+        Scheme scheme;
+        double tolerance;
+    };
+    // The exact scheme's finer run shares its round-off: its estimate read 0 (helper-75), set
+    // here against rk8pd at 1e-12.
+    RunOptions rk8pd_options = lasting(260, 30);
+    rk8pd_options.scheme = Scheme::rk8pd;
+    rk8pd_options.tolerance = 1e-12;
+    const std::vector<SectionPoint> rk8pd = section_of(dyn, rk8pd_options, spec);
+    const SectionAccuracy e = section_accuracy(dyn, reference_options, spec, {}, reference);
+    for (std::size_t i = 0; i < 2; ++i) {
+        const double gap = largest_gap(reference, rk8pd, i);
+        MESSAGE("exact, variable " << i << ": estimate " << e.error[i] << ", rk8pd " << gap);
+        CHECK(e.error[i] >= gap);
+        CHECK(e.error[i] < 1e-9);
+    }
+    for (const Case c : {Case{Scheme::rkf45, 0.1}, Case{Scheme::rkf45, 1e-2},
+                         Case{Scheme::rk8pd, 1e-2}, Case{Scheme::rk8pd, 1e-4}}) {
+        CAPTURE(to_string(c.scheme));
+        CAPTURE(c.tolerance);
+        RunOptions o = lasting(260, 30);
+        o.scheme = c.scheme;
+        o.tolerance = c.tolerance;
+        const std::vector<SectionPoint> main = section_of(dyn, o, spec);
+        REQUIRE(main.size() == reference.size());
+        const SectionAccuracy a = section_accuracy(dyn, o, spec, {}, main);
+        REQUIRE(a.parted_at == -1);
+        for (std::size_t i = 0; i < 2; ++i) {
+            const double actual = largest_gap(main, reference, i);
+            MESSAGE("variable " << i << ": estimate " << a.error[i] << ", actual " << actual);
+            CHECK(a.error[i] >= actual);
+            CHECK(a.error[i] <= 20.0 * actual);
         }
     }
 }
@@ -202,11 +259,46 @@ TEST_CASE("a chaotic record's points part from the finer run's: only the set is 
     CHECK(b.parted_at == a.parted_at);
     CHECK(b.error[1] == a.error[0]);
     CHECK(b.error[0] == a.error[1]);
-    // A record that starts once they have parted has no point of this start's trajectory.
+    // A record that starts once they have parted has no point of this start's trajectory: its
+    // error is the attractor's extent, twice the largest difference over every point.
     o.transient_periods = 100;
-    const SectionAccuracy late = section_accuracy(dyn, o, spec, {}, section_of(dyn, o, spec));
+    const std::vector<SectionPoint> record = section_of(dyn, o, spec);
+    const SectionAccuracy late = section_accuracy(dyn, o, spec, {}, record);
     CHECK(late.parted_at == 0);
-    CHECK(std::isnan(late.error[0]));
+    CHECK(late.not_estimated.empty());
+    double extent = 0.0;
+    for (const SectionPoint& q : record)
+        for (const SectionPoint& r : record)
+            extent = std::max(extent, std::abs(q.values[0] - r.values[0]));
+    MESSAGE("u1 error " << late.error[0] << ", the record's extent " << extent);
+    CHECK(late.error[0] > 0.2 * extent);
+    CHECK(late.error[0] <= 2.0 * extent);
+}
+
+TEST_CASE("a run too coarse to follow its points one by one gets an error that covers them") {
+    // A reviewer's probe (helper-75): rk4 at step 0.01 on Fig 13's periodic row at f_r = 2.5
+    // is 8e-4 off in u1 against the exact scheme; its points and the finer run's differ by more
+    // than 1e-3 of u1's largest value from the first on, and the tool read "not this start's
+    // trajectory", with no error.
+    const Dynamics dyn = Dynamics::paper_row({5, 60, 0.5, 0.06, 2.5});
+    const SectionSpec spec = u1_v1(5);
+    RunOptions o = lasting(260, 30);
+    o.scheme = Scheme::rk4;
+    o.step = 0.01;
+    const std::vector<SectionPoint> main = section_of(dyn, o, spec);
+    RunOptions reference_options = lasting(260, 30);
+    reference_options.scheme = Scheme::exact;
+    reference_options.tolerance = 1e-10;
+    const std::vector<SectionPoint> reference = section_of(dyn, reference_options, spec);
+    REQUIRE(main.size() == reference.size());
+    const SectionAccuracy a = section_accuracy(dyn, o, spec, {}, main);
+    CHECK(a.parted_at == 0);
+    for (std::size_t i = 0; i < 2; ++i) {
+        const double actual = largest_gap(main, reference, i);
+        MESSAGE("variable " << i << ": estimate " << a.error[i] << ", actual " << actual);
+        CHECK(a.error[i] >= actual);
+        CHECK(a.error[i] <= 10.0 * actual);
+    }
 }
 
 TEST_CASE("a section's error estimate says why it is missing, and never refuses the run") {

@@ -109,22 +109,25 @@ SectionAccuracy estimate_point_error(const Scene& scene, const SectionSpec& spec
 }
 
 void print_point_error(const SectionSpec& spec, const SectionAccuracy& a) {
-    if (a.parted_at == 0) {
-        std::printf("  against a run at %s, the points differ from the first on: not this "
-                    "start's trajectory; only the set is meaningful\n",
-                    a.comparison.c_str());
-        return;
-    }
     if (!a.not_estimated.empty()) {
         std::printf("  point error not estimated: %s\n", a.not_estimated.c_str());
         return;
     }
-    std::printf("  point error (first %ld points, against a run at %s):",
-                a.parted_at < 0 ? a.compared : a.parted_at, a.comparison.c_str());
+    std::printf(
+        "  point error (%s %ld points, against a run at %s):", a.parted_at == 0 ? "all" : "first",
+        a.parted_at <= 0 ? a.compared : a.parted_at, a.comparison.c_str());
+    bool any = false;
     for (std::size_t i = 0; i < spec.record.size(); ++i)
-        if (!std::isnan(a.error[i]))
+        if (!std::isnan(a.error[i])) {
             std::printf(" %s %.2g", spec.record[i].name().c_str(), a.error[i]);
-    std::printf("\n");
+            any = true;
+        }
+    std::printf("%s\n", any ? "" : " none recorded (t and an event's trigger carry none)");
+    if (a.parted_at == 0)
+        std::printf("  the runs differ by more than 1e-3 of a variable's largest value from the "
+                    "first point on: a run too coarse to follow its points one by one (a smaller "
+                    "run.tolerance or run.step tells), or a chaotic record that parted before it "
+                    "began; the error covers every point\n");
     if (a.parted_at > 0)
         std::printf(
             "  the runs part at point %ld of %ld compared (a chaotic record): beyond it the "

@@ -87,7 +87,9 @@ Returns a dict: t ((n,) reduced times), points ((n, len(record)) float64), names
 point_error (None with error=False or a run that did not complete, else a dict as
 section.json's: compared, error (per recorded name: twice the largest difference before the
 runs part; None for t and an event's trigger), parted_at (the first compared point where the
-runs differ by more than 1e-3 of a variable's largest value, a chaotic record: None if never),
+runs differ by more than 1e-3 of a variable's largest value, a chaotic record: None if never;
+0: from the first point on, a run too coarse or a record that parted before it began, and the
+error then covers every compared point),
 comparison, status, not_estimated (why not, or None)), status, message, wall_time_s. An
 interrupted call keeps the points so far on the exception as `partial`.)";
 

@@ -111,7 +111,8 @@ void confirm_row_orbit(const Dynamics& dyn, const std::vector<double>& end_state
 /// A periodic row Newton did not confirm, and a row that is not periodic, keeps its window's
 /// F_m; its bar covers twice the difference from the same window run from the same start on a
 /// finer plan (twice the steps of
-/// a fixed-step scheme, a hundredth of an adaptive scheme's tolerance): rk4's period-5 cell at
+/// a fixed-step scheme, a hundredth of an adaptive scheme's tolerance and half its output
+/// interval): rk4's period-5 cell at
 /// f_r = 2.1253 on Fig 13's row read 1.140344 +- 1.1e-4, where the exact scheme never settles
 /// and reads 1.142547. A cancelled comparison cancels the row; one beyond max_work on its own
 /// (a single row of more than half of it) is not run, rather than fail the diagram after its

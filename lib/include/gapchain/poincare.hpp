@@ -149,14 +149,17 @@ struct SectionAccuracy {
     /// Per recorded variable (SectionSpec::record order), twice the largest difference between
     /// the two runs over the points before they part: the error estimate of those points, in
     /// the variable's own units (twice, so that it covers the run's own error for any scheme of
-    /// order >= 1; the finer run is half the step, a tenth of the tolerance). NaN where nothing
-    /// was compared, for the section time t, and for an event section's trigger variable (the
-    /// level at every point).
+    /// order >= 1; the finer run is half the step, a tenth of the tolerance and half the output
+    /// interval). NaN where nothing was compared, for the section time t, and for an event
+    /// section's trigger variable (the level at every point).
     std::vector<double> error;
     /// First compared point (0-based) at which some variable differs by more than 1e-3 of its
     /// largest |value| over the compared points: from there on the runs follow different
     /// trajectories (a chaotic record), so the points still sample the attractor but are no
-    /// longer this start's; -1: they never part within the compared points.
+    /// longer this start's; -1: they never part within the compared points. 0: they differ from
+    /// the first point on, a run too coarse to follow its points one by one or a chaotic record
+    /// that parted before it began; error then covers every compared point (the largest
+    /// difference over all of them, twice).
     long parted_at = -1;
     /// The finer plan: "half the step", or "tolerance X" (adaptive schemes: a tenth of the
     /// run's).
@@ -166,7 +169,7 @@ struct SectionAccuracy {
     /// Why error is NaN for every variable, empty where it was estimated: no finer run (an
     /// adaptive tolerance within 10 times 1e-12, or a finer run beyond run.max_work, which it
     /// is held to on its own: the main run is not refused for it), the finer run cancelled or
-    /// non-finite, no point to compare, or runs that differ from the first point on.
+    /// non-finite, or no point to compare.
     std::string not_estimated;
 };
 

@@ -156,8 +156,8 @@ RunOutcome run(const Dynamics& dyn, Stepper& stepper, const StepPlan& plan, cons
 StepPlan plan_run(const Dynamics& dyn, const RunOptions& options, int samples_per_period = 0);
 
 /// plan on a finer grid, for a comparison run that measures plan's error: twice the steps of a
-/// fixed-step scheme (the exact propagator's output interval), an adaptive scheme's tolerance
-/// divided by tolerance_divisor (> 1; at least 1e-12).
+/// fixed-step scheme (the exact propagator's output interval); an adaptive scheme's tolerance
+/// divided by tolerance_divisor (> 1; at least 1e-12) and its output interval halved.
 StepPlan finer_plan(const Dynamics& dyn, const StepPlan& plan, double tolerance_divisor);
 
 /// The contact switches one forcing period is counted to hold, for work and size estimates:

@@ -1,8 +1,10 @@
 #include "gapchain/accuracy.hpp"
+#include "gapchain/simulation.hpp"
 
 #include <doctest/doctest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -22,6 +24,20 @@ TEST_CASE("work-precision study: errors fall with the tolerance, exact is its ow
     const WorkPrecision study = work_precision(dyn, o);
     REQUIRE(study.points.size() == 6);
     CHECK(study.F_m_reference > 0.0);
+    // The reference's error covers an independent scheme's answer (rk8pd at 1e-12).
+    RunOptions rk8pd;
+    rk8pd.scheme = Scheme::rk8pd;
+    rk8pd.tolerance = 1e-12;
+    rk8pd.periods = o.periods;
+    rk8pd.transient_periods = 0;
+    rk8pd.stop_at_steady_state = false;
+    rk8pd.estimate_error = false;
+    rk8pd.multistability_check = false;
+    const double independent = simulate(dyn, rk8pd).F_m;
+    MESSAGE("reference " << study.F_m_reference << " +- " << study.F_m_reference_error << ", rk8pd "
+                         << independent);
+    CHECK(std::abs(study.F_m_reference - independent) <= study.F_m_reference_error);
+    CHECK(study.F_m_reference_error < 1e-11 * study.F_m_reference);
     // rk4: the error shrinks as the tolerance tightens (by at least 10x over the ladder).
     CHECK(study.points[2].F_m_error < 0.1 * study.points[0].F_m_error);
     CHECK(study.points[2].final_error < study.points[0].final_error);

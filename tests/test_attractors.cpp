@@ -86,6 +86,25 @@ TEST_CASE("a contact-free row has one attractor, decaying at the rate 2 pi eps o
                       [&](long n) { return n >= 2 && n <= a.settle_max; }));
 }
 
+TEST_CASE("a start whose continuation settles keeps the transient its first run saw end") {
+    // Fig 13's row at f_r = 2.5 settles on its orbit by period 70-74, but approaches it slowly
+    // (|mu| 0.955): 350-period runs find no steady state, their continuations do, and each start
+    // read 367 periods, the continuation's own first test (a reviewer's probe, helper-75).
+    // Runs of 500 periods settle within themselves: both must read the same transients.
+    const ReducedParameters p{5, 60, 0.5, 0.06, 2.5};
+    AttractorOptions o;
+    o.samples = 8;
+    o.run.periods = 350;
+    const AttractorSet shorter = find_attractors(p, o);
+    o.run.periods = 500;
+    const AttractorSet longer = find_attractors(p, o);
+    CHECK(shorter.sample_settle_period == longer.sample_settle_period);
+    for (const long n : shorter.sample_settle_period) {
+        CHECK(n > 0);
+        CHECK(n < 100);
+    }
+}
+
 TEST_CASE("mirror-image orbits are two attractors of equal F_m and equal basin fractions") {
     const AttractorSet set = find_attractors(mirror_pair, short_runs(400, 1));
     REQUIRE(set.attractors.size() == 2);

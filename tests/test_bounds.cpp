@@ -16,6 +16,20 @@ TEST_CASE("eq (20) against hand-computed values") {
     // Quasi-static: 1.
     CHECK(single_body_amplitude(0.0, 0.3) == doctest::Approx(1.0));
     CHECK_THROWS_AS(single_body_amplitude(1.0, 0.0), std::invalid_argument);
+    // A tiny damping at resonance is 1 / (2 eps), not undamped: 4 eps^2 underflowed to 0 in
+    // the sum of squares and was refused (a reviewer's probe, helper-75).
+    CHECK(single_body_amplitude(1.0, 1e-200) == doctest::Approx(5e199));
+}
+
+TEST_CASE("an estimate whose formula does not apply to the row is left out, not refused") {
+    // eq (24) needs eps^2 < 1 + fc and eq (32) f1 > eps: at eps = 100, fc = 60 neither holds,
+    // and the tool refused the whole row where at eps = 0 it printed what applies.
+    const AnalyticEstimates a = analytic_estimates(5, 60.0, 100.0, 0.06, 3.0, 3.5297281);
+    CHECK(std::isnan(a.smooth_max_force));
+    CHECK(std::isnan(a.chaotic_estimate_approx));
+    CHECK(std::isnan(a.chaotic_estimate_exact));
+    CHECK(a.smooth_bound == doctest::Approx(0.005));
+    CHECK(a.amplitude == doctest::Approx(single_body_amplitude(3.0, 100.0)));
 }
 
 TEST_CASE("eq (24) and (25) against hand-computed values") {

@@ -15,8 +15,8 @@ namespace {
 using namespace gapchain;
 
 void print_study(const WorkPrecision& study, const std::string& title, double target) {
-    std::printf("gapchain-accuracy: %s; reference F_m = %.13f (exact)\n", title.c_str(),
-                study.F_m_reference);
+    std::printf("gapchain-accuracy: %s; reference F_m = %.13f +- %.1e (exact)\n", title.c_str(),
+                study.F_m_reference, study.F_m_reference_error);
     std::printf("%-26s %9s %10s %11s %11s %11s %10s %11s\n", "scheme", "tolerance", "step",
                 "F_m error", "final err", "L2 err", "seconds", "evaluations");
     for (const auto& pt : study.points)

@@ -43,7 +43,10 @@ void print_estimates(const Scene& scene, const AnalyticEstimates& a) {
                 a.impacts ? "<" : ">=", a.amplitude);
     std::printf("  eq (21) wall-contact frequency sqrt(1+fc): %.6g\n", a.wall_contact_frequency);
     auto show = [&](const char* label, double reduced) {
-        if (!std::isfinite(reduced)) return;
+        if (!std::isfinite(reduced)) {
+            std::printf("  %-42s not defined for this row\n", label);
+            return;
+        }
         std::printf("  %-42s %.6g", label, reduced);
         if (scene.physical) std::printf("  (%.6g N)", force_in_newtons(reduced, *scene.physical));
         std::printf("\n");

@@ -172,6 +172,7 @@ WorkPrecision work_precision(const Dynamics& dyn, const WorkPrecisionOptions& o,
     if (!reference_run) return study;
     const Trajectory& reference = *reference_run;
     study.F_m_reference = reference.F_m;
+    study.F_m_reference_error = exact_F_m_round_off * reference.F_m;
 
     auto measure = [&](Scheme scheme, bool split, double tolerance) {
         if (study.cancelled) return;

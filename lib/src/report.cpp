@@ -101,6 +101,14 @@ void add_provenance(json& j, const Scene& scene, bool once_through = false) {
     if (std::any_of(scene.initial.begin(), scene.initial.end(), [](double x) { return x != 0.0; }))
         j["initial"] = scene.initial;
 }
+
+/// The run's scheme and fixed step (null: from the tolerance) in j's parameters, for results
+/// whose numbers depend on the plan beyond its tolerance (a section's points, a spectrum).
+void add_scheme_and_step(json& j, const Scene& scene) {
+    j["parameters"]["scheme"] = to_string(scene.run.scheme);
+    j["parameters"]["step"] = scene.run.step ? json(*scene.run.step) : json(nullptr);
+}
+
 } // namespace
 
 namespace {
@@ -448,6 +456,7 @@ std::string to_json(const WorkPrecision& study, const WorkPrecisionOptions& o, d
                    {"F_m_error", best->F_m_error},
                    {"wall_time_s", best->wall_time_s}};
     json j = {{"F_m_reference", study.F_m_reference},
+              {"F_m_reference_error", study.F_m_reference_error},
               {"F_m_reference_scheme", "exact, half its default interval"},
               {"periods", o.periods},
               {"runs", study.points.size()},
@@ -480,9 +489,12 @@ std::string to_json(const RowSpectrum& s, const RowSpectrumOptions& o, const Sce
               {"aliased_share", s.aliased_share},
               {"sampled_range_share", s.sampled_range_share},
               {"peaks", s.content.peaks.size()},
+              {"window", o.window == Window::hann ? "hann" : "rectangular"},
               {"status", to_string(s.outcome.status)},
               {"wall_time_s", s.wall_time_s}};
     add_provenance(j, scene, true);
+    // A result read alone says how its record was made (a reviewer's probe, helper-75).
+    add_scheme_and_step(j, scene);
     return j.dump(2) + "\n";
 }
 
@@ -524,8 +536,7 @@ std::string to_json(const SectionSpec& spec, long points, const SectionAccuracy*
     j["wall_time_s"] = wall_time_s;
     add_provenance(j, scene, true);
     // The error estimate's finer plan follows from them.
-    j["parameters"]["scheme"] = to_string(scene.run.scheme);
-    j["parameters"]["step"] = scene.run.step ? json(*scene.run.step) : json(nullptr);
+    add_scheme_and_step(j, scene);
     return j.dump(2) + "\n";
 }
 

@@ -575,6 +575,15 @@ Scene scene_from_json(json root, const std::vector<std::string>& overrides,
     }
     scene.clearance_array = model_object(root).contains("clearance");
     scene.damping_array = model_object(root).contains("damping");
+    if (scene.row) {
+        for (const char* k : {"mass", "stiffness", "damping", "clearance", "contact", "scatter"})
+            if (model_object(root).contains(k))
+                scene.non_uniform_keys +=
+                    (scene.non_uniform_keys.empty() ? "model." : ", model.") + std::string(k);
+        if (scene.row->law != ContactLaw::linear)
+            scene.non_uniform_keys +=
+                scene.non_uniform_keys.empty() ? "model.contact_law" : ", model.contact_law";
+    }
     model.finish();
     excitation.finish();
     read_run(top.section("run"), type, scene);
@@ -868,14 +877,16 @@ void require_paper_row(const Scene& scene, const std::string& user) {
                          "motion work in gapchain-sim and gapchain-sweep");
     if (!scene.uniform()) {
         const bool law = scene.row && scene.row->law != ContactLaw::linear;
-        throw SceneError(std::string(law ? "model.contact_law" : "model arrays and scatter") +
-                         ": " + user +
-                         " takes the paper's uniform row with the linear law (Nm, "
-                         "fc, eps, e_r, f_r); " +
-                         (law ? "nonlinear laws work in gapchain-sim, -sweep, -poincare and "
-                                "-spectrum"
-                              : "non-uniform rows work in gapchain-sim, -poincare, -spectrum, "
-                                "-modes, -orbit and -accuracy"));
+        // The keys the scene wrote (model.clearance, model.scatter), not a label for them.
+        throw SceneError(
+            (scene.non_uniform_keys.empty() ? std::string("model") : scene.non_uniform_keys) +
+            ": " + user +
+            " takes the paper's uniform row with the linear law (Nm, "
+            "fc, eps, e_r, f_r); " +
+            (law ? "nonlinear laws work in gapchain-sim, -sweep, -poincare and "
+                   "-spectrum"
+                 : "non-uniform rows work in gapchain-sim, -poincare, -spectrum, "
+                   "-modes, -orbit and -accuracy"));
     }
 }
 

@@ -318,7 +318,7 @@ Comparison comparison_error(const Dynamics& dyn, const RunOptions& options, cons
     // Round-off floor: F_m is never known better than a few ulps of itself; for exact, whose
     // two runs share the same eigendecompositions and so the same round-off, the floor is what
     // it measured against rk8pd at 1e-10 (6e-13 relative, accuracy.md).
-    const double floor = plan.scheme == Scheme::exact ? 1e-12 : 1e-14;
+    const double floor = plan.scheme == Scheme::exact ? exact_F_m_round_off : 1e-14;
     c.estimate = std::max(estimate, floor * result.F_m);
     c.orbit_estimate = orbit_error(options, main, result, check, on_orbit, finer ? richardson : 2.0,
                                    periodic_diff, c.estimate, floor);

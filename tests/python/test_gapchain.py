@@ -694,7 +694,7 @@ def test_analyses_of_the_five_reduced_numbers_refuse_other_rows():
     for name, call in calls.items():
         with pytest.raises(ValueError, match=f"^model.contact_law: {name}\\(\\) takes the paper"):
             call(fig13, {"model.contact_law": "hertz"})
-        with pytest.raises(ValueError, match=f"^model arrays and scatter: {name}\\(\\)"):
+        with pytest.raises(ValueError, match=f"^model.mass: {name}\\(\\)"):
             call(fig13, {"model.mass": [1, 2, 1, 1, 1]})
     seismic = next(p for p in SCENES if p.endswith("table4-experiment-seismic.json"))
     with pytest.raises(ValueError, match="^excitation.type: continuation\\(\\) needs harmonic"):

@@ -623,6 +623,13 @@ std::string readable(const std::string& message) {
     if (std::regex_match(message, flag, flag_value))
         return "--" + flag[1].str() + ": a flag takes no value (give --" + flag[1].str() +
                " alone, or leave it out)";
+    // CLI11's words for an option given more often than it takes ("--from: At Most 1 required
+    // but received 2", a reviewer's probe, helper-75).
+    static const std::regex repeated("^(\\S+): At Most (\\d+) required but received (\\d+)$");
+    std::smatch times;
+    if (std::regex_match(message, times, repeated))
+        return times[1].str() + ": given " + times[3].str() + " times, at most " + times[2].str() +
+               " allowed";
     // A newline in a user's text (a file name, a --variable) split the message over lines. Each
     // piece is one escape or one whole UTF-8 character, so that shortening a long message cuts
     // between pieces, never inside "\\x1b" or a multi-byte letter.

@@ -47,7 +47,10 @@ struct WorkPrecisionPoint {
 
 /// The study.
 struct WorkPrecision {
-    double F_m_reference = 0.0;             ///< exact propagator, half its default interval
+    double F_m_reference = 0.0; ///< exact propagator, half its default interval
+    /// F_m_reference's error: the exact scheme's round-off floor, exact_F_m_round_off of it
+    /// (stepper.hpp); the rows' F_m errors below it are not resolved
+    double F_m_reference_error = 0.0;
     std::vector<WorkPrecisionPoint> points; ///< scheme-major, tolerance order
     double wall_time_s = 0.0;               ///< [s]
     bool cancelled = false; ///< progress stopped it: points holds the runs finished before

@@ -51,7 +51,9 @@ struct AnalyticEstimates {
 };
 
 /// The estimates for a row of Nm bodies with reduced parameters (fc, eps, e_r, f_r), given its
-/// exact first linear-chain frequency f1 (modes.hpp).
+/// exact first linear-chain frequency f1 (modes.hpp). An estimate whose formula does not apply
+/// is NaN: every force at eps = 0, eq (24) where eps^2 >= 1 + fc, eq (32) and (36) where the
+/// first frequency is not above eps.
 AnalyticEstimates analytic_estimates(int Nm, double fc, double eps, double e_r, double f_r,
                                      double f1);
 

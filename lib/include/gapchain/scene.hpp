@@ -63,6 +63,10 @@ struct Scene {
     /// model.clearance (model.damping) gives every gap's clearance (body's damping): the
     /// reduced e_r (eps) did not run.
     bool clearance_array = false, damping_array = false;
+    /// The model keys that made the row non-uniform, as the scene wrote them ("model.mass",
+    /// "model.clearance, model.scatter"; "model.contact_law" for a nonlinear law); empty for the
+    /// paper's row. Refusals name them.
+    std::string non_uniform_keys;
     std::optional<GroundMotion> ground_record; ///< set for record / kanai_tajimi excitation
     double record_duration = 0.0; ///< [s] record length plus tail (non-harmonic scenes)
     std::string ground_motion_type =

@@ -62,7 +62,7 @@ void print_estimates(const Scene& scene, const AnalyticEstimates& a) {
         for (const auto& [bound, estimate, names] :
              {std::tuple{a.smooth_bound, a.smooth_max_force, "eq (25) lies below eq (24)"},
               std::tuple{a.chaotic_bound,
-                         std::max(a.chaotic_estimate_approx, a.chaotic_estimate_exact),
+                         std::fmax(a.chaotic_estimate_approx, a.chaotic_estimate_exact),
                          "eq (37) lies below eq (36)"}})
             if (bound < estimate)
                 std::printf("  note: %s for this row: the paper's bound does not hold "

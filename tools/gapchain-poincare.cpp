@@ -122,7 +122,8 @@ void print_point_error(const SectionSpec& spec, const SectionAccuracy& a) {
             std::printf(" %s %.2g", spec.record[i].name().c_str(), a.error[i]);
             any = true;
         }
-    std::printf("%s\n", any ? "" : " none recorded (t and an event's trigger carry none)");
+    std::printf("%s\n",
+                any ? "" : " none recorded (a stroboscopic t and an event's trigger carry none)");
     if (a.parted_at == 0)
         std::printf("  the runs differ by more than 1e-3 of a variable's largest value from the "
                     "first point on: a run too coarse to follow its points one by one (a smaller "

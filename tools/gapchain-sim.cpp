@@ -132,17 +132,23 @@ void print_result(const Scene& scene, const SimulationResult& r, bool searched) 
                         : "");
     const bool transient_peak =
         r.multistable && r.F_m_orbit && *r.F_m_orbit < r.F_m - r.F_m_error / 2;
+    // The orbit's largest force with its own error where the comparison run estimated it.
+    char orbit[64] = "";
+    if (r.F_m_orbit && r.F_m_orbit_error)
+        std::snprintf(orbit, sizeof orbit, "%.6g +- %.2g", *r.F_m_orbit, *r.F_m_orbit_error);
+    else if (r.F_m_orbit)
+        std::snprintf(orbit, sizeof orbit, "%.6g", *r.F_m_orbit);
     if (transient_peak)
         std::printf("multistable: F_m fell in the chaotic transient before the steady state, so "
                     "it depends on the start (F_m_error covers the difference); the orbit it "
-                    "settled on reaches F_m = %.6g; run gapchain-attractors for the F_m of each "
+                    "settled on reaches F_m = %s; run gapchain-attractors for the F_m of each "
                     "attractor\n",
-                    *r.F_m_orbit);
+                    orbit);
     else if (r.maximum_in_transient && !r.multistable)
         std::printf("transient: F_m fell before the orbit was reached (the orbit "
-                    "reaches F_m = %.6g; F_m_error covers the difference); a longer "
+                    "reaches F_m = %s; F_m_error covers the difference); a longer "
                     "run.transient_periods records the orbit alone\n",
-                    *r.F_m_orbit);
+                    orbit);
     if (r.multistable && !transient_peak)
         std::printf("multistable: a start moved by 1e-8 gives F_m = %.6g, so the answer depends "
                     "on the start (F_m_error covers the difference); run gapchain-attractors for "

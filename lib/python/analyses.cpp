@@ -81,12 +81,13 @@ section    "stroboscopic" (once per forcing period at phase in [0, 1), default 0
 trigger    u1..uNm, v1..vNm or g0..gNm (event sections)
 record     names of the recorded values, each once: u1..uNm, v1..vNm, g0..gNm, F0..FNm or t
 error      estimate the points' error: the first 1000 set against a run at half the step (a
-           tenth of an adaptive scheme's tolerance); it reruns the transient and those periods
+           tenth of an adaptive scheme's tolerance and half its output interval); it reruns the
+           transient and those periods
 
 Returns a dict: t ((n,) reduced times), points ((n, len(record)) float64), names (record),
 point_error (None with error=False or a run that did not complete, else a dict as
 section.json's: compared, error (per recorded name: twice the largest difference before the
-runs part; None for t and an event's trigger), parted_at (the first compared point where the
+runs part; None for a stroboscopic section's t and an event's trigger), parted_at (the first compared point where the
 runs differ by more than 1e-3 of a variable's largest value, a chaotic record: None if never;
 0: from the first point on, a run too coarse or a record that parted before it began, and the
 error then covers every compared point),

@@ -541,20 +541,25 @@ void extend(StartOutcome& s, const StartOutcome& more, int max_steady_period) {
     s.max_multiplier = more.max_multiplier;
     s.max_multiplier_error = more.max_multiplier_error;
     s.newton_accuracy = more.newton_accuracy;
-    // A continuation that settled without going far from its cycle settled on the cycle the
-    // first run was already near: its transient ended where that run's did (last_far + 1), not
-    // where the continuation's own test could first see it (max_steady_period + 1 into it). Fig
-    // 13's row at f_r = 2.5 (|mu| 0.955): 350-period runs read 367, where 500-period runs and
-    // gapchain-sim read 70-74 (a reviewer's probe, helper-75).
+    // A continuation that never went far from its cycle, after a first run near it for its
+    // last max_steady_period periods or more, was near the cycle the first run was approaching:
+    // its transient ended where that run's did (last_far + 1), not where the continuation's own
+    // test could first see it (max_steady_period + 1 into it). Fig 13's row at f_r = 2.5
+    // (|mu| 0.955): 350-period runs read 367, where 500-period runs and gapchain-sim read 70-74
+    // (a reviewer's probe, helper-75). Otherwise it may have been far through those untested
+    // periods (add_transient() reads -1 so).
+    const bool near_at_end = s.last_far < base - max_steady_period;
+    const bool near_throughout = more.last_far < 0 && near_at_end;
     if (more.settle_period < 0)
         s.settle_period = -1;
-    else if (more.last_far >= 0)
+    else if (!near_throughout)
         s.settle_period = base + more.settle_period;
     else
         s.settle_period = s.last_far >= 0 ? s.last_far + 1 : max_steady_period + 1L;
-    // A continuation that never went far from repeating did so through its untested first
-    // max_steady_period periods (add_transient() reads -1 so).
-    s.last_far = base + (more.last_far >= 0 ? more.last_far : max_steady_period);
+    if (more.last_far >= 0)
+        s.last_far = base + more.last_far;
+    else if (!near_throughout)
+        s.last_far = base + max_steady_period;
     s.periods_run = base + more.periods_run;
     s.state = more.state;
     s.section = more.section;

@@ -254,15 +254,18 @@ void drop_scalars_arrays_replace(json& root, const std::vector<std::string>& ove
 // clearance_scale converts the scene's clearance entries to reduced clearances (1 for reduced
 // scenes, 4 pi^2 f0^2 / a0 for metres); damping entries are eps_i (reduced scenes only).
 // clearance_key is the scalar the clearance array replaces (e_r, or e in metres).
+/// The model keys that make a row non-uniform (arrays, or a scatter of them).
+constexpr const char* row_array_keys[] = {"mass",      "stiffness", "damping",
+                                          "clearance", "contact",   "scatter"};
+
 std::optional<Chain> non_uniform_row(const json& model, const ReducedParameters& p,
                                      const char* clearance_key = "e_r",
                                      double clearance_scale = 1.0) {
     if (!model.is_object()) return std::nullopt;
     refuse_replaced_scalar(model, "clearance", clearance_key);
     refuse_replaced_scalar(model, "damping", "eps");
-    const char* array_keys[] = {"mass", "stiffness", "damping", "clearance", "contact", "scatter"};
     bool any = false;
-    for (const char* k : array_keys)
+    for (const char* k : row_array_keys)
         any = any || model.contains(k);
     if (!any) return std::nullopt;
     const auto n = static_cast<std::size_t>(p.Nm);
@@ -576,7 +579,7 @@ Scene scene_from_json(json root, const std::vector<std::string>& overrides,
     scene.clearance_array = model_object(root).contains("clearance");
     scene.damping_array = model_object(root).contains("damping");
     if (scene.row) {
-        for (const char* k : {"mass", "stiffness", "damping", "clearance", "contact", "scatter"})
+        for (const char* k : row_array_keys)
             if (model_object(root).contains(k))
                 scene.non_uniform_keys +=
                     (scene.non_uniform_keys.empty() ? "model." : ", model.") + std::string(k);

@@ -243,30 +243,27 @@ Comparison wide_comparison(const Dynamics& dyn, const RunOptions& options, const
     return {};
 }
 
-/// F_m_orbit's error: nothing where the comparison run did not settle on the same orbit. A
-/// run on its orbit took F_m there, so F_m's estimate and the window's gap to the cycle's
-/// maximum (both of one plan) bound it. A run whose maximum fell in its transient is mostly
+/// F_m_orbit's error: nothing where the comparison run did not settle on the same orbit (for a
+/// run on its orbit, the run at half the step: one at twice it that ends elsewhere is the
+/// coarser step's own dynamics as often as not, ended_elsewhere(), and only calls the twin). A
+/// run on its orbit took F_m there: F_m's estimate bounds it, and so does the two orbits'
+/// difference under F_m's factor (Richardson's; 1 for an adaptive or exact run). A run whose
+/// maximum fell in its transient is mostly
 /// compared at twice the step (or ten times an adaptive tolerance): the difference of the two
 /// orbits' maxima is (2^p - 1) times the error in the asymptotic order, but rk4's default step
 /// is often not in it, where the error can be flat or change sign from h to 2h. Raw, it fell
 /// 1.2 and 1.3 times short on 2 of 94 orbits of docs/accuracy.md's random draw (seeds 184 and
 /// 242), so the bar is twice it; at half the step (twice breaks the stability limit) it takes
-/// finer_factor. Unlike F_m_error, no start check widens it: another start's attractor does not
-/// move this orbit.
+/// Richardson's factor. Unlike F_m_error, no start check widens it: another start's attractor
+/// does not move this orbit.
 std::optional<double> orbit_error(const RunOptions& options, const SingleRun& main,
                                   const SimulationResult& result, const ComparisonRun& check,
-                                  bool on_orbit, double finer_factor,
-                                  std::optional<double> periodic_diff, double F_m_estimate,
-                                  double floor) {
-    if (!result.F_m_orbit) return std::nullopt;
-    if (on_orbit)
-        return periodic_diff
-                   ? std::optional(F_m_estimate + std::abs(result.F_m - *result.F_m_orbit))
-                   : std::nullopt;
-    if (!check.orbit || ended_elsewhere(options, main, check.run, check.orbit, *result.F_m_orbit))
+                                  bool on_orbit, double factor, double F_m_estimate, double floor) {
+    if (!result.F_m_orbit || !check.orbit ||
+        ended_elsewhere(options, main, check.run, check.orbit, *result.F_m_orbit))
         return std::nullopt;
-    return std::max(finer_factor * std::abs(*result.F_m_orbit - *check.orbit),
-                    floor * *result.F_m_orbit);
+    return std::max({factor * std::abs(*result.F_m_orbit - *check.orbit),
+                     on_orbit ? F_m_estimate : 0.0, floor * *result.F_m_orbit});
 }
 
 /// F_m_error from a comparison run on another plan.
@@ -301,8 +298,9 @@ Comparison comparison_error(const Dynamics& dyn, const RunOptions& options, cons
     const std::optional<double> periodic_diff =
         finer && on_orbit ? orbit_difference(options, main, result, check) : std::nullopt;
     const double diff = std::abs(result.F_m - check.run.F_m);
-    // An adaptive run on its orbit is compared at ten times its tolerance: the difference,
-    // about nine times its own error, needs no factor.
+    // An adaptive run on its orbit is compared at ten times its tolerance (the difference, about
+    // nine times its own error, needs no factor), an exact one at half its output interval
+    // (its F_m moves only by round-off and event location).
     const double richardson = 2.0 / (1.0 - std::pow(2.0, -convergence_order(dyn, tr)));
     const double factor = periodic_diff ? richardson : tr.adaptive && on_orbit ? 1.0 : 2.0;
     double estimate = factor * (periodic_diff ? *periodic_diff : diff);
@@ -320,8 +318,9 @@ Comparison comparison_error(const Dynamics& dyn, const RunOptions& options, cons
     // it measured against rk8pd at 1e-10 (6e-13 relative, accuracy.md).
     const double floor = plan.scheme == Scheme::exact ? exact_F_m_round_off : 1e-14;
     c.estimate = std::max(estimate, floor * result.F_m);
-    c.orbit_estimate = orbit_error(options, main, result, check, on_orbit, finer ? richardson : 2.0,
-                                   periodic_diff, c.estimate, floor);
+    c.orbit_estimate =
+        orbit_error(options, main, result, check, on_orbit,
+                    on_orbit ? factor : (finer ? richardson : 2.0), c.estimate, floor);
     return c;
 }
 

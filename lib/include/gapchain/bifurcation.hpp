@@ -86,7 +86,7 @@ struct BifurcationRow {
     /// a start-up still in the window); on a row that is not periodic, and on a periodic row
     /// Newton did not confirm (with confirm_by_newton), also at least twice its difference from
     /// the same window on a finer plan (twice the steps, or a hundredth of an adaptive scheme's
-    /// tolerance; skipped where that run alone exceeds max_work).
+    /// tolerance and half its output interval; skipped where that run alone exceeds max_work).
     double F_m_error = 0.0;
     /// Period in forcing periods (0: not periodic): the orbit's minimal period where Newton
     /// confirmed it, else the section's (SectionRepeats).

@@ -41,10 +41,10 @@ struct AnalyticEstimates {
     double amplitude = 0.0;               ///< eq (20) at f_r
     bool impacts = false;                 ///< e_r < amplitude: the free bodies reach a wall
     double wall_contact_frequency = 0.0;  ///< eq (21)
-    double smooth_max_force = 0.0;        ///< eq (24)
+    double smooth_max_force = 0.0;        ///< eq (24); NaN where eps = 0 or eps^2 >= 1 + fc
     double smooth_bound = 0.0;            ///< eq (25)
-    double chaotic_estimate_approx = 0.0; ///< eq (36), with f_1a of eq (26)
-    double chaotic_estimate_exact = 0.0;  ///< eq (32) + (34) with the exact f_1
+    double chaotic_estimate_approx = 0.0; ///< eq (36), with f_1a of eq (26); NaN: f_1a <= eps
+    double chaotic_estimate_exact = 0.0;  ///< eq (32) + (34) with the exact f_1; NaN: f_1 <= eps
     double chaotic_bound = 0.0;           ///< eq (37)
     double f1 = 0.0;                      ///< exact first linear-chain frequency (reduced)
     double f1_approx = 0.0;               ///< f_1a of eq (26)

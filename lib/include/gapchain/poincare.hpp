@@ -150,8 +150,9 @@ struct SectionAccuracy {
     /// the two runs over the points before they part: the error estimate of those points, in
     /// the variable's own units (twice, so that it covers the run's own error for any scheme of
     /// order >= 1; the finer run is half the step, a tenth of the tolerance and half the output
-    /// interval). NaN where nothing was compared, for the section time t, and for an event
-    /// section's trigger variable (the level at every point).
+    /// interval). NaN where nothing was compared, for a stroboscopic section's time t (a
+    /// multiple of the period), and for an event section's trigger variable (the level at every
+    /// point); an event section's t has its error.
     std::vector<double> error;
     /// First compared point (0-based) at which some variable differs by more than 1e-3 of its
     /// largest |value| over the compared points: from there on the runs follow different

@@ -69,10 +69,11 @@ std::string to_json(const ModalResult& result, int Nm, double fc);
 /// The eq (26) grid as CSV: Nm,fc,f1_error,other_error,other_mode.
 std::string grid_csv(const ApproximationGrid& grid);
 
-/// A work-precision study's sidecar (accuracy.json beside work_precision.csv): F_m_reference
-/// and how it was made, periods, runs, observed_order (per scheme with at least 3 points above
-/// 1e-12), target and fastest_for_target (scheme, tolerance, F_m_error, wall_time_s; null if no
-/// run met it), cancelled, wall_time_s [s], and the run's provenance.
+/// A work-precision study's sidecar (accuracy.json beside work_precision.csv): F_m_reference,
+/// its error F_m_reference_error and how it was made, periods, runs, observed_order (per scheme
+/// with at least 3 points above 1e-12), target and fastest_for_target (scheme, tolerance,
+/// F_m_error, wall_time_s; null if no run met it), cancelled, wall_time_s [s], and the run's
+/// provenance.
 std::string to_json(const WorkPrecision& study, const WorkPrecisionOptions& o, double target,
                     const Scene& scene);
 
@@ -80,7 +81,7 @@ std::string to_json(const WorkPrecision& study, const WorkPrecisionOptions& o, d
 /// samples_per_period, samples, sample_rate, segment, segments, segment_periods, whole_periods,
 /// order, broadband_share with broadband_share_error (null where not estimated),
 /// fraction_bin_share, aliased_share, sampled_range_share, peaks (how many; peaks.csv lists
-/// them), status, wall_time_s [s], and the run's provenance.
+/// them), window, status, wall_time_s [s], and the run's provenance with its scheme and step.
 std::string to_json(const RowSpectrum& s, const RowSpectrumOptions& o, const Scene& scene);
 
 /// A Poincare section's sidecar (section.json beside section.csv): the section (kind; phase, or

@@ -196,12 +196,16 @@ void require_trajectory_fits(const Dynamics& dyn, const RunOptions& options, int
 ///   the window). Where the half-step run does not settle on that orbit, 2 |F_m - F_m'|; where
 ///   the run at twice the step ends elsewhere, |F_m - F_m''| at least. Others - a run that did not
 ///   settle, one that took its maximum in the transient - compare at twice the step (half, if
-///   twice breaks the stability limit) and report |F_m - F_m'| (2 |F_m - F_m'| for the halved
-///   step): a maximum taken in a transient is not a truncation error (a chaotic transient
-///   followed differently at the other step). rkf45/rk8pd
+///   twice breaks the stability limit) and report 2 |F_m - F_m'|: a maximum taken in a
+///   transient is not a truncation error (a chaotic transient followed differently at the
+///   other step), and the run at h is no nearer the truth than the other. rkf45/rk8pd
 ///   compare at ten times the tolerance and twice the output interval (their largest step),
-///   exact at half the output interval. The estimate is never
-///   below a round-off floor (1e-14 F_m; 1e-12 F_m for exact).
+///   exact at half the output interval; on their orbit they report |F_m - F_m'|, else twice
+///   it. The estimate is never below a round-off floor (1e-14 F_m; exact_F_m_round_off F_m for
+///   exact). F_m_orbit_error comes from the same comparison run where it settled on the same
+///   orbit (for a run on its orbit, the larger of F_m_error's estimate and the orbits'
+///   difference under the same factor; otherwise twice the orbits' difference, Richardson's
+///   factor for a run at half the step).
 ///
 /// Transient check (harmonic forcing; with options.estimate_error, and for a run that settled
 /// late also under the multistability check): a run

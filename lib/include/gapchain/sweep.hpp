@@ -37,8 +37,9 @@ struct KeptResults {
     bool regime = false;      ///< regime, period, lambda_max and its error (classification run)
     bool steady_state = true; ///< steady-state period
     bool wall_time = true;    ///< wall time per point
-    /// F_m_orbit (the settled orbit's largest force; empty if the run did not settle) and
-    /// maximum_in_transient (0/1: F_m fell before that orbit was reached; see simulate())
+    /// F_m_orbit (the settled orbit's largest force; empty if the run did not settle), its
+    /// error F_m_orbit_error (empty where not estimated) and maximum_in_transient (0/1: F_m fell
+    /// before that orbit was reached; see simulate())
     bool orbit = false;
 };
 

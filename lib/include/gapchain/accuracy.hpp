@@ -65,7 +65,8 @@ WorkPrecision work_precision(const Dynamics& dyn, const WorkPrecisionOptions& op
 std::optional<WorkPrecisionPoint> fastest_for(const WorkPrecision& study, double target);
 
 /// Least-squares slope of log F_m error against log step for one scheme's points with errors
-/// above 1e-12 (the observed order); nullopt with fewer than 3 such points.
+/// above exact_F_m_round_off (stepper.hpp; the observed order); nullopt with fewer than 3 such
+/// points.
 std::optional<double> observed_order(const WorkPrecision& study, Scheme scheme, bool split);
 
 } // namespace gapchain

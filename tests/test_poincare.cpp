@@ -219,6 +219,30 @@ TEST_CASE("an adaptive scheme's section error covers the truth where its output 
         CHECK(e.error[i] >= gap);
         CHECK(e.error[i] < 1e-9);
     }
+    // And on a chaotic row, where the exact scheme at half its interval agreed with it to
+    // 3e-11 and rk8pd at 1e-12 lay 1.7e-9 away (helper-77): now compared with rk8pd, the
+    // points before the runs part are covered (against rk8pd at 1e-11).
+    const Dynamics chaotic = Dynamics::paper_row({5, 60, 0.5, 0.06, 3.35});
+    RunOptions chaotic_exact = lasting(60, 50);
+    chaotic_exact.scheme = Scheme::exact;
+    RunOptions chaotic_rk8pd = chaotic_exact;
+    chaotic_rk8pd.scheme = Scheme::rk8pd;
+    chaotic_rk8pd.tolerance = 1e-11;
+    const std::vector<SectionPoint> chaotic_points = section_of(chaotic, chaotic_exact, spec);
+    const std::vector<SectionPoint> chaotic_reference = section_of(chaotic, chaotic_rk8pd, spec);
+    const SectionAccuracy ce = section_accuracy(chaotic, chaotic_exact, spec, {}, chaotic_points);
+    CHECK(ce.comparison == "rk8pd at tolerance 1e-12");
+    const std::size_t known =
+        ce.parted_at < 0 ? chaotic_points.size() : static_cast<std::size_t>(ce.parted_at);
+    REQUIRE(known >= 1);
+    for (std::size_t i = 0; i < 2; ++i) {
+        const std::vector<SectionPoint> head(chaotic_points.begin(),
+                                             chaotic_points.begin() + static_cast<long>(known));
+        const double gap = largest_gap(head, chaotic_reference, i);
+        MESSAGE("chaotic exact, variable " << i << ": estimate " << ce.error[i] << " over " << known
+                                           << " points, rk8pd at 1e-11 " << gap);
+        CHECK(ce.error[i] >= gap);
+    }
     for (const Case c : {Case{Scheme::rkf45, 0.1}, Case{Scheme::rkf45, 1e-2},
                          Case{Scheme::rk8pd, 1e-2}, Case{Scheme::rk8pd, 1e-4}}) {
         CAPTURE(to_string(c.scheme));

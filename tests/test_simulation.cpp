@@ -693,6 +693,34 @@ TEST_CASE("F_m_orbit has its own error bar, which covers rk8pd's orbit and is no
     CHECK_FALSE(elsewhere.F_m_orbit_error.has_value());
 }
 
+TEST_CASE("a contact in progress at the window's start counts its force there") {
+    // Fig 13's row at f_r = 4.0 after 100 discarded periods: the right wall is closed at the
+    // window's start (u5 = 0.06159, e_r 0.06) and opening. The first recorded step counted only
+    // its end and its inside: exact read F_m = 0, "no contact", rk4 1.4e-6 (a reviewer's probe,
+    // helper-77). The force at the start, sqrt(fc) (u5 - e_r), is the window's maximum.
+    const Dynamics row = Dynamics::paper_row({5, 60, 0.5, 0.06, 4.0});
+    RunOptions reference;
+    reference.scheme = Scheme::rk8pd;
+    reference.tolerance = 1e-10;
+    reference.periods = 101;
+    reference.transient_periods = 100;
+    reference.estimate_error = false;
+    const SimulationResult truth = simulate(row, reference);
+    for (const Scheme s : {Scheme::exact, Scheme::rk4}) {
+        CAPTURE(to_string(s));
+        RunOptions o = reference;
+        o.scheme = s;
+        o.tolerance = 1e-4;
+        o.estimate_error = true;
+        const SimulationResult r = simulate(row, o);
+        MESSAGE("F_m " << r.F_m << " +- " << r.F_m_error << " at t = " << r.F_m_time << ", rk8pd "
+                       << truth.F_m);
+        CHECK(r.F_m > 0.012);
+        CHECK(r.F_m_time == doctest::Approx(25.0));
+        CHECK(std::abs(r.F_m - truth.F_m) <= r.F_m_error);
+    }
+}
+
 TEST_CASE("comparison run: a run still in its transient keeps a bar that covers an independent "
           "run") {
     // Fig 13's row after 100 discarded periods is still in its transient at f_r = 2.4 and 2.6

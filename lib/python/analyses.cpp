@@ -81,7 +81,8 @@ section    "stroboscopic" (once per forcing period at phase in [0, 1), default 0
 trigger    u1..uNm, v1..vNm or g0..gNm (event sections)
 record     names of the recorded values, each once: u1..uNm, v1..vNm, g0..gNm, F0..FNm or t
 error      estimate the points' error: the first 1000 set against a run at half the step (a
-           tenth of an adaptive scheme's tolerance and half its output interval); it reruns the
+           tenth of an adaptive scheme's tolerance and half its output interval; rk8pd at 1e-12
+           for the exact scheme); it reruns the
            transient and those periods
 
 Returns a dict: t ((n,) reduced times), points ((n, len(record)) float64), names (record),

@@ -87,15 +87,11 @@ released while it runs; Ctrl-C (KeyboardInterrupt) stops it.)";
 
 // The JSON gapchain-sim writes (report.cpp, the one list of a result's fields), as a dict, with
 // what a NumPy user wants instead of JSON's shapes: per-body and per-contact arrays, the final
-// state, the run options, and None where the JSON leaves out a check that did not run. JSON
+// state and the run options (a check that did not run is null there, None here). JSON
 // writes a non-finite number as null, which reads as "not estimated": an estimate that came
 // out infinite (a comparison run that blew up) is put back as inf.
 py::dict result_dict(const std::string& report, const SimulationResult& r, const Scene& scene) {
     py::dict d = py::module_::import("json").attr("loads")(report);
-    for (const char* optional :
-         {"F_m_twin", "F_m_comparison", "F_m_orbit", "F_m_orbit_error", "relaxed_from_period"})
-        if (!d.contains(optional)) d[optional] = py::none();
-    if (!d.contains("comparison_ended_elsewhere")) d["comparison_ended_elsewhere"] = false;
     if (has_error_estimate(r)) {
         d["F_m_error"] = r.F_m_error;
         if (scene.physical) d["F_m_error_newton"] = force_in_newtons(r.F_m_error, *scene.physical);

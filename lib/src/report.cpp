@@ -139,21 +139,22 @@ json simulation_json(const SimulationResult& r, const Scene& scene) {
     j["contact"] = r.contact;
     j["multistable"] =
         r.multistability_checked || r.multistable ? json(r.multistable) : json(nullptr);
-    if (r.twin_checked) j["F_m_twin"] = r.F_m_twin;
-    if (r.F_m_comparison) {
-        j["F_m_comparison"] = *r.F_m_comparison;
-        j["comparison_ended_elsewhere"] = r.comparison_ended_elsewhere;
-    }
-    if (r.F_m_orbit) {
-        j["F_m_orbit"] = *r.F_m_orbit;
-        // null where not estimated (json() of a non-finite number reads the same).
-        j["F_m_orbit_error"] = r.F_m_orbit_error ? json(*r.F_m_orbit_error) : json(nullptr);
-    }
+    // Every key in every result, null where its run did not happen (they were left out, where
+    // Python gave None: a reader had to know both; a reviewer's probe, helper-77).
+    const auto optional = [](const std::optional<double>& x) {
+        return x ? json(*x) : json(nullptr);
+    };
+    j["F_m_twin"] = r.twin_checked ? json(r.F_m_twin) : json(nullptr);
+    j["F_m_comparison"] = optional(r.F_m_comparison);
+    j["comparison_ended_elsewhere"] = r.comparison_ended_elsewhere;
+    j["F_m_orbit"] = optional(r.F_m_orbit);
+    j["F_m_orbit_error"] = optional(r.F_m_orbit_error);
     j["maximum_in_transient"] = r.F_m_orbit ? json(r.maximum_in_transient) : json(nullptr);
     j["start_up_periods"] = r.start_up_periods;
     j["start_up_in_window"] = r.start_up_in_window;
     j["accuracy_mode_used"] = to_string(r.accuracy_mode_used);
-    if (r.relaxed_from_period >= 0) j["relaxed_from_period"] = r.relaxed_from_period;
+    j["relaxed_from_period"] =
+        r.relaxed_from_period >= 0 ? json(r.relaxed_from_period) : json(nullptr);
     if (scene.physical) {
         j["F_m_newton"] = force_in_newtons(r.F_m, *scene.physical);
         j["F_m_error_newton"] =

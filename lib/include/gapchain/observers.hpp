@@ -77,6 +77,7 @@ private:
     std::vector<double> m_scratch; ///< a state from the stepper's dense output
     double m_last_t = -1.0;
     bool m_have_previous = false;
+    bool m_recorded_before = false; // a step was recorded: the next one's start is counted
     long m_split_period;
     double m_half_max[2] = {0.0, 0.0};
     /// The tail_periods largest maxima of the recorded periods before m_period (a min-heap:

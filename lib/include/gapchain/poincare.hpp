@@ -162,8 +162,8 @@ struct SectionAccuracy {
     /// that parted before it began; error then covers every compared point (the largest
     /// difference over all of them, twice).
     long parted_at = -1;
-    /// The finer plan: "half the step", or "tolerance X" (adaptive schemes: a tenth of the
-    /// run's).
+    /// The finer plan: "half the step", "tolerance X, half the output interval" (adaptive
+    /// schemes: a tenth of the run's), or "rk8pd at tolerance 1e-12" (the exact scheme).
     std::string comparison;
     /// The comparison run's end: cancelled or non_finite leave error NaN.
     RunStatus status = RunStatus::completed;

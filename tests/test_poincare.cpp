@@ -263,6 +263,39 @@ TEST_CASE("an adaptive scheme's section error covers the truth where its output 
     }
 }
 
+TEST_CASE("an event section whose runs find different crossings says so, not chaos") {
+    // Fig 13's row at f_r = 3.0 is periodic, with a second, shallow dip through u1 = 0 each
+    // period (v1 = -0.0108 at t = 10.19163; rk8pd at 1e-9 to 1e-12 finds 60 crossings in 60
+    // periods). rk4 at 1e-6 misses it where its finer run does not: the runs read as parted at
+    // point 1, a chaotic row (a reviewer's probe, helper-77).
+    const Dynamics dyn = Dynamics::paper_row({5, 60, 0.5, 0.06, 3.0});
+    SectionSpec spec = u1_v1(5);
+    spec.kind = SectionSpec::Kind::event;
+    spec.trigger = SectionVariable::parse("u1", 5, "trigger");
+    spec.direction = CrossingDirection::down;
+    RunOptions o = lasting(60, 30);
+    o.scheme = Scheme::rk4;
+    o.tolerance = 1e-6;
+    const std::vector<SectionPoint> main = section_of(dyn, o, spec);
+    RunOptions reference_options = o;
+    reference_options.scheme = Scheme::rk8pd;
+    reference_options.tolerance = 1e-11;
+    const std::vector<SectionPoint> reference = section_of(dyn, reference_options, spec);
+    MESSAGE(main.size() << " crossings, rk8pd at 1e-11 " << reference.size());
+    const SectionAccuracy a = section_accuracy(dyn, o, spec, {}, main);
+    REQUIRE(main.size() < reference.size());
+    REQUIRE(a.parted_at >= 0);
+    CHECK(a.crossings_differ);
+    // A periodic section both runs follow point by point: no such flag.
+    SectionSpec plain = spec;
+    plain.direction = CrossingDirection::up;
+    const Dynamics fig5 = Dynamics::paper_row({5, 100, 0.5, 0.5, 1.0});
+    const SectionAccuracy b = section_accuracy(fig5, lasting(150, 100), plain, {},
+                                               section_of(fig5, lasting(150, 100), plain));
+    CHECK(b.parted_at == -1);
+    CHECK_FALSE(b.crossings_differ);
+}
+
 TEST_CASE("a chaotic record's points part from the finer run's: only the set is meaningful") {
     // Fig 13's row at f_r = 3.35 is chaotic (docs/chaos.md): from rest, nothing recorded
     // discarded, the run and one at half its step agree over the first periods (the start is

@@ -129,7 +129,13 @@ void print_point_error(const SectionSpec& spec, const SectionAccuracy& a) {
                     "first point on: a run too coarse to follow its points one by one (a smaller "
                     "run.tolerance or run.step tells), or a chaotic record that parted before it "
                     "began; the error covers every point\n");
-    if (a.parted_at > 0)
+    if (a.crossings_differ)
+        std::printf("  at point %ld the finer run's crossing lies more than a quarter period "
+                    "from this run's: one of them missed a shallow crossing inside a step (not "
+                    "chaos); a smaller run.tolerance or run.step finds it, and the points from "
+                    "there on are paired wrongly\n",
+                    a.parted_at);
+    else if (a.parted_at > 0)
         std::printf(
             "  the runs part at point %ld of %ld compared (a chaotic record): beyond it the "
             "points sample the attractor, not this start's trajectory\n",

@@ -91,7 +91,9 @@ section.json's: compared, error (per recorded name: twice the largest difference
 runs part; None for a stroboscopic section's t and an event's trigger), parted_at (the first compared point where the
 runs differ by more than 1e-3 of a variable's largest value, a chaotic record: None if never;
 0: from the first point on, a run too coarse or a record that parted before it began, and the
-error then covers every compared point),
+error then covers every compared point), crossings_differ (an event section whose runs part
+where their crossing times differ by more than a quarter period: a shallow crossing one of them
+missed, not chaos),
 comparison, status, not_estimated (why not, or None)), status, message, wall_time_s. An
 interrupted call keeps the points so far on the exception as `partial`.)";
 

@@ -162,6 +162,11 @@ struct SectionAccuracy {
     /// that parted before it began; error then covers every compared point (the largest
     /// difference over all of them, twice).
     long parted_at = -1;
+    /// An event section whose runs part where their crossing times differ by more than a
+    /// quarter of the forcing period: one run found a crossing the other missed (a shallow one,
+    /// both inside one step), not a chaotic parting. A smaller run.tolerance or run.step finds
+    /// it; the points beyond are paired wrongly.
+    bool crossings_differ = false;
     /// The finer plan: "half the step", "tolerance X, half the output interval" (adaptive
     /// schemes: a tenth of the run's), or "rk8pd at tolerance 1e-12" (the exact scheme).
     std::string comparison;

@@ -1,4 +1,5 @@
 #include "gapchain/orbit.hpp"
+#include "gapchain/poincare.hpp"
 #include "gapchain/report.hpp"
 #include "gapchain/scene.hpp"
 
@@ -297,4 +298,21 @@ TEST_CASE("classification JSON against the attractors: multistable, label_in_sea
     CHECK(nlohmann::json::parse(
               to_json(c, ClassifyOptions{}, scene, d, AttractorOptions{}))["label_in_search"]
               .is_null());
+}
+
+TEST_CASE("section JSON names the scheme and step the run took, beside the ones asked for") {
+    // "auto" and a null step alone did not say which scheme ran (a reviewer's probe, helper-77).
+    const Scene scene = parse_scene(
+        R"({"model": {"Nm": 2}, "run": {"periods": 20, "transient_periods": 10}})");
+    const Dynamics dyn = scene.dynamics();
+    const StepPlan plan = plan_run(dyn, scene.run);
+    SectionSpec spec;
+    const RunOutcome outcome = take_section(dyn, scene.run, spec, [](const SectionPoint&) {});
+    const auto j = nlohmann::json::parse(to_json(spec, 10, nullptr, 0.0, scene, outcome));
+    CHECK(j["parameters"]["scheme"] == "auto");
+    CHECK(j["parameters"]["step"].is_null());
+    CHECK(j["scheme"] == std::string(to_string(plan.scheme)));
+    CHECK(j["scheme"] != "auto");
+    CHECK(j["step"] == plan.step);
+    CHECK(plan.step > 0.0);
 }

@@ -10,6 +10,8 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <stdexcept>
+#include <string>
 #include <tuple>
 
 namespace {
@@ -115,6 +117,12 @@ int main(int argc, char** argv) {
         o.shapes = false;
         const double f1 = modal_analysis(scene.chain(), o).frequencies.front();
         const ReducedParameters& p = scene.reduced;
+        // The library names its own argument (eps); the user wrote the scene's key.
+        if (p.eps == 0.0 && p.f_r == 1.0)
+            throw std::invalid_argument(
+                std::string(scene.physical ? "model.C" : "model.eps") +
+                ": must be > 0 at f_r = 1 (undamped resonance: eq (20)'s amplitude is "
+                "unbounded), got 0");
         const AnalyticEstimates a = analytic_estimates(p.Nm, p.fc, p.eps, p.e_r, p.f_r, f1);
         const double seconds =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

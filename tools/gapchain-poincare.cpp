@@ -69,6 +69,7 @@ int csv_column(const SectionSpec& spec, std::size_t index) {
 struct TakenSection {
     long count = 0;
     std::vector<SectionPoint> first;
+    RunOutcome outcome;
 };
 
 // Streams the section into out_dir/section.csv.
@@ -81,7 +82,7 @@ TakenSection take_section_to_csv(const Scene& scene, const SectionSpec& spec,
     csv.stream() << '\n';
     TakenSection taken;
     cli::Progress progress("gapchain-poincare");
-    const RunOutcome outcome = take_section(
+    taken.outcome = take_section(
         scene.dynamics(), scene.run, spec,
         [&](const SectionPoint& p) {
             csv.stream() << p.t;
@@ -93,7 +94,8 @@ TakenSection take_section_to_csv(const Scene& scene, const SectionSpec& spec,
         },
         scene.initial, progress.callback());
     cli::throw_if_interrupted();
-    if (outcome.status == RunStatus::non_finite) throw cli::NumericalFailure(outcome.message);
+    if (taken.outcome.status == RunStatus::non_finite)
+        throw cli::NumericalFailure(taken.outcome.message);
     csv.commit();
     return taken;
 }
@@ -124,14 +126,14 @@ void print_point_error(const SectionSpec& spec, const SectionAccuracy& a) {
         }
     std::printf("%s\n",
                 any ? "" : " none recorded (a stroboscopic t and an event's trigger carry none)");
-    if (a.parted_at == 0)
+    if (a.parted_at == 0 && !a.crossings_differ)
         std::printf("  the runs differ by more than 1e-3 of a variable's largest value from the "
                     "first point on: a run too coarse to follow its points one by one (a smaller "
                     "run.tolerance or run.step tells), or a chaotic record that parted before it "
                     "began; the error covers every point\n");
     if (a.crossings_differ)
         std::printf("  at point %ld the finer run's crossing lies more than a quarter period "
-                    "from this run's: one of them missed a shallow crossing inside a step (not "
+                    "from this run's: one of them missed a crossing shallower than its error (not "
                     "chaos); a smaller run.tolerance or run.step finds it, and the points from "
                     "there on are paired wrongly\n",
                     a.parted_at);
@@ -212,9 +214,9 @@ int main(int argc, char** argv) {
             if (!no_error) accuracy = estimate_point_error(scene, spec, taken.first);
             const double wall =
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-            write_file_atomically(
-                staged + "/section.json",
-                to_json(spec, taken.count, accuracy ? &*accuracy : nullptr, wall, scene));
+            write_file_atomically(staged + "/section.json",
+                                  to_json(spec, taken.count, accuracy ? &*accuracy : nullptr, wall,
+                                          scene, taken.outcome));
             // No point (an event never met, a contact that never closes): nothing to draw.
             if (taken.count == 0 && !no_plot)
                 std::fprintf(stderr, "note: the section has no points: no figure\n");

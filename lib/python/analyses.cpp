@@ -89,12 +89,15 @@ Returns a dict: t ((n,) reduced times), points ((n, len(record)) float64), names
 point_error (None with error=False or a run that did not complete, else a dict as
 section.json's: compared, error (per recorded name: twice the largest difference before the
 runs part; None for a stroboscopic section's t and an event's trigger), parted_at (the first compared point where the
-runs differ by more than 1e-3 of a variable's largest value, a chaotic record: None if never;
+runs differ by more than 1e-3 of a variable's largest value there and at a neighbouring point,
+a chaotic record: None if never; a point that differs alone widens the error instead;
 0: from the first point on, a run too coarse or a record that parted before it began, and the
 error then covers every compared point), crossings_differ (an event section whose runs part
 where their crossing times differ by more than a quarter period: a shallow crossing one of them
 missed, not chaos),
-comparison, status, not_estimated (why not, or None)), status, message, wall_time_s. An
+comparison, status, not_estimated (why not, or None)), status, message, scheme and step (the
+scheme the run took and its step in reduced time, an adaptive scheme's output interval),
+wall_time_s. An
 interrupted call keeps the points so far on the exception as `partial`.)";
 
 constexpr const char* spectrum_doc =
@@ -311,14 +314,16 @@ py::dict poincare_py(const py::object& scene_arg, const std::string& section,
         const double wall =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         py::dict d;
-        d["point_error"] = py::module_::import("json").attr("loads")(
-            to_json(spec, static_cast<long>(t.size()), accuracy, wall, scene))["point_error"];
+        d["point_error"] = py::module_::import("json").attr("loads")(to_json(
+            spec, static_cast<long>(t.size()), accuracy, wall, scene, outcome))["point_error"];
         d["wall_time_s"] = wall;
         d["t"] = array(t);
         d["points"] = matrix(values, t.size(), record.size());
         d["names"] = record;
         d["status"] = std::string(to_string(outcome.status));
         d["message"] = outcome.message;
+        d["scheme"] = std::string(to_string(outcome.scheme));
+        d["step"] = outcome.step;
         return d;
     };
     py::dict d = call.run(

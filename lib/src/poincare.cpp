@@ -190,17 +190,76 @@ void PoincareSampler::on_step(const StepView& step) {
     const double s1 = trigger_value(step.y1);
     const bool up = s0 < 0.0 && s1 >= 0.0;
     const bool down = s0 > 0.0 && s1 <= 0.0;
-    const bool wanted = (up && m_spec.direction != CrossingDirection::down) ||
-                        (down && m_spec.direction != CrossingDirection::up);
-    if (!wanted) return;
-    // The trigger is a linear combination of state components, so its interpolant is the
-    // same combination of theirs; root-find on it by bisection to full precision.
+    if (up || down) {
+        if (wanted(up)) emit_crossing(step, step.t0, step.t1, s0);
+        return;
+    }
+    emit_dip(step, s0, s1);
+}
+
+void PoincareSampler::emit_dip(const StepView& step, double s0, double s1) {
+    // No sign change between the ends, yet the trigger may cross the level and come back
+    // inside the step: a shallow dip (Fig 13's row at f_r = 3.0 dips u1 below 0 to v1 = -0.0108
+    // once a period; rk4 at tolerance 1e-4 and the exact scheme stepped over it and found 60
+    // of rk8pd's 120 crossings). The trigger then turns inside the step, its rate changing sign
+    // between the ends; its reach is bounded as the force tracker bounds a peak's.
+    if (s0 == 0.0) return;
+    const double r0 = trigger_rate(step.t0, step.y0);
+    if ((s0 > 0.0) == (r0 > 0.0)) return; // moving away from the level: the turn is on its side
+    const double r1 = trigger_rate(step.t1, step.y1);
+    if (!(r0 * r1 < 0.0)) return;
+    const double h = step.t1 - step.t0;
+    const double reach =
+        s0 > 0.0 ? std::min(s0, s1) - 0.5 * h * (r1 - r0) : std::max(s0, s1) + 0.5 * h * (r0 - r1);
+    if ((reach > 0.0) == (s0 > 0.0)) return;
     double lo = step.t0, hi = step.t1;
     for (int it = 0; it < 80 && hi - lo > 1e-15 * (1.0 + std::abs(hi)); ++it) {
         const double mid = 0.5 * (lo + hi);
         state_at(step, mid);
+        if ((trigger_rate(mid, m_state.data()) > 0.0) == (r0 > 0.0))
+            lo = mid;
+        else
+            hi = mid;
+    }
+    const double turn = 0.5 * (lo + hi);
+    state_at(step, turn);
+    const double at_turn = trigger_value(m_state.data());
+    // A touch within round-off of the level is no crossing: two runs would disagree on it.
+    const double floor = 1e-12 * std::max({std::abs(s0 + m_spec.level), std::abs(s1 + m_spec.level),
+                                           std::abs(m_spec.level)});
+    if ((at_turn > 0.0) == (s0 > 0.0) || std::abs(at_turn) <= floor) return;
+    const bool first_up = s0 < 0.0;
+    if (wanted(first_up)) emit_crossing(step, step.t0, turn, s0);
+    if (wanted(!first_up)) emit_crossing(step, turn, step.t1, at_turn);
+}
+
+bool PoincareSampler::wanted(bool up) const {
+    return m_spec.direction == CrossingDirection::both ||
+           (m_spec.direction == CrossingDirection::up) == up;
+}
+
+double PoincareSampler::trigger_rate(double t, const double* y) {
+    const int n = m_dyn.bodies();
+    const int i = m_spec.trigger.index;
+    switch (m_spec.trigger.kind) {
+    case SectionVariable::Kind::displacement: return y[n + i];
+    case SectionVariable::Kind::velocity:
+        m_acceleration.resize(static_cast<std::size_t>(n));
+        m_dyn.acceleration(m_dyn.ground(t), y, y + n, m_acceleration.data());
+        return m_acceleration[static_cast<std::size_t>(i)];
+    case SectionVariable::Kind::gap: return m_dyn.gap_rate(i, y + n);
+    default: return 0.0; // validate() admits u, v and g only
+    }
+}
+
+void PoincareSampler::emit_crossing(const StepView& step, double lo, double hi, double s_lo) {
+    // The trigger is a linear combination of state components, so its interpolant is the
+    // same combination of theirs; root-find on it by bisection to full precision.
+    for (int it = 0; it < 80 && hi - lo > 1e-15 * (1.0 + std::abs(hi)); ++it) {
+        const double mid = 0.5 * (lo + hi);
+        state_at(step, mid);
         const double s = trigger_value(m_state.data());
-        if ((s < 0.0) == (s0 < 0.0))
+        if ((s < 0.0) == (s_lo < 0.0))
             lo = mid;
         else
             hi = mid;
@@ -333,40 +392,73 @@ bool estimated(const SectionSpec& spec, const SectionVariable& v) {
     return !(event && v.kind == spec.trigger.kind && v.index == spec.trigger.index);
 }
 
-/// a.parted_at and a.error from the compared points of the main and the finer run.
+/// a.parted_at and a.crossings_differ: where the main run's points and the finer run's part.
+/// A variable parts them when it differs by more than 1e-3 of its own largest |value|
+/// (`largest`): units differ between variables (u, v, gaps, forces). Not the time, whose
+/// largest value is the record's length.
+void set_parting(const SectionSpec& spec, const std::vector<SectionPoint>& main_points,
+                 const std::vector<SectionPoint>& points, const std::vector<double>& largest,
+                 double period, SectionAccuracy& a) {
+    const auto differs = [&](long k) {
+        for (std::size_t i = 0; i < spec.record.size(); ++i)
+            if (estimated(spec, spec.record[i]) &&
+                spec.record[i].kind != SectionVariable::Kind::time &&
+                std::abs(main_points[k].values[i] - points[k].values[i]) > 1e-3 * largest[i])
+                return true;
+        return false;
+    };
+    // The runs part at the first point where they differ and so does a neighbour: a chaotic
+    // record stays apart once it has parted, and a run too coarse to follow its points differs
+    // at most of them (rk4 at step 0.01 on Fig 13's row at f_r = 2.5: 1 in 3 points within
+    // 1e-3, the others up to 3.4e-3). A point that differs alone is an ill-conditioned one,
+    // which widens the error instead: the velocity at a shallow crossing moves by a/v times the
+    // depth's error (Fig 13's row at f_r = 3.0 dips 1.7e-6 below u1 = 0 at v1 = -0.0108; rkf45
+    // at 1e-3 and its finer run differ there by 3e-3 and agree again at the next, deep crossing,
+    // which read "parted at 1, a chaotic record"). An event section's runs that found different
+    // crossings (times more than a quarter period apart: rk4 at 1e-4 steps over that dip, its
+    // finer run does not) pair every point beyond wrongly: they part there at once.
+    const auto neighbour_differs = [&](long k) {
+        return (k > 0 && differs(k - 1)) || (k + 1 < a.compared && differs(k + 1));
+    };
+    const bool event = spec.kind == SectionSpec::Kind::event;
+    for (long k = 0; k < a.compared; ++k) {
+        if (event && std::abs(main_points[k].t - points[k].t) > 0.25 * period) {
+            a.parted_at = k;
+            a.crossings_differ = true;
+            return;
+        }
+        if (differs(k) && neighbour_differs(k)) {
+            a.parted_at = k;
+            return;
+        }
+    }
+}
+
+/// a.parted_at, a.crossings_differ and a.error from the compared points of the main and the
+/// finer run.
 void set_point_errors(const SectionSpec& spec, const std::vector<SectionPoint>& main_points,
-                      const std::vector<SectionPoint>& points, bool exact, SectionAccuracy& a) {
+                      const std::vector<SectionPoint>& points, bool exact, double period,
+                      SectionAccuracy& a) {
     const std::size_t variables = spec.record.size();
-    // A variable parts the runs when it differs by more than 1e-3 of its own largest |value|:
-    // units differ between variables (u, v, gaps, forces). Not the time, whose largest value
-    // is the record's length.
-    std::vector<double> largest(variables, 0.0), difference(variables, 0.0), at_point(variables);
+    std::vector<double> largest(variables, 0.0), difference(variables, 0.0);
     for (long k = 0; k < a.compared; ++k)
         for (std::size_t i = 0; i < variables; ++i)
             largest[i] = std::max(largest[i], std::abs(main_points[k].values[i]));
-    for (long k = 0; k < a.compared && a.parted_at < 0; ++k) {
-        // The whole point first: a point where the runs part adds nothing to the error.
-        for (std::size_t i = 0; i < variables; ++i) {
-            at_point[i] = std::abs(main_points[k].values[i] - points[k].values[i]);
-            if (estimated(spec, spec.record[i]) &&
-                spec.record[i].kind != SectionVariable::Kind::time &&
-                at_point[i] > 1e-3 * largest[i])
-                a.parted_at = k;
-        }
-        if (a.parted_at >= 0) break;
-        for (std::size_t i = 0; i < variables; ++i)
-            difference[i] = std::max(difference[i], at_point[i]);
+    set_parting(spec, main_points, points, largest, period, a);
+    if (a.crossings_differ && a.parted_at == 0) {
+        a.not_estimated = "the finer run found other crossings from the first point on";
+        return;
     }
     // Runs that differ from the first point on are either a run too coarse to follow its points
     // one by one (rk4 at step 0.01 on Fig 13's periodic row at f_r = 2.5: 8e-4 off in u1, a
     // reviewer's probe, helper-75, which read "not this start's trajectory") or a chaotic record
     // that parted before it began. Both are bounded by their largest difference over every
     // point compared, twice: a truncation error as above, or the attractor's extent.
-    if (a.parted_at == 0)
-        for (long k = 0; k < a.compared; ++k)
-            for (std::size_t i = 0; i < variables; ++i)
-                difference[i] = std::max(difference[i],
-                                         std::abs(main_points[k].values[i] - points[k].values[i]));
+    const long agreed = a.parted_at < 0 || a.parted_at == 0 ? a.compared : a.parted_at;
+    for (long k = 0; k < agreed; ++k)
+        for (std::size_t i = 0; i < variables; ++i)
+            difference[i] =
+                std::max(difference[i], std::abs(main_points[k].values[i] - points[k].values[i]));
     // The exact scheme's finer run shares its eigendecompositions and so its round-off: the two
     // agreed to 0 where rk8pd at 1e-11 was 1.5e-12 away in u1 (6.8e-12 of its largest value) and
     // 6e-12 in v3 (helper-75). Its floor is 3e-11 of the variable's largest value.
@@ -413,14 +505,7 @@ SectionAccuracy section_accuracy(const Dynamics& dyn, const RunOptions& options,
         a.not_estimated = "no point to compare";
         return a;
     }
-    set_point_errors(spec, main_points, points, exact, a);
-    // Fig 13's row at f_r = 3.0 has a second, shallow dip through u1 = 0 each period (v1 =
-    // -0.0108): rk4 at 1e-6 finds 30 crossings in 60 periods where the finer run finds 60, and
-    // the points read as "parted at 1", a chaotic row (a reviewer's probe, helper-77).
-    if (spec.kind == SectionSpec::Kind::event && a.parted_at >= 0) {
-        const auto k = static_cast<std::size_t>(a.parted_at);
-        a.crossings_differ = std::abs(main_points[k].t - points[k].t) > 0.25 * dyn.period();
-    }
+    set_point_errors(spec, main_points, points, exact, dyn.period(), a);
     return a;
 }
 

@@ -102,11 +102,15 @@ void add_provenance(json& j, const Scene& scene, bool once_through = false) {
         j["initial"] = scene.initial;
 }
 
-/// The run's scheme and fixed step (null: from the tolerance) in j's parameters, for results
-/// whose numbers depend on the plan beyond its tolerance (a section's points, a spectrum).
-void add_scheme_and_step(json& j, const Scene& scene) {
+/// The scheme and fixed step the scene asked for (null: from the tolerance) in j's
+/// parameters, and the scheme and step the run took, as gapchain-sim's JSON gives them, for
+/// results whose numbers depend on the plan beyond its tolerance (a section's points, a
+/// spectrum): "auto" and null alone did not say which ran (a reviewer's probe, helper-77).
+void add_scheme_and_step(json& j, const Scene& scene, const RunOutcome& outcome) {
     j["parameters"]["scheme"] = to_string(scene.run.scheme);
     j["parameters"]["step"] = scene.run.step ? json(*scene.run.step) : json(nullptr);
+    j["scheme"] = std::string(to_string(outcome.scheme));
+    j["step"] = outcome.step;
 }
 
 } // namespace
@@ -495,12 +499,12 @@ std::string to_json(const RowSpectrum& s, const RowSpectrumOptions& o, const Sce
               {"wall_time_s", s.wall_time_s}};
     add_provenance(j, scene, true);
     // A result read alone says how its record was made (a reviewer's probe, helper-75).
-    add_scheme_and_step(j, scene);
+    add_scheme_and_step(j, scene, s.outcome);
     return j.dump(2) + "\n";
 }
 
 std::string to_json(const SectionSpec& spec, long points, const SectionAccuracy* accuracy,
-                    double wall_time_s, const Scene& scene) {
+                    double wall_time_s, const Scene& scene, const RunOutcome& outcome) {
     json j;
     json section = {{"kind", spec.kind == SectionSpec::Kind::event ? "event" : "stroboscopic"}};
     if (spec.kind == SectionSpec::Kind::event) {
@@ -538,7 +542,7 @@ std::string to_json(const SectionSpec& spec, long points, const SectionAccuracy*
     j["wall_time_s"] = wall_time_s;
     add_provenance(j, scene, true);
     // The error estimate's finer plan follows from them.
-    add_scheme_and_step(j, scene);
+    add_scheme_and_step(j, scene, outcome);
     return j.dump(2) + "\n";
 }
 

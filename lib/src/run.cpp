@@ -410,6 +410,8 @@ RunOutcome run(const Dynamics& dyn, Stepper& stepper, const StepPlan& plan, cons
     const double h = plan.step;
     const long report_every = std::max(1L, span.periods / 200);
     RunOutcome out;
+    out.scheme = plan.scheme;
+    out.step = h;
     // Times are computed from integer step counts, so period boundaries never drift.
     auto time_at = [&](long period, int k) {
         return span.t_start + ((period - span.first_period) * spp + k) * h;

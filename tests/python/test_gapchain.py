@@ -882,6 +882,10 @@ def test_a_keyword_of_the_other_kind_of_section_is_refused_and_messages_name_the
             gapchain.poincare(MIRROR_PAIR, **kwargs)
     event = gapchain.poincare(MIRROR_PAIR, section="event", level=0.0, direction="up", **SHORT)
     assert np.array_equal(event["t"], gapchain.poincare(MIRROR_PAIR, section="event", **SHORT)["t"])
+    # The scheme and step that ran, not "auto" (section.json's, a reviewer's probe, helper-77).
+    assert event["scheme"] in ("rk4", "exact", "rkf45", "rk8pd", "central_difference")
+    stepped = gapchain.poincare(MIRROR_PAIR, scheme="rk4", step=0.001, **SHORT)
+    assert stepped["scheme"] == "rk4" and 0.0009 < stepped["step"] <= 0.001
     # The argument, not the library's option behind it (section.level, model.e_r) ...
     with pytest.raises(ValueError, match=r"^level: must be a finite number"):
         gapchain.poincare(MIRROR_PAIR, section="event", level=math.nan)

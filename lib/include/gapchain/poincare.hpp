@@ -3,7 +3,9 @@
 /// Poincaré sections of a run: stroboscopic (once per forcing period at a chosen phase) and
 /// event sections (a linear signal of the state crossing a level in a chosen direction, e.g.
 /// u_1 = 0 upward, or every closing of contact j). Points are located on the quintic Hermite
-/// dense output of the step they fall in, never at the nearest step, and streamed to a sink.
+/// dense output of the step they fall in, never at the nearest step, and streamed to a sink. A
+/// crossing and its return inside one step (a shallow dip across the level) are found too: the
+/// trigger's rate changes sign between the step's ends, and its turn lies across the level.
 
 #include "gapchain/dynamics.hpp"
 #include "gapchain/run.hpp"
@@ -91,12 +93,23 @@ public:
 private:
     void emit(double t, const double* y);
     [[nodiscard]] double trigger_value(const double* y) const;
+    /// The trigger's time derivative at (t, y).
+    [[nodiscard]] double trigger_rate(double t, const double* y);
+    /// Whether a crossing upward (up) or downward is one the spec asks for.
+    [[nodiscard]] bool wanted(bool up) const;
+    /// Emits the crossing of the level inside [lo, hi] of this step (one sign change, the
+    /// trigger s_lo at lo).
+    void emit_crossing(const StepView& step, double lo, double hi, double s_lo);
+    /// Emits a crossing and its return inside the step, where the trigger (s0, s1 at the ends,
+    /// on one side of the level) turns across it.
+    void emit_dip(const StepView& step, double s0, double s1);
     void state_at(const StepView& step, double t);
 
     const Dynamics& m_dyn;
     SectionSpec m_spec;
     SectionSink m_sink;
     std::vector<double> m_state;
+    std::vector<double> m_acceleration; ///< scratch of trigger_rate() for a velocity trigger
     std::unique_ptr<detail::StepInterpolant> m_interpolant; ///< of the current step, if built
     SectionPoint m_point;
     long m_count = 0;
@@ -154,17 +167,19 @@ struct SectionAccuracy {
     /// multiple of the period), and for an event section's trigger variable (the level at every
     /// point); an event section's t has its error.
     std::vector<double> error;
-    /// First compared point (0-based) at which some variable differs by more than 1e-3 of its
-    /// largest |value| over the compared points: from there on the runs follow different
-    /// trajectories (a chaotic record), so the points still sample the attractor but are no
-    /// longer this start's; -1: they never part within the compared points. 0: they differ from
+    /// First compared point (0-based) at which, and at a neighbouring point, some variable
+    /// differs by more than 1e-3 of its largest |value| over the compared points: from there on
+    /// the runs follow different trajectories (a chaotic record), so the points still sample
+    /// the attractor but are no longer this start's; -1: they never part within the compared
+    /// points. A point that differs alone (an ill-conditioned one, such as the velocity at a
+    /// shallow crossing) is no parting: its difference widens error. 0: they differ from
     /// the first point on, a run too coarse to follow its points one by one or a chaotic record
     /// that parted before it began; error then covers every compared point (the largest
     /// difference over all of them, twice).
     long parted_at = -1;
     /// An event section whose runs part where their crossing times differ by more than a
-    /// quarter of the forcing period: one run found a crossing the other missed (a shallow one,
-    /// both inside one step), not a chaotic parting. A smaller run.tolerance or run.step finds
+    /// quarter of the forcing period: one run found a crossing the other missed (a dip shallower
+    /// than one run's error), not a chaotic parting. A smaller run.tolerance or run.step finds
     /// it; the points beyond are paired wrongly.
     bool crossings_differ = false;
     /// The finer plan: "half the step", "tolerance X, half the output interval" (adaptive

@@ -81,17 +81,19 @@ std::string to_json(const WorkPrecision& study, const WorkPrecisionOptions& o, d
 /// samples_per_period, samples, sample_rate, segment, segments, segment_periods, whole_periods,
 /// order, broadband_share with broadband_share_error (null where not estimated),
 /// fraction_bin_share, aliased_share, sampled_range_share, peaks (how many; peaks.csv lists
-/// them), window, status, wall_time_s [s], and the run's provenance with its scheme and step.
+/// them), window, status, wall_time_s [s], the scheme and step the run took, and the run's
+/// provenance with the scheme and step asked for.
 std::string to_json(const RowSpectrum& s, const RowSpectrumOptions& o, const Scene& scene);
 
 /// A Poincare section's sidecar (section.json beside section.csv): the section (kind; phase, or
 /// trigger, level and direction; record), points, point_error (null where not estimated, else
 /// compared, error per recorded variable (null for t and an event's trigger), parted_at (null:
 /// never), comparison, status and not_estimated (null where estimated), as SectionAccuracy),
-/// wall_time_s [s], and the run's provenance (parameters, the run keys a once-through run
-/// reads with its scheme and step, chain, initial).
+/// wall_time_s [s], the scheme and step the run took (outcome), and the run's provenance
+/// (parameters, the run keys a once-through run reads with the scheme and step asked for,
+/// chain, initial).
 std::string to_json(const SectionSpec& spec, long points, const SectionAccuracy* accuracy,
-                    double wall_time_s, const Scene& scene);
+                    double wall_time_s, const Scene& scene, const RunOutcome& outcome);
 
 /// Lyapunov exponents as JSON: exponents, error, sum, expected_sum (-sum of the damping
 /// rates, MODEL.md §5; when all 2 Nm were computed), averaging_time, status, wall_time_s, the

@@ -73,7 +73,9 @@ struct RunOutcome {
     long periods_done = 0;                   ///< forcing periods integrated
     long steps = 0;                          ///< steps taken
     double t_end = 0.0;                      ///< reduced time at the end
-    std::string message;                     ///< why a run failed (empty otherwise)
+    Scheme scheme = Scheme::rk4;             ///< the concrete scheme the run took
+    double step = 0.0;   ///< its step in reduced time (an adaptive scheme's output interval)
+    std::string message; ///< why a run failed (empty otherwise)
 };
 
 /// Progress report: fraction done in [0, 1]; return false to cancel the run.

@@ -96,23 +96,39 @@ TEST_CASE("MaxForceTracker: the tail spread is read from the maxima of runs reco
     // The same trajectory: 80 periods of this chaotic row part runs restarted at each period by
     // 3e-8 (120 periods by 3e-5, which moves the tail).
     REQUIRE(apart < 1e-6);
-    std::sort(maxima.begin(), maxima.end(), std::greater<>());
-    constexpr int r = MaxForceTracker::tail_periods;
-    double excess = 0.0;
-    for (int i = 0; i + 1 < r; ++i)
-        excess += maxima[static_cast<std::size_t>(i)] - maxima[r - 1];
-    const double expected = std::numbers::pi / std::sqrt(6.0) * excess / (r - 1);
+    // pi / sqrt(6) times the mean excess of the r - 1 largest of the first `recorded` maxima
+    // over the r-th.
+    const auto tail_of = [&](long recorded, int r) {
+        std::vector<double> first(maxima.begin(), maxima.begin() + recorded);
+        std::sort(first.begin(), first.end(), std::greater<>());
+        double excess = 0.0;
+        for (int i = 0; i + 1 < r; ++i)
+            excess += first[static_cast<std::size_t>(i)] - first[static_cast<std::size_t>(r - 1)];
+        return std::numbers::pi / std::sqrt(6.0) * excess / (r - 1);
+    };
+    const double expected = tail_of(periods, MaxForceTracker::tail_periods);
     MESSAGE("tail spread " << whole.tail_spread() << ", F_m " << largest_force(whole));
-    CHECK(expected > 1e-3 * maxima.front()); // a spread to read
+    CHECK(expected > 1e-3 * largest_force(whole)); // a spread to read
     CHECK(whole.tail_spread() == doctest::Approx(expected).epsilon(1e-9));
-    CHECK(largest_force(whole) == doctest::Approx(maxima.front()).epsilon(1e-12));
-    // Fewer than 4 tail_periods recorded periods: no tail to read.
-    MaxForceTracker short_run(dyn);
-    std::array<Observer*, 1> brief{&short_run};
-    std::vector<double> x(2 * p.Nm, 0.0);
-    auto again = make_stepper(plan, dyn);
-    REQUIRE(run(dyn, *again, plan, {4 * r - 1, 0, 0.0}, x, brief).status == RunStatus::completed);
-    CHECK(short_run.tail_spread() == 0.0);
+    CHECK(largest_force(whole) ==
+          doctest::Approx(*std::max_element(maxima.begin(), maxima.end())).epsilon(1e-12));
+    // A shorter record reads its top quarter (a 40-period one, its top 10; records of 30-79
+    // periods had none, and one draw from the halves as their bar); fewer than 4
+    // min_tail_periods recorded periods have no tail to read.
+    for (const long recorded : {40L, 4L * MaxForceTracker::min_tail_periods - 1}) {
+        CAPTURE(recorded);
+        MaxForceTracker short_run(dyn);
+        std::array<Observer*, 1> brief{&short_run};
+        std::vector<double> x(2 * p.Nm, 0.0);
+        auto again = make_stepper(plan, dyn);
+        REQUIRE(run(dyn, *again, plan, {recorded, 0, 0.0}, x, brief).status ==
+                RunStatus::completed);
+        const int r = static_cast<int>(recorded / 4);
+        if (r < MaxForceTracker::min_tail_periods)
+            CHECK(short_run.tail_spread() == 0.0);
+        else
+            CHECK(short_run.tail_spread() == doctest::Approx(tail_of(recorded, r)).epsilon(1e-9));
+    }
 }
 
 namespace {

@@ -1190,3 +1190,21 @@ TEST_CASE("the error estimate's comparison run is counted in run.max_work before
     o.estimate_error = false;
     CHECK_NOTHROW(require_simulation_affordable(dyn, o));
 }
+
+TEST_CASE("at the tightest tolerance F_m_error covers the exact scheme's answer: round-off") {
+    // The stiff row of accuracy-stiff.json (Nm 20, fc 2000): rk8pd at 1e-12 and exact differ
+    // by 2.3e-13 of F_m, where rk8pd's bar read 1.2e-13 under a floor of 1e-14 of F_m.
+    const Dynamics dyn = Dynamics::paper_row({20, 2000, 0.5, 0.24, 1.0});
+    RunOptions o;
+    o.tolerance = 1e-12;
+    o.scheme = Scheme::rk8pd;
+    const SimulationResult r = simulate(dyn, o);
+    o.scheme = Scheme::exact;
+    const SimulationResult e = simulate(dyn, o);
+    MESSAGE("rk8pd " << r.F_m << " +- " << r.F_m_error << ", exact " << e.F_m << " +- "
+                     << e.F_m_error);
+    REQUIRE(r.steady_state_period == 1);
+    CHECK(std::abs(r.F_m - e.F_m) <= r.F_m_error);
+    CHECK(r.F_m_error >= exact_F_m_round_off * r.F_m);
+    CHECK(r.F_m_error < 1e-11 * r.F_m);
+}

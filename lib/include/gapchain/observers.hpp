@@ -47,13 +47,16 @@ public:
     }
     /// The standard deviation of the window's maximum over windows like it, from the tail of
     /// its per-period maxima: pi / sqrt(6) (a Gumbel maximum's) times their mean excess over
-    /// the tail_periods-th largest, the exponential tail's scale. 0 with fewer than
-    /// 4 tail_periods recorded periods. Meaningful for a window that does not repeat (a
-    /// periodic one's per-period maxima take k values, and its maximum is known).
+    /// the r-th largest, the exponential tail's scale, r the top quarter of the recorded
+    /// periods and at most tail_periods. 0 with fewer than 4 min_tail_periods recorded
+    /// periods. Meaningful for a window that does not repeat (a periodic one's per-period
+    /// maxima take k values, and its maximum is known).
     [[nodiscard]] double tail_spread() const;
-    /// Per-period maxima whose tail tail_spread() reads: its relative error is about
-    /// 1 / sqrt(tail_periods - 1), 23 %.
+    /// Per-period maxima whose tail tail_spread() reads at most: its relative error is about
+    /// 1 / sqrt(r - 1), 23 % from 80 recorded periods on.
     static constexpr int tail_periods = 20;
+    /// The fewest it reads: 6 (relative error about 45 %), from 24 recorded periods on.
+    static constexpr int min_tail_periods = 6;
     /// The error of max_force() as a window's answer: half_spread(), at least tolerance
     /// (relative, the run's accuracy, in (0, 1)) times max_force(); with repeats = false (the
     /// window did not repeat) at least tail_spread() too.

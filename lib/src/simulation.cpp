@@ -340,8 +340,9 @@ void estimate_error(const Dynamics& dyn, const RunOptions& options, const StepPl
     // The halves' spread is one draw of how far a window's maximum moves: it was below the
     // standard deviation over starts on 10 of 45 non-settling points of the paper-scale grid
     // (5 strict starts each; docs/accuracy.md). The tail of the per-period maxima estimates
-    // that spread from up to 19 excesses (a short record's top quarter); like the halves, only for a stationary record (harmonic
-    // forcing: a ground motion record is not) of at least two periods.
+    // that spread from up to 19 excesses (a short record's top quarter); like the halves, only for
+    // a stationary record (harmonic forcing: a ground motion record is not) of at least two
+    // periods.
     const bool unsettled = result.status == RunStatus::completed;
     const bool stationary = unsettled && dyn.ground_motion().is_harmonic() &&
                             options.periods - options.transient_periods >= 2;

@@ -127,10 +127,9 @@ void print_point_error(const SectionSpec& spec, const SectionAccuracy& a) {
     std::printf("%s\n",
                 any ? "" : " none recorded (a stroboscopic t and an event's trigger carry none)");
     if (a.parted_at == 0 && !a.crossings_differ)
-        std::printf("  the runs differ by more than 1e-3 of a variable's largest value from the "
-                    "first point on: a run too coarse to follow its points one by one (a smaller "
-                    "run.tolerance or run.step tells), or a chaotic record that parted before it "
-                    "began; the error covers every point\n");
+        std::printf("  the runs differ from the first point on and grow apart: a chaotic record "
+                    "that parted before it began; the error covers every point, the "
+                    "attractor's extent\n");
     if (a.crossings_differ)
         std::printf("  at point %ld the finer run's crossing lies more than a quarter period "
                     "from this run's: one of them missed a crossing shallower than its error (not "

@@ -89,10 +89,10 @@ Returns a dict: t ((n,) reduced times), points ((n, len(record)) float64), names
 point_error (None with error=False or a run that did not complete, else a dict as
 section.json's: compared, error (per recorded name: twice the largest difference before the
 runs part; None for a stroboscopic section's t and an event's trigger), parted_at (the first compared point where the
-runs differ by more than 1e-3 of a variable's largest value there and at a neighbouring point,
-a chaotic record: None if never; a point that differs alone widens the error instead;
-0: from the first point on, a run too coarse or a record that parted before it began, and the
-error then covers every compared point), crossings_differ (an event section whose runs part
+runs differ by more than 1e-3 of a variable's largest value and from which on they grow apart,
+a chaotic record: None if never; points that differ by a bounded amount widen the error
+instead; 0: a record that parted before it began, and the error then covers every compared
+point), crossings_differ (an event section whose runs part
 where their crossing times differ by more than a quarter period: a shallow crossing one of them
 missed, not chaos),
 comparison, status, not_estimated (why not, or None)), status, message, scheme and step (the

@@ -433,16 +433,17 @@ struct SectionPairing {
                 return true;
         return false;
     }
-    /// Whether the runs find crossings at rates 10 % apart: as many points span another time.
+    /// Whether the runs find crossings at rates more than `by` (relative) apart: as many points
+    /// span another time.
     /// rk4 at step 0.02 steps over a dip pair of v2 = 2.12 each period that its finer run finds
     /// (Fig 13's row at f_r = 3.0, 120 crossings against 240), and no point of it agrees with
     /// any of the finer run's (helper-78).
-    [[nodiscard]] bool rates_differ() const {
+    [[nodiscard]] bool rates_differ(double by) const {
         if (compared < 50) return false;
         const auto last = static_cast<std::size_t>(compared - 1);
         const double span = main_points[last].t - main_points[0].t;
         const double finer_span = points[last].t - main_points[0].t;
-        return std::abs(span - finer_span) > 0.1 * std::max(span, finer_span);
+        return std::abs(span - finer_span) > by * std::max(span, finer_span);
     }
 };
 
@@ -451,9 +452,10 @@ void set_parting(const SectionPairing& p, SectionAccuracy& a) {
     const bool event = p.spec.kind == SectionSpec::Kind::event;
     const auto mispaired = [&](long k) { return event && p.apart(k, k) > 0.25 * p.period; };
     // An event section's runs that found different crossings pair every point beyond wrongly:
+    // their rates differ by a quarter (rk4 at step 0.02), the points agree once shifted, or
     // their crossing times are more than a quarter period apart (rk4 at 1e-4 steps over a dip
-    // its finer run finds), the points agree once shifted, or the rates differ.
-    if (event && p.rates_differ()) {
+    // its finer run finds).
+    if (event && p.rates_differ(0.25)) {
         long k = 0;
         while (k < a.compared && !mispaired(k))
             ++k;
@@ -461,32 +463,35 @@ void set_parting(const SectionPairing& p, SectionAccuracy& a) {
         a.crossings_differ = true;
         return;
     }
-    // The runs part (a chaotic record) where they differ, and from there on differ at most
-    // points and grow 10 times further apart somewhere: a chaotic record stays apart once it
-    // has parted, and its points spread over the attractor. Points that differ by a bounded
-    // amount are this start's all the same, and widen the error instead: a run too coarse to
-    // follow its points (rk4 at step 0.01 on Fig 13's row at f_r = 2.5 is 1.6e-3 to 3.4e-3
-    // off at 2 points in 3), or ill-conditioned ones, the velocity at a shallow crossing moving
-    // by a/v times the depth's error (Fig 13's row at f_r = 3.0 dips 1.7e-6 below u1 = 0 at
-    // v1 = -0.0108; rkf45 at 1e-3 and its finer run differ there by 3e-3 and agree again at
+    // The runs part (a chaotic record) where they differ, differ at most of the next ten points
+    // and grow 10 times further apart somewhere from there on: a chaotic record stays apart
+    // once it has parted, and its points spread over the attractor (a chaotic transient may
+    // later settle both runs on one orbit again: parting at f_r = 3.25 from rest, g2 = 0 both
+    // ways, read as crossings found by one run only, helper-79). Points that differ by a
+    // bounded amount are this start's all the same, and widen the error instead: a run too
+    // coarse to follow its points (rk4 at step 0.01 on Fig 13's row at f_r = 2.5 is 1.6e-3 to
+    // 3.4e-3 off at 2 points in 3), or ill-conditioned ones, the velocity at a shallow crossing
+    // moving by a/v times the depth's error (Fig 13's row at f_r = 3.0 dips 1.7e-6 below u1 = 0
+    // at v1 = -0.0108; rkf45 at 1e-3 and its finer run differ there by 3e-3 and agree again at
     // the next, deep crossing, which read "parted at 1, a chaotic record").
     const auto n = static_cast<std::size_t>(a.compared);
-    std::vector<long> differing_from(n + 1, 0);
     std::vector<double> widest_from(n + 1, 0.0);
-    for (long k = a.compared - 1; k >= 0; --k) {
-        const double d = p.difference(k, k);
-        const auto i = static_cast<std::size_t>(k);
-        differing_from[i] = differing_from[i + 1] + (d > 1e-3 ? 1 : 0);
-        widest_from[i] = std::max(widest_from[i + 1], d);
-    }
+    for (long k = a.compared - 1; k >= 0; --k)
+        widest_from[static_cast<std::size_t>(k)] =
+            std::max(widest_from[static_cast<std::size_t>(k) + 1], p.difference(k, k));
+    const auto chaotic = [&](long k) {
+        const long end = std::min(a.compared, k + 10);
+        long differing = 0;
+        for (long j = k; j < end; ++j)
+            differing += p.difference(j, j) > 1e-3 ? 1 : 0;
+        return 2 * differing >= end - k && widest_from[static_cast<std::size_t>(k)] > 1e-2;
+    };
     for (long k = 0; k < a.compared; ++k) {
-        const auto i = static_cast<std::size_t>(k);
         if (!mispaired(k) && p.difference(k, k) <= 1e-3) continue;
-        const bool crossings = mispaired(k) || (event && p.shifted_match(k));
-        const bool chaotic = 2 * differing_from[i] >= a.compared - k && widest_from[i] > 1e-2;
-        if (!crossings && !chaotic) continue;
+        const bool shifted = event && p.shifted_match(k);
+        if (!shifted && !chaotic(k) && !mispaired(k)) continue;
         a.parted_at = k;
-        a.crossings_differ = crossings;
+        a.crossings_differ = shifted || (mispaired(k) && !chaotic(k));
         return;
     }
 }

@@ -168,14 +168,14 @@ struct SectionAccuracy {
     /// point); an event section's t has its error.
     std::vector<double> error;
     /// First compared point (0-based) at which some variable differs by more than 1e-3 of its
-    /// largest |value| over the compared points, and from which on most points differ and the
-    /// runs grow apart by more than 1e-2 of it somewhere: from there on the runs follow
-    /// different trajectories (a chaotic record), so the points still sample the attractor but
-    /// are no longer this start's; -1: they never part within the compared points. Points that
-    /// differ by a bounded amount (a run too coarse to follow its points, or ill-conditioned
-    /// ones such as the velocity at a shallow crossing) are no parting: they widen error. 0: a
-    /// chaotic record that parted before it began; error then covers every compared point (the
-    /// largest difference over all of them, twice). Also where crossings_differ says so.
+    /// largest |value| over the compared points, at least half of the next ten points differ
+    /// too, and the runs grow apart by more than 1e-2 of it somewhere from there on: from there on
+    /// the runs follow different trajectories (a chaotic record), so the points still sample the
+    /// attractor but are no longer this start's; -1: they never part within the compared points.
+    /// Points that differ by a bounded amount (a run too coarse to follow its points, or
+    /// ill-conditioned ones such as the velocity at a shallow crossing) are no parting: they widen
+    /// error. 0: a chaotic record that parted before it began; error then covers every compared
+    /// point (the largest difference over all of them, twice). Also where crossings_differ says so.
     long parted_at = -1;
     /// An event section whose runs part where their crossing times differ by more than a
     /// quarter of the forcing period: one run found a crossing the other missed (a dip shallower

@@ -112,7 +112,7 @@ TEST_CASE("MaxForceTracker: the tail spread is read from the maxima of runs reco
     CHECK(whole.tail_spread() == doctest::Approx(expected).epsilon(1e-9));
     CHECK(largest_force(whole) ==
           doctest::Approx(*std::max_element(maxima.begin(), maxima.end())).epsilon(1e-12));
-    // A shorter record reads its top quarter (a 40-period one, its top 10; records of 30-79
+    // A shorter record reads its top quarter (a 40-period one, its top 10; records under 80
     // periods had none, and one draw from the halves as their bar); fewer than 4
     // min_tail_periods recorded periods have no tail to read.
     for (const long recorded : {40L, 4L * MaxForceTracker::min_tail_periods - 1}) {

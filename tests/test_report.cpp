@@ -302,8 +302,8 @@ TEST_CASE("classification JSON against the attractors: multistable, label_in_sea
 
 TEST_CASE("section JSON names the scheme and step the run took, beside the ones asked for") {
     // "auto" and a null step alone did not say which scheme ran (a reviewer's probe, helper-77).
-    const Scene scene = parse_scene(
-        R"({"model": {"Nm": 2}, "run": {"periods": 20, "transient_periods": 10}})");
+    const Scene scene =
+        parse_scene(R"({"model": {"Nm": 2}, "run": {"periods": 20, "transient_periods": 10}})");
     const Dynamics dyn = scene.dynamics();
     const StepPlan plan = plan_run(dyn, scene.run);
     SectionSpec spec;

@@ -131,8 +131,8 @@ void print_point_error(const SectionSpec& spec, const SectionAccuracy& a) {
                     "that parted before it began; the error covers every point, the "
                     "attractor's extent\n");
     if (a.crossings_differ)
-        std::printf("  at point %ld the finer run's crossing lies more than a quarter period "
-                    "from this run's: one of them missed a crossing shallower than its error (not "
+        std::printf("  from point %ld on the two runs' crossings pair wrongly (found at other "
+                    "times or rates): one of them missed a crossing shallower than its error (not "
                     "chaos); a smaller run.tolerance or run.step finds it, and the points from "
                     "there on are paired wrongly\n",
                     a.parted_at);

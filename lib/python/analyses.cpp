@@ -92,9 +92,9 @@ runs part; None for a stroboscopic section's t and an event's trigger), parted_a
 runs differ by more than 1e-3 of a variable's largest value and from which on they grow apart,
 a chaotic record: None if never; points that differ by a bounded amount widen the error
 instead; 0: a record that parted before it began, and the error then covers every compared
-point), crossings_differ (an event section whose runs part
-where their crossing times differ by more than a quarter period: a shallow crossing one of them
-missed, not chaos),
+point), crossings_differ (an event section whose runs found different
+crossings: times more than a quarter period apart, points that agree once shifted by one or two
+crossings, or crossing rates a quarter apart; a shallow crossing one of them missed, not chaos),
 comparison, status, not_estimated (why not, or None)), status, message, scheme and step (the
 scheme the run took and its step in reduced time, an adaptive scheme's output interval),
 wall_time_s. An
@@ -322,8 +322,10 @@ py::dict poincare_py(const py::object& scene_arg, const std::string& section,
         d["names"] = record;
         d["status"] = std::string(to_string(outcome.status));
         d["message"] = outcome.message;
-        d["scheme"] = std::string(to_string(outcome.scheme));
-        d["step"] = outcome.step;
+        const bool ran = outcome.step > 0.0;
+        d["scheme"] = ran ? py::object(py::str(std::string(to_string(outcome.scheme))))
+                          : py::object(py::none());
+        d["step"] = ran ? py::object(py::float_(outcome.step)) : py::object(py::none());
         return d;
     };
     py::dict d = call.run(

@@ -317,7 +317,7 @@ void MaxForceTracker::start_period(long n) {
 }
 
 double MaxForceTracker::tail_spread() const {
-    // The top quarter of the record, at most tail_periods: a record of 30 to 79 periods had no
+    // The top quarter of the record, at most tail_periods: a record under 80 periods had no
     // tail estimate, and its one draw from the halves read as little as 1/26 of the spread
     // over starts (Fig 13's row at f_r = 3.2, rkf45, 60 recorded periods; a reviewer's probe,
     // helper-77, found misses of 1.7 to 4.6 times).

@@ -200,9 +200,11 @@ void PoincareSampler::on_step(const StepView& step) {
 void PoincareSampler::emit_dip(const StepView& step, double s0, double s1) {
     // No sign change between the ends, yet the trigger may cross the level and come back
     // inside the step: a shallow dip (Fig 13's row at f_r = 3.0 dips u1 below 0 to v1 = -0.0108
-    // once a period; rk4 at tolerance 1e-4 and the exact scheme stepped over it and found 60
+    // once a period; the exact scheme at 1e-8 and rkf45 at 1e-3 stepped over it and found 60
     // of rk8pd's 120 crossings). The trigger then turns inside the step, its rate changing sign
-    // between the ends; its reach is bounded as the force tracker bounds a peak's.
+    // between the ends; its reach is bounded as the force tracker bounds a peak's. A step that
+    // starts exactly on the level (the step before ended on a crossing) is left alone: its
+    // side is unknown, and a return within one step after a crossing is rare.
     if (s0 == 0.0) return;
     const double r0 = trigger_rate(step.t0, step.y0);
     if ((s0 > 0.0) == (r0 > 0.0)) return; // moving away from the level: the turn is on its side
@@ -425,10 +427,17 @@ struct SectionPairing {
     /// more: a graze found by one run only, both directions (times 0.067 apart at the first
     /// wrong pair, a reviewer's probe, helper-78).
     [[nodiscard]] bool shifted_match(long k) const {
+        // Each run may hold points beyond the compared ones: the shifted partner is looked for
+        // among all of them (helper-80: an extra crossing at the last compared point read as
+        // chaos).
         const double unshifted = apart(k, k);
-        for (long s = 1; s <= 2 && k + s < compared; ++s)
-            if ((apart(k, k + s) < 0.1 * unshifted && difference(k, k + s) <= 1e-3) ||
-                (std::abs(main_points[k + s].t - points[k].t) < 0.1 * unshifted &&
+        const auto finer_count = static_cast<long>(points.size());
+        const auto main_count = static_cast<long>(main_points.size());
+        for (long s = 1; s <= 2; ++s)
+            if ((k + s < finer_count && apart(k, k + s) < 0.1 * unshifted &&
+                 difference(k, k + s) <= 1e-3) ||
+                (k + s < main_count &&
+                 std::abs(main_points[k + s].t - points[k].t) < 0.1 * unshifted &&
                  difference(k + s, k) <= 1e-3))
                 return true;
         return false;
@@ -440,6 +449,7 @@ struct SectionPairing {
     /// any of the finer run's (helper-78).
     [[nodiscard]] bool rates_differ(double by) const {
         if (compared < 50) return false;
+        // Both spans from the main run's first point: the runs start recording together.
         const auto last = static_cast<std::size_t>(compared - 1);
         const double span = main_points[last].t - main_points[0].t;
         const double finer_span = points[last].t - main_points[0].t;
@@ -457,34 +467,35 @@ void set_parting(const SectionPairing& p, SectionAccuracy& a) {
     // its finer run finds).
     if (event && p.rates_differ(0.25)) {
         long k = 0;
-        while (k < a.compared && !mispaired(k))
+        while (k < a.compared && !mispaired(k) && p.difference(k, k) <= 1e-3)
             ++k;
         a.parted_at = k < a.compared ? k : 0;
         a.crossings_differ = true;
         return;
     }
-    // The runs part (a chaotic record) where they differ, differ at most of the next ten points
-    // and grow 10 times further apart somewhere from there on: a chaotic record stays apart
-    // once it has parted, and its points spread over the attractor (a chaotic transient may
-    // later settle both runs on one orbit again: parting at f_r = 3.25 from rest, g2 = 0 both
-    // ways, read as crossings found by one run only, helper-79). Points that differ by a
-    // bounded amount are this start's all the same, and widen the error instead: a run too
-    // coarse to follow its points (rk4 at step 0.01 on Fig 13's row at f_r = 2.5 is 1.6e-3 to
-    // 3.4e-3 off at 2 points in 3), or ill-conditioned ones, the velocity at a shallow crossing
-    // moving by a/v times the depth's error (Fig 13's row at f_r = 3.0 dips 1.7e-6 below u1 = 0
-    // at v1 = -0.0108; rkf45 at 1e-3 and its finer run differ there by 3e-3 and agree again at
-    // the next, deep crossing, which read "parted at 1, a chaotic record").
-    const auto n = static_cast<std::size_t>(a.compared);
-    std::vector<double> widest_from(n + 1, 0.0);
-    for (long k = a.compared - 1; k >= 0; --k)
-        widest_from[static_cast<std::size_t>(k)] =
-            std::max(widest_from[static_cast<std::size_t>(k) + 1], p.difference(k, k));
+    // The runs part (a chaotic record) where they differ, more than half of that point and the
+    // nine after it differ, and more than half of the twenty from it lie more than 1e-2 of the
+    // variable's largest value apart: a chaotic record stays apart once it has parted, and its
+    // points spread over the attractor (a chaotic transient may later settle both runs on one
+    // orbit again: parting at f_r = 3.25 from rest, g2 = 0 both ways, read as crossings found by
+    // one run only, helper-79). Fewer than twenty points left: no parting. Points that differ by
+    // a bounded amount, or at half the points at most (a periodic row's dips), are this start's
+    // all the same, and widen the error instead (helper-80 built both from one point differing
+    // by more than 1e-2: last, or among a coarse run's differences): a run too coarse to follow
+    // its points (rk4 at step 0.01 on Fig 13's row at f_r = 2.5 is 1.6e-3 to 3.4e-3 off at 2
+    // points in 3), or ill-conditioned ones, the velocity at a shallow crossing moving by a/v
+    // times the depth's error (Fig 13's row at f_r = 3.0 dips 1.7e-6 below u1 = 0 at v1 =
+    // -0.0108; rkf45 at 1e-3 and its finer run differ there by 3e-3 and agree again at the
+    // next, deep crossing, which read "parted at 1, a chaotic record").
     const auto chaotic = [&](long k) {
-        const long end = std::min(a.compared, k + 10);
-        long differing = 0;
-        for (long j = k; j < end; ++j)
-            differing += p.difference(j, j) > 1e-3 ? 1 : 0;
-        return 2 * differing >= end - k && widest_from[static_cast<std::size_t>(k)] > 1e-2;
+        if (k + 20 > a.compared) return false;
+        long differing = 0, apart = 0;
+        for (long j = k; j < k + 20; ++j) {
+            const double d = p.difference(j, j);
+            differing += j < k + 10 && d > 1e-3 ? 1 : 0;
+            apart += d > 1e-2 ? 1 : 0;
+        }
+        return differing > 5 && apart > 10;
     };
     for (long k = 0; k < a.compared; ++k) {
         if (!mispaired(k) && p.difference(k, k) <= 1e-3) continue;
@@ -511,11 +522,10 @@ void set_point_errors(const SectionSpec& spec, const std::vector<SectionPoint>& 
         a.not_estimated = "the finer run found other crossings from the first point on";
         return;
     }
-    // Runs that differ from the first point on are either a run too coarse to follow its points
-    // one by one (rk4 at step 0.01 on Fig 13's periodic row at f_r = 2.5: 8e-4 off in u1, a
-    // reviewer's probe, helper-75, which read "not this start's trajectory") or a chaotic record
-    // that parted before it began. Both are bounded by their largest difference over every
-    // point compared, twice: a truncation error as above, or the attractor's extent.
+    // Runs that part from the first point on are a chaotic record that parted before it began:
+    // its points are bounded by their largest difference over every point compared, twice, the
+    // attractor's extent (a run too coarse to follow its points, which read so until
+    // 2026-11-29, now never parts and gets the same bound).
     const long agreed = a.parted_at < 0 || a.parted_at == 0 ? a.compared : a.parted_at;
     for (long k = 0; k < agreed; ++k)
         for (std::size_t i = 0; i < variables; ++i)

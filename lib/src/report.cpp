@@ -109,8 +109,10 @@ void add_provenance(json& j, const Scene& scene, bool once_through = false) {
 void add_scheme_and_step(json& j, const Scene& scene, const RunOutcome& outcome) {
     j["parameters"]["scheme"] = to_string(scene.run.scheme);
     j["parameters"]["step"] = scene.run.step ? json(*scene.run.step) : json(nullptr);
-    j["scheme"] = std::string(to_string(outcome.scheme));
-    j["step"] = outcome.step;
+    // A run that never started (step 0) names no scheme (helper-80).
+    const bool ran = outcome.step > 0.0;
+    j["scheme"] = ran ? json(std::string(to_string(outcome.scheme))) : json(nullptr);
+    j["step"] = ran ? json(outcome.step) : json(nullptr);
 }
 
 } // namespace

@@ -177,10 +177,12 @@ struct SectionAccuracy {
     /// error. 0: a chaotic record that parted before it began; error then covers every compared
     /// point (the largest difference over all of them, twice). Also where crossings_differ says so.
     long parted_at = -1;
-    /// An event section whose runs part where their crossing times differ by more than a
-    /// quarter of the forcing period: one run found a crossing the other missed (a dip shallower
-    /// than one run's error), not a chaotic parting. A smaller run.tolerance or run.step finds
-    /// it; the points beyond are paired wrongly.
+    /// An event section whose runs found different crossings, not a chaotic parting: where they
+    /// part, their crossing times differ by more than a quarter of the forcing period, or the
+    /// points agree once one run's are shifted by one or two crossings, or the runs find
+    /// crossings at rates a quarter apart. One run found a crossing the other missed (a dip
+    /// shallower than one run's error); a smaller run.tolerance or run.step finds it, and the
+    /// points beyond are paired wrongly.
     bool crossings_differ = false;
     /// The finer plan: "half the step", "tolerance X, half the output interval" (adaptive
     /// schemes: a tenth of the run's), or "rk8pd at tolerance 1e-12" (the exact scheme).

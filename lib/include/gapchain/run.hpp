@@ -74,7 +74,9 @@ struct RunOutcome {
     long steps = 0;                          ///< steps taken
     double t_end = 0.0;                      ///< reduced time at the end
     Scheme scheme = Scheme::rk4;             ///< the concrete scheme the run took
-    double step = 0.0;   ///< its step in reduced time (an adaptive scheme's output interval)
+    /// Its step in reduced time (an adaptive scheme's output interval); 0: the run never
+    /// started.
+    double step = 0.0;
     std::string message; ///< why a run failed (empty otherwise)
 };
 

@@ -202,7 +202,8 @@ void require_trajectory_fits(const Dynamics& dyn, const RunOptions& options, int
 ///   compare at ten times the tolerance and twice the output interval (their largest step),
 ///   exact at half the output interval; on their orbit they report |F_m - F_m'|, else twice
 ///   it. The estimate is never below a round-off floor, exact_F_m_round_off F_m (1e-12 F_m,
-///   stepper.hpp) for every scheme. F_m_orbit_error comes from the same comparison run where it settled on the same
+///   stepper.hpp) for every scheme. F_m_orbit_error comes from the same comparison run where
+///   it settled on the same
 ///   orbit (for a run on its orbit, the larger of F_m_error's estimate and the orbits'
 ///   difference under the same factor; otherwise twice the orbits' difference, Richardson's
 ///   factor for a run at half the step).

@@ -170,19 +170,20 @@ void Dynamics::rhs(double t, const double* y, double* dydt) const {
     acceleration(ground(t), y, y + m_n, dydt + m_n);
 }
 
-double Dynamics::gap_acceleration(int j, double ground, const double* y) const {
-    // Only the (at most) two bodies on either side of gap j matter: O(1) per call.
+double Dynamics::body_acceleration(int i, double ground, const double* y) const {
     const double* u = y;
     const double* v = y + m_n;
-    auto body_acc = [&](int i) {
-        const double p_l = contact_term(i, u, v);
-        const double p_r = contact_term(i + 1, u, v);
-        return ground - m_chain.spring[i] * u[i] - m_chain.damping[i] * v[i] +
-               m_contact_over_mass_left[i] * p_l - m_contact_over_mass_right[i] * p_r;
-    };
-    if (j == 0) return -body_acc(0);
-    if (j == m_n) return body_acc(m_n - 1);
-    return body_acc(j - 1) - body_acc(j);
+    const double p_l = contact_term(i, u, v);
+    const double p_r = contact_term(i + 1, u, v);
+    return ground - m_chain.spring[i] * u[i] - m_chain.damping[i] * v[i] +
+           m_contact_over_mass_left[i] * p_l - m_contact_over_mass_right[i] * p_r;
+}
+
+double Dynamics::gap_acceleration(int j, double ground, const double* y) const {
+    // Only the (at most) two bodies on either side of gap j matter: O(1) per call.
+    if (j == 0) return -body_acceleration(0, ground, y);
+    if (j == m_n) return body_acceleration(m_n - 1, ground, y);
+    return body_acceleration(j - 1, ground, y) - body_acceleration(j, ground, y);
 }
 
 double Dynamics::force(int j, const double* y) const {

@@ -214,17 +214,9 @@ void PoincareSampler::emit_dip(const StepView& step, double s0, double s1) {
     const double reach =
         s0 > 0.0 ? std::min(s0, s1) - 0.5 * h * (r1 - r0) : std::max(s0, s1) + 0.5 * h * (r0 - r1);
     if ((reach > 0.0) == (s0 > 0.0)) return;
-    double lo = step.t0, hi = step.t1;
-    for (int it = 0; it < 80 && hi - lo > 1e-15 * (1.0 + std::abs(hi)); ++it) {
-        const double mid = 0.5 * (lo + hi);
-        state_at(step, mid);
-        if ((trigger_rate(mid, m_state.data()) > 0.0) == (r0 > 0.0))
-            lo = mid;
-        else
-            hi = mid;
-    }
-    const double turn = 0.5 * (lo + hi);
-    state_at(step, turn);
+    const double turn = bisect(step, step.t0, step.t1, [&](double t, const double* y) {
+        return (trigger_rate(t, y) > 0.0) == (r0 > 0.0);
+    });
     const double at_turn = trigger_value(m_state.data());
     // A touch within round-off of the level is no crossing: two runs would disagree on it.
     const double floor = 1e-12 * std::max({std::abs(s0 + m_spec.level), std::abs(s1 + m_spec.level),
@@ -240,34 +232,38 @@ bool PoincareSampler::wanted(bool up) const {
            (m_spec.direction == CrossingDirection::up) == up;
 }
 
-double PoincareSampler::trigger_rate(double t, const double* y) {
+double PoincareSampler::trigger_rate(double t, const double* y) const {
     const int n = m_dyn.bodies();
     const int i = m_spec.trigger.index;
     switch (m_spec.trigger.kind) {
     case SectionVariable::Kind::displacement: return y[n + i];
-    case SectionVariable::Kind::velocity:
-        m_acceleration.resize(static_cast<std::size_t>(n));
-        m_dyn.acceleration(m_dyn.ground(t), y, y + n, m_acceleration.data());
-        return m_acceleration[static_cast<std::size_t>(i)];
+    case SectionVariable::Kind::velocity: return m_dyn.body_acceleration(i, m_dyn.ground(t), y);
     case SectionVariable::Kind::gap: return m_dyn.gap_rate(i, y + n);
     default: return 0.0; // validate() admits u, v and g only
     }
 }
 
-void PoincareSampler::emit_crossing(const StepView& step, double lo, double hi, double s_lo) {
-    // The trigger is a linear combination of state components, so its interpolant is the
-    // same combination of theirs; root-find on it by bisection to full precision.
+double PoincareSampler::bisect(const StepView& step, double lo, double hi,
+                               const std::function<bool(double, const double*)>& on_lo_side) {
     for (int it = 0; it < 80 && hi - lo > 1e-15 * (1.0 + std::abs(hi)); ++it) {
         const double mid = 0.5 * (lo + hi);
         state_at(step, mid);
-        const double s = trigger_value(m_state.data());
-        if ((s < 0.0) == (s_lo < 0.0))
+        if (on_lo_side(mid, m_state.data()))
             lo = mid;
         else
             hi = mid;
     }
-    const double tc = 0.5 * (lo + hi);
-    state_at(step, tc);
+    const double t = 0.5 * (lo + hi);
+    state_at(step, t);
+    return t;
+}
+
+void PoincareSampler::emit_crossing(const StepView& step, double lo, double hi, double s_lo) {
+    // The trigger is a linear combination of state components, so its interpolant is the
+    // same combination of theirs; root-find on it by bisection to full precision.
+    const double tc = bisect(step, lo, hi, [&](double, const double* y) {
+        return (trigger_value(y) < 0.0) == (s_lo < 0.0);
+    });
     emit(tc, m_state.data());
 }
 
@@ -487,22 +483,24 @@ void set_parting(const SectionPairing& p, SectionAccuracy& a) {
     // times the depth's error (Fig 13's row at f_r = 3.0 dips 1.7e-6 below u1 = 0 at v1 =
     // -0.0108; rkf45 at 1e-3 and its finer run differ there by 3e-3 and agree again at the
     // next, deep crossing, which read "parted at 1, a chaotic record").
+    std::vector<double> d(static_cast<std::size_t>(a.compared));
+    for (long k = 0; k < a.compared; ++k)
+        d[static_cast<std::size_t>(k)] = p.difference(k, k);
     const auto chaotic = [&](long k) {
         if (k + 20 > a.compared) return false;
-        long differing = 0, apart = 0;
-        for (long j = k; j < k + 20; ++j) {
-            const double d = p.difference(j, j);
-            differing += j < k + 10 && d > 1e-3 ? 1 : 0;
-            apart += d > 1e-2 ? 1 : 0;
-        }
+        const auto from = d.begin() + k;
+        const auto differing = std::count_if(from, from + 10, [](double x) { return x > 1e-3; });
+        const auto apart = std::count_if(from, from + 20, [](double x) { return x > 1e-2; });
         return differing > 5 && apart > 10;
     };
     for (long k = 0; k < a.compared; ++k) {
-        if (!mispaired(k) && p.difference(k, k) <= 1e-3) continue;
+        const bool off_time = mispaired(k);
+        if (!off_time && d[static_cast<std::size_t>(k)] <= 1e-3) continue;
         const bool shifted = event && p.shifted_match(k);
-        if (!shifted && !chaotic(k) && !mispaired(k)) continue;
+        const bool chaos = chaotic(k);
+        if (!shifted && !chaos && !off_time) continue;
         a.parted_at = k;
-        a.crossings_differ = shifted || (mispaired(k) && !chaotic(k));
+        a.crossings_differ = shifted || (off_time && !chaos);
         return;
     }
 }

@@ -92,6 +92,9 @@ public:
     void gap_rates(const double* v, double* r) const;
     /// Second time derivative of g_j at the state y (2 Nm entries) and ground term.
     [[nodiscard]] double gap_acceleration(int j, double ground, const double* y) const;
+    /// Acceleration of body i (0 <= i < Nm) alone at the state y (2 Nm entries) and ground
+    /// term: acceleration()'s entry i in O(1).
+    [[nodiscard]] double body_acceleration(int i, double ground, const double* y) const;
     /// Reduced impact force of contact j at state y (2 Nm entries): contact_j phi(g_j) d(g_j')
     /// / force_scale (eqs 14-15 for the linear law).
     [[nodiscard]] double force(int j, const double* y) const;

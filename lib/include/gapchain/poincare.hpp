@@ -94,12 +94,16 @@ private:
     void emit(double t, const double* y);
     [[nodiscard]] double trigger_value(const double* y) const;
     /// The trigger's time derivative at (t, y).
-    [[nodiscard]] double trigger_rate(double t, const double* y);
+    [[nodiscard]] double trigger_rate(double t, const double* y) const;
     /// Whether a crossing upward (up) or downward is one the spec asks for.
     [[nodiscard]] bool wanted(bool up) const;
     /// Emits the crossing of the level inside [lo, hi] of this step (one sign change, the
     /// trigger s_lo at lo).
     void emit_crossing(const StepView& step, double lo, double hi, double s_lo);
+    /// Bisects [lo, hi] of this step to full precision for where on_lo_side(t, state) turns
+    /// false (it holds at lo, not at hi); returns that time, with m_state the state there.
+    double bisect(const StepView& step, double lo, double hi,
+                  const std::function<bool(double, const double*)>& on_lo_side);
     /// Emits a crossing and its return inside the step, where the trigger (s0, s1 at the ends,
     /// on one side of the level) turns across it.
     void emit_dip(const StepView& step, double s0, double s1);
@@ -109,7 +113,6 @@ private:
     SectionSpec m_spec;
     SectionSink m_sink;
     std::vector<double> m_state;
-    std::vector<double> m_acceleration; ///< scratch of trigger_rate() for a velocity trigger
     std::unique_ptr<detail::StepInterpolant> m_interpolant; ///< of the current step, if built
     SectionPoint m_point;
     long m_count = 0;

@@ -2,35 +2,24 @@
 #include "gapchain/scene.hpp"
 
 #include "gapchain/bounds.hpp"
-#include "gapchain/report.hpp"
 #include "gapchain/simulation.hpp"
 
+#include "attractor_searches.hpp"
+
 #include <doctest/doctest.h>
-#include <nlohmann/json.hpp>
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <numbers>
-#include <random>
-#include <sstream>
 #include <string>
 
 using namespace gapchain;
 
 namespace {
 
-// Nm = 1 between the walls, e_r = 0.6, f_r = 1.2: two period-1 orbits, one hitting each wall.
-const ReducedParameters mirror_pair{1, 100, 0.1, 0.6, 1.2};
-
-AttractorOptions short_runs(long samples, std::uint64_t seed) {
-    AttractorOptions o;
-    o.samples = samples;
-    o.seed = seed;
-    o.box = 2.0;
-    o.run.periods = 600;
-    return o;
-}
+using test::mirror_pair;
+using test::short_runs;
 
 // The state of the row after half a forcing period from x (exact propagator, 64 steps).
 std::vector<double> half_period_later(const ReducedParameters& p, const std::vector<double>& x) {
@@ -269,191 +258,8 @@ TEST_CASE("Fig 13's line at f_r = 3.2: the torus of F_m 0.385 coexists with a we
     CHECK(set.confirmation_periods <= 10 * o.run.periods);
 }
 
-TEST_CASE("design value: a run from rest that reaches the weaker of Fig 13's attractors at "
-          "f_r = 3.2 is flagged, with the torus's F_m as the design value") {
-    const ReducedParameters p{5, 60, 0.5, 0.06, 3.2};
-    AttractorOptions o = short_runs(100, 1);
-    o.box = 1.0;
-    o.run.periods = 600;
-    o.run.transient_periods = 300;
-    const SimulationResult from_rest = simulate(Dynamics::paper_row(p), o.run);
-    // The torus, reached from the issue's start by a plain run: an independent witness.
-    const SimulationResult torus =
-        simulate(Dynamics::paper_row(p), o.run, {0.5, -0.5, 0.5, -0.5, 0.5, 0, 0, 0, 0, 0});
-    REQUIRE(torus.F_m > from_rest.F_m + 3.0 * (from_rest.F_m_error + torus.F_m_error));
-    const DesignValue d = design_value(p, o, from_rest);
-    CHECK(d.start_below);
-    CHECK_FALSE(d.run_above);
-    CHECK_FALSE(d.from_run);
-    CHECK(d.F_m_max == d.search.F_m_max);
-    CHECK(d.F_m_max == doctest::Approx(torus.F_m).epsilon(1e-3));
-    CHECK(d.F_m_max_error == d.search.F_m_max_error);
-    // The torus's own run, set against the same search, is the design value within errors.
-    const DesignValue on_torus = design_value(p, o, torus);
-    CHECK_FALSE(on_torus.start_below);
-    CHECK_FALSE(on_torus.run_above);
-    // The JSON of gapchain-sim says multistable, though the run alone (no twin flag) did not.
-    Scene scene = parse_scene("{}", {}, "<test>");
-    scene.reduced = p;
-    scene.run = o.run;
-    REQUIRE_FALSE(from_rest.multistable);
-    const std::string json = to_json(from_rest, scene, d, o);
-    CHECK(json.find("\"multistable\": true") != std::string::npos);
-    CHECK(json.find("\"start_below\": true") != std::string::npos);
-}
-
-TEST_CASE("design value: a run whose F_m is above every attractor (issue 19's Nm = 2 row, its "
-          "chaotic transient) is flagged run_above; a contact-free row is plain") {
-    const ReducedParameters nm2{2, 200, 0.1, 0.351, 0.626};
-    AttractorOptions o = short_runs(40, 3);
-    o.box = 1.0;
-    o.run.periods = 1000;
-    o.run.accuracy_mode = AccuracyMode::strict;
-    // The run's own checks off: it still continues its orbit for a cycle (F_m_orbit is a
-    // result) and says that its maximum came before it, its bar covering the gap. Without that
-    // (a result as a run from before its orbit check gives it), nothing but the search says
-    // that its F_m is a transient's.
-    RunOptions unchecked = o.run;
-    unchecked.estimate_error = false;
-    unchecked.multistability_check = false;
-    const SimulationResult own_check = simulate(Dynamics::paper_row(nm2), unchecked);
-    REQUIRE(own_check.F_m_orbit.has_value());
-    CHECK(own_check.maximum_in_transient);
-    CHECK(own_check.F_m_error >= own_check.F_m - *own_check.F_m_orbit);
-    CHECK_FALSE(design_value(nm2, o, own_check).run_above);
-    SimulationResult from_rest = own_check;
-    from_rest.F_m_orbit.reset();
-    from_rest.maximum_in_transient = false;
-    from_rest.F_m_error = 0.0;
-    from_rest.error_method = ErrorMethod::none;
-    const DesignValue d = design_value(nm2, o, from_rest);
-    REQUIRE(d.search.attractors.size() == 1);
-    // The period-3 orbit (Newton; an independent closed-form implementation gives 1.070351).
-    CHECK(d.search.F_m_max == doctest::Approx(1.070351).epsilon(1e-5));
-    CHECK(d.run_above);
-    CHECK(d.from_run);
-    CHECK(d.F_m_max == from_rest.F_m);
-    CHECK(std::isnan(d.F_m_max_error)); // the run's error, not estimated: never written as 0
-    CHECK_FALSE(d.start_below);
-    CHECK(multistable(from_rest, d));
-    // A run that did not answer (stopped) is not compared: the search's value stands alone.
-    SimulationResult stopped = from_rest;
-    stopped.status = RunStatus::cancelled;
-    const DesignValue alone = design_value(nm2, o, stopped);
-    CHECK_FALSE(alone.run_above);
-    CHECK_FALSE(alone.from_run);
-    CHECK(alone.F_m_max == alone.search.F_m_max);
-    // With its checks the run's error bar covers the orbit's F_m already: not above beyond it.
-    const SimulationResult checked = simulate(Dynamics::paper_row(nm2), o.run);
-    CHECK(checked.multistable);
-    CHECK_FALSE(design_value(nm2, o, checked).run_above);
-
-    // No contact: one attractor, eq (20)'s response, the run's own F_m (0) is the design value.
-    const ReducedParameters free_row{3, 100, 0.3, 50.0, 1.5};
-    AttractorOptions f = short_runs(20, 4);
-    const SimulationResult plain = simulate(Dynamics::paper_row(free_row), f.run);
-    const DesignValue none = design_value(free_row, f, plain);
-    CHECK(none.search.attractors.size() == 1);
-    CHECK(none.F_m_max == 0.0);
-    CHECK_FALSE(none.start_below);
-    CHECK_FALSE(none.run_above);
-}
-
-TEST_CASE("a line reports each value as it is done, and a cancelled line keeps those values") {
-    AttractorOptions o = short_runs(8, 1);
-    o.run.periods = 300;
-    const ReducedParameters base{5, 60, 0.5, 0.06, 3.0};
-    std::vector<std::size_t> reported;
-    std::vector<double> reported_values;
-    const FractionContinuation c = continue_basin_fractions(
-        base, SweptParameter::f_r, {3.0, 3.01, 3.02, 3.03}, o,
-        [&](double) { return reported.size() < 2; }, // Ctrl-C once two values were shown
-        [&](const FractionContinuation& line) {
-            reported.push_back(line.values.size());
-            reported_values.push_back(line.values.back());
-            CHECK(line.sets.size() == line.values.size());
-            CHECK(line.labels.size() == line.values.size());
-            CHECK(line.labels.back().size() == line.sets.back().attractors.size());
-        });
-    CHECK(c.cancelled);
-    CHECK(reported == std::vector<std::size_t>{1, 2});
-    CHECK(c.values == reported_values);
-    CHECK(c.sets.size() == 2);
-    CHECK(fractions_csv(c).find("\n3.02") == std::string::npos);
-}
-
-TEST_CASE("a label follows an attractor along the line, even one that moved more than 0.2 A") {
-    // Fig 13's line: the period-1 orbit (F_m 0.386) holds 77 % of the starts at f_r = 3.1 and
-    // 65 % at 3.15, but its state at phase 0 moves by more than the centroid test's 0.2 A.
-    AttractorOptions o = short_runs(30, 1);
-    o.box = 1.0;
-    o.run.periods = 1500;
-    o.run.transient_periods = 750;
-    const ReducedParameters base{5, 60, 0.5, 0.06, 3.1};
-    const FractionContinuation c =
-        continue_basin_fractions(base, SweptParameter::f_r, {3.1, 3.15}, o);
-    REQUIRE(c.sets.size() == 2);
-    std::vector<const Attractor*> period_one;
-    std::vector<int> label;
-    for (std::size_t k = 0; k < 2; ++k) {
-        const auto& as = c.sets[k].attractors;
-        const auto it = std::find_if(as.begin(), as.end(), [](const Attractor& a) {
-            return a.period == 1 && a.newton_confirmed && a.F_m > 0.38;
-        });
-        REQUIRE(it != as.end());
-        period_one.push_back(&*it);
-        label.push_back(c.labels[k][static_cast<std::size_t>(it - as.begin())]);
-    }
-    CHECK(period_one[1]->F_m == doctest::Approx(period_one[0]->F_m).epsilon(0.01));
-    double moved = 0.0; // scaled as the matching does: u by A, v by 2 pi f_r A
-    for (int i = 0; i < 10; ++i) {
-        const auto unit = [&](std::size_t k) {
-            return c.sets[k].amplitude * (i < 5 ? 1.0 : 2.0 * std::numbers::pi * c.values[k]);
-        };
-        const double before = period_one[0]->state[i] / unit(0);
-        const double after = period_one[1]->state[i] / unit(1);
-        moved = std::max(moved, std::abs(after - before));
-    }
-    CHECK(moved > 0.2);
-    CHECK(label[1] == label[0]);
-    // Every label at the second value is either one of the first value's or new, used once.
-    std::vector<int> sorted = c.labels[1];
-    std::sort(sorted.begin(), sorted.end());
-    CHECK(std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end());
-    CHECK(sorted.back() < c.label_count);
-}
-
 TEST_CASE("bad options are refused naming the option") {
     AttractorOptions o;
-    // A line of basin fractions whose last value the scheme cannot take is refused before its
-    // first value runs (every value is validated first; the scheme is part of it now).
-    o.samples = 2;
-    o.run.scheme = Scheme::exact;
-    const ReducedParameters soft{2, 1e8, 0.5, 0.3, 5.0};
-    bool asked = false;
-    CHECK_THROWS_WITH_AS(continue_basin_fractions(soft, SweptParameter::fc, {1e8, 3e8}, o,
-                                                  [&](double) {
-                                                      asked = true;
-                                                      return true;
-                                                  }),
-                         doctest::Contains("run.scheme: exact takes contacts"),
-                         std::invalid_argument);
-    CHECK_FALSE(asked);
-    // A line whose values are each within run.max_work but not together (10,000 values were
-    // accepted with an estimate of 17 hours).
-    o = AttractorOptions{};
-    o.run.max_work = 1e9;
-    const ReducedParameters fig13{5, 60, 0.5, 0.06, 3.0};
-    CHECK_NOTHROW(validate(fig13, o));
-    CHECK_THROWS_WITH_AS(
-        continue_basin_fractions(fig13, SweptParameter::f_r, std::vector<double>(100, 3.0), o,
-                                 [&](double) {
-                                     asked = true;
-                                     return true;
-                                 }),
-        doctest::Contains("run.max_work: this line runs up to"), std::invalid_argument);
-    CHECK_FALSE(asked);
-    o = AttractorOptions{};
     o.samples = 0;
     CHECK_THROWS_WITH_AS(find_attractors(mirror_pair, o), doctest::Contains("samples"),
                          std::invalid_argument);
@@ -465,20 +271,6 @@ TEST_CASE("bad options are refused naming the option") {
     o.seed = (std::uint64_t{1} << 62) + 1; // the tools' range, which Python exceeded
     CHECK_THROWS_WITH_AS(find_attractors(mirror_pair, o), doctest::Contains("seed"),
                          std::invalid_argument);
-    // A line's end where the search refuses the row names that end (the tools map it to --to).
-    CHECK_THROWS_WITH_AS(fraction_line_values(mirror_pair, SweptParameter::eps, 0.1, 0.0, 2),
-                         doctest::Contains("to: model.eps: an attractor search needs damping"),
-                         std::invalid_argument);
-    CHECK(fraction_line_values(mirror_pair, SweptParameter::eps, 0.1, 0.3, 3).size() == 3);
-    // The last value is `to` as written: 3 + (1e-300 - 3) 2 / 2 rounds to 0.
-    CHECK(fraction_line_values(fig13, SweptParameter::f_r, 3.0, 1e-300, 3).back() == 1e-300);
-    // ... and a row its search refuses at an end (too many steps per forcing period) names it.
-    CHECK_THROWS_WITH_AS(
-        continue_basin_fractions(fig13, SweptParameter::f_r, {1e-300, 3.0}, AttractorOptions{}),
-        doctest::Contains("from: excitation.f_r: one forcing period"), std::invalid_argument);
-    CHECK_THROWS_WITH_AS(
-        continue_basin_fractions(fig13, SweptParameter::f_r, {3.0, 1e-300}, AttractorOptions{}),
-        doctest::Contains("to: excitation.f_r: one forcing period"), std::invalid_argument);
     // u01 is not a second name for u1.
     CHECK_THROWS_WITH_AS(basin_slice("u1", "u01", 1, 10), doctest::Contains("grid"),
                          std::invalid_argument);
@@ -732,72 +524,6 @@ TEST_CASE("a chaotic saddle that holds 44 % of the starts through their runs is 
     CHECK(chaotic.unsettled == 0);
 }
 
-TEST_CASE("transient lifetimes: an exponential tail is measured, censored or not; a bounded one "
-          "is rejected; too few endings are untested") {
-    // Lengths 30 + an exponential of mean 150 periods (rounded up, as a settling period is).
-    std::mt19937_64 random(7);
-    std::exponential_distribution<double> escape(1.0 / 150.0);
-    std::vector<long> lengths;
-    for (int k = 0; k < 2000; ++k)
-        lengths.push_back(30 + static_cast<long>(std::ceil(escape(random))));
-    const TransientLifetime full = transient_lifetime(lengths, {});
-    CHECK(full.constant_rate == ConstantRate::consistent);
-    CHECK(std::abs(full.rate_ratio - 1.0) <= 3.0 * full.rate_ratio_error);
-    // Half of the lengths end beyond the median (fewer where some equal it).
-    CHECK(full.ended > 980);
-    CHECK(full.ended <= 1000);
-    CHECK(full.lifetime_error ==
-          doctest::Approx(full.lifetime / std::sqrt(static_cast<double>(full.ended))));
-    // The ceiling adds half a period to the mean excess of the continuous lengths.
-    CHECK(std::abs(full.lifetime - 150.5) < 3.0 * full.lifetime_error);
-    // Runs of 300 periods: the longer transients are still going at the end. Their time counts
-    // as at least 300, so the estimate stays right; the ended ones alone say far shorter.
-    std::vector<long> ended, going;
-    for (long n : lengths)
-        (n > 300 ? going : ended).push_back(n > 300 ? 300 : n);
-    REQUIRE(going.size() > 300);
-    const TransientLifetime censored = transient_lifetime(ended, going);
-    CHECK(censored.censored == static_cast<long>(going.size()));
-    CHECK(censored.from_period == full.from_period);
-    CHECK(censored.constant_rate == ConstantRate::consistent);
-    CHECK(std::abs(censored.lifetime - 150.5) < 3.0 * censored.lifetime_error);
-    CHECK(transient_lifetime(ended, {}).lifetime < 100.0);
-    // Settling by contraction from a bounded box: lengths uniform in [20, 400] end at a rising
-    // rate (no transient outlasts 400), which is no escape from a saddle.
-    std::uniform_int_distribution<long> bounded(20, 400);
-    std::vector<long> uniform;
-    for (int k = 0; k < 2000; ++k)
-        uniform.push_back(bounded(random));
-    const TransientLifetime rising = transient_lifetime(uniform, {});
-    CHECK(rising.constant_rate == ConstantRate::rejected);
-    CHECK(rising.rate_ratio > 2.0);
-    // Where 1 % are still going: the exponential tail extended, for a constant rate only. The
-    // lengths themselves say it too: 1 % of 2000 is the 20th longest.
-    std::vector<long> sorted(lengths);
-    std::sort(sorted.begin(), sorted.end());
-    const double one_percent = full.periods_until(0.01);
-    CHECK(one_percent == doctest::Approx(full.from_period + full.lifetime * std::log(50.0)));
-    CHECK(std::abs(one_percent - static_cast<double>(sorted[2000 - 20])) <
-          3.0 * full.lifetime_error * std::log(50.0));
-    CHECK(std::isnan(rising.periods_until(0.01)));
-    CHECK_THROWS_AS((void)full.periods_until(0.5), std::invalid_argument);
-    // 21 lengths: 10 end beyond the median, 5 in each half at most: a lifetime, but no test.
-    const std::vector<long> few(lengths.begin(), lengths.begin() + 21);
-    const TransientLifetime small = transient_lifetime(few, {});
-    CHECK(std::isfinite(small.lifetime));
-    CHECK(small.constant_rate != ConstantRate::rejected);
-    CHECK(transient_lifetime({17, 17, 18, 40, 50}, {}).constant_rate == ConstantRate::untested);
-    // Kaplan-Meier's median, by hand: three censored at 15 leave 5 at risk at 20; the share
-    // still going is 8/9 after 10, then x 4/5, x 3/4, x 2/3 = 0.356 at 40. (Counted as the
-    // longest, the censored ones would put the median at 50; at 15, at 20.)
-    CHECK(transient_lifetime({10, 20, 30, 40, 50, 60}, {15, 15, 15}).from_period == 40.0);
-    // Too few ending beyond the median to measure; most still going: no median.
-    CHECK(std::isnan(transient_lifetime({17, 17, 18, 40, 50}, {}).lifetime));
-    CHECK(std::isnan(transient_lifetime({17, 20}, {100, 100, 100}).from_period));
-    CHECK_THROWS_AS(transient_lifetime({-1, 17}, {}), std::invalid_argument);
-    CHECK_THROWS_AS(transient_lifetime({17}, {-3}), std::invalid_argument);
-}
-
 TEST_CASE("a torus whose 300-period exponent cannot tell it from chaos is read longer, and "
           "counts in the design value") {
     // Fig 13's row at f_r = 2.76: rest and 95 % of the starts reach a torus (born at the
@@ -941,88 +667,6 @@ TEST_CASE("starts far from rest ring down longer: a box centered 9.4e8 out is un
     CHECK(near.unsettled == 0);
 }
 
-TEST_CASE("fractions.csv: a label absent at a value has fraction 0 +- 1/N, not 0 +- 0; the "
-          "transients' lifetime where measured") {
-    // Two values, 25 starts each: label 1 is reached only at the first.
-    FractionContinuation c;
-    c.values = {1.0, 2.0};
-    c.label_count = 2;
-    for (int k = 0; k < 2; ++k) {
-        AttractorSet set;
-        set.sample_attractor.assign(25, 0);
-        Attractor a;
-        a.F_m = 1.5;
-        a.F_m_error = 0.002;
-        a.period = 1;
-        a.basin_fraction = k == 0 ? 0.6 : 1.0;
-        a.basin_fraction_error = 0.1;
-        set.attractors.push_back(a);
-        // The transients' lifetime, where it was measured (at the second value only).
-        if (k == 1) {
-            set.transients.lifetime = 150.0;
-            set.transients.lifetime_error = 12.0;
-        }
-        if (k == 0) {
-            a.id = 1;
-            a.basin_fraction = 0.4;
-            set.attractors.push_back(a);
-        }
-        c.sets.push_back(set);
-        c.labels.push_back(k == 0 ? std::vector<int>{0, 1} : std::vector<int>{0});
-    }
-    std::istringstream csv(fractions_csv(c));
-    std::string header, first, second;
-    std::getline(csv, header);
-    std::getline(csv, first);
-    std::getline(csv, second);
-    CHECK(header == "value,fraction_0,fraction_error_0,F_m_0,F_m_error_0,period_0,fraction_1,"
-                    "fraction_error_1,F_m_1,F_m_error_1,period_1,transient_lifetime,"
-                    "transient_lifetime_error");
-    CHECK(first == "1,0.6,0.1,1.5,0.002,1,0.4,0.1,1.5,0.002,1,,");
-    CHECK(second == "2,1,0.1,1.5,0.002,1,0,0.04,,,,150,12");
-
-    // fractions.json keeps what the CSV cannot: each value's own row, where the starts were
-    // drawn, and the run time.
-    const Scene base = parse_scene(
-        R"({"model": {"Nm": 2, "fc": 200, "eps": 0.1, "e_r": 0.351}, "excitation": {"f_r": 1}})");
-    AttractorOptions o;
-    o.center = {0.1, 0.0, 0.0, 0.0};
-    c.wall_time_s = 3.5;
-    const auto j = nlohmann::json::parse(to_json(c, o, base));
-    CHECK(j.at("parameter") == "f_r");
-    CHECK(j.at("wall_time_s") == 3.5);
-    REQUIRE(j.at("points").size() == 2);
-    for (int k = 0; k < 2; ++k) {
-        const auto& point = j.at("points")[static_cast<std::size_t>(k)];
-        CHECK(point.at("value") == c.values[static_cast<std::size_t>(k)]);
-        CHECK(point.at("labels") == c.labels[static_cast<std::size_t>(k)]);
-        CHECK(point.at("search").at("parameters").at("f_r") ==
-              c.values[static_cast<std::size_t>(k)]);
-        CHECK(point.at("search").at("parameters").at("Nm") == 2);
-        CHECK(point.at("search").at("center") == o.center);
-    }
-    CHECK(j.at("points")[0].at("search").at("attractors")[1].at("basin_fraction") == 0.4);
-    CHECK(j.at("points")[1].at("search").at("transients").at("lifetime") == 150.0);
-}
-
-TEST_CASE("design value: where no group settled, it is the larger of the run's F_m and the "
-          "groups', and from_run says which") {
-    // Too short to settle (60 periods): every group of 4 starts is still converging.
-    const ReducedParameters p{3, 100, 0.5, 0.1, 1.0};
-    AttractorOptions o = short_runs(4, 1);
-    o.box = 1.0;
-    o.run.periods = 60;
-    const SimulationResult run = simulate(Dynamics::paper_row(p), o.run);
-    const DesignValue d = design_value(p, o, run);
-    REQUIRE(d.search.unsettled == static_cast<int>(d.search.attractors.size()));
-    CHECK(d.F_m_max == std::max(run.F_m, d.search.F_m_max));
-    CHECK(d.from_run == (run.F_m >= d.search.F_m_max));
-    CHECK(d.F_m_max_error == (d.from_run ? run.F_m_error : d.search.F_m_max_error));
-    // Nothing settled: no comparison with an attractor is made.
-    CHECK_FALSE(d.start_below);
-    CHECK_FALSE(d.run_above);
-}
-
 TEST_CASE("a row the exact scheme refuses keeps its orbits unconfirmed, with its runs' errors") {
     // Newton shoots on the exact scheme, which takes rows of up to 64 bodies and contacts of up
     // to 1e5 rad per unit time; the search used to fail after all its runs (fc = 1e9: 23 s).
@@ -1135,111 +779,4 @@ TEST_CASE("a start that ends on a cycle longer than run.max_steady_period settle
     CHECK(std::abs(long_cycle->F_m - *plain.F_m_orbit) < 1e-6 * *plain.F_m_orbit);
     CHECK(set.F_m_max == doctest::Approx(*plain.F_m_orbit).epsilon(1e-6));
     CHECK(set.F_m_max > 1.1 * 1.47504);
-}
-
-TEST_CASE("a chaotic label read on a chaotic saddle's transient is told apart from a chaotic "
-          "attractor (classify against the row's attractors)") {
-    // Fig 13's row at f_r = 2.05: from rest classify reads chaos (lambda_max +1.6, F_m 1.148)
-    // through its 400 periods; the row's one attractor is the period-3 orbit of F_m 1.15579
-    // (an independent probe saw every one of 100 starts end on it, the previous case). At
-    // f_r = 3.35 the chaos is an attractor (docs/attractors.md's line: label 3, chaotic from
-    // 3.3 to 3.45) and the label stands.
-    AttractorOptions o;
-    o.samples = 8;
-    o.run.periods = 400;
-    o.run.transient_periods = 100;
-    const ReducedParameters saddle{5, 60, 0.5, 0.06, 2.05};
-    const Classification c = classify(saddle, ClassifyOptions{});
-    REQUIRE(c.regime == Regime::chaotic);
-    const DesignValue d = design_value(saddle, o, c);
-    CHECK(label_in_search(c, d) == LabelInSearch::transient);
-    CHECK(d.start_below);
-    CHECK_FALSE(d.from_run);
-    CHECK(d.F_m_max == doctest::Approx(1.15579).epsilon(1e-5));
-
-    const ReducedParameters chaos{5, 60, 0.5, 0.06, 3.35};
-    const Classification k = classify(chaos, ClassifyOptions{});
-    REQUIRE(k.regime == Regime::chaotic);
-    const DesignValue e = design_value(chaos, o, k);
-    CHECK(label_in_search(k, e) == LabelInSearch::attractor);
-    CHECK_FALSE(e.start_below);
-    // A periodic label is never called a transient, whatever the search found.
-    Classification periodic = c;
-    periodic.regime = Regime::periodic;
-    CHECK(label_in_search(periodic, d) == LabelInSearch::not_applicable);
-    // Nor is a chaotic motion no start of the search reached (a reviewer's probe: a start on
-    // f_r = 3.15's chaotic attractor of basin 0.067, which 8 starts missed, read "transient"
-    // while the rule was "the search settled on orbits alone").
-    Classification unreached = c;
-    unreached.F_m = 0.8;
-    CHECK(label_in_search(unreached, d) == LabelInSearch::not_reached);
-}
-
-TEST_CASE("label_in_search matches a non-periodic label to a group by F_m, not by label") {
-    // Fig 13's row at f_r = 3.2 (a reviewer's probe): the label's motion was the search's
-    // unsettled group (the slow approach to the period-15 orbit, F_m 0.2518) while an unrelated
-    // torus (F_m 0.385) settled; "any settled non-periodic attractor" called the label an
-    // attractor's.
-    Classification c;
-    c.regime = Regime::chaotic;
-    c.F_m = 0.2535;
-    c.F_m_error = 0.002;
-    DesignValue d;
-    Attractor torus;
-    torus.regime = Regime::quasi_periodic;
-    torus.F_m = 0.385;
-    torus.F_m_error = 1e-4;
-    Attractor approach;
-    approach.regime = Regime::quasi_periodic;
-    approach.settled = false;
-    approach.F_m = 0.2518;
-    approach.F_m_error = 0.001;
-    d.search.attractors = {torus, approach};
-    CHECK(label_in_search(c, d) == LabelInSearch::transient);
-    // The same F_m on a settled group: the label is that attractor's.
-    d.search.attractors[1].settled = true;
-    CHECK(label_in_search(c, d) == LabelInSearch::attractor);
-    // Beyond three error bars and 5 %: not that group.
-    c.F_m = 0.30;
-    CHECK(label_in_search(c, d) == LabelInSearch::not_reached);
-    // An orbit of the same F_m is no match for a non-periodic motion.
-    Attractor orbit;
-    orbit.period = 3;
-    orbit.F_m = 0.30;
-    d.search.attractors = {orbit};
-    CHECK(label_in_search(c, d) == LabelInSearch::not_reached);
-}
-
-TEST_CASE("label_in_search: two motions of one F_m are told apart by their section points") {
-    // Matched by F_m alone, a chaotic saddle whose F_m a settled chaotic attractor shares would
-    // read `attractor`. Where the classification kept its section states the clouds must
-    // overlap as the search's own grouping tests them.
-    const ReducedParameters row{1, 100, 0.5, 0.5, 1.0};
-    const auto cloud = [](double u_center, double v_center, int n) {
-        std::vector<std::vector<double>> points;
-        for (int k = 0; k < n; ++k)
-            points.push_back(
-                {u_center + 0.01 * std::sin(1.3 * k), v_center + 0.01 * std::cos(0.7 * k)});
-        return points;
-    };
-    Classification c;
-    c.regime = Regime::chaotic;
-    c.F_m = 0.5;
-    c.F_m_error = 0.001;
-    c.section_states = cloud(0.3, 0.0, 300);
-    Attractor elsewhere;
-    elsewhere.F_m = 0.5;
-    elsewhere.F_m_error = 0.001;
-    elsewhere.section = cloud(-0.3, 0.5, 200);
-    DesignValue d;
-    d.row = row;
-    d.search.attractors = {elsewhere};
-    CHECK(label_in_search(c, d) == LabelInSearch::not_reached);
-    // The same cloud sampled again: that attractor.
-    d.search.attractors[0].section = cloud(0.3, 0.0, 200);
-    CHECK(label_in_search(c, d) == LabelInSearch::attractor);
-    // Without section states (a classification that did not keep them), F_m alone decides.
-    d.search.attractors[0].section = cloud(-0.3, 0.5, 200);
-    c.section_states.clear();
-    CHECK(label_in_search(c, d) == LabelInSearch::attractor);
 }

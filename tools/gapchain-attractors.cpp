@@ -6,6 +6,7 @@
 #include "common/plot.hpp"
 
 #include "gapchain/attractors.hpp"
+#include "gapchain/basin_fractions.hpp"
 #include "gapchain/output_file.hpp"
 #include "gapchain/report.hpp"
 

@@ -3,8 +3,8 @@
 #include "common/design_search.hpp"
 #include "common/plot.hpp"
 
-#include "gapchain/attractors.hpp"
 #include "gapchain/classify.hpp"
+#include "gapchain/design_value.hpp"
 #include "gapchain/grid.hpp"
 #include "gapchain/output_file.hpp"
 #include "gapchain/report.hpp"

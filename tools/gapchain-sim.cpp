@@ -2,7 +2,7 @@
 #include "common/cli.hpp"
 #include "common/design_search.hpp"
 
-#include "gapchain/attractors.hpp"
+#include "gapchain/design_value.hpp"
 #include "gapchain/output_file.hpp"
 #include "gapchain/report.hpp"
 #include "gapchain/simulation.hpp"

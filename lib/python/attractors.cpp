@@ -3,6 +3,7 @@
 #include "call.hpp"
 
 #include "gapchain/attractors.hpp"
+#include "gapchain/basin_fractions.hpp"
 
 #include <pybind11/stl.h>
 

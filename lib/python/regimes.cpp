@@ -2,6 +2,7 @@
 #include "call.hpp"
 
 #include "gapchain/classify.hpp"
+#include "gapchain/design_value.hpp"
 #include "gapchain/report.hpp"
 #include "gapchain/study.hpp"
 

@@ -1,7 +1,7 @@
 // gapchain.simulate: one simulation of a row (gapchain-sim in-process).
 #include "call.hpp"
 
-#include "gapchain/attractors.hpp"
+#include "gapchain/design_value.hpp"
 #include "gapchain/report.hpp"
 #include "gapchain/simulation.hpp"
 

@@ -9,6 +9,7 @@
 #include "gapchain/orbit.hpp"
 #include "gapchain/simulation.hpp"
 
+#include "detail/attractor_search.hpp"
 #include "detail/check.hpp"
 #include "detail/parallel.hpp"
 #include "detail/random.hpp"
@@ -26,6 +27,11 @@
 #include <utility>
 
 namespace gapchain {
+
+using detail::clouds_overlap;
+using detail::search_row_error;
+using detail::state_scale;
+using detail::StateScale;
 
 void validate(const AttractorOptions& o, int Nm) {
     detail::require_count("samples", o.samples, 1, 10'000'000);
@@ -89,23 +95,12 @@ std::string_view regime_label(const Attractor& a) {
     return a.settled ? to_string(a.regime) : std::string_view("unsettled");
 }
 
-namespace {
-
-/// The row's natural scales: u in units of A, v in units of 2 pi f_r A.
-struct StateScale {
-    double u = 1.0;
-    double v = 1.0;
-    int Nm = 1;
-    [[nodiscard]] double of(int i) const { return i < Nm ? u : v; }
-};
-
-StateScale state_scale(const ReducedParameters& p) {
+StateScale detail::state_scale(const ReducedParameters& p) {
     const double A = single_body_amplitude(p.f_r, p.eps);
     return {A, 2.0 * std::numbers::pi * p.f_r * A, p.Nm};
 }
 
-/// The row p is one an attractor search takes (beyond the model's own ranges), or why not.
-std::optional<std::string> search_row_error(const ReducedParameters& p) {
+std::optional<std::string> detail::search_row_error(const ReducedParameters& p) {
     // Without damping the flow keeps phase-space volume: nothing attracts, and every start
     // would be reported as an attractor of its own.
     if (!(p.eps > 0.0))
@@ -114,6 +109,8 @@ std::optional<std::string> search_row_error(const ReducedParameters& p) {
                detail::format_number(p.eps);
     return std::nullopt;
 }
+
+namespace {
 
 /// Members of a non-periodic group continued first to test it: a sixteenth of the random starts,
 /// 3 to 8 (and at most its members). If its starts leave it at a share q within the
@@ -397,8 +394,10 @@ double diameter(const Points& a, const StateScale& scale) {
     return d;
 }
 
-/// The two-sample nearest-neighbour test of the header.
-bool clouds_overlap(const Points& a, const Points& b, const StateScale& scale, double factor) {
+} // namespace
+
+bool detail::clouds_overlap(const Points& a, const Points& b, const StateScale& scale,
+                            double factor) {
     if (a.size() < 2 || b.size() < 2) return false;
     const double inner =
         std::max(median_nearest(a, a, scale, true), median_nearest(b, b, scale, true));
@@ -407,6 +406,8 @@ bool clouds_overlap(const Points& a, const Points& b, const StateScale& scale, d
     return median_nearest(a, b, scale, false) <= limit &&
            median_nearest(b, a, scale, false) <= limit;
 }
+
+namespace {
 
 /// A run that ends this close (scaled) to a stable orbit's point is in its linear neighbourhood
 /// and converging to it, however slowly (Fig 13's line at f_r = 3.2: a period-15 orbit with
@@ -1012,106 +1013,6 @@ void count_members(const std::vector<int>& labels, long random_starts, Attractor
     set.slice_attractor.assign(labels.begin() + random_starts, labels.end());
 }
 
-/// Transients ending at lengths within (from, to], and the periods that every transient, ended
-/// or censored, spent in that interval.
-struct EndingRate {
-    long ended = 0;
-    double exposure = 0.0;
-};
-
-EndingRate ending_rate(const std::vector<long>& ended, const std::vector<long>& censored,
-                       double from, double to) {
-    EndingRate r;
-    const auto add = [&](long n) {
-        if (n > from) r.exposure += std::min(static_cast<double>(n), to) - from;
-    };
-    for (long n : ended) {
-        add(n);
-        if (n > from && n <= to) ++r.ended;
-    }
-    std::for_each(censored.begin(), censored.end(), add);
-    return r;
-}
-
-/// The Kaplan-Meier median of the lengths (ended sorted): the first ending length where the
-/// share still going falls to 1/2; NaN if it never does.
-double survival_median(const std::vector<long>& ended, const std::vector<long>& censored) {
-    // At a tie the censored ones are at risk too: a transient censored at n was still going.
-    std::vector<long> sorted_censored(censored);
-    std::sort(sorted_censored.begin(), sorted_censored.end());
-    const double total = static_cast<double>(ended.size() + censored.size());
-    double surviving = 1.0;
-    for (auto it = ended.begin(); it != ended.end();) {
-        const long n = *it;
-        const auto next = std::upper_bound(it, ended.end(), n);
-        // At risk at n: every length >= n, ended or censored.
-        const double gone = static_cast<double>(it - ended.begin()) +
-                            static_cast<double>(std::lower_bound(sorted_censored.begin(),
-                                                                 sorted_censored.end(), n) -
-                                                sorted_censored.begin());
-        surviving *= 1.0 - static_cast<double>(next - it) / (total - gone);
-        if (surviving <= 0.5) return static_cast<double>(n);
-        it = next;
-    }
-    return std::numeric_limits<double>::quiet_NaN();
-}
-
-} // namespace
-
-std::string_view to_string(ConstantRate r) {
-    switch (r) {
-    case ConstantRate::untested: return "untested";
-    case ConstantRate::consistent: return "consistent";
-    case ConstantRate::rejected: return "rejected";
-    }
-    return "untested";
-}
-
-double TransientLifetime::periods_until(double share) const {
-    if (!(share > 0.0 && share < 0.5))
-        throw std::invalid_argument("share: must be in (0, 0.5), got " +
-                                    detail::format_number(share));
-    if (constant_rate != ConstantRate::consistent) return std::numeric_limits<double>::quiet_NaN();
-    return from_period + lifetime * std::log(0.5 / share);
-}
-
-TransientLifetime transient_lifetime(std::vector<long> ended, std::vector<long> censored) {
-    for (const auto* lengths : {&ended, &censored})
-        for (long n : *lengths)
-            detail::require_count("transient length", n, 0, std::numeric_limits<long>::max());
-    TransientLifetime t;
-    t.censored = static_cast<long>(censored.size());
-    std::sort(ended.begin(), ended.end());
-    t.from_period = survival_median(ended, censored);
-    if (std::isnan(t.from_period)) return t;
-    constexpr double unbounded = std::numeric_limits<double>::infinity();
-    const EndingRate beyond = ending_rate(ended, censored, t.from_period, unbounded);
-    t.ended = beyond.ended;
-    if (t.ended < 10) return t;
-    t.lifetime = beyond.exposure / static_cast<double>(t.ended);
-    t.lifetime_error = t.lifetime / std::sqrt(static_cast<double>(t.ended));
-    // A constant rate: the earlier half of the endings beyond from_period against the later
-    // half. A contraction onto an orbit from a bounded box ends its transients at a rising rate
-    // (no start is farther than the box), a saddle's at a constant one.
-    const auto later =
-        std::upper_bound(ended.begin(), ended.end(), static_cast<long>(t.from_period));
-    const double split = static_cast<double>(*(later + (ended.end() - later) / 2 - 1));
-    const EndingRate first = ending_rate(ended, censored, t.from_period, split);
-    const EndingRate second = ending_rate(ended, censored, split, unbounded);
-    if (first.ended < 5 || second.ended < 5) return t;
-    const double ratio = (static_cast<double>(second.ended) / second.exposure) /
-                         (static_cast<double>(first.ended) / first.exposure);
-    const double log_error =
-        std::sqrt(1.0 / static_cast<double>(first.ended) + 1.0 / static_cast<double>(second.ended));
-    t.rate_ratio = ratio;
-    t.rate_ratio_error = ratio * log_error;
-    t.constant_rate = std::abs(std::log(ratio)) <= 3.0 * log_error ? ConstantRate::consistent
-                                                                   : ConstantRate::rejected;
-    return t;
-}
-
-namespace {
-
 /// The transient of a start that reached a periodic attractor, as ended (its length) or still
 /// going (its length so far). A run that found no steady state may still have ended its
 /// transient: near its cycle since last_far + 1 (the cycle entry's definition), approaching it
@@ -1341,270 +1242,15 @@ AttractorSet find_attractors(const ReducedParameters& p, const AttractorOptions&
     return set;
 }
 
-DesignValue design_value(const ReducedParameters& p, const AttractorOptions& options,
-                         const SimulationResult& run, const ProgressCallback& progress) {
-    RunAnswer answer;
-    answer.answered = run.status == RunStatus::completed || run.status == RunStatus::steady_state;
-    answer.F_m = run.F_m;
-    if (has_error_estimate(run)) answer.F_m_error = run.F_m_error;
-    return design_value(p, options, answer, progress);
+double detail::search_body_steps(const Dynamics& dyn, const AttractorOptions& options) {
+    return search_work(dyn, plan_run(dyn, options.run), options).body_steps;
 }
 
-DesignValue design_value(const ReducedParameters& p, const AttractorOptions& options,
-                         const Classification& classified, const ProgressCallback& progress) {
-    RunAnswer answer;
-    answer.answered =
-        classified.status == RunStatus::completed || classified.status == RunStatus::steady_state;
-    answer.F_m = classified.F_m;
-    answer.F_m_error = classified.F_m_error;
-    return design_value(p, options, answer, progress);
-}
-
-DesignValue design_value(const ReducedParameters& p, const AttractorOptions& options,
-                         const RunAnswer& run, const ProgressCallback& progress) {
-    DesignValue d;
-    d.row = p;
-    d.overlap_factor = options.overlap_factor;
-    d.search = find_attractors(p, options, progress);
-    if (d.search.cancelled) return d;
-    d.F_m_max = d.search.F_m_max;
-    d.F_m_max_error = d.search.F_m_max_error;
-    // A run that failed or was stopped has no F_m to set against the attractors; a search
-    // whose groups were all still converging has no attractor's F_m to set it against.
-    const bool attractor_found = d.search.F_m_max_id >= 0 && d.search.any_settled();
-    if (!run.answered) return d;
-    const double run_error = run.F_m_error;
-    // Where every group was still converging, the search's F_m_max is a transient's; the larger
-    // of it and the run's stands all the same, and from_run says which (it once said "the run's"
-    // whenever nothing settled, next to the group's larger F_m).
-    d.from_run = run.F_m >= d.search.F_m_max;
-    if (d.from_run) {
-        d.F_m_max = run.F_m;
-        d.F_m_max_error = run_error;
-    }
-    if (!attractor_found) return d;
-    const double gap = d.search.F_m_max - run.F_m;
-    const double errors =
-        std::isnan(run_error) ? d.search.F_m_max_error : run_error + d.search.F_m_max_error;
-    const double allowance =
-        std::max(3.0 * errors, options.run.tolerance * std::max(run.F_m, d.search.F_m_max));
-    d.start_below = gap > allowance;
-    d.run_above = -gap > allowance;
-    return d;
-}
-
-bool multistable(const SimulationResult& run, const DesignValue& design) {
-    return run.multistable || design.start_below || design.run_above;
-}
-
-std::string_view to_string(LabelInSearch where) {
-    switch (where) {
-    case LabelInSearch::not_applicable: return "not_applicable";
-    case LabelInSearch::attractor: return "attractor";
-    case LabelInSearch::transient: return "transient";
-    case LabelInSearch::not_reached: return "not_reached";
-    }
-    return "not_applicable";
-}
-
-LabelInSearch label_in_search(const Classification& c, const DesignValue& design) {
-    if (c.regime != Regime::chaotic && c.regime != Regime::quasi_periodic)
-        return LabelInSearch::not_applicable;
-    // Matched by motion, not by label: the search calls a group unsettled for reasons the
-    // classification does not weigh (members that left for orbits, an exponent still negative).
-    const auto same_force = [&c](const Attractor& a) {
-        const double bar = 3.0 * (c.F_m_error + a.F_m_error);
-        return std::abs(c.F_m - a.F_m) <= std::max(bar, 0.05 * std::max(c.F_m, a.F_m));
-    };
-    const StateScale scale = state_scale(design.row);
-    const auto same_set = [&](const Attractor& a) {
-        return c.section_states.empty() || a.section.empty() ||
-               clouds_overlap(c.section_states, a.section, scale, design.overlap_factor);
-    };
-    bool unsettled_match = false;
-    for (const Attractor& a : design.search.attractors) {
-        if (a.period != 0 || !same_force(a) || !same_set(a)) continue;
-        if (a.settled) return LabelInSearch::attractor;
-        unsettled_match = true;
-    }
-    return unsettled_match ? LabelInSearch::transient : LabelInSearch::not_reached;
-}
-
-namespace {
-
-/// Mean of an attractor's section points, in scaled coordinates.
-std::vector<double> centroid(const Attractor& a, const StateScale& scale) {
-    std::vector<double> c(a.section.front().size(), 0.0);
-    for (const auto& x : a.section)
-        for (std::size_t i = 0; i < c.size(); ++i)
-            c[i] += x[i] / scale.of(static_cast<int>(i)) / static_cast<double>(a.section.size());
-    return c;
-}
-
-/// Where each of previous's attractors went at the next value p (Attractors.jl's seeding): the
-/// attractor of `next` that a run at p from a state on it reaches, or -1. An attractor that
-/// persists is followed however far it moved; one that died hands its label to where its
-/// state now goes only if no other seed nearer in F_m reaches that attractor, and never across
-/// a jump of F_m by more than 25 % (match_labels()).
-std::vector<int> seeded_successors(const AttractorSet& previous, const AttractorSet& next,
-                                   const ReducedParameters& p, const AttractorOptions& o,
-                                   const ProgressCallback& keep_going) {
-    const Dynamics dyn = Dynamics::paper_row(p);
-    const StateScale scale = state_scale(p);
-    std::vector<int> successor;
-    for (const auto& a : previous.attractors)
-        successor.push_back(
-            reached(run_start(dyn, o, a.state, keep_going), next.attractors, scale, o));
-    return successor;
-}
-
-/// Labels for `next`'s attractors. First the seeds: an attractor that a previous one's seed
-/// reached takes that one's label (of several seeds, the one with the nearest F_m). Then
-/// the rest by nearest centroid (within 0.2, scaled), each previous label used once, nearest
-/// pairs first; a new label otherwise. Either way the two F_m are within 25 %.
-std::vector<int> match_labels(const AttractorSet& previous, const std::vector<int>& previous_labels,
-                              const AttractorSet& next, const std::vector<int>& successor,
-                              const StateScale& previous_scale, const StateScale& next_scale,
-                              int& label_count) {
-    struct Pair {
-        bool seeded;
-        double force_gap; // |F_m - F_m'| / max(F_m, F_m')
-        double distance;
-        std::size_t from, to;
-    };
-    std::vector<std::vector<double>> before, after;
-    for (const auto& a : previous.attractors)
-        before.push_back(centroid(a, previous_scale));
-    for (const auto& a : next.attractors)
-        after.push_back(centroid(a, next_scale));
-    std::vector<Pair> pairs;
-    for (std::size_t i = 0; i < before.size(); ++i)
-        for (std::size_t j = 0; j < after.size(); ++j) {
-            double d = 0.0;
-            for (std::size_t m = 0; m < before[i].size(); ++m)
-                d = std::max(d, std::abs(before[i][m] - after[j][m]));
-            const bool seeded = successor[i] == static_cast<int>(j);
-            const double a = previous.attractors[i].F_m, b = next.attractors[j].F_m;
-            const double gap = std::max(a, b) > 0.0 ? std::abs(a - b) / std::max(a, b) : 0.0;
-            // F_m moves continuously along an attractor that persists: a jump of more than 25 %
-            // from one value to the next is another attractor, whatever the seed or the
-            // centroid say (a seed whose attractor died lands on one that lives on).
-            if (gap <= 0.25 && (seeded || d <= 0.2)) pairs.push_back({seeded, gap, d, i, j});
-        }
-    // Of several seeds that reach one attractor (the others' attractors died into it), the one
-    // whose F_m it continues wins: F_m moves continuously along an attractor, while the
-    // centroid of a chaotic cloud says little.
-    std::sort(pairs.begin(), pairs.end(), [](const Pair& x, const Pair& y) {
-        if (x.seeded != y.seeded) return x.seeded;
-        if (x.seeded && x.force_gap != y.force_gap) return x.force_gap < y.force_gap;
-        return x.distance < y.distance;
-    });
-    std::vector<int> labels(next.attractors.size(), -1);
-    std::vector<char> used(previous.attractors.size(), 0);
-    for (const Pair& pr : pairs)
-        if (!used[pr.from] && labels[pr.to] < 0) {
-            used[pr.from] = 1;
-            labels[pr.to] = previous_labels[pr.from];
-        }
-    for (int& l : labels)
-        if (l < 0) l = label_count++;
-    return labels;
-}
-
-} // namespace
-
-std::vector<double> fraction_line_values(const ReducedParameters& base, SweptParameter parameter,
-                                         double from, double to, int steps) {
-    for (const auto& [name, value] : {std::pair{"from", from}, std::pair{"to", to}}) {
-        auto error = swept_value_error(base, parameter, value);
-        if (!error) error = search_row_error(with_value(base, parameter, value));
-        if (error) throw std::invalid_argument(std::string(name) + ": " + *error);
-    }
-    detail::require_range("steps", steps, 1, 10000);
-    require_line(from, to, steps);
-    // Not linspace(): the documented figures were made with these values, bit for bit.
-    std::vector<double> values;
-    for (int k = 0; k < steps; ++k)
-        values.push_back(steps == 1 ? from : from + (to - from) * k / (steps - 1));
-    // The last is `to` as written: from 3 to 1e-300 in 3 steps ended at 0 (refused as "to: got
-    // 0"); the documented lines end on `to` either way.
-    values.back() = to;
-    return values;
-}
-
-namespace {
-
-/// Validates each value's search and checks the line as a whole against run.max_work (10,000
-/// values, each within the limit, were accepted with an estimate of 17 hours); a row refused at
-/// an end names its option.
-void require_line_affordable(const ReducedParameters& base, SweptParameter parameter,
-                             const std::vector<double>& values, const AttractorOptions& options) {
-    double body_steps = 0.0;
-    for (std::size_t k = 0; k < values.size(); ++k) {
-        const ReducedParameters p = with_value(base, parameter, values[k]);
-        try {
-            validate(p, options);
-        } catch (const std::invalid_argument& e) {
-            detail::rethrow_naming_end(e, k == 0                   ? "from"
-                                          : k + 1 == values.size() ? "to"
-                                                                   : nullptr);
-        }
-        const Dynamics dyn = Dynamics::paper_row(p);
-        body_steps += search_work(dyn, plan_run(dyn, options.run), options).body_steps;
-    }
-    detail::require_work(body_steps, options.run.max_work, "this line runs up to",
-                         std::to_string(values.size()) + " searches, every start at full length",
-                         "fewer values (steps), fewer starts, a shorter run.periods, or raise "
-                         "run.max_work");
-}
-
-} // namespace
-
-FractionContinuation
-continue_basin_fractions(const ReducedParameters& base, SweptParameter parameter,
-                         const std::vector<double>& values, const AttractorOptions& options,
-                         const ProgressCallback& progress, const FractionValueCallback& on_value) {
-    const auto clock = std::chrono::steady_clock::now();
-    if (values.empty()) throw std::invalid_argument("steps: at least one value, got none");
-    require_line_affordable(base, parameter, values, options);
-    FractionContinuation fc;
-    fc.parameter = parameter;
-    for (std::size_t k = 0; k < values.size(); ++k) {
-        const ReducedParameters p = with_value(base, parameter, values[k]);
-        const auto n = static_cast<double>(values.size());
-        const ProgressCallback keep_going = [&](double f) {
-            return !progress || progress((static_cast<double>(k) + f) / n);
-        };
-        AttractorSet set = find_attractors(p, options, keep_going);
-        if (set.cancelled) {
-            fc.cancelled = true;
-            break;
-        }
-        std::vector<int> labels;
-        if (k == 0) {
-            for (const auto& a : set.attractors)
-                labels.push_back(a.id);
-            fc.label_count = static_cast<int>(labels.size());
-        } else {
-            // The seeds report this value as done (their own fractions would run backwards).
-            const auto successor = seeded_successors(fc.sets.back(), set, p, options,
-                                                     [&](double) { return keep_going(1.0); });
-            if (!keep_going(1.0)) {
-                fc.cancelled = true;
-                break;
-            }
-            const ReducedParameters q = with_value(base, parameter, values[k - 1]);
-            labels = match_labels(fc.sets.back(), fc.labels.back(), set, successor, state_scale(q),
-                                  state_scale(p), fc.label_count);
-        }
-        fc.values.push_back(values[k]);
-        fc.sets.push_back(std::move(set));
-        fc.labels.push_back(std::move(labels));
-        if (on_value) on_value(fc);
-    }
-    fc.wall_time_s =
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - clock).count();
-    return fc;
+int detail::attractor_reached_from(const Dynamics& dyn, const AttractorOptions& options,
+                                   const std::vector<double>& state,
+                                   const std::vector<Attractor>& attractors,
+                                   const StateScale& scale, const ProgressCallback& keep_going) {
+    return reached(run_start(dyn, options, state, keep_going), attractors, scale, options);
 }
 
 } // namespace gapchain

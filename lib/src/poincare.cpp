@@ -233,6 +233,10 @@ bool PoincareSampler::wanted(bool up) const {
 }
 
 double PoincareSampler::trigger_rate(double t, const double* y) const {
+    // Read at the step's ends as they are, with no inside offset (dense_output.hpp): a rate of
+    // u, v or g is continuous across a contact switch under every law (a contact's force
+    // vanishes with its penetration): unlike the jerk, it does not jump where an end lies a
+    // little past a switch.
     const int n = m_dyn.bodies();
     const int i = m_spec.trigger.index;
     switch (m_spec.trigger.kind) {

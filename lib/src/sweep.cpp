@@ -1,5 +1,7 @@
 #include "gapchain/sweep.hpp"
 
+#include "gapchain/design_value.hpp"
+
 #include "detail/check.hpp"
 #include "detail/parallel.hpp"
 #include "detail/random.hpp"

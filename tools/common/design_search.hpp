@@ -3,7 +3,7 @@
 // gapchain-classify): its options (--seed, --box, --threads) and its printout, the row's
 // attractors set against the one run's F_m.
 
-#include "gapchain/attractors.hpp"
+#include "gapchain/design_value.hpp"
 #include "gapchain/scene.hpp"
 
 #include <CLI/CLI.hpp>

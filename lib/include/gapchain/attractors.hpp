@@ -43,6 +43,7 @@
 #include "gapchain/model.hpp"
 #include "gapchain/run.hpp"
 #include "gapchain/simulation.hpp"
+#include "gapchain/transient_lifetime.hpp"
 
 #include <cstdint>
 #include <functional>
@@ -183,57 +184,6 @@ struct Attractor {
 /// The attractor's regime as written in results: to_string(regime), or "unsettled".
 std::string_view regime_label(const Attractor& a);
 
-/// Whether the transients end at a constant rate beyond TransientLifetime::from_period.
-enum class ConstantRate {
-    untested,   ///< fewer than 5 endings in either half of the lengths beyond it
-    consistent, ///< the two halves' rates agree within 3 standard errors of their log ratio
-    rejected    ///< they do not: no single exponential escape
-};
-
-/// "untested", "consistent" or "rejected".
-std::string_view to_string(ConstantRate r);
-
-/// How long the transients before the periodic attractors last, over the random starts that
-/// reach one. Escape from a saddle (a chaotic saddle, or an unstable orbit on a basin boundary)
-/// is memoryless: beyond some length the transients end at a constant rate 1 / lifetime, and
-/// the share still in the transient after n periods falls as exp(-n / lifetime). Measured
-/// beyond from_period, the median length, where the start-up's own relaxation is over:
-/// lifetime = (periods spent beyond it) / (transients ending beyond it), the maximum-likelihood
-/// estimate for an exponential tail, which counts a transient still going when its run ended
-/// (right-censored) as lasting at least that long; consistent, biased by about lifetime / n for
-/// n endings. Lengths are whole periods (a cycle entry), which adds about half a period.
-struct TransientLifetime {
-    /// The median transient length (Kaplan-Meier, so censored ones count as lasting at least
-    /// their censoring time) [forcing periods]; NaN if the survival stays above 1/2 within the
-    /// observed lengths, or no start reached a periodic attractor.
-    double from_period = std::numeric_limits<double>::quiet_NaN();
-    /// The lifetime beyond from_period [forcing periods]; NaN with fewer than 10 endings beyond.
-    double lifetime = std::numeric_limits<double>::quiet_NaN();
-    /// lifetime / sqrt(ended) [forcing periods]
-    double lifetime_error = std::numeric_limits<double>::quiet_NaN();
-    long ended = 0;    ///< transients that end beyond from_period
-    long censored = 0; ///< transients still going when their runs ended (all of them)
-    /// The ending rate of the later half of the endings beyond from_period over that of the
-    /// earlier half (1 for a constant rate), and its standard error; NaN when untested.
-    double rate_ratio = std::numeric_limits<double>::quiet_NaN();
-    double rate_ratio_error = std::numeric_limits<double>::quiet_NaN(); ///< of rate_ratio
-    /// The two-bin test of a constant rate. It is weak against mixtures of similar lifetimes
-    /// (two lifetimes 20 and 80 in equal shares, 400 starts: rejected about 1 time in 3), so
-    /// consistent means "no evidence against", not proof of a single saddle.
-    ConstantRate constant_rate = ConstantRate::untested;
-    /// How long until only `share` (in (0, 1/2)) of the starts are still in their transient
-    /// [forcing periods]: from_period + lifetime ln(1 / (2 share)), the exponential tail
-    /// extended; what a run must discard (run.transient_periods) to record the attractor's F_m
-    /// from all but that share of starts. NaN unless the rate is consistent with a constant
-    /// one. Throws std::invalid_argument for a share outside (0, 1/2).
-    [[nodiscard]] double periods_until(double share) const;
-};
-
-/// The TransientLifetime of transient lengths [forcing periods]: ended lists the lengths of
-/// those that ended, censored the lengths so far of those still going when their runs ended
-/// (each >= 0). Throws std::invalid_argument on a negative length.
-TransientLifetime transient_lifetime(std::vector<long> ended, std::vector<long> censored);
-
 /// The attractors found.
 struct AttractorSet {
     std::vector<Attractor> attractors; ///< by id (0-based), in the order first reached
@@ -280,119 +230,5 @@ std::vector<std::vector<double>> attractor_starts(const ReducedParameters& p,
 /// of attractor_starts(), in parallel; progress gets the fraction of starts run.
 AttractorSet find_attractors(const ReducedParameters& p, const AttractorOptions& options,
                              const ProgressCallback& progress = {});
-
-/// One run's F_m set against the attractors of its row: the design value over both, and
-/// whether another attractor hits harder than the run's start does.
-struct DesignValue {
-    AttractorSet search; ///< find_attractors() from the options' random starts
-    /// The design value: the largest of the search's F_m_max and the run's F_m (a run whose
-    /// transient outlasts its discarded periods counts: the row shaken from that start reaches
-    /// it); the search's alone if the run failed or was stopped. 0 if the search was cancelled.
-    double F_m_max = 0.0;
-    /// The error of whichever gave F_m_max; NaN if that is the run and its error was not
-    /// estimated (run.estimate_error false).
-    double F_m_max_error = 0.0;
-    bool from_run = false; ///< F_m_max is the run's own F_m
-    /// The search's F_m_max exceeds the run's F_m by more than 3 (F_m_error + F_m_max_error)
-    /// and the accuracy asked (run.tolerance F_m_max): the run's start reached a weaker
-    /// attractor, so its F_m is not the row's worst case. Only when the run answered (completed
-    /// or steady state) and the search found a settled attractor.
-    bool start_below = false;
-    /// The run's F_m exceeds the search's F_m_max by as much: no attractor found reaches it, so
-    /// the run's window held a transient (or, for a run that finished relaxed, motion of the
-    /// relaxed plan that the strict dynamics leave). Same conditions.
-    bool run_above = false;
-    ReducedParameters row;       ///< the row searched (its state scale, for label_in_search())
-    double overlap_factor = 3.0; ///< the search's AttractorOptions::overlap_factor
-};
-
-/// What one run from one start answered, as design_value() sets it against the attractors:
-/// a simulate() result, or a classification's F_m.
-struct RunAnswer {
-    bool answered = false; ///< the run completed or stopped at its steady state
-    double F_m = 0.0;      ///< its largest reduced impact force, >= 0
-    /// its error [reduced force, >= 0]; NaN where not estimated
-    double F_m_error = std::numeric_limits<double>::quiet_NaN();
-};
-
-/// find_attractors(p, options) and the comparison with run, the answer of one run of row p
-/// (from any start). Throws std::invalid_argument as find_attractors() does.
-DesignValue design_value(const ReducedParameters& p, const AttractorOptions& options,
-                         const RunAnswer& run, const ProgressCallback& progress = {});
-
-/// design_value() of a simulate() result of row p under options.run.
-DesignValue design_value(const ReducedParameters& p, const AttractorOptions& options,
-                         const SimulationResult& run, const ProgressCallback& progress = {});
-
-/// design_value() of a classification of row p (its F_m and F_m_error; answered where its run
-/// completed or stopped at its steady state).
-DesignValue design_value(const ReducedParameters& p, const AttractorOptions& options,
-                         const Classification& classified, const ProgressCallback& progress = {});
-
-/// Where a non-periodic label read from one start stands among the groups of an attractor
-/// search of its row.
-enum class LabelInSearch {
-    not_applicable, ///< the label is periodic or no-contact (its state repeats: no question)
-    /// a settled chaotic or quasi-periodic attractor of the search has the label's F_m
-    attractor,
-    /// only an unsettled group has it (a chaotic transient whose starts left it for orbits, or
-    /// runs still converging): the label was read on a transient, as on Fig 13's row at
-    /// f_r = 2.05 (a chaotic saddle) and 3.2 (the slow approach to the period-15 orbit)
-    transient,
-    /// no group has it: the search's starts did not reach the motion read (N starts miss a
-    /// basin of fraction q with odds (1 - q)^N); no verdict
-    not_reached,
-};
-
-/// "not_applicable", "attractor", "transient" or "not_reached".
-std::string_view to_string(LabelInSearch where);
-
-/// Where c's label stands among design's search. A non-periodic group has the label's motion
-/// where their F_m differ by at most three times the sum of their errors, or 5 % of the larger
-/// (the maximum of a chaotic record moves more than its error bar says from one sample to the
-/// next), and, where c kept its section states (ClassifyOptions::keep_section_states), their
-/// section points overlap as the search's own grouping tests them (two motions of one F_m are
-/// not one).
-LabelInSearch label_in_search(const Classification& c, const DesignValue& design);
-
-/// Whether run's answer depends on its start: its own checks said so (run.multistable), or
-/// another attractor hits harder (start_below), or none reaches its F_m (run_above).
-bool multistable(const SimulationResult& run, const DesignValue& design);
-
-/// Basin fractions along one parameter: find_attractors() at each value, attractors matched
-/// from one value to the next, so that a label follows an attractor across the line: first by
-/// seeding (a run at the new value from a state on each previous attractor; the attractor it
-/// reaches takes that label, the one nearest in F_m if several seeds reach it), then the
-/// unmatched by the nearest centroid of the section points within 0.2 A; never across a jump of
-/// F_m by more than 25 % (F_m is continuous along an attractor that persists).
-struct FractionContinuation {
-    SweptParameter parameter = SweptParameter::f_r; ///< the parameter varied
-    std::vector<double> values;                     ///< its values, in the parameter's units
-    std::vector<AttractorSet> sets;                 ///< per value
-    std::vector<std::vector<int>> labels;           ///< per value, per attractor: its global label
-    int label_count = 0;                            ///< global labels used
-    double wall_time_s = 0.0;                       ///< [s]
-    bool cancelled = false;
-};
-
-/// The values of a basin-fraction line: steps values from `from` to `to`, both included, as
-/// from + (to - from) k / (steps - 1) (one value needs from = to, and from = to one value).
-/// Throws std::invalid_argument naming from or to when an end is outside `parameter`'s range
-/// for base, or steps outside 1 .. 10000.
-std::vector<double> fraction_line_values(const ReducedParameters& base, SweptParameter parameter,
-                                         double from, double to, int steps);
-
-/// Called once a value of a basin-fraction line is done, with the line so far (its last
-/// value, set and labels are the new ones). What it reported stays in the line: a line
-/// cancelled later returns every value done before (cancelled set).
-using FractionValueCallback = std::function<void(const FractionContinuation& line)>;
-
-/// find_attractors() at every value of `parameter` (each set in parallel over its starts).
-FractionContinuation continue_basin_fractions(const ReducedParameters& base,
-                                              SweptParameter parameter,
-                                              const std::vector<double>& values,
-                                              const AttractorOptions& options,
-                                              const ProgressCallback& progress = {},
-                                              const FractionValueCallback& on_value = {});
 
 } // namespace gapchain

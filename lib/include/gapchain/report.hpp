@@ -4,10 +4,12 @@
 
 #include "gapchain/accuracy.hpp"
 #include "gapchain/attractors.hpp"
+#include "gapchain/basin_fractions.hpp"
 #include "gapchain/bifurcation.hpp"
 #include "gapchain/bounds.hpp"
 #include "gapchain/classify.hpp"
 #include "gapchain/continuation.hpp"
+#include "gapchain/design_value.hpp"
 #include "gapchain/lyapunov.hpp"
 #include "gapchain/modes.hpp"
 #include "gapchain/orbit.hpp"

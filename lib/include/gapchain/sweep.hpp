@@ -89,7 +89,7 @@ struct SweepPointResult {
     bool harmonic = true;
     SimulationResult simulation; ///< F_m and the rest
     /// The answer depends on the start: simulation.multistable, or with attractors > 0
-    /// multistable(simulation, its design value) (attractors.hpp)
+    /// multistable(simulation, its design value) (design_value.hpp)
     bool multistable = false;
     std::optional<Classification> regime; ///< if the study keeps the regime
     std::optional<double> F_m_max;        ///< design value over the attractors (attractors > 0)

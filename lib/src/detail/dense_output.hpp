@@ -46,8 +46,9 @@ private:
     // Steps end on contact switches, located to about 1e-6 of a step of 0.009 on the
     // interpolant (rk8pd with run.step 0.02 on Fig 13's row at f_r = 3.0: g3 -3.1e-6 at the
     // end, open, closed inside). Read at the end, the jerk came from the other side's
-    // configuration (and, with contact damping, the acceleration too), and the velocities'
-    // interpolant was 2.8e-3 off: an event section on v4 found dips that never happen (a
+    // configuration (under the linear law it jumps there by the contact stiffness times the gap
+    // rate; the acceleration is continuous under every law), and the velocities' interpolant
+    // was 2.8e-3 off: an event section on v4 found dips that never happen (a
     // reviewer's probe, helper-78). The interior's side of a gap is read at the step's middle
     // on the cubic through the ends' values and rates. An offset above 1e-3 of the step is no
     // switch at the end (a graze inside): none.

@@ -8,6 +8,7 @@
 #include <complex>
 #include <numbers>
 #include <stdexcept>
+#include <string>
 
 using namespace gapchain;
 using std::numbers::pi;
@@ -492,6 +493,55 @@ TEST_CASE("a run too coarse to follow its points one by one gets an error that c
     CHECK(a.parted_at == -1);
     for (std::size_t i = 0; i < 2; ++i)
         check_covers(a, main, reference, i, 10.0);
+}
+
+TEST_CASE("a periodic run that settles far from its finer run is no chaotic record") {
+    // A hostile probe (helper-82): rk4 at step 0.02 on Fig 13's periodic row at f_r = 3.0
+    // settles 4.7e-3 in u1 (4 % of its largest value) from its finer run, at every point alike,
+    // and read "a chaotic record that parted before it began", with the error of every point.
+    // Both runs repeat, so the points are this start's: no parting, and the error covers them.
+    const Dynamics dyn = Dynamics::paper_row({5, 60, 0.5, 0.06, 3.0});
+    const SectionSpec spec = u1_v1(5);
+    RunOptions o = lasting(300, 200);
+    o.scheme = Scheme::rk4;
+    o.step = 0.02;
+    const std::vector<SectionPoint> main = section_of(dyn, o, spec);
+    RunOptions reference_options = lasting(300, 200);
+    reference_options.scheme = Scheme::rk8pd;
+    reference_options.tolerance = 1e-12;
+    const std::vector<SectionPoint> reference = section_of(dyn, reference_options, spec);
+    REQUIRE(main.size() == reference.size());
+    // The points differ by more than 1e-2 of u1's largest value: the chaos test's reach.
+    REQUIRE(largest_gap(main, reference, 0) > 0.02 * std::abs(reference.front().values[0]));
+    const SectionAccuracy a = section_accuracy(dyn, o, spec, {}, main);
+    CHECK(a.parted_at == -1);
+    CHECK_FALSE(a.crossings_differ);
+    for (std::size_t i = 0; i < 2; ++i)
+        check_covers(a, main, reference, i, 10.0);
+}
+
+TEST_CASE("a level just beyond an extremum that the run crosses and its finer run does not") {
+    // A hostile probe (helper-82): u1 = 0.05939 lies 1.7e-6 above u1's largest value on Fig
+    // 13's periodic row at f_r = 3.0 (rk8pd at 1e-12 finds no crossing); rk4 at 1e-4 overshoots
+    // it and found 100, its finer run none, and the section read as an ordinary one with "no
+    // point to compare".
+    const Dynamics dyn = Dynamics::paper_row({5, 60, 0.5, 0.06, 3.0});
+    SectionSpec spec = u1_falling(5);
+    spec.level = 0.05939;
+    RunOptions o = lasting(300, 200);
+    o.scheme = Scheme::rk4;
+    o.tolerance = 1e-4;
+    const std::vector<SectionPoint> main = section_of(dyn, o, spec);
+    RunOptions reference_options = o;
+    reference_options.scheme = Scheme::rk8pd;
+    reference_options.tolerance = 1e-12;
+    REQUIRE(section_of(dyn, reference_options, spec).empty());
+    REQUIRE_FALSE(main.empty());
+    const SectionAccuracy a = section_accuracy(dyn, o, spec, {}, main);
+    CHECK(a.compared == 0);
+    CHECK(a.crossings_differ);
+    CHECK(a.parted_at == 0);
+    CHECK(a.not_estimated.find("found 0 crossings") != std::string::npos);
 }
 
 TEST_CASE("a section's error estimate says why it is missing, and never refuses the run") {

@@ -110,9 +110,18 @@ SectionAccuracy estimate_point_error(const Scene& scene, const SectionSpec& spec
                             progress.callback());
 }
 
+void print_crossings_differ(const SectionAccuracy& a) {
+    std::printf("  from point %ld on the two runs' crossings pair wrongly (found at other times or "
+                "rates): one run found a crossing the other did not, a level within a run's error "
+                "of an extremum or a dip shallower than that error (not chaos); a smaller "
+                "run.tolerance or run.step settles which\n",
+                a.parted_at);
+}
+
 void print_point_error(const SectionSpec& spec, const SectionAccuracy& a) {
     if (!a.not_estimated.empty()) {
         std::printf("  point error not estimated: %s\n", a.not_estimated.c_str());
+        if (a.crossings_differ) print_crossings_differ(a);
         return;
     }
     std::printf(
@@ -131,11 +140,7 @@ void print_point_error(const SectionSpec& spec, const SectionAccuracy& a) {
                     "that parted before it began; the error covers every point, the "
                     "attractor's extent\n");
     if (a.crossings_differ)
-        std::printf("  from point %ld on the two runs' crossings pair wrongly (found at other "
-                    "times or rates): one of them missed a crossing shallower than its error (not "
-                    "chaos); a smaller run.tolerance or run.step finds it, and the points from "
-                    "there on are paired wrongly\n",
-                    a.parted_at);
+        print_crossings_differ(a);
     else if (a.parted_at > 0)
         std::printf(
             "  the runs part at point %ld of %ld compared (a chaotic record): beyond it the "

@@ -168,6 +168,7 @@ void print_design(const Scene& scene, const SimulationResult& r, const DesignVal
     cli::SearchedRun run;
     run.F_m = r.F_m;
     run.relaxed = r.accuracy_mode_used == AccuracyUsed::relaxed;
+    run.maximum_in_transient = r.maximum_in_transient;
     cli::print_design(scene, run, design, options);
 }
 

@@ -90,11 +90,13 @@ point_error (None with error=False or a run that did not complete, else a dict a
 section.json's: compared, error (per recorded name: twice the largest difference before the
 runs part; None for a stroboscopic section's t and an event's trigger), parted_at (the first compared point where the
 runs differ by more than 1e-3 of a variable's largest value and from which on they grow apart,
-a chaotic record: None if never; points that differ by a bounded amount widen the error
-instead; 0: a record that parted before it began, and the error then covers every compared
+a chaotic record: None if never; points that differ by a bounded amount, or of two runs that
+both repeat, widen the error instead; 0: a record that parted before it began, and the error then covers every compared
 point), crossings_differ (an event section whose runs found different
 crossings: times more than a quarter period apart, points that agree once shifted by one or two
-crossings, or crossing rates a quarter apart; a shallow crossing one of them missed, not chaos),
+crossings, or crossing rates a quarter apart, or a finer run finding fewer than three quarters
+of the points; a shallow crossing, or a level within one run's error of an extremum, found by
+one run only, not chaos),
 comparison, status, not_estimated (why not, or None)), status, message, scheme and step (the
 scheme the run took and its step in reduced time, an adaptive scheme's output interval),
 wall_time_s. An

@@ -410,15 +410,33 @@ struct SectionPairing {
     double period;
     long compared;
 
-    /// The largest difference of a variable, in units of its largest |value|.
-    [[nodiscard]] double difference(long k, long m) const {
+    /// The largest difference of a variable between two points, in units of its largest |value|.
+    [[nodiscard]] double distance(const SectionPoint& x, const SectionPoint& y) const {
         double d = 0.0;
         for (std::size_t i = 0; i < spec.record.size(); ++i)
             if (estimated(spec, spec.record[i]) &&
                 spec.record[i].kind != SectionVariable::Kind::time && largest[i] > 0.0)
-                d = std::max(d,
-                             std::abs(main_points[k].values[i] - points[m].values[i]) / largest[i]);
+                d = std::max(d, std::abs(x.values[i] - y.values[i]) / largest[i]);
         return d;
+    }
+    /// distance() between the main run's point k and the finer run's point m.
+    [[nodiscard]] double difference(long k, long m) const {
+        return distance(main_points[k], points[m]);
+    }
+    /// Whether a run's points from k on repeat: some P <= 128 brings each of twenty points back
+    /// within 1e-3 (of each variable's largest value) of itself P points later; the twenty from
+    /// k, or the last twenty that have a point P later. A chaotic record never does; a periodic
+    /// one does to round-off, however far it lies from the other run's.
+    [[nodiscard]] bool recurrent(const std::vector<SectionPoint>& run, long k) const {
+        const auto n = static_cast<long>(run.size());
+        for (long P = 1; P <= 128 && 20 + P <= n; ++P) {
+            const long first = std::min(k, n - 20 - P);
+            bool repeats = true;
+            for (long j = first; j < first + 20 && repeats; ++j)
+                repeats = distance(run[j], run[j + P]) <= 1e-3;
+            if (repeats) return true;
+        }
+        return false;
     }
     [[nodiscard]] double apart(long k, long m) const {
         return std::abs(main_points[k].t - points[m].t);
@@ -448,6 +466,12 @@ struct SectionPairing {
     /// (Fig 13's row at f_r = 3.0, 120 crossings against 240), and no point of it agrees with
     /// any of the finer run's (helper-78).
     [[nodiscard]] bool rates_differ(double by) const {
+        // The finer run stops once it has as many points as the main run: fewer means it found
+        // fewer over the whole record (a level within the main run's error of an extremum, 2e-6
+        // above u1's largest value: 100 crossings against none, helper-82).
+        if (static_cast<double>(points.size()) <
+            (1.0 - by) * static_cast<double>(main_points.size()))
+            return true;
         if (compared < 50) return false;
         // Both spans from the main run's first point: the runs start recording together.
         const auto last = static_cast<std::size_t>(compared - 1);
@@ -490,12 +514,16 @@ void set_parting(const SectionPairing& p, SectionAccuracy& a) {
     std::vector<double> d(static_cast<std::size_t>(a.compared));
     for (long k = 0; k < a.compared; ++k)
         d[static_cast<std::size_t>(k)] = p.difference(k, k);
+    // Both runs repeating is no chaos, however far apart they lie: rk4 at step 0.02 on Fig 13's
+    // periodic row at f_r = 3.0 settles 4.7e-3 (in u1) from its finer run, and read "a chaotic
+    // record that parted before it began" (helper-82).
     const auto chaotic = [&](long k) {
         if (k + 20 > a.compared) return false;
         const auto from = d.begin() + k;
         const auto differing = std::count_if(from, from + 10, [](double x) { return x > 1e-3; });
         const auto apart = std::count_if(from, from + 20, [](double x) { return x > 1e-2; });
-        return differing > 5 && apart > 10;
+        return differing > 5 && apart > 10 &&
+               !(p.recurrent(p.main_points, k) && p.recurrent(p.points, k));
     };
     for (long k = 0; k < a.compared; ++k) {
         const bool off_time = mispaired(k);
@@ -576,7 +604,17 @@ SectionAccuracy section_accuracy(const Dynamics& dyn, const RunOptions& options,
     }
     a.compared = static_cast<long>(std::min(points.size(), main_points.size()));
     if (a.compared == 0) {
-        a.not_estimated = "no point to compare";
+        // The finer run found no crossing over the whole record where the run found some: a
+        // level within the run's error of an extremum (helper-82: u1 = 0.05939, 1.7e-6 above
+        // its largest value, 100 points). A finer run for no point stops at once: its count
+        // says nothing.
+        a.crossings_differ = !main_points.empty();
+        a.parted_at = a.crossings_differ ? 0 : -1;
+        a.not_estimated = a.crossings_differ
+                              ? "the finer run found " + std::to_string(points.size()) +
+                                    " crossings where the run found " +
+                                    std::to_string(main_points.size())
+                              : "no point to compare";
         return a;
     }
     set_point_errors(spec, main_points, points, exact, dyn.period(), a);

@@ -78,6 +78,15 @@ void print_design(const Scene& scene, const SearchedRun& run, const DesignValue&
                         run.relaxed ? ", or on the relaxed plan's motion, which the strict "
                                       "dynamics leave (run.accuracy_mode = \"strict\")"
                                     : "");
+    } else if (d.from_run && run.maximum_in_transient && set.F_m_max < run.F_m) {
+        // A helper's probe (helper-82): a start overlapping a contact took F_m = 1.70 at t = 0
+        // where the one attractor reaches 0.39, and the line said only "no attractor found hits
+        // harder".
+        std::printf("this run's F_m, taken in its transient before the orbit (the largest "
+                    "attractor's: F_m = %.6g +- %.2g, ",
+                    set.F_m_max, set.F_m_max_error);
+        describe(a);
+        std::printf(")\n");
     } else if (d.from_run) {
         std::printf("this run's F_m (no attractor found hits harder)\n");
     } else {

@@ -42,6 +42,9 @@ struct SearchedRun {
     double F_m = 0.0; // its F_m [reduced force]
     // It finished on the relaxed plan: a run above every attractor may be that plan's motion.
     bool relaxed = false;
+    // Its F_m fell before the orbit it settled on (SimulationResult::maximum_in_transient), and
+    // its F_m_error already covers the orbit's: above every attractor, but not run_above.
+    bool maximum_in_transient = false;
     // What its start reached, for "this run's start reached ..." where an attractor hits
     // harder: a classification whose non-periodic motion the search saw only as a transient,
     // or did not reach, says so.

@@ -32,7 +32,9 @@ struct DesignValue {
     bool start_below = false;
     /// The run's F_m exceeds the search's F_m_max by as much: no attractor found reaches it, so
     /// the run's window held a transient (or, for a run that finished relaxed, motion of the
-    /// relaxed plan that the strict dynamics leave). Same conditions.
+    /// relaxed plan that the strict dynamics leave). Same conditions. A run whose maximum fell
+    /// before the orbit it settled on (SimulationResult::maximum_in_transient) has its F_m_error
+    /// widened to cover that orbit's F_m, so it is not set: the run says so itself.
     bool run_above = false;
     ReducedParameters row;       ///< the row searched (its state scale, for label_in_search())
     double overlap_factor = 3.0; ///< the search's AttractorOptions::overlap_factor

@@ -176,16 +176,20 @@ struct SectionAccuracy {
     /// the runs follow different trajectories (a chaotic record), so the points still sample the
     /// attractor but are no longer this start's; -1: they never part within the compared points.
     /// Points that differ by a bounded amount (a run too coarse to follow its points, or
-    /// ill-conditioned ones such as the velocity at a shallow crossing) are no parting: they widen
-    /// error. 0: a chaotic record that parted before it began; error then covers every compared
-    /// point (the largest difference over all of them, twice). Also where crossings_differ says so.
+    /// ill-conditioned ones such as the velocity at a shallow crossing), or whose runs both
+    /// repeat (each run's points come back within 1e-3 after some P <= 128 points), are no
+    /// parting: they widen error. 0: a chaotic record that parted before it began; error then
+    /// covers every compared point (the largest difference over all of them, twice). Also where
+    /// crossings_differ says so.
     long parted_at = -1;
     /// An event section whose runs found different crossings, not a chaotic parting: where they
     /// part, their crossing times differ by more than a quarter of the forcing period, or the
     /// points agree once one run's are shifted by one or two crossings, or the runs find
-    /// crossings at rates a quarter apart. One run found a crossing the other missed (a dip
-    /// shallower than one run's error); a smaller run.tolerance or run.step finds it, and the
-    /// points beyond are paired wrongly.
+    /// crossings at rates a quarter apart (the finer run finding fewer than three quarters of the
+    /// run's points over the whole record counts: none at all leaves nothing compared, parted_at
+    /// 0). One run found a crossing the other did not (a dip shallower than one run's error, or
+    /// a level within it of an extremum); a smaller run.tolerance or run.step settles which, and
+    /// the points beyond are paired wrongly.
     bool crossings_differ = false;
     /// The finer plan: "half the step", "tolerance X, half the output interval" (adaptive
     /// schemes: a tenth of the run's), or "rk8pd at tolerance 1e-12" (the exact scheme).

@@ -471,28 +471,43 @@ TEST_CASE("a chaotic record's points part from the finer run's: only the set is 
     CHECK(late.error[0] <= 2.0 * extent);
 }
 
+namespace {
+
+// A coarse rk4 run of Fig 13's periodic row at f_r, its stroboscopic (u1, v1) points set against
+// a reference run's (scheme at 1e-10, or 1e-12 for rk8pd): returns the estimate after checking
+// that it covers the reference's difference, by no more than 10 times.
+SectionAccuracy coarse_periodic_section(double f_r, double step, long periods, long transient,
+                                        Scheme reference_scheme, double* largest_difference) {
+    const Dynamics dyn = Dynamics::paper_row({5, 60, 0.5, 0.06, f_r});
+    const SectionSpec spec = u1_v1(5);
+    RunOptions o = lasting(periods, transient);
+    o.scheme = Scheme::rk4;
+    o.step = step;
+    const std::vector<SectionPoint> main = section_of(dyn, o, spec);
+    RunOptions reference_options = lasting(periods, transient);
+    reference_options.scheme = reference_scheme;
+    reference_options.tolerance = reference_scheme == Scheme::rk8pd ? 1e-12 : 1e-10;
+    const std::vector<SectionPoint> reference = section_of(dyn, reference_options, spec);
+    REQUIRE(main.size() == reference.size());
+    *largest_difference = largest_gap(main, reference, 0) / std::abs(reference.front().values[0]);
+    const SectionAccuracy a = section_accuracy(dyn, o, spec, {}, main);
+    for (std::size_t i = 0; i < 2; ++i)
+        check_covers(a, main, reference, i, 10.0);
+    return a;
+}
+
+} // namespace
+
 TEST_CASE("a run too coarse to follow its points one by one gets an error that covers them") {
     // A reviewer's probe (helper-75): rk4 at step 0.01 on Fig 13's periodic row at f_r = 2.5
     // is 8e-4 off in u1 against the exact scheme; its points and the finer run's differ by more
     // than 1e-3 of u1's largest value from the first on, and the tool read "not this start's
-    // trajectory", with no error.
-    const Dynamics dyn = Dynamics::paper_row({5, 60, 0.5, 0.06, 2.5});
-    const SectionSpec spec = u1_v1(5);
-    RunOptions o = lasting(260, 30);
-    o.scheme = Scheme::rk4;
-    o.step = 0.01;
-    const std::vector<SectionPoint> main = section_of(dyn, o, spec);
-    RunOptions reference_options = lasting(260, 30);
-    reference_options.scheme = Scheme::exact;
-    reference_options.tolerance = 1e-10;
-    const std::vector<SectionPoint> reference = section_of(dyn, reference_options, spec);
-    REQUIRE(main.size() == reference.size());
-    const SectionAccuracy a = section_accuracy(dyn, o, spec, {}, main);
-    // Its points differ by a bounded amount, 1.6e-3 to 3.4e-3 of u1's largest value at 2 in 3:
-    // this start's all the same, not a chaotic parting (they read as parted at 0, then 6).
+    // trajectory", with no error. Its points differ by a bounded amount, 1.6e-3 to 3.4e-3 of
+    // u1's largest value at 2 in 3: this start's all the same, not a chaotic parting (they read
+    // as parted at 0, then 6).
+    double off = 0.0;
+    const SectionAccuracy a = coarse_periodic_section(2.5, 0.01, 260, 30, Scheme::exact, &off);
     CHECK(a.parted_at == -1);
-    for (std::size_t i = 0; i < 2; ++i)
-        check_covers(a, main, reference, i, 10.0);
 }
 
 TEST_CASE("a periodic run that settles far from its finer run is no chaotic record") {
@@ -500,24 +515,12 @@ TEST_CASE("a periodic run that settles far from its finer run is no chaotic reco
     // settles 4.7e-3 in u1 (4 % of its largest value) from its finer run, at every point alike,
     // and read "a chaotic record that parted before it began", with the error of every point.
     // Both runs repeat, so the points are this start's: no parting, and the error covers them.
-    const Dynamics dyn = Dynamics::paper_row({5, 60, 0.5, 0.06, 3.0});
-    const SectionSpec spec = u1_v1(5);
-    RunOptions o = lasting(300, 200);
-    o.scheme = Scheme::rk4;
-    o.step = 0.02;
-    const std::vector<SectionPoint> main = section_of(dyn, o, spec);
-    RunOptions reference_options = lasting(300, 200);
-    reference_options.scheme = Scheme::rk8pd;
-    reference_options.tolerance = 1e-12;
-    const std::vector<SectionPoint> reference = section_of(dyn, reference_options, spec);
-    REQUIRE(main.size() == reference.size());
+    double off = 0.0;
+    const SectionAccuracy a = coarse_periodic_section(3.0, 0.02, 300, 200, Scheme::rk8pd, &off);
     // The points differ by more than 1e-2 of u1's largest value: the chaos test's reach.
-    REQUIRE(largest_gap(main, reference, 0) > 0.02 * std::abs(reference.front().values[0]));
-    const SectionAccuracy a = section_accuracy(dyn, o, spec, {}, main);
+    CHECK(off > 0.02);
     CHECK(a.parted_at == -1);
     CHECK_FALSE(a.crossings_differ);
-    for (std::size_t i = 0; i < 2; ++i)
-        check_covers(a, main, reference, i, 10.0);
 }
 
 TEST_CASE("a level just beyond an extremum that the run crosses and its finer run does not") {

@@ -3,6 +3,8 @@
 #include "gapchain/poincare.hpp"
 #include "gapchain/report.hpp"
 
+#include "reference.hpp"
+
 #include <doctest/doctest.h>
 
 #include <algorithm>
@@ -246,6 +248,33 @@ TEST_CASE("a periodic row Newton does not confirm keeps a bar that covers an ind
         CHECK(std::abs(row.F_m - ref.F_m) <= row.F_m_error);
         CHECK(row.F_m_error > 5.0 * o.tolerance * row.F_m); // the tolerance alone did not hold
         CHECK(row.F_m_error < 0.01 * row.F_m);
+    }
+}
+
+TEST_CASE("a confirmed orbit that a finer run from the same start does not reach widens its bar") {
+    // A researcher's probe (helper-81): Nm 3, fc 100, eps 0.2, e_r 0.1 has a contact-free and
+    // an impacting period-1 orbit near f_r = 3.45, and rest lies so near their basins' boundary
+    // that the scheme's error picks one. On the line from 3.40 to 3.50 in 11 values rk4 from rest
+    // settled contact-free at the tenth (3.49 to round-off: 0 +- 0, confirmed by Newton) where an
+    // independent integrator, this file's GSL reference at 1e-12, reaches the impacting orbit.
+    const ReducedParameters row3{3, 100, 0.2, 0.1, 3.45};
+    BifurcationOptions o;
+    o.from = 3.40;
+    o.to = 3.50;
+    o.steps = 11;
+    o.scheme = Scheme::rk4;
+    const BifurcationResult line = bifurcation(row3, o);
+    for (const std::size_t k : {std::size_t{9}, std::size_t{7}}) {
+        const BifurcationRow& row = line.rows.at(k);
+        CAPTURE(row.value);
+        REQUIRE(row.newton_confirmed);
+        const reference::Outcome ref = reference::run({3, 100, 0.2, 0.1, row.value}, 300, 200);
+        MESSAGE("rk4 " << row.F_m << " +- " << row.F_m_error << ", reference " << ref.F_m);
+        REQUIRE(ref.F_m > 1.7);
+        CHECK(std::abs(row.F_m - ref.F_m) <= row.F_m_error);
+        // Where the finer run settles on the same orbit the bar stays the tolerance's.
+        CHECK(row.ended_elsewhere == (k == 9));
+        if (k == 7) CHECK(row.F_m_error < 1e-3 * row.F_m);
     }
 }
 

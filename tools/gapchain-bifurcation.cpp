@@ -10,6 +10,9 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <functional>
+#include <string>
+#include <utility>
 
 namespace {
 
@@ -25,23 +28,46 @@ std::string diagram_title(const gapchain::ReducedParameters& p, const std::strin
            " periods per value)";
 }
 
+// The rows that `listed` picks: how many, and the first five values, comma-separated.
+std::pair<int, std::string>
+first_values(const gapchain::BifurcationResult& r,
+             const std::function<bool(const gapchain::BifurcationRow&)>& listed) {
+    std::string values;
+    int count = 0;
+    for (const auto& row : r.rows)
+        if (listed(row) && ++count <= 5) {
+            char value[32];
+            std::snprintf(value, sizeof value, "%.6g", row.value);
+            values += (values.empty() ? "" : ", ") + std::string(value);
+        }
+    if (count > 5) values += ", ...";
+    return {count, values};
+}
+
 // The periodic rows Newton did not confirm (the first few): their F_m and period are the
 // window's, their bar a finer run's difference (docs/bifurcation.md).
 void print_unconfirmed(const gapchain::BifurcationResult& r, const gapchain::BifurcationOptions& o,
                        const std::string& param) {
     if (!o.confirm_by_newton) return;
-    std::string listed;
-    int unconfirmed = 0;
-    for (const auto& row : r.rows)
-        if (row.period > 0 && !row.newton_confirmed && ++unconfirmed <= 5) {
-            char value[32];
-            std::snprintf(value, sizeof value, "%.6g", row.value);
-            listed += (listed.empty() ? "" : ", ") + std::string(value);
-        }
-    if (unconfirmed > 0)
+    const auto [count, values] = first_values(r, [](const gapchain::BifurcationRow& row) {
+        return row.period > 0 && !row.newton_confirmed;
+    });
+    if (count > 0)
         std::printf("%d periodic row(s) not confirmed by Newton (window F_m, finer-run bar): %s = "
-                    "%s%s\n",
-                    unconfirmed, param.c_str(), listed.c_str(), unconfirmed > 5 ? ", ..." : "");
+                    "%s\n",
+                    count, param.c_str(), values.c_str());
+}
+
+// The confirmed rows whose finer window settled elsewhere (the first few): their start lies near
+// a basin boundary, and the row's attractor is the scheme's pick.
+void print_ended_elsewhere(const gapchain::BifurcationResult& r, const std::string& param) {
+    const auto [count, values] =
+        first_values(r, [](const gapchain::BifurcationRow& row) { return row.ended_elsewhere; });
+    if (count > 0)
+        std::printf("%d row(s) whose run on a finer plan settled elsewhere (a start near a basin "
+                    "boundary: the scheme's error picks the attractor; F_m_error covers both): %s "
+                    "= %s\n",
+                    count, param.c_str(), values.c_str());
 }
 
 void print_summary(const gapchain::BifurcationResult& r, const gapchain::BifurcationOptions& o,
@@ -68,6 +94,7 @@ void print_summary(const gapchain::BifurcationResult& r, const gapchain::Bifurca
                     "by Newton)\n",
                     periodic, r.rows.size(), confirmed);
     print_unconfirmed(r, o, param);
+    print_ended_elsewhere(r, param);
     std::printf("wrote %s/points.csv, summary.csv, bifurcation.json%s  (%.2f s on %d thread(s))\n",
                 out.c_str(), plotted ? ", bifurcation.png" : "", r.wall_time_s, r.threads_used);
 }

@@ -60,12 +60,13 @@ Returns a dict of columns, one row per value and direction: value, direction ("u
 F_m (over the orbit Newton confirmed, else over the recorded periods), F_m_error (the recorded
 halves' spread of F_m, at least tolerance * F_m; on a confirmed orbit at least the recorded
 maximum's difference from it; on a row that is not periodic, and on a periodic row Newton did
-not confirm with confirm=True, at
+not confirm with confirm=True, and on a confirmed one that window did not reach (ended_elsewhere), at
 least twice its difference from the same window on a finer plan), period (0: not periodic; the orbit's minimal period where
 confirmed), points (section points recorded; the orbit's where points_from_orbit), status, newton_confirmed, max_multiplier (the
 confirmed orbit's largest |Floquet multiplier|, NaN unless confirmed), points_from_orbit (the
 row's section points are one cycle of the confirmed orbit, whose minimal period was shorter
-than the window's); and "section": a dict
+than the window's), ended_elsewhere (the same window on a finer plan did not reach the confirmed
+orbit: a start near a basin boundary, F_m_error covering twice the difference); and "section": a dict
 of columns value, direction, t (reduced time), point (the variable) of every section point;
 wall_time_s, threads_used, cancelled (an interrupted call, by KeyboardInterrupt or an exception progress raises, sets what it had done, cancelled true, as the exception's partial).)";
 
@@ -224,6 +225,7 @@ py::dict bifurcation_dict(const BifurcationResult& all) {
     d["newton_confirmed"] = column<bool>(r.rows, [](const Row& w) { return w.newton_confirmed; });
     d["max_multiplier"] = column<double>(r.rows, [](const Row& w) { return w.max_multiplier; });
     d["points_from_orbit"] = column<bool>(r.rows, [](const Row& w) { return w.points_from_orbit; });
+    d["ended_elsewhere"] = column<bool>(r.rows, [](const Row& w) { return w.ended_elsewhere; });
     d["section"] = section_points_dict(r);
     d["wall_time_s"] = r.wall_time_s;
     d["threads_used"] = r.threads_used;

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 #include <stdexcept>
 
 namespace gapchain {
@@ -108,30 +109,55 @@ void confirm_row_orbit(const Dynamics& dyn, const std::vector<double>& end_state
     row.F_m = found->F_m;
 }
 
-/// A periodic row Newton did not confirm, and a row that is not periodic, keeps its window's
-/// F_m; its bar covers twice the difference from the same window run from the same start on a
-/// finer plan (twice the steps of
-/// a fixed-step scheme, a hundredth of an adaptive scheme's tolerance and half its output
-/// interval): rk4's period-5 cell at
-/// f_r = 2.1253 on Fig 13's row read 1.140344 +- 1.1e-4, where the exact scheme never settles
-/// and reads 1.142547. A cancelled comparison cancels the row; one beyond max_work on its own
-/// (a single row of more than half of it) is not run, rather than fail the diagram after its
-/// runs.
-void bound_by_finer_run(const Dynamics& dyn, const RunOptions& options, const StepPlan& plan,
-                        const std::vector<double>& start, const ProgressCallback& keep_going,
-                        BifurcationRow& row) {
+/// The maximum over the row's window run from the same start on a finer plan (twice the steps
+/// of a fixed-step scheme, a hundredth of an adaptive scheme's tolerance and half its output
+/// interval); nothing where that run alone exceeds max_work (a single row of more than half of
+/// it is not run, rather than fail the diagram after its runs) or did not complete. A
+/// cancelled comparison cancels the row.
+std::optional<double> finer_window_maximum(const Dynamics& dyn, const RunOptions& options,
+                                           const StepPlan& plan, const std::vector<double>& start,
+                                           const ProgressCallback& keep_going,
+                                           BifurcationRow& row) {
     const StepPlan finer = finer_plan(dyn, plan, 100.0);
-    if (run_work(dyn, finer, static_cast<double>(options.periods)) > options.max_work) return;
+    if (run_work(dyn, finer, static_cast<double>(options.periods)) > options.max_work)
+        return std::nullopt;
     PlannedRun comparison(dyn, options, finer, start);
     MaxForceTracker forces(dyn);
     Observer* observers[] = {&forces};
     const RunStatus status = comparison.run(observers, keep_going).status;
-    if (status == RunStatus::cancelled) {
-        row.status = status;
-        return;
-    }
-    if (status == RunStatus::completed)
-        row.F_m_error = std::max(row.F_m_error, 2.0 * std::abs(row.F_m - forces.max_force()));
+    if (status == RunStatus::cancelled) row.status = status;
+    if (status != RunStatus::completed) return std::nullopt;
+    return forces.max_force();
+}
+
+/// A periodic row Newton did not confirm, and a row that is not periodic, keeps its window's
+/// F_m; its bar covers twice the difference from the finer window: rk4's period-5 cell at
+/// f_r = 2.1253 on Fig 13's row read 1.140344 +- 1.1e-4, where the exact scheme never settles
+/// and reads 1.142547.
+void bound_by_finer_run(const Dynamics& dyn, const RunOptions& options, const StepPlan& plan,
+                        const std::vector<double>& start, const ProgressCallback& keep_going,
+                        BifurcationRow& row) {
+    if (const auto finer = finer_window_maximum(dyn, options, plan, start, keep_going, row))
+        row.F_m_error = std::max(row.F_m_error, 2.0 * std::abs(row.F_m - *finer));
+}
+
+/// A confirmed orbit is the exact dynamics' own, but whether the start reaches it can hang on
+/// the scheme's error where the start lies near a basin boundary (a researcher's probe,
+/// helper-81: Nm 3, fc 100, eps 0.2, e_r 0.1 from rest, rk4 at 1e-4 read
+/// 1.69577 +- 1.7e-4 at f_r = 3.45 and 0 +- 0 at 3.49, where the exact scheme and an
+/// independent integrator read 0 and 1.74245). The finer window tells: far from the orbit's F_m
+/// (beyond ten times the bar and 1e-3 of the larger), it settled elsewhere, and the bar covers
+/// twice the difference. Near it, the bar stands: the finer window's own truncation error is no
+/// error of the orbit's F_m.
+void check_finer_run_reaches_orbit(const Dynamics& dyn, const RunOptions& options,
+                                   const StepPlan& plan, const std::vector<double>& start,
+                                   const ProgressCallback& keep_going, BifurcationRow& row) {
+    const auto finer = finer_window_maximum(dyn, options, plan, start, keep_going, row);
+    if (!finer) return;
+    const double difference = std::abs(row.F_m - *finer);
+    if (difference <= std::max(10.0 * row.F_m_error, 1e-3 * std::max(row.F_m, *finer))) return;
+    row.ended_elsewhere = true;
+    row.F_m_error = std::max(row.F_m_error, 2.0 * difference);
 }
 
 /// One value: run transient + record periods from y (empty: rest; updated to the end state);
@@ -173,7 +199,9 @@ BifurcationRow diagram_row(const ReducedParameters& p, const BifurcationOptions&
     row.F_m_error = forces.window_error(o.tolerance, row.period > 0);
     if (o.confirm_by_newton && row.period > 0 && row.status == RunStatus::completed) {
         confirm_row_orbit(dyn, y, outcome.t_end, o, section, row);
-        if (!row.newton_confirmed)
+        if (row.newton_confirmed)
+            check_finer_run_reaches_orbit(dyn, options, planned.plan(), start, keep_going, row);
+        else
             bound_by_finer_run(dyn, options, planned.plan(), start, keep_going, row);
     }
     // A row that is not periodic has no orbit to confirm: its window's maximum is a sample

@@ -316,7 +316,7 @@ std::string summary_csv(const BifurcationResult& result) {
     std::ostringstream os;
     os.precision(12);
     os << "value,direction,F_m,F_m_error,period,points,status,newton_confirmed,max_multiplier,"
-          "points_from_orbit\n";
+          "points_from_orbit,ended_elsewhere\n";
     for (const auto& row : result.rows) {
         // A cancelled diagram's rows that did not run are left out (bifurcation.json: cancelled).
         if (row.status == RunStatus::cancelled) continue;
@@ -325,7 +325,8 @@ std::string summary_csv(const BifurcationResult& result) {
            << (row.newton_confirmed ? 1 : 0) << ',';
         // Not confirmed: an empty field, never "nan".
         write_if_finite(os, row.max_multiplier);
-        os << ',' << (row.points_from_orbit ? 1 : 0) << '\n';
+        os << ',' << (row.points_from_orbit ? 1 : 0) << ',' << (row.ended_elsewhere ? 1 : 0)
+           << '\n';
     }
     return os.str();
 }
@@ -343,15 +344,19 @@ json bifurcation_columns(const BifurcationOptions& o) {
          {"F_m_error", "|max over the first half - max over the second half of the recorded "
                        "periods| (sampling spread), at least tolerance * F_m; on a confirmed "
                        "orbit at least |recorded maximum - orbit's|; on a periodic row left "
-                       "unconfirmed at least twice its difference from the window on a finer "
-                       "plan"},
+                       "unconfirmed, or a confirmed one the window on a finer plan did not "
+                       "reach, at least twice its difference from that window"},
          {"newton_confirmed", "1: Newton on the exact scheme converged on the "
                               "row's periodic orbit"},
          {"max_multiplier", "largest |Floquet multiplier| of the confirmed orbit; "
                             "empty unless confirmed"},
          {"points_from_orbit",
           "1: the row's points in points.csv are one cycle of the confirmed orbit "
-          "(exact scheme), whose minimal period was shorter than the window's"}});
+          "(exact scheme), whose minimal period was shorter than the window's"},
+         {"ended_elsewhere",
+          "1: the same window on a finer plan did not reach the confirmed orbit (its maximum is "
+          "more than ten bars away): the start lies near a basin boundary, and F_m_error covers "
+          "twice the difference"}});
 }
 } // namespace
 
@@ -386,6 +391,9 @@ std::string to_json(const BifurcationResult& r, const BifurcationOptions& o,
     j["points_from_orbit_rows"] =
         std::count_if(r.rows.begin(), r.rows.end(),
                       [](const BifurcationRow& row) { return row.points_from_orbit; });
+    j["ended_elsewhere_rows"] =
+        std::count_if(r.rows.begin(), r.rows.end(),
+                      [](const BifurcationRow& row) { return row.ended_elsewhere; });
     j["from"] = o.from;
     j["to"] = o.to;
     j["steps"] = o.steps;

@@ -86,12 +86,21 @@ struct BifurcationRow {
     /// a start-up still in the window); on a row that is not periodic, and on a periodic row
     /// Newton did not confirm (with confirm_by_newton), also at least twice its difference from
     /// the same window on a finer plan (twice the steps, or a hundredth of an adaptive scheme's
-    /// tolerance and half its output interval; skipped where that run alone exceeds max_work).
+    /// tolerance and half its output interval; skipped where that run alone exceeds max_work),
+    /// and on a confirmed orbit that finer window did not reach (ended_elsewhere) too.
     double F_m_error = 0.0;
     /// Period in forcing periods (0: not periodic): the orbit's minimal period where Newton
     /// confirmed it, else the section's (SectionRepeats).
     int period = 0;
     bool newton_confirmed = false; ///< Newton converged on the row's periodic orbit
+    /// A confirmed orbit that the same window on a finer plan (as F_m_error's) does not reach:
+    /// that window's maximum differs from the orbit's F_m by more than ten times F_m_error and
+    /// 1e-3 of the larger. The start lies so near a basin boundary that the scheme's own error
+    /// picks the attractor (Nm 3, fc 100, eps 0.2, e_r 0.1, f_r = 3.45 from rest: rk4 settles on
+    /// an impacting orbit of F_m 1.696, the exact scheme on the contact-free one); F_m_error
+    /// then covers twice the difference. False where no finer run ran (not confirmed, or that
+    /// run alone beyond max_work).
+    bool ended_elsewhere = false;
     /// Largest Floquet multiplier modulus of the confirmed orbit (its minimal-period map);
     /// NaN unless newton_confirmed.
     double max_multiplier = std::numeric_limits<double>::quiet_NaN();

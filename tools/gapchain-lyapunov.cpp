@@ -34,6 +34,13 @@ void print_exponents(const Scene& scene, const LyapunovResult& r, int k) {
         std::printf("  the block rates drift (the run has not reached its attractor, or nears it "
                     "slowly): an exponent whose rates drift has that drift as its error; raise "
                     "run.transient_periods\n");
+    // A researcher's probe (helper-81): Nm 3, fc 100, eps 0.2, e_r 0.1 at f_r = 1.5 read
+    // lambda_1 = +1.49 with no word that gapchain-attractors finds one attractor there, a
+    // period-3 orbit, and the chaos a transient.
+    if (k > 0 && r.exponents[0] > 0.0)
+        std::printf("  note: a positive lambda_1 is also what a chaotic transient gives until it "
+                    "ends; other starts and longer runs were not tried (gapchain-attractors, or "
+                    "gapchain-classify --attractors N, tells a transient from an attractor)\n");
     std::printf("  sum = %.10f", r.sum);
     if (!std::isnan(r.expected_sum))
         std::printf(scene.uniform() ? "  (exact: -4 pi eps Nm = %.10f)"

@@ -79,6 +79,11 @@ TEST_CASE("bad studies name the key") {
     // silently dropped for the grid.
     CHECK_THROWS_WITH_AS(parse_study(R"({"parameters": {"fc": [1]}, "sample": {"method": 5}})"),
                          doctest::Contains("sample.method: must be grid, random or"), SceneError);
+    // A misspelled sampling named neither the methods nor what was given (helper-82).
+    CHECK_THROWS_WITH_AS(parse_study(R"({"parameters": {"fc": [1]}, "sample": "gird"})"),
+                         doctest::Contains(R"("random" or "latin_hypercube", "samples": N, )"
+                                           R"("seed": S}, got "gird")"),
+                         SceneError);
     CHECK_THROWS_WITH_AS(
         parse_study(R"({"parameters": {"fc": [1]}, "sample": {"samples": 100, "seed": 3}})"),
         doctest::Contains("sample.samples: applies to random or latin_hypercube"), SceneError);

@@ -96,8 +96,9 @@ void read_sampling(const ojson& sample, Study& s) {
         return;
     }
     if (!sample.is_object())
-        throw SceneError(
-            "sample: must be \"grid\" or {\"method\": ..., \"samples\": N, \"seed\": S}");
+        throw SceneError("sample: must be \"grid\" or {\"method\": \"random\" or "
+                         "\"latin_hypercube\", \"samples\": N, \"seed\": S}, got " +
+                         detail::shown_json(sample));
     require_keys(sample, "sample.", {"method", "samples", "seed"}, "method, samples, seed");
     if (sample.contains("method") && !sample["method"].is_string())
         throw SceneError("sample.method: must be grid, random or latin_hypercube, got " +

@@ -42,7 +42,8 @@ PY
 # its bar covers the orbit (maximum_in_transient), and the design line says where F_m was taken.
 "$sim" "$scenes/fig13.json" --set run.transient_periods=0 --set 'initial.u=[0.5,0,0,0,0]' \
     --attractors 10 --out "$dir/overlap.json" >"$dir/stdout" 2>&1
-grep -q "this run's F_m, taken in its transient before the orbit (the largest attractor's: F_m = 0.3909" "$dir/stdout" ||
+grep -q "taken in its transient before the orbit (the largest attractor's: F_m = 0.3909" \
+    "$dir/stdout" ||
     { echo "FAIL overlap: no transient design line"; cat "$dir/stdout"; fail=1; }
 # Without --attractors, a run that does not settle says that nothing else was looked for.
 "$sim" "$scenes/fig13.json" --set excitation.f_r=3.2 --set run.periods=600 \

@@ -544,7 +544,52 @@ TEST_CASE("a level just beyond an extremum that the run crosses and its finer ru
     CHECK(a.compared == 0);
     CHECK(a.crossings_differ);
     CHECK(a.parted_at == 0);
-    CHECK(a.not_estimated.find("found 0 crossings") != std::string::npos);
+    CHECK(a.not_estimated.find("the finer run found no crossing where the run found") !=
+          std::string::npos);
+}
+
+TEST_CASE("a level just inside an extremum that the run misses and its finer run crosses") {
+    // The mirror of the case above (a reviewer's reread, helper-83): the finer run of a run
+    // without points stopped at its first period end, so that nothing was checked. rk4 at step
+    // 0.03 on Fig 13's row at f_r = 3.0 turns back above u1 = -0.108; u1's true minimum is
+    // -0.1099 (rk8pd at 1e-12 crosses the level once a period).
+    const Dynamics dyn = Dynamics::paper_row({5, 60, 0.5, 0.06, 3.0});
+    SectionSpec spec = u1_falling(5);
+    spec.level = -0.108;
+    RunOptions o = lasting(300, 200);
+    o.scheme = Scheme::rk4;
+    o.step = 0.03;
+    const std::vector<SectionPoint> main = section_of(dyn, o, spec);
+    RunOptions reference_options = lasting(300, 200);
+    reference_options.scheme = Scheme::rk8pd;
+    reference_options.tolerance = 1e-12;
+    REQUIRE(section_of(dyn, reference_options, spec).size() == 100);
+    REQUIRE(main.empty());
+    const SectionAccuracy a = section_accuracy(dyn, o, spec, {}, main);
+    CHECK(a.compared == 0);
+    CHECK(a.crossings_differ);
+    CHECK(a.parted_at == 0);
+    CHECK(a.not_estimated == "the run found no crossing where the finer run found some");
+}
+
+TEST_CASE("two chaotic records of a rare crossing, 40 and 24 points, are chaos, not crossings "
+          "found by one run") {
+    // A reviewer's reread (helper-83): the count rule (a finer run finding under three quarters
+    // of the run's points) read them as crossings one run missed, with no error at all. Two
+    // samples of a count differ by about its square root.
+    const Dynamics dyn = Dynamics::paper_row({5, 60, 0.5, 0.06, 3.3});
+    SectionSpec spec = u1_falling(5);
+    spec.trigger = SectionVariable::parse("g2", 5, "trigger");
+    spec.level = 0.0105;
+    RunOptions o = lasting(500, 100);
+    o.scheme = Scheme::rk4;
+    o.tolerance = 1e-4;
+    const std::vector<SectionPoint> main = section_of(dyn, o, spec);
+    const SectionAccuracy a = section_accuracy(dyn, o, spec, {}, main);
+    MESSAGE(main.size() << " crossings, the finer run's compared " << a.compared);
+    REQUIRE(a.compared < static_cast<long>(main.size()));
+    CHECK_FALSE(a.crossings_differ);
+    CHECK(a.parted_at >= 0);
 }
 
 TEST_CASE("a section's error estimate says why it is missing, and never refuses the run") {

@@ -37,7 +37,8 @@ void print_exponents(const Scene& scene, const LyapunovResult& r, int k) {
     // A researcher's probe (helper-81): Nm 3, fc 100, eps 0.2, e_r 0.1 at f_r = 1.5 read
     // lambda_1 = +1.49 with no word that gapchain-attractors finds one attractor there, a
     // period-3 orbit, and the chaos a transient.
-    if (k > 0 && r.exponents[0] > 0.0)
+    // Beyond its error where it has one: a torus's +1e-5 +- 1e-3 is no sign of chaos.
+    if (k > 0 && r.exponents[0] > (std::isfinite(r.errors[0]) ? r.errors[0] : 0.0))
         std::printf("  note: a positive lambda_1 is also what a chaotic transient gives until it "
                     "ends; other starts and longer runs were not tried (gapchain-attractors, or "
                     "gapchain-classify --attractors N, tells a transient from an attractor)\n");

@@ -121,7 +121,12 @@ void print_crossings_differ(const SectionAccuracy& a) {
 void print_point_error(const SectionSpec& spec, const SectionAccuracy& a) {
     if (!a.not_estimated.empty()) {
         std::printf("  point error not estimated: %s\n", a.not_estimated.c_str());
-        if (a.crossings_differ) print_crossings_differ(a);
+        if (a.crossings_differ && a.compared == 0)
+            std::printf("  one run crosses the level and the other never does: a level within a "
+                        "run's error of an extremum (not chaos); a smaller run.tolerance or "
+                        "run.step settles which\n");
+        else if (a.crossings_differ)
+            print_crossings_differ(a);
         return;
     }
     std::printf(

@@ -60,13 +60,14 @@ Returns a dict of columns, one row per value and direction: value, direction ("u
 F_m (over the orbit Newton confirmed, else over the recorded periods), F_m_error (the recorded
 halves' spread of F_m, at least tolerance * F_m; on a confirmed orbit at least the recorded
 maximum's difference from it; on a row that is not periodic, and on a periodic row Newton did
-not confirm with confirm=True, and on a confirmed one that window did not reach (ended_elsewhere), at
-least twice its difference from the same window on a finer plan), period (0: not periodic; the orbit's minimal period where
+not confirm with confirm=True, and on a confirmed one that window did not reach
+(ended_elsewhere), at least twice its difference from the same window on a finer plan), period (0: not periodic; the orbit's minimal period where
 confirmed), points (section points recorded; the orbit's where points_from_orbit), status, newton_confirmed, max_multiplier (the
 confirmed orbit's largest |Floquet multiplier|, NaN unless confirmed), points_from_orbit (the
 row's section points are one cycle of the confirmed orbit, whose minimal period was shorter
 than the window's), ended_elsewhere (the same window on a finer plan did not reach the confirmed
-orbit: a start near a basin boundary, F_m_error covering twice the difference); and "section": a dict
+orbit: a start near a basin boundary, F_m_error covering twice the difference); and "section":
+a dict
 of columns value, direction, t (reduced time), point (the variable) of every section point;
 wall_time_s, threads_used, cancelled (an interrupted call, by KeyboardInterrupt or an exception progress raises, sets what it had done, cancelled true, as the exception's partial).)";
 
@@ -92,12 +93,12 @@ section.json's: compared, error (per recorded name: twice the largest difference
 runs part; None for a stroboscopic section's t and an event's trigger), parted_at (the first compared point where the
 runs differ by more than 1e-3 of a variable's largest value and from which on they grow apart,
 a chaotic record: None if never; points that differ by a bounded amount, or of two runs that
-both repeat, widen the error instead; 0: a record that parted before it began, and the error then covers every compared
-point), crossings_differ (an event section whose runs found different
-crossings: times more than a quarter period apart, points that agree once shifted by one or two
-crossings, or crossing rates a quarter apart, or a finer run finding fewer than three quarters
-of the points; a shallow crossing, or a level within one run's error of an extremum, found by
-one run only, not chaos),
+both repeat, widen the error instead; 0: a record that parted before it began, and the error
+then covers every compared point), crossings_differ (an event section whose runs found
+different crossings: times more than a quarter period apart, points that agree once shifted by
+one or two crossings, crossing rates a quarter apart, or a finer run finding fewer points by a
+quarter and three square roots of their number, or one run none; a shallow crossing, or a
+level within one run's error of an extremum, found by one run only, not chaos),
 comparison, status, not_estimated (why not, or None)), status, message, scheme and step (the
 scheme the run took and its step in reduced time, an adaptive scheme's output interval),
 wall_time_s. An

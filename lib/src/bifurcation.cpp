@@ -274,6 +274,40 @@ void continued_rows(const ReducedParameters& base, const BifurcationOptions& o,
     }
 }
 
+/// run.max_work against the whole diagram, at the costlier end's steps.
+void require_diagram_affordable(const BifurcationOptions& o, const ReducedParameters& base) {
+    // The scheme must take both ends (exact's limit on the contacts' speed rises with fc): a
+    // line that crossed it was refused only where it got there, its output lost.
+    // run.max_work bounds the whole diagram, as it bounds an attractor search: each value's run
+    // alone was checked, and 1e5 values of 1e4 periods (a day of work) were accepted. A value's
+    // steps per period are largest at an end of the line (they fall with f_r, rise with fc).
+    // Each row also runs its window on a finer plan (a confirmed orbit's check, or an
+    // unconfirmed or non-periodic row's bar), counted with it.
+    const double periods = static_cast<double>(o.transient_periods + o.record_periods);
+    double per_value = 0.0;
+    int steps_per_period = 0, finer_steps_per_period = 0;
+    for (const double end : {o.from, o.to}) {
+        const Dynamics dyn = Dynamics::paper_row(with_value(base, o.parameter, end));
+        const StepPlan plan = plan_step(dyn, o.scheme, o.tolerance);
+        const StepPlan finer = finer_plan(dyn, plan, 100.0);
+        const double work = run_work(dyn, plan, periods) + run_work(dyn, finer, periods);
+        if (work > per_value) {
+            per_value = work;
+            steps_per_period = plan.steps_per_period;
+            finer_steps_per_period = finer.steps_per_period;
+        }
+    }
+    const long runs = o.steps * (o.mode == SweepMode::continuation ? 2L : 1L);
+    detail::require_work(static_cast<double>(runs) * per_value, o.max_work,
+                         "this diagram runs up to",
+                         detail::format_number(static_cast<double>(runs)) + " runs x Nm " +
+                             std::to_string(base.Nm) + " x (" + std::to_string(steps_per_period) +
+                             " + " + std::to_string(finer_steps_per_period) +
+                             " on the finer plan) steps per forcing period x " +
+                             detail::format_number(periods) + " periods",
+                         "fewer values, fewer periods, or raise run.max_work");
+}
+
 } // namespace
 
 void validate(const BifurcationOptions& o, const ReducedParameters& base) {
@@ -307,30 +341,7 @@ void validate(const BifurcationOptions& o, const ReducedParameters& base) {
     if (const auto error = swept_value_error(base, o.parameter, o.to))
         throw std::invalid_argument("to: " + *error);
     (void)initial_state(Dynamics::paper_row(with_value(base, o.parameter, o.from)), o.initial);
-    // The scheme must take both ends (exact's limit on the contacts' speed rises with fc): a
-    // line that crossed it was refused only where it got there, its output lost.
-    // run.max_work bounds the whole diagram, as it bounds an attractor search: each value's run
-    // alone was checked, and 1e5 values of 1e4 periods (a day of work) were accepted. A value's
-    // steps per period are largest at an end of the line (they fall with f_r, rise with fc).
-    const double periods = static_cast<double>(o.transient_periods + o.record_periods);
-    double per_value = 0.0;
-    int steps_per_period = 0;
-    for (const double end : {o.from, o.to}) {
-        const Dynamics dyn = Dynamics::paper_row(with_value(base, o.parameter, end));
-        const StepPlan plan = plan_step(dyn, o.scheme, o.tolerance);
-        const double work = run_work(dyn, plan, periods);
-        if (work > per_value) {
-            per_value = work;
-            steps_per_period = plan.steps_per_period;
-        }
-    }
-    const long runs = o.steps * (o.mode == SweepMode::continuation ? 2L : 1L);
-    detail::require_work(
-        static_cast<double>(runs) * per_value, o.max_work, "this diagram runs up to",
-        detail::format_number(static_cast<double>(runs)) + " runs x Nm " + std::to_string(base.Nm) +
-            " x " + std::to_string(steps_per_period) + " steps per forcing period x " +
-            detail::format_number(periods) + " periods",
-        "fewer values, fewer periods, or raise run.max_work");
+    require_diagram_affordable(o, base);
     validate(o.section, base.Nm);
 }
 

@@ -43,8 +43,8 @@ struct BifurcationOptions {
     SectionSpec section;                     ///< default: stroboscopic at phase 0, recording u_1
     Scheme scheme = Scheme::automatic;       ///< integration scheme
     double tolerance = 1e-4;                 ///< relative accuracy asked of each run
-    /// Body-steps the whole diagram may take (run.max_work): its runs, at the costlier end's
-    /// steps per period, refused up front above it.
+    /// Body-steps the whole diagram may take (run.max_work): its runs and their runs on the
+    /// finer plan, at the costlier end's steps per period, refused up front above it.
     double max_work = RunOptions{}.max_work;
     double period_tolerance = 1e-6; ///< relative tolerance telling section points apart
     int max_period = 16;            ///< largest period detected, >= 1
@@ -52,7 +52,8 @@ struct BifurcationOptions {
     /// (confirm_periodic_orbit()): its minimal period, multipliers and F_m replace the
     /// window's readings. Rows the exact scheme refuses, whose shooting exceeds max_work, or
     /// where Newton does not converge on a stable orbit near the run's state keep the window's,
-    /// and run the window again on a finer plan (BifurcationRow::F_m_error).
+    /// and run the window again on a finer plan (BifurcationRow::F_m_error); a confirmed row
+    /// runs it too, to check that it reaches the same orbit (BifurcationRow::ended_elsewhere).
     bool confirm_by_newton = true;
     int threads = 0; ///< OpenMP threads for independent mode (0: all)
     /// Start of every value (independent mode) or of the first (continuation mode): 2 Nm
@@ -96,10 +97,12 @@ struct BifurcationRow {
     /// A confirmed orbit that the same window on a finer plan (as F_m_error's) does not reach:
     /// that window's maximum differs from the orbit's F_m by more than ten times F_m_error and
     /// 1e-3 of the larger. The start lies so near a basin boundary that the scheme's own error
-    /// picks the attractor (Nm 3, fc 100, eps 0.2, e_r 0.1, f_r = 3.45 from rest: rk4 settles on
-    /// an impacting orbit of F_m 1.696, the exact scheme on the contact-free one); F_m_error
-    /// then covers twice the difference. False where no finer run ran (not confirmed, or that
-    /// run alone beyond max_work).
+    /// picks the attractor (Nm 3, fc 100, eps 0.2, e_r 0.1 from rest, on the line 3.40-3.50 in
+    /// 11 values: rk4 settles contact-free at 3.49, where the exact scheme reaches an impacting
+    /// orbit of F_m 1.742); F_m_error then covers twice the difference. One finer run catches
+    /// a start the two plans send different ways only: at 3.45 both reach the impacting orbit
+    /// where the exact scheme settles contact-free. False where no finer run ran (not confirmed, or
+    /// that run alone beyond max_work).
     bool ended_elsewhere = false;
     /// Largest Floquet multiplier modulus of the confirmed orbit (its minimal-period map);
     /// NaN unless newton_confirmed.

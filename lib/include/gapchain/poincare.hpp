@@ -185,11 +185,11 @@ struct SectionAccuracy {
     /// An event section whose runs found different crossings, not a chaotic parting: where they
     /// part, their crossing times differ by more than a quarter of the forcing period, or the
     /// points agree once one run's are shifted by one or two crossings, or the runs find
-    /// crossings at rates a quarter apart (the finer run finding fewer than three quarters of the
-    /// run's points over the whole record counts: none at all leaves nothing compared, parted_at
-    /// 0). One run found a crossing the other did not (a dip shallower than one run's error, or
-    /// a level within it of an extremum); a smaller run.tolerance or run.step settles which, and
-    /// the points beyond are paired wrongly.
+    /// crossings at rates a quarter apart (the finer run finding fewer of the run's points over
+    /// the whole record by more than a quarter and three square roots of their number counts;
+    /// one run finding none leaves nothing compared, parted_at 0). One run found a crossing the
+    /// other did not (a dip shallower than one run's error, or a level within it of an extremum); a
+    /// smaller run.tolerance or run.step settles which, and the points beyond are paired wrongly.
     bool crossings_differ = false;
     /// The finer plan: "half the step", "tolerance X, half the output interval" (adaptive
     /// schemes: a tenth of the run's), or "rk8pd at tolerance 1e-12" (the exact scheme).

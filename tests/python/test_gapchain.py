@@ -113,6 +113,13 @@ def test_result_arrays_have_their_shapes_and_dtypes():
     assert spurious["period"].tolist() == [2] and spurious["points"].tolist() == [2]
     assert len(spurious["section"]["point"]) == 2
     assert b["points_from_orbit"].tolist() == [False, False]
+    # A start near a basin boundary (docs/bifurcation.md): on this line rk4 from rest settles
+    # contact-free at the tenth value, 3.49, where its finer run reaches the impacting orbit.
+    edge = gapchain.bifurcation(Nm=3, fc=100, eps=0.2, e_r=0.1, from_=3.40, to=3.50, steps=11,
+                                **{"run.scheme": "rk4"})
+    assert edge["ended_elsewhere"].tolist() == [k == 9 for k in range(11)]
+    assert edge["F_m"][9] == 0.0 and edge["F_m_error"][9] > 1.7
+    assert b["ended_elsewhere"].tolist() == [False, False]
 
 
 def test_modes_match_the_paper_approximation_formula():

@@ -523,28 +523,50 @@ TEST_CASE("a periodic run that settles far from its finer run is no chaotic reco
     CHECK_FALSE(a.crossings_differ);
 }
 
+namespace {
+
+// A downward u1 section at `level` on Fig 13's periodic row at f_r = 3.0 (300 periods, 200
+// discarded) by rk4 under `run`'s tolerance or step, its estimate, and how many crossings rk8pd
+// at 1e-12 finds: one run crossing a level near an extremum that the other never crosses.
+struct LevelNearExtremum {
+    std::vector<SectionPoint> main;
+    std::size_t reference_count = 0;
+    SectionAccuracy accuracy;
+};
+
+LevelNearExtremum level_near_extremum(double level, RunOptions run) {
+    const Dynamics dyn = Dynamics::paper_row({5, 60, 0.5, 0.06, 3.0});
+    SectionSpec spec = u1_falling(5);
+    spec.level = level;
+    run.periods = 300;
+    run.transient_periods = 200;
+    run.scheme = Scheme::rk4;
+    LevelNearExtremum l;
+    l.main = section_of(dyn, run, spec);
+    RunOptions reference_options = lasting(300, 200);
+    reference_options.scheme = Scheme::rk8pd;
+    reference_options.tolerance = 1e-12;
+    l.reference_count = section_of(dyn, reference_options, spec).size();
+    l.accuracy = section_accuracy(dyn, run, spec, {}, l.main);
+    CHECK(l.accuracy.compared == 0);
+    CHECK(l.accuracy.crossings_differ);
+    CHECK(l.accuracy.parted_at == 0);
+    return l;
+}
+
+} // namespace
+
 TEST_CASE("a level just beyond an extremum that the run crosses and its finer run does not") {
     // A hostile probe (helper-82): u1 = 0.05939 lies 1.7e-6 above u1's largest value on Fig
     // 13's periodic row at f_r = 3.0 (rk8pd at 1e-12 finds no crossing); rk4 at 1e-4 overshoots
     // it and found 100, its finer run none, and the section read as an ordinary one with "no
     // point to compare".
-    const Dynamics dyn = Dynamics::paper_row({5, 60, 0.5, 0.06, 3.0});
-    SectionSpec spec = u1_falling(5);
-    spec.level = 0.05939;
-    RunOptions o = lasting(300, 200);
-    o.scheme = Scheme::rk4;
+    RunOptions o;
     o.tolerance = 1e-4;
-    const std::vector<SectionPoint> main = section_of(dyn, o, spec);
-    RunOptions reference_options = o;
-    reference_options.scheme = Scheme::rk8pd;
-    reference_options.tolerance = 1e-12;
-    REQUIRE(section_of(dyn, reference_options, spec).empty());
-    REQUIRE_FALSE(main.empty());
-    const SectionAccuracy a = section_accuracy(dyn, o, spec, {}, main);
-    CHECK(a.compared == 0);
-    CHECK(a.crossings_differ);
-    CHECK(a.parted_at == 0);
-    CHECK(a.not_estimated.find("the finer run found no crossing where the run found") !=
+    const LevelNearExtremum l = level_near_extremum(0.05939, o);
+    CHECK(l.reference_count == 0);
+    CHECK_FALSE(l.main.empty());
+    CHECK(l.accuracy.not_estimated.find("the finer run found no crossing where the run found") !=
           std::string::npos);
 }
 
@@ -553,23 +575,12 @@ TEST_CASE("a level just inside an extremum that the run misses and its finer run
     // without points stopped at its first period end, so that nothing was checked. rk4 at step
     // 0.03 on Fig 13's row at f_r = 3.0 turns back above u1 = -0.108; u1's true minimum is
     // -0.1099 (rk8pd at 1e-12 crosses the level once a period).
-    const Dynamics dyn = Dynamics::paper_row({5, 60, 0.5, 0.06, 3.0});
-    SectionSpec spec = u1_falling(5);
-    spec.level = -0.108;
-    RunOptions o = lasting(300, 200);
-    o.scheme = Scheme::rk4;
+    RunOptions o;
     o.step = 0.03;
-    const std::vector<SectionPoint> main = section_of(dyn, o, spec);
-    RunOptions reference_options = lasting(300, 200);
-    reference_options.scheme = Scheme::rk8pd;
-    reference_options.tolerance = 1e-12;
-    REQUIRE(section_of(dyn, reference_options, spec).size() == 100);
-    REQUIRE(main.empty());
-    const SectionAccuracy a = section_accuracy(dyn, o, spec, {}, main);
-    CHECK(a.compared == 0);
-    CHECK(a.crossings_differ);
-    CHECK(a.parted_at == 0);
-    CHECK(a.not_estimated == "the run found no crossing where the finer run found some");
+    const LevelNearExtremum l = level_near_extremum(-0.108, o);
+    CHECK(l.reference_count == 100);
+    CHECK(l.main.empty());
+    CHECK(l.accuracy.not_estimated == "the run found no crossing where the finer run found some");
 }
 
 TEST_CASE("two chaotic records of a rare crossing, 40 and 24 points, are chaos, not crossings "

@@ -180,7 +180,8 @@ struct SectionAccuracy {
     /// repeat (each run's points come back within 1e-3 after some P <= 128 points), are no
     /// parting: they widen error. 0: a chaotic record that parted before it began; error then
     /// covers every compared point (the largest difference over all of them, twice). Also where
-    /// crossings_differ says so.
+    /// crossings_differ says so: compared itself where every compared point agrees but the
+    /// finer run found fewer crossings (those beyond pair wrongly).
     long parted_at = -1;
     /// An event section whose runs found different crossings, not a chaotic parting: where they
     /// part, their crossing times differ by more than a quarter of the forcing period, or the

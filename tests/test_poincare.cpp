@@ -444,6 +444,7 @@ TEST_CASE("a chaotic record's points part from the finer run's: only the set is 
     MESSAGE("parted at point " << a.parted_at << ", error before: u1 " << a.error[0]);
     CHECK(a.parted_at >= 1);
     CHECK(a.parted_at < 100);
+    CHECK_FALSE(a.finer_repeats);
     // Before they part the points are known; the estimate stays below the parting threshold.
     CHECK(std::isfinite(a.error[0]));
     CHECK(a.error[0] < 2e-3 * std::abs(main[0].values[0]) + 2e-3);
@@ -461,6 +462,7 @@ TEST_CASE("a chaotic record's points part from the finer run's: only the set is 
     const std::vector<SectionPoint> record = section_of(dyn, o, spec);
     const SectionAccuracy late = section_accuracy(dyn, o, spec, {}, record);
     CHECK(late.parted_at == 0);
+    CHECK_FALSE(late.finer_repeats);
     CHECK(late.not_estimated.empty());
     double extent = 0.0;
     for (const SectionPoint& q : record)
@@ -581,6 +583,36 @@ TEST_CASE("a level just inside an extremum that the run misses and its finer run
     CHECK(l.reference_count == 100);
     CHECK(l.main.empty());
     CHECK(l.accuracy.not_estimated == "the run found no crossing where the finer run found some");
+}
+
+TEST_CASE("a run too coarse to follow a periodic orbit that its finer run follows says both "
+          "readings") {
+    // A hostile probe (helper-82): rk4 at step 0.03 on Fig 13's periodic row at f_r = 3.0, event
+    // u1 = -0.105 downward. The finer run's points repeat (the orbit), the run's do not (the
+    // scheme's own spurious motion), and the section read "a chaotic record that parted before
+    // it began". From the runs alone this cannot be told from a run that reached another,
+    // chaotic attractor, so the result says which run repeats and lets a smaller step decide.
+    const Dynamics dyn = Dynamics::paper_row({5, 60, 0.5, 0.06, 3.0});
+    SectionSpec spec = u1_falling(5);
+    spec.level = -0.105;
+    RunOptions o = lasting(300, 200);
+    o.scheme = Scheme::rk4;
+    o.step = 0.03;
+    const std::vector<SectionPoint> main = section_of(dyn, o, spec);
+    const SectionAccuracy a = section_accuracy(dyn, o, spec, {}, main);
+    CHECK(a.parted_at >= 0);
+    CHECK_FALSE(a.crossings_differ);
+    CHECK(a.finer_repeats);
+    // The reference is periodic, one crossing a period, and the estimate covers the run's
+    // distance from it (twice the runs' difference: v1 0.41 against 0.20).
+    RunOptions reference_options = lasting(300, 200);
+    reference_options.scheme = Scheme::rk8pd;
+    reference_options.tolerance = 1e-12;
+    const std::vector<SectionPoint> reference = section_of(dyn, reference_options, spec);
+    REQUIRE(reference.size() == main.size());
+    CHECK(largest_gap(reference, {reference.begin() + 1, reference.end()}, 1) <
+          1e-6 * std::abs(reference.front().values[1]));
+    check_covers(a, main, reference, 1, 10.0);
 }
 
 TEST_CASE("two chaotic records of a rare crossing, 40 and 24 points, are chaos, not crossings "

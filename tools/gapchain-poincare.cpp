@@ -140,13 +140,20 @@ void print_point_error(const SectionSpec& spec, const SectionAccuracy& a) {
         }
     std::printf("%s\n",
                 any ? "" : " none recorded (a stroboscopic t and an event's trigger carry none)");
-    if (a.parted_at == 0 && !a.crossings_differ)
+    if (a.finer_repeats)
+        std::printf("  the runs part at point %ld of %ld compared, and only the finer run's points "
+                    "repeat (a periodic orbit): this run's step is too coarse to follow that "
+                    "orbit, or it reached another, chaotic attractor; a smaller run.step or "
+                    "run.tolerance settles which%s\n",
+                    a.parted_at, a.compared,
+                    a.parted_at == 0 ? "; the error covers every point" : "");
+    else if (a.parted_at == 0 && !a.crossings_differ)
         std::printf("  the runs differ from the first point on and grow apart: a chaotic record "
                     "that parted before it began; the error covers every point, the "
                     "attractor's extent\n");
     if (a.crossings_differ)
         print_crossings_differ(a);
-    else if (a.parted_at > 0)
+    else if (a.parted_at > 0 && !a.finer_repeats)
         std::printf(
             "  the runs part at point %ld of %ld compared (a chaotic record): beyond it the "
             "points sample the attractor, not this start's trajectory\n",

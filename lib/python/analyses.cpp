@@ -99,7 +99,8 @@ different crossings: times more than a quarter period apart, points that agree o
 one or two crossings, crossing rates a quarter apart, or a finer run finding fewer points by a
 quarter and three square roots of their number, or one run none; a shallow crossing, or a
 level within one run's error of an extremum, found by one run only, not chaos),
-comparison, status, not_estimated (why not, or None)), status, message, scheme and step (the
+finer_repeats (runs that part where only the finer run's points repeat: the run too coarse to
+follow the finer run's periodic orbit, or on another, chaotic attractor), comparison, status, not_estimated (why not, or None)), status, message, scheme and step (the
 scheme the run took and its step in reduced time, an adaptive scheme's output interval),
 wall_time_s. An
 interrupted call keeps the points so far on the exception as `partial`.)";

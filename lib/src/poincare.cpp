@@ -537,6 +537,10 @@ void set_parting(const SectionPairing& p, SectionAccuracy& a) {
         if (!shifted && !chaos && !off_time) continue;
         a.parted_at = k;
         a.crossings_differ = shifted || (off_time && !chaos);
+        // Only the finer run repeating is no proof of chaos: the run may be too coarse to
+        // follow the finer run's orbit (helper-82's case, rk4 at step 0.03), so the result
+        // says both readings.
+        a.finer_repeats = !a.crossings_differ && p.recurrent(p.points, k);
         return;
     }
 }

@@ -542,6 +542,7 @@ std::string to_json(const SectionSpec& spec, long points, const SectionAccuracy*
             {"error", error},
             {"parted_at", accuracy->parted_at < 0 ? json(nullptr) : json(accuracy->parted_at)},
             {"crossings_differ", accuracy->crossings_differ},
+            {"finer_repeats", accuracy->finer_repeats},
             {"comparison", accuracy->comparison},
             {"status", to_string(accuracy->status)},
             {"not_estimated",

@@ -192,6 +192,13 @@ struct SectionAccuracy {
     /// other did not (a dip shallower than one run's error, or a level within it of an extremum); a
     /// smaller run.tolerance or run.step settles which, and the points beyond are paired wrongly.
     bool crossings_differ = false;
+    /// Runs that part (parted_at >= 0, not crossings_differ) where only the finer run's points
+    /// repeat (some P <= 128 brings twenty of them back within 1e-3): the finer run is on a
+    /// periodic orbit that this run does not follow. Either the run's step is too coarse to
+    /// follow that orbit (rk4 at step 0.03 on Fig 13's periodic row at f_r = 3.0, event u1 =
+    /// -0.105), or the run reached another, chaotic attractor; a smaller run.step or
+    /// run.tolerance settles which. error covers the difference either way.
+    bool finer_repeats = false;
     /// The finer plan: "half the step", "tolerance X, half the output interval" (adaptive
     /// schemes: a tenth of the run's), or "rk8pd at tolerance 1e-12" (the exact scheme).
     std::string comparison;

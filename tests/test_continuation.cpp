@@ -643,6 +643,42 @@ TEST_CASE(
     CHECK(listed == 1);
 }
 
+TEST_CASE("a turn that no orbit goes on past is a fold, and a turn at a pitchfork a branch "
+          "point, whatever the multipliers outside the unit circle") {
+    // An independent review (helper-84: SciPy DOP853 shooting with the switches located, written
+    // from MODEL.md) on one body, fc 100, eps 0.2, e_r 0.05, walked down from f_r = 3:
+    // - at 2.62439229 two asymmetric orbits merge (Newton finds both above, none below): a
+    //   fold. A multiplier crosses -1 in the same step (the doubling at 2.62490), so the count
+    //   outside the unit circle stayed 1 and the turn was listed as a branch point;
+    // - at about 1.477925 the symmetric family, monotone in f_r, has a multiplier through +1:
+    //   a pitchfork. The walk came down the branch born there and turned off onto the
+    //   symmetric family, and the turn was listed as a fold beside the branch point.
+    const ReducedParameters row{1, 100, 0.2, 0.05, 0.5};
+    ContinuationOptions o;
+    o.from = 3.0;
+    o.to = 1.45;
+    const ContinuationResult r = continue_orbits(row, o);
+    int folds = 0, branch_points = 0;
+    for (const auto& s : r.special) {
+        CAPTURE(s.value);
+        CAPTURE(s.value_error);
+        if (std::abs(s.value - 2.62439229) < 1e-4) {
+            CHECK(s.type != SpecialPointType::branch_point);
+            if (s.type != SpecialPointType::fold) continue;
+            ++folds;
+            CHECK(std::abs(s.value - 2.62439229) <= s.value_error + 1e-7);
+        }
+        if (std::abs(s.value - 1.477925) < 1e-4) {
+            CHECK(s.type != SpecialPointType::fold);
+            if (s.type != SpecialPointType::branch_point) continue;
+            ++branch_points;
+            CHECK(std::abs(s.value - 1.477925) <= s.value_error + 2e-6);
+        }
+    }
+    CHECK(folds == 1);
+    CHECK(branch_points == 1);
+}
+
 TEST_CASE("a restart beyond a branch's end traces the skipped stretch back") {
     // From 2.7 the mirror pair's branch turns at the pitchfork (2.762) and the walk restarts a
     // step (0.01) beyond, at 2.772, on the symmetric orbit. Walking on from there only, the

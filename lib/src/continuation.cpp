@@ -217,14 +217,10 @@ int multipliers_below_minus_one(const OrbitPoint& a) {
         count += mu.real() < -1.0 && std::abs(mu.imag()) <= 1e-9 * std::abs(mu) ? 1 : 0;
     return count;
 }
-/// Multipliers outside the unit circle. A fold changes their number (a multiplier crosses +1
-/// as the branch turns; at a grazing corner, one or more jump across): every fold of Fig 13's
-/// line and of the e_r line does. A turn that keeps it is a branch point seen from a branch
-/// born there: on mirror-pair.json the stable mirror pair runs up to the symmetric orbit's
-/// pitchfork at 1.2161160 and back down as its mirror image, its multiplier touching +1 from
-/// below (0.9999961 at 1.21611577, an independent shooting code); it was listed as a fold.
-/// A multiplier within 1e-6 of the circle counts as on it: next to the pitchfork the pair's
-/// multiplier read 1 + 1e-7 at one end of a step and the turn was listed as a fold again.
+/// Multipliers outside the unit circle (within 1e-6 of it counts as on it). A turn that keeps
+/// their number is smooth where it lies on the branch born at a pitchfork, which turns into
+/// its own mirror image, its multiplier touching +1 from below; one that changes it there is
+/// the walk turning off that branch onto the symmetric orbit (exchange of stability).
 int outside_unit_circle(const OrbitPoint& a) {
     int count = 0;
     for (const auto& mu : a.multipliers)
@@ -713,6 +709,27 @@ private:
         return false;
     }
 
+    /// Whether the branch goes on past a turn located between a and b: Newton at a value just
+    /// beyond it (away from both ends, ten times its value_error) finds an orbit within the
+    /// step's chord of it. A fold has none there, its two sheets lying on the near side; a turn
+    /// at a branch point has one, the branch crossing there. The count of multipliers outside
+    /// the unit circle, which decided until 2026-11-29, does not tell them apart where another
+    /// multiplier crosses -1 in the same step, or where the walk turns off the branch born at
+    /// a pitchfork onto the symmetric family (exchange of stability): an independent review
+    /// (helper-84) on Nm 1, fc 100, eps 0.2, e_r 0.05 found a fold at f_r = 2.62439229 (two
+    /// asymmetric orbits above it, none below) listed as a branch point, and the pitchfork at
+    /// 1.47792 listed as a fold too.
+    bool goes_on_beyond(const OrbitPoint& a, const Located& turn, const OrbitPoint& b) {
+        const Eigen::Index n = m_tracer.dimension();
+        const double p = turn.at.z[n];
+        const double side = a.z[n] + b.z[n] > 2.0 * p ? -1.0 : 1.0;
+        Vector guess = turn.at.z;
+        guess[n] = p + side * 10.0 * std::max(turn.value_error, m_o.locate_tolerance);
+        if (!m_tracer.admissible(guess[n])) return false;
+        const std::optional<OrbitPoint> beyond = m_tracer.correct_at_value(guess);
+        return beyond && near(*beyond, guess, (b.z - a.z).norm());
+    }
+
     /// A loss of stability next to -1 that is not smooth (at a grazing corner the multiplier
     /// near -1 jumps across the unit circle and det(M + I) keeps its sign) can also give birth
     /// to doubled orbits: offered for branch switching as a period doubling is.
@@ -729,21 +746,33 @@ private:
         doublings.emplace_back(unstable, unstable.z[n] > still.z[n] ? 1.0 : -1.0);
     }
 
+    /// The turn between a and b, listed as a fold or, where the branch goes on past it
+    /// (goes_on_beyond()), a branch point.
+    void add_turn(const OrbitPoint& a, const OrbitPoint& b, double ds) {
+        Located turn = locate_fold(a, b, ds);
+        if (!m_tracer.damped(a) || !goes_on_beyond(a, turn, b))
+            return add(SpecialPointType::fold, turn);
+        // A smooth turn is placed by its parabola (vertex_gap()); a corner, where the walk
+        // turned off onto the symmetric orbit, by the bisection alone: the parabola through a
+        // corner is no measure of it (1.2e-3 at a pitchfork that the bisection places to 8e-7,
+        // helper-84's row at 1.47792).
+        if (outside_unit_circle(a) == outside_unit_circle(b))
+            turn.value_error = std::max(turn.value_error, vertex_gap(a, turn.at, b));
+        turn.F_m_spread = turn_force_error(a, turn, b);
+        add(SpecialPointType::branch_point, turn);
+    }
+
     void detect(const OrbitPoint& a, const OrbitPoint& b, double ds) {
         // A multiplier through +1 turns the branch back (a fold) or, where it goes on, meets
         // another branch (a pitchfork: the mirror symmetry of MODEL.md §5 makes them generic).
-        // A turn where none crosses is a pitchfork seen from the branch born there, which
-        // turns into its own mirror image (outside_unit_circle()).
-        if ((fold_test(a) > 0) != (fold_test(b) > 0)) {
-            Located turn = locate_fold(a, b, ds);
-            if (m_tracer.damped(a) && outside_unit_circle(a) == outside_unit_circle(b)) {
-                turn.value_error = std::max(turn.value_error, vertex_gap(a, turn.at, b));
-                turn.F_m_spread = turn_force_error(a, turn, b);
-                add(SpecialPointType::branch_point, turn);
-            } else {
-                add(SpecialPointType::fold, turn);
-            }
-        } else if ((branch_test(a) > 0) != (branch_test(b) > 0))
+        // A turn past which the branch goes on is a branch point (goes_on_beyond()): seen from
+        // the branch born at a pitchfork, which turns there into its own mirror image, its
+        // multiplier touching +1 (on mirror-pair.json, the stable pair up to the symmetric
+        // orbit's pitchfork at 1.2161160 and back down, 0.9999961 at 1.21611577, an
+        // independent shooting code), or where the walk turns off it onto the symmetric orbit.
+        if ((fold_test(a) > 0) != (fold_test(b) > 0))
+            add_turn(a, b, ds);
+        else if ((branch_test(a) > 0) != (branch_test(b) > 0))
             add(SpecialPointType::branch_point, locate(a, b, ds, branch_test));
         const auto ta = torus_test(a), tb = torus_test(b);
         const bool torus = ta && tb && (*ta > 0) != (*tb > 0);

@@ -18,14 +18,15 @@ namespace gapchain {
 /// Kinds of special points.
 enum class SpecialPointType {
     /// The branch turns back in the parameter, a multiplier crossing +1 (or, at a grazing
-    /// corner, multipliers jumping across the unit circle): their count outside it changes
+    /// corner, multipliers jumping across the unit circle): no orbit near the turn goes on
+    /// past it
     fold,
     period_doubling, ///< a multiplier -1
     neimark_sacker,  ///< a complex pair crosses the unit circle
     grazing,         ///< a contact's closings per orbit change
     /// A multiplier +1 where another branch meets this one: this branch goes on through it,
-    /// or (a branch born at a pitchfork of a mirror-symmetric orbit) turns there into its own
-    /// mirror image, the count of multipliers outside the unit circle unchanged
+    /// or turns there (a branch born at a pitchfork of a mirror-symmetric orbit, into its own
+    /// mirror image or onto the symmetric orbit): an orbit near the turn goes on past it
     branch_point,
 };
 

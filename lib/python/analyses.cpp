@@ -125,8 +125,10 @@ the segment is not whole periods; NaN with one segment), fraction_bin_share (the
 next to some m/n f_r: above 0.5 the segment holds too few periods for the broadband share),
 segment_periods, whole_periods (False: lines leak, the errors include it),
 peaks (dict of columns frequency, frequency_error (df / 2), power, power_error (the larger of
-its standard error over the Welch segments and 2 run.tolerance x power, plus how much the power
-moves when the rate is doubled; NaN with a single segment), numerator, denominator, label),
+its standard error over the Welch segments and 2 run.tolerance x power, plus its aliasing
+error: what folds onto it from above the Nyquist frequency or how much the power moves when the
+rate is doubled, the larger, and for a contact force also what folds onto it at twice the rate;
+NaN with a single segment), numerator, denominator, label),
 aliased_share (the share of the power between the Nyquist frequency and twice it, measured at
 twice the rate, [0, 1]; above 1e-3, raise samples_per_period), sampled_range_share (the
 samples' range over the variable's range at every step, [0, 1]; well below 1 the samples miss

@@ -55,8 +55,9 @@ Signal record_signal(const Dynamics& dyn, const RunOptions& options,
 /// it (one set of rules and limits for both).
 struct RowSpectrumOptions {
     std::string variable = "u1"; ///< a state variable: u1..uNm, v1..vNm, g0..gNm or F0..FNm
-    /// Samples per forcing period, 2 .. 100000. The run records twice as many, to measure the
-    /// aliasing (RowSpectrum::aliased_share); the spectrum is that of every other sample
+    /// Samples per forcing period, 2 .. 100000. The run records twice as many (four times for
+    /// a contact force F_j, whose kinks fold harmonics from far above), to measure the aliasing
+    /// (RowSpectrum::aliased_share); the spectrum is that of every other (every fourth) sample
     int samples_per_period = 32;
     /// Welch segment [samples], 16 .. 2^24 and at most those recorded; 0:
     /// whole_period_segment() (a shipped scene's 100 periods at 32 samples a period: 60
@@ -83,8 +84,9 @@ struct RowSpectrum {
     /// Peaks and broadband share (its error: the segments' spread, broadband_share_error(),
     /// plus aliased_share; NaN with a single segment); each peak's power_error is the larger of its
     /// standard error over the segments (band_power_errors()) and 2 run.tolerance x power, plus its
-    /// aliasing error (how much its power moves when the rate is doubled); NaN with a single
-    /// segment
+    /// aliasing error (what folds onto it from above the Nyquist frequency, or how much its
+    /// power moves when the rate is doubled, the larger; for a contact force plus what folds
+    /// onto it at twice the rate); NaN with a single segment
     SpectralContent content;
     /// Share of the variable's power between the Nyquist frequency (samples_per_period / 2
     /// forcing harmonics) and twice it, measured on the record taken at twice the rate, [0, 1]:

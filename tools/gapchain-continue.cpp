@@ -35,6 +35,7 @@ struct ContinueArguments {
 // The overlay must be what gapchain-bifurcation writes: gnuplot would draw anything else as
 // nothing, or as garbage, without a word.
 void check_overlay(const std::string& path) {
+    cli::refuse_control_characters(path, "--overlay");
     std::ifstream in(path);
     std::string line;
     const std::string expected = "value,direction,F_m,";
@@ -197,10 +198,8 @@ bool write_outputs(const ContinuationResult& r, const ContinueArguments& a,
     write_file_atomically(out_dir + "/branch.csv", branch_csv(r));
     write_file_atomically(out_dir + "/special.csv", special_csv(r));
     write_file_atomically(out_dir + "/continuation.json", to_json(r, a.options, scene));
-    // The path goes into a single-quoted gnuplot string, where a quote is written twice.
-    std::string overlay;
-    for (const char c : a.overlay.empty() ? "" : std::filesystem::absolute(a.overlay).string())
-        overlay += c == '\'' ? std::string("''") : std::string(1, c);
+    const std::string overlay =
+        a.overlay.empty() ? "" : std::filesystem::absolute(a.overlay).string();
     const std::string title = "Periodic orbits: " + cli::row_title(scene.reduced, a.param);
     return !a.no_plot &&
            cli::plot_template(out_dir, "branch",

@@ -72,8 +72,7 @@ void write_results(cli::Outputs& outputs, const LyapunovResult& r, const Scene& 
         };
         cli::plot_with_gnuplot(
             stem + "_convergence.gp",
-            cli::plot_script("lyapunov", {{"SCRIPT", name(stem + "_convergence.gp")},
-                                          {"PNG", name(stem + "_convergence.png")},
+            cli::plot_script("lyapunov", {{"PNG", name(stem + "_convergence.png")},
                                           {"CSV", name(stem + "_history.csv")},
                                           {"LAST", std::to_string(1 + std::min(k, 8))}}));
     }

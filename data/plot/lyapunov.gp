@@ -1,4 +1,4 @@
-# gapchain-lyapunov's figure. Regenerate: gnuplot @SCRIPT@ (in the output's folder).
+# gapchain-lyapunov's figure. Regenerate: run gnuplot on this script in the output's folder.
 set terminal pngcairo size 1000,650 font 'sans,11'
 set output '@PNG@'
 set datafile separator ','

@@ -167,8 +167,17 @@ void Outputs::check_distinct(const std::string& path, const std::string& flag) {
                                         other_flag + "; give each output its own path");
 }
 
+void refuse_control_characters(const std::string& path, const std::string& flag) {
+    for (const char c : path)
+        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
+            throw std::invalid_argument(flag + ": the path holds a control character (code " +
+                                        std::to_string(static_cast<int>(c)) +
+                                        "); give a path of printable characters");
+}
+
 void Outputs::file(const std::string& path, const std::string& flag) {
     if (path.empty()) return;
+    refuse_control_characters(path, flag);
     std::error_code ec;
     if (fs::is_directory(path, ec))
         throw std::invalid_argument(flag + ": " + path + " is a directory; give a file name");
@@ -199,6 +208,7 @@ void Outputs::required_file(const std::string& path, const std::string& flag) {
 void Outputs::folder(const std::string& path, const std::string& flag,
                      std::vector<std::string> owned) {
     if (path.empty()) throw std::invalid_argument(flag + ": must name a folder");
+    refuse_control_characters(path, flag);
     std::error_code ec;
     if (fs::exists(path, ec) && !fs::is_directory(path, ec))
         throw std::invalid_argument(flag + ": " + path + " exists and is not a folder");

@@ -56,6 +56,11 @@ inline constexpr std::string_view staging_prefix = ".gapchain-staging.";
 // A path, or a message naming paths, as the user knows them: staging folder components dropped.
 std::string shown_path(const std::string& text);
 
+// Throws std::invalid_argument naming flag where path holds a control character (a newline,
+// a tab, ...): such a path cannot be written into the gnuplot scripts the tools run, and is
+// refused before any work.
+void refuse_control_characters(const std::string& path, const std::string& flag);
+
 class Outputs {
 public:
     // inputs: the files the run reads (scene, study), never to be overwritten.

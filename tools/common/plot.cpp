@@ -26,10 +26,12 @@ namespace {
 
 // The PNG files a script writes: its "set output '...'" lines.
 std::vector<std::string> outputs_of(const std::string& script) {
-    static const std::regex output(R"(set output '([^']+)')");
+    // A quote inside the name is written twice (gnuplot_quoted()): "it's.json"'s figure was
+    // looked for as "it" and the run failed (helper-85).
+    static const std::regex output(R"(set output '((?:[^']|'')+)')");
     std::vector<std::string> files;
     for (std::sregex_iterator it(script.begin(), script.end(), output), end; it != end; ++it)
-        files.push_back((*it)[1].str());
+        files.push_back(std::regex_replace((*it)[1].str(), std::regex("''"), "'"));
     return files;
 }
 
@@ -143,6 +145,25 @@ bool plot_with_gnuplot(const std::string& script_path, const std::string& script
     return true;
 }
 
+namespace {
+
+// A template value as it goes between a template's single quotes: a quote written twice. A
+// control character would end the gnuplot command and start another one from the rest (a
+// newline in an --overlay or --out path ran `system(...)`, a hostile probe, helper-85): the
+// tools refuse such paths up front (refuse_control_characters()), and none reaches a script.
+std::string gnuplot_quoted(const std::string& value, const std::string& key) {
+    std::string quoted;
+    for (const char c : value) {
+        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
+            throw std::invalid_argument(key + ": a control character cannot go into a gnuplot "
+                                              "script");
+        quoted += c == '\'' ? std::string("''") : std::string(1, c);
+    }
+    return quoted;
+}
+
+} // namespace
+
 std::string plot_script(const std::string& name,
                         const std::vector<std::pair<std::string, std::string>>& values) {
     std::vector<fs::path> dirs;
@@ -155,10 +176,12 @@ std::string plot_script(const std::string& name,
         std::ostringstream text;
         text << in.rdbuf();
         std::string script = text.str();
-        for (const auto& [key, value] : values)
+        for (const auto& [key, raw] : values) {
+            const std::string value = gnuplot_quoted(raw, key);
             for (auto at = script.find("@" + key + "@"); at != std::string::npos;
                  at = script.find("@" + key + "@", at + value.size()))
                 script.replace(at, key.size() + 2, value);
+        }
         return script;
     }
     throw std::runtime_error(name + ".gp: plot template not found (set GAPCHAIN_PLOT_DIR to the "

@@ -138,6 +138,29 @@ TEST_CASE("a confirmed orbit's lambda_max is its Floquet exponent, as an indepen
     CHECK(std::abs(c.lambda_max - tangent.exponents[0]) <= std::max(0.02, 3 * tangent.errors[0]));
 }
 
+TEST_CASE("an unconfirmed periodic label's lambda_max is measured on the orbit, its error "
+          "covering the Floquet exponent") {
+    // A hostile probe (helper-85): without Newton the exponent was the discarded periods'
+    // average (a chaotic transient's: +0.125 +- 0.39 at f_r = 1.5) or one cycle's (+0.625,
+    // no error, at 1.2) on stable period-1 orbits whose multipliers give -0.553 and -0.169.
+    // Newton's multiplier is the independent reference.
+    for (const double f_r : {1.2, 1.5}) {
+        CAPTURE(f_r);
+        const ReducedParameters p{3, 100, 0.5, 0.1, f_r};
+        const Classification confirmed = classify(p, ClassifyOptions{});
+        REQUIRE(confirmed.newton_confirmed);
+        ClassifyOptions o;
+        o.confirm_by_newton = false;
+        const Classification c = classify(p, o);
+        REQUIRE(c.regime == Regime::periodic);
+        MESSAGE("tangent " << c.lambda_max << " +- " << c.lambda_max_error << ", Floquet "
+                           << confirmed.lambda_max);
+        REQUIRE(std::isfinite(c.lambda_max_error));
+        CHECK(c.lambda_max < 0.0);
+        CHECK(std::abs(c.lambda_max - confirmed.lambda_max) <= c.lambda_max_error);
+    }
+}
+
 TEST_CASE("a confirmed orbit's F_m is the orbit's, its error bar covering the record's maximum") {
     // No settling phase: the record starts at rest and takes the start-up's impacts, then
     // settles while recording.

@@ -47,8 +47,9 @@ scene, **keys  the row (Nm, fc, eps, e_r, f_r; of the run section scheme, tolera
 
 Returns a dict: regime, period (forcing periods; 0 if not periodic or longer than 16),
 lambda_max (largest Lyapunov exponent per unit reduced time; a Newton-confirmed orbit's
-from its largest multiplier, error 0) and lambda_max_error (None where too few periods were
-averaged for it),
+from its largest multiplier, error 0; an unconfirmed periodic label's averaged over at least
+20 periods of the orbit, restarted at the settle) and lambda_max_error (None where too few
+periods were averaged for it),
 distinct_points, section_points, broadband_share ([0, 1]; 0 where the run settled) and
 broadband_share_error (its Welch segments' spread plus the aliased share; None where the
 record was too short to read it), F_m (a Newton-confirmed orbit's,

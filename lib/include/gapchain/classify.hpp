@@ -79,7 +79,8 @@ struct Classification {
     int period = 0; ///< forcing periods per cycle when periodic; 0 when the cycle
                     ///< is longer than max_period (or not periodic)
     /// Largest Lyapunov exponent [1 / reduced time]: ln(max_multiplier) / (period T) for an
-    /// orbit Newton confirmed, else the tangent vector's average along the run.
+    /// orbit Newton confirmed, else the tangent vector's average along the run (for a periodic
+    /// label without Newton, along at least 20 periods of the orbit, restarted at the settle).
     double lambda_max = 0.0;
     double lambda_max_error = 0.0; ///< the average's standard error (inf if the window was too
                                    ///< short); for a confirmed orbit, from its largest

@@ -7,6 +7,8 @@
 
 #include <pybind11/stl.h>
 
+#include <limits>
+
 namespace gapchain::python {
 
 namespace {
@@ -28,7 +30,8 @@ grid            two state variables ("u1", "v1", ... "uNm", "vNm") for a basin s
 threads         OpenMP threads (0: all); the results do not depend on it
 progress        callable(fraction)
 
-Returns a dict: F_m_max (the design value: the largest F_m over the attractors), F_m_max_error,
+Returns a dict: F_m_max (the design value: the largest F_m over the attractors; NaN with none, as
+in a call interrupted before any start ended), F_m_max_error,
 F_m_max_attractor, unsettled (groups not shown to be attractors: chaotic transients some of
 whose starts left for orbits when continued, runs still converging; raise run.periods),
 attractors (dict of columns id, regime, period, F_m, F_m_error, lambda_max, lambda_max_error,
@@ -132,8 +135,11 @@ py::dict attractor_columns(const std::vector<Attractor>& as) {
 
 py::dict set_dict(const AttractorSet& s) {
     py::dict d;
-    d["F_m_max"] = s.F_m_max;
-    d["F_m_max_error"] = s.F_m_max_error;
+    // No attractor (a search cancelled before any start ended, or every start failed): no
+    // design value, where 0 read as one (a hostile probe, helper-85).
+    const double none = std::numeric_limits<double>::quiet_NaN();
+    d["F_m_max"] = s.F_m_max_id >= 0 ? s.F_m_max : none;
+    d["F_m_max_error"] = s.F_m_max_id >= 0 ? s.F_m_max_error : none;
     d["F_m_max_attractor"] = s.F_m_max_id;
     d["unsettled"] = s.unsettled;
     d["attractors"] = attractor_columns(s.attractors);
@@ -170,8 +176,10 @@ const std::vector<std::string> search_sets_itself{"run.estimate_error", "run.mul
 
 // The forces of a physical scene in newtons: the design value, its error and each attractor's.
 void add_newtons(py::dict& d, const AttractorSet& s, const PhysicalParameters& physical) {
-    d["F_m_max_newton"] = force_in_newtons(s.F_m_max, physical);
-    d["F_m_max_error_newton"] = force_in_newtons(s.F_m_max_error, physical);
+    const double none = std::numeric_limits<double>::quiet_NaN();
+    d["F_m_max_newton"] = s.F_m_max_id >= 0 ? force_in_newtons(s.F_m_max, physical) : none;
+    d["F_m_max_error_newton"] =
+        s.F_m_max_id >= 0 ? force_in_newtons(s.F_m_max_error, physical) : none;
     std::vector<double> newtons;
     for (const auto& a : s.attractors)
         newtons.push_back(force_in_newtons(a.F_m, physical));

@@ -716,11 +716,15 @@ nlohmann::ordered_json attractor_set_json(const AttractorSet& set, const Attract
                                           const ReducedParameters& p,
                                           const std::optional<PhysicalParameters>& physical) {
     nlohmann::ordered_json j;
-    j["F_m_max"] = set.F_m_max;
-    j["F_m_max_error"] = set.F_m_max_error;
+    // No attractor (every start failed, or a cancelled search): null, where 0 read as a value.
+    const bool found = set.F_m_max_id >= 0;
+    j["F_m_max"] = found ? json(set.F_m_max) : json(nullptr);
+    j["F_m_max_error"] = found ? json(set.F_m_max_error) : json(nullptr);
     if (physical) {
-        j["F_m_max_newton"] = force_in_newtons(set.F_m_max, *physical);
-        j["F_m_max_error_newton"] = force_in_newtons(set.F_m_max_error, *physical);
+        j["F_m_max_newton"] =
+            found ? json(force_in_newtons(set.F_m_max, *physical)) : json(nullptr);
+        j["F_m_max_error_newton"] =
+            found ? json(force_in_newtons(set.F_m_max_error, *physical)) : json(nullptr);
     }
     j["F_m_max_attractor"] = set.F_m_max_id;
     j["unsettled"] = set.unsettled;

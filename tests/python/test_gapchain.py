@@ -244,6 +244,17 @@ def test_an_interrupted_call_keeps_what_it_had_done_on_the_exception():
                              **dict(line, mode="independent"))
     diagram = stopped.value.partial
     assert 1 <= len(diagram["value"]) < 8 and all(s != "cancelled" for s in diagram["status"])
+    # An attractor search stopped before any start ended has no design value: it read 0 +- 0
+    # (a hostile probe, helper-85).
+    def stop_at_once(fraction):
+        raise Stop()
+
+    with pytest.raises(Stop) as stopped:
+        gapchain.attractors(samples=8, threads=1, progress=stop_at_once, Nm=3, fc=100, eps=0.5,
+                            e_r=0.1, f_r=1.5)
+    search = stopped.value.partial
+    assert search["cancelled"] is True and len(search["attractors"]["id"]) == 0
+    assert np.isnan(search["F_m_max"]) and np.isnan(search["F_m_max_error"])
 
 
 def test_keyboard_interrupt_stops_a_long_run():

@@ -91,7 +91,9 @@ int main(int argc, char** argv) {
     std::string out;
     auto* table_flag = app.add_flag("--table", table,
                                     "Tables 2 and 3: the bounds against eps = 0.1, 0.2, 0.3, 0.5");
-    app.add_option("--out", out, "Write the estimates as JSON to this file")->excludes(table_flag);
+    app.add_option("--out", out, "Write the estimates as JSON to this file")
+        ->check(cli::non_empty_path())
+        ->excludes(table_flag);
     // The tables are the paper's: a scene or --set would be ignored.
     scene_args.option->excludes(table_flag);
     app.get_option("--set")->excludes(table_flag);

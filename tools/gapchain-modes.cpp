@@ -134,7 +134,8 @@ void add_options(CLI::App& app, ModesArguments& a) {
             ->check(cli::range(1, 1'000'000))
             ->capture_default_str(),
         app.add_flag("--no-shapes", a.no_shapes, "Do not compute the mode shapes"),
-        app.add_option("--csv", a.csv, "Mode shapes as CSV (body, then one column per mode)")};
+        app.add_option("--csv", a.csv, "Mode shapes as CSV (body, then one column per mode)")
+            ->check(cli::non_empty_path())};
     // --csv writes the shapes: with --no-shapes one of the two was silently ignored.
     app.get_option("--no-shapes")->excludes(app.get_option("--csv"));
     // The grid is eq (26) alone: a scene or --set would be ignored.
@@ -142,7 +143,8 @@ void add_options(CLI::App& app, ModesArguments& a) {
     single.push_back(app.get_option("--set"));
     for (auto* option : single)
         option->excludes(grid_flag);
-    app.add_option("--out", a.out, "JSON result file (with --grid: an output folder)");
+    auto* out = app.add_option("--out", a.out, "JSON result file (with --grid: an output folder)")
+                    ->check(cli::non_empty_path());
     GridArguments& g = a.grid_args;
     app.add_option("--grid-fc-min", g.fc_min, "Grid: smallest fc")
         ->check(cli::positive_number())
@@ -160,7 +162,8 @@ void add_options(CLI::App& app, ModesArguments& a) {
         ->check(cli::range(1, 2000))
         ->needs(grid_flag)
         ->capture_default_str();
-    app.add_flag("--no-plot", g.no_plot, "Grid: write the CSV only")->needs(grid_flag);
+    // Without --out the grid is printed only, and there is no figure to leave out.
+    app.add_flag("--no-plot", g.no_plot, "Grid: write the CSV only")->needs(grid_flag)->needs(out);
 }
 
 // The scene with --Nm and --fc applied as overrides.
@@ -186,6 +189,20 @@ Scene load_row(ModesArguments& a) {
     return cli::load(a.scene);
 }
 
+// Flags that change nothing where they were given: they ran and said nothing (a hostile
+// probe, helper-85).
+void refuse_unused_flags(const CLI::App& app, const ModesArguments& a, int Nm) {
+    const int count = a.options.count;
+    if (app.count("--end") > 0 && (count == 0 || count >= Nm))
+        throw std::invalid_argument("--end: picks which --modes N of the " + std::to_string(Nm) +
+                                    " to compute, N < Nm; --modes " + std::to_string(count) +
+                                    " computes every mode");
+    if (app.count("--max-dense") > 0 && a.method != "auto")
+        throw std::invalid_argument("--max-dense: chooses the solver for --method auto only, got "
+                                    "--method " +
+                                    a.method);
+}
+
 void write_outputs(const ModalResult& r, const ModesArguments& a, const Scene& scene) {
     if (!a.out.empty())
         write_file_atomically(a.out, to_json(r, scene.reduced.Nm, scene.reduced.fc));
@@ -208,6 +225,7 @@ int main(int argc, char** argv) {
                         outputs.file(a.out, "--out");
                         outputs.file(a.csv, "--csv");
                         ModalOptions& o = a.options;
+                        refuse_unused_flags(app, a, scene.reduced.Nm);
                         o.method = parse_eigen_method(a.method);
                         o.end = a.end == "lowest" ? SpectrumEnd::lowest : SpectrumEnd::highest;
                         o.shapes = !a.no_shapes || !a.csv.empty();

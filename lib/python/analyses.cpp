@@ -160,14 +160,25 @@ py::dict modes_py(const py::object& Nm, const py::object& fc, int count, const s
     refuse_run_keys(keys, "modes", {}, "its modes follow from the model alone");
     // Nor do the forcing, the start, the damping or the clearances (f_r=2, eps=7 were taken
     // and ignored).
-    for (const auto& [key, value] : keys) {
-        const std::string name = key.cast<std::string>();
-        if (key_unread_by_modes(scene_key(name)))
+    const auto refuse = [](const std::string& name, const std::string& dotted) {
+        if (key_unread_by_modes(dotted))
             throw std::invalid_argument(name +
                                         ": modes() does not read it (the linear chain's modes "
                                         "follow from its masses, springs and contact stiffnesses "
                                         "alone); drop the " +
                                         name + " keyword");
+    };
+    for (const auto& [key, value] : keys) {
+        const std::string name = key.cast<std::string>();
+        refuse(name, scene_key(name));
+        // A dict sets its members: model.scatter={"clearance": 0.5} was taken and ignored
+        // (helper-85).
+        if (py::isinstance<py::dict>(value))
+            for (const auto& [member, unused] : value.cast<py::dict>()) {
+                const std::string dotted =
+                    scene_key(name) + "." + py::str(member).cast<std::string>();
+                refuse(dotted, dotted);
+            }
     }
     const Scene scene = to_scene(scene_arg, keys);
     ModalOptions o;

@@ -655,6 +655,9 @@ def test_orbit_and_continuation_refuse_run_keywords_they_would_ignore():
         gapchain.regime_map(MIRROR_PAIR, e_r=[0.5], f_r=[1.2], step=0.001)
     with pytest.raises(ValueError, match="^transient_periods: bifurcation\\(\\) does not read"):
         gapchain.bifurcation(MIRROR_PAIR, from_=1.2, to=1.3, steps=2, transient_periods=5)
+    # A dict sets its members: the clearance's scatter was taken and ignored (helper-85).
+    with pytest.raises(ValueError, match="^model.scatter.clearance: modes\\(\\) does not read"):
+        gapchain.modes(5, 100, **{"model.scatter": {"clearance": 0.5, "seed": 3}})
     assert gapchain.classify(MIRROR_PAIR, scheme="rk4", transient=10, record=20)["scheme"] == "rk4"
     # So do the once-through runs, the searches and a simulate() without its trajectory, as
     # the tools refuse the --set (each of these ran, its result unchanged).

@@ -2,6 +2,8 @@
 
 #include "gapchain/report.hpp"
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <atomic>
 #include <cerrno>
@@ -571,11 +573,22 @@ void require_sets_read(const SceneArguments& args, const std::string& tool,
 void refuse_unread_sets(const SceneArguments& args, const std::string& tool,
                         const std::function<bool(const std::string&)>& unread,
                         const std::string& why) {
-    for (const std::string& set : args.sets) {
-        const std::string key = set.substr(0, set.find('='));
+    const auto refuse = [&](const std::string& key) {
         if (unread(key))
             throw SceneError("--set " + key + ": " + tool + " does not read it (" + why +
                              "); drop the --set");
+    };
+    for (const std::string& set : args.sets) {
+        const std::size_t eq = set.find('=');
+        const std::string key = set.substr(0, eq);
+        refuse(key);
+        // An object sets its members: 'model.scatter={"clearance":0.5}' was taken and ignored
+        // where model.scatter.clearance=0.5 is refused (a hostile probe, helper-85).
+        if (eq == std::string::npos) continue;
+        const auto value = nlohmann::json::parse(set.substr(eq + 1), nullptr, false);
+        if (value.is_object())
+            for (const auto& member : value.items())
+                refuse(key + "." + member.key());
     }
 }
 

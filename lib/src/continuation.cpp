@@ -1035,6 +1035,9 @@ ContinuationResult continue_orbits(const ReducedParameters& base,
     // a fold walks back: Fig 13's went from 46.8 to 33.9 %, the probe of 2026-11-27);
     // transient runs and later branches repeat it, so that every part of the call can be
     // cancelled.
+    // Each branch begun also counts as its share of max_branches, and the end as the whole:
+    // a first branch that turned back early held the display at 10.9 % to the end (a hostile
+    // probe, helper-85).
     double last_fraction = 0.0;
     const ProgressCallback first_branch = [&](double f) {
         last_fraction = std::max(last_fraction, f);
@@ -1054,6 +1057,7 @@ ContinuationResult continue_orbits(const ReducedParameters& base,
          ++branch) {
         const PendingBranch next = pending.front();
         pending.pop_front();
+        last_fraction = std::max(last_fraction, static_cast<double>(branch) / options.max_branches);
         const ContinuationOptions walked = walked_options(options, next);
         BranchTracer tracer(base, walked, next.period, keep_going);
         std::optional<OrbitPoint> first = first_point(tracer, next.x, next.p, next.direction);
@@ -1077,6 +1081,8 @@ ContinuationResult continue_orbits(const ReducedParameters& base,
         }
     }
     if (!result.cancelled) list_unfollowed(pending, options, result);
+    // Done: a cancel asked now has nothing left to stop.
+    if (!result.cancelled && progress) (void)progress(1.0);
     result.wall_time_s =
         std::chrono::duration<double>(std::chrono::steady_clock::now() - clock).count();
     return result;

@@ -404,9 +404,15 @@ PeriodicOrbit find_periodic_orbit(const Dynamics& dyn, const OrbitOptions& optio
     PeriodicOrbit orbit = unsearched_orbit(options);
     const auto dim = static_cast<Eigen::Index>(dyn.dimension());
     std::vector<double> x = start;
-    const ProgressCallback keep_going = [&](double) {
-        return !progress || progress(static_cast<double>(orbit.iterations) /
-                                     std::max(1, options.max_iterations));
+    // Within a shooting its own fraction counts: a long one (200 bodies on rk4) held the
+    // display at one value while its ETA grew (a hostile probe, helper-85).
+    // An iteration's later shootings (a shortened step) start within at 0 again: the largest
+    // fraction so far is shown.
+    double shown = 0.0;
+    const ProgressCallback keep_going = [&](double within) {
+        shown = std::max(shown, std::min(1.0, (static_cast<double>(orbit.iterations) + within) /
+                                                  std::max(1, options.max_iterations)));
+        return !progress || progress(shown);
     };
     ShootingResult s = shoot(dyn, options, x, keep_going);
     long shootings = 1;

@@ -403,6 +403,29 @@ TEST_CASE("a start or end value outside the model's range names the option that 
                          std::invalid_argument);
 }
 
+TEST_CASE("a line whose branches may take beyond run.max_work is refused before it runs") {
+    // A hostile probe (helper-85): steps of 1e-6 over 1 .. 4.5, a million points a branch,
+    // every shooting within the limit; it ran on for hours (about 230 points a second).
+    const ReducedParameters row{3, 100, 0.5, 0.1, 1.5};
+    ContinuationOptions o;
+    o.from = 1.0;
+    o.to = 4.5;
+    o.step = o.max_step = 1e-6;
+    o.max_points = 1'000'000;
+    CHECK_THROWS_WITH_AS(continue_orbits(row, o),
+                         doctest::Contains("run.max_work: walking the line may take"),
+                         std::invalid_argument);
+    // One branch of steps that cover the line in 3.5e6 points is still 3e6 shootings too many
+    // for a 1e9 limit; the default steps (0.01 .. 0.05) are not.
+    o.max_branches = 1;
+    o.orbit.max_work = 1e9;
+    CHECK_THROWS_AS(continue_orbits(row, o), std::invalid_argument);
+    o.step = 0.01;
+    o.max_step = 0.05;
+    o.max_points = 3;
+    CHECK_NOTHROW(continue_orbits(row, o));
+}
+
 TEST_CASE("the period-1 family turns at its grazing corner onto the other sheet and follows it") {
     // Fig 13's period-1 family from 2.15 passes the fold at 3.3044, winds down to a corner at
     // 2.99783 where contacts 2 and 3 graze, and turns there onto a sheet on which they stay

@@ -124,7 +124,9 @@ void validate(const ContinuationOptions& options);
 
 /// Continues the periodic orbit of the paper's uniform row base (its swept parameter replaced
 /// by options.from) found after options.transient_periods from initial (empty: rest). Throws
-/// std::invalid_argument on bad options; numerical endings are in branch_end.
+/// std::invalid_argument on bad options, and naming run.max_work where one shooting, or the
+/// walk (max_branches branches of min(max_points, |to - from| / max_step) points of three
+/// shootings), would exceed options.orbit.max_work; numerical endings are in branch_end.
 ContinuationResult continue_orbits(const ReducedParameters& base,
                                    const ContinuationOptions& options,
                                    const std::vector<double>& initial = {},

@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numeric>
 #include <stdexcept>
 
@@ -393,6 +394,25 @@ PeriodicOrbit unsearched_orbit(const OrbitOptions& options) {
 
 } // namespace
 
+namespace {
+
+/// Newton's progress: the iterations done of max_iterations, and within a shooting its own
+/// fraction (a long one, 200 bodies on rk4, held the display at one value while its ETA grew:
+/// a hostile probe, helper-85). An iteration's later shootings (a shortened step) start at 0
+/// again: the largest fraction so far is shown.
+ProgressCallback newton_progress(const ProgressCallback& progress, const int& iterations,
+                                 int max_iterations) {
+    if (!progress) return {};
+    auto shown = std::make_shared<double>(0.0);
+    return [progress, &iterations, max_iterations, shown](double within) {
+        *shown = std::max(*shown, std::min(1.0, (static_cast<double>(iterations) + within) /
+                                                    std::max(1, max_iterations)));
+        return progress(*shown);
+    };
+}
+
+} // namespace
+
 PeriodicOrbit find_periodic_orbit(const Dynamics& dyn, const OrbitOptions& options,
                                   const std::vector<double>& start,
                                   const ProgressCallback& progress) {
@@ -404,16 +424,8 @@ PeriodicOrbit find_periodic_orbit(const Dynamics& dyn, const OrbitOptions& optio
     PeriodicOrbit orbit = unsearched_orbit(options);
     const auto dim = static_cast<Eigen::Index>(dyn.dimension());
     std::vector<double> x = start;
-    // Within a shooting its own fraction counts: a long one (200 bodies on rk4) held the
-    // display at one value while its ETA grew (a hostile probe, helper-85).
-    // An iteration's later shootings (a shortened step) start within at 0 again: the largest
-    // fraction so far is shown.
-    double shown = 0.0;
-    const ProgressCallback keep_going = [&](double within) {
-        shown = std::max(shown, std::min(1.0, (static_cast<double>(orbit.iterations) + within) /
-                                                  std::max(1, options.max_iterations)));
-        return !progress || progress(shown);
-    };
+    const ProgressCallback keep_going =
+        newton_progress(progress, orbit.iterations, options.max_iterations);
     ShootingResult s = shoot(dyn, options, x, keep_going);
     long shootings = 1;
     double residual = relative_residual(x, s.end_state);

@@ -1055,13 +1055,9 @@ ContinuationResult continue_orbits(const ReducedParameters& base,
                                    const ProgressCallback& progress) {
     const auto clock = std::chrono::steady_clock::now();
     const ReducedParameters start = checked_start(base, options);
-    // The first branch reports its fraction, the farthest it has come (a branch that turns at
-    // a fold walks back: Fig 13's went from 46.8 to 33.9 %, the probe of 2026-11-27);
-    // transient runs and later branches repeat it, so that every part of the call can be
-    // cancelled.
-    // Each branch begun also counts as its share of max_branches, and the end as the whole:
-    // a first branch that turned back early held the display at 10.9 % to the end (a hostile
-    // probe, helper-85).
+    // The first branch reports the farthest it has come (Fig 13's walked back from 46.8 to
+    // 33.9 % at a fold), each branch begun its share of max_branches, the end 1 (a first
+    // branch that turned back early held 10.9 % to the end, helper-85); the rest repeat it.
     double last_fraction = 0.0;
     const ProgressCallback first_branch = [&](double f) {
         last_fraction = std::max(last_fraction, f);

@@ -236,5 +236,9 @@ int main(int argc, char** argv) {
                         outputs.keep();
                         print_modes(scene, r);
                     },
-                    {{"count", "--modes"}, {"max_dense_bodies", "--max-dense"}});
+                    {{"count", "--modes"},
+                     {"max_dense_bodies", "--max-dense"},
+                     {"fc_values", "--grid-fc-points"},
+                     {"(fewer fc values or a smaller largest Nm)",
+                      "(fewer --grid-fc-points or a smaller --grid-Nm-max)"}});
 }

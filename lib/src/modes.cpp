@@ -301,6 +301,17 @@ ApproximationGrid approximation_grid(const std::vector<int>& Nm_values,
     double total = 0.0, done = 0.0;
     for (int Nm : Nm_values)
         total += work(Nm) * static_cast<double>(fc_values.size());
+    // --grid-Nm-max 2000 --grid-fc-points 100000 was accepted and would have run for years
+    // (a hostile probe, helper-85: 400 and 10 took 44 s).
+    if (total > max_grid_work)
+        throw std::invalid_argument(
+            "fc_values: " + std::to_string(fc_values.size()) + " values of fc on rows up to Nm = " +
+            std::to_string(*std::max_element(Nm_values.begin(), Nm_values.end())) + " are about " +
+            detail::format_number(std::ceil(total)) +
+            " units of dense work (the sum of Nm^3), about " +
+            detail::format_number(std::ceil(total / 1.5e9 / 60.0)) +
+            " min at 1.5e9 a second; at most " + detail::format_number(max_grid_work) +
+            ": ask less (fewer fc values or a smaller largest Nm)");
     for (int Nm : Nm_values)
         for (double fc : fc_values) {
             if (progress && !progress(done / total)) {

@@ -102,9 +102,14 @@ struct ApproximationGrid {
     bool cancelled = false; ///< progress stopped it: points holds the rows done before
 };
 
+/// Largest work of approximation_grid(): the sum of Nm^3 over its rows, 1e13 (measured 1.5e9
+/// a second: about 2 hours; Nm up to 2000 at 2 values of fc).
+constexpr double max_grid_work = 1e13;
+
 /// Evaluates eq (26) on every homogeneous row (Nm, fc) of the grid (every Nm >= 1, fc > 0).
 /// progress reports the fraction of rows done (weighted by Nm^3, the dense solver's work);
-/// answering false stops it (cancelled).
+/// answering false stops it (cancelled). Throws std::invalid_argument naming fc_values where
+/// the grid's work exceeds max_grid_work.
 ApproximationGrid approximation_grid(const std::vector<int>& Nm_values,
                                      const std::vector<double>& fc_values,
                                      const ProgressCallback& progress = {});

@@ -229,7 +229,10 @@ int main(int argc, char** argv) {
                         o.method = parse_eigen_method(a.method);
                         o.end = a.end == "lowest" ? SpectrumEnd::lowest : SpectrumEnd::highest;
                         o.shapes = !a.no_shapes || !a.csv.empty();
-                        const ModalResult r = modal_analysis(scene.chain(), o);
+                        const ModalResult r = [&] {
+                            const cli::Uninterruptible solving; // no progress in the solvers
+                            return modal_analysis(scene.chain(), o);
+                        }();
                         if (r.status != ModalStatus::converged)
                             throw cli::NumericalFailure("the eigen solver did not converge");
                         write_outputs(r, a, scene);

@@ -27,6 +27,8 @@ namespace gapchain::cli {
 namespace {
 
 std::atomic<int> g_signal{0};
+// Set while a library call that cannot be cancelled runs (Uninterruptible).
+std::atomic<bool> g_uninterruptible{false};
 
 // Installs handler for SIGINT and SIGTERM, each blocking the other while it runs (so that the
 // two arriving together are a first and a second, not two firsts). Async-signal-safe.
@@ -56,6 +58,9 @@ extern "C" void on_second_signal(int signal) {
 // cancellation removes its own temporary.
 extern "C" void on_signal(int signal) {
     g_signal.store(signal);
+    // A call that asks no progress callback would hold the first signal until it is done (a
+    // 111 s dense solve, a sparse one of many minutes): it ends the process at once instead.
+    if (g_uninterruptible.load()) on_second_signal(signal);
     handle_signals(on_second_signal);
 }
 
@@ -99,6 +104,15 @@ Interrupted::Interrupted(int sig, std::string kept_part)
 
 bool interrupted() {
     return g_signal.load() != 0;
+}
+
+Uninterruptible::Uninterruptible() {
+    throw_if_interrupted();
+    g_uninterruptible.store(true);
+}
+
+Uninterruptible::~Uninterruptible() {
+    g_uninterruptible.store(false);
 }
 
 void throw_if_interrupted(const std::string& kept) {

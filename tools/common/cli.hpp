@@ -44,6 +44,18 @@ bool interrupted();
 // outputs before it (an interrupted line or diagram keeps the values it has done).
 void throw_if_interrupted(const std::string& kept = "");
 
+// While one lives, the first SIGINT or SIGTERM ends the process at once, as a second one does
+// (its temporaries removed, no output kept): for a library call that takes no progress
+// callback and so cannot be cancelled (an eigensolver), before the run has written anything.
+// Throws Interrupted if a signal came before.
+class Uninterruptible {
+public:
+    Uninterruptible();
+    ~Uninterruptible();
+    Uninterruptible(const Uninterruptible&) = delete;
+    Uninterruptible& operator=(const Uninterruptible&) = delete;
+};
+
 // The output paths of one tool run. Every path is checked when it is added, before anything
 // runs: its folder must exist (or be creatable) and be writable, it must not be an input file
 // or another output. Folders are created by create_folders(), each with a staging folder the

@@ -136,7 +136,8 @@ int main(int argc, char** argv) {
     app.add_option("--repeats", o.repeats, "Timed repeats (median kept)")
         ->check(cli::range(1, 100))
         ->capture_default_str();
-    app.add_option("--target", target, "Relative F_m error for the recommendation, in (0, 1)")
+    app.add_option("--target", target,
+                   "Relative F_m error for the recommendation, in [1e-16, 0.999]")
         ->check(cli::range(1e-16, 0.999))
         ->capture_default_str();
     app.add_flag("--no-unsplit", no_unsplit, "Skip the runs without switch splitting");

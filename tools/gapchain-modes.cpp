@@ -118,8 +118,10 @@ void add_options(CLI::App& app, ModesArguments& a) {
     std::vector<CLI::Option*> single{
         app.add_option("--Nm", a.Nm, "Number of bodies (overrides the scene)")
             ->check(cli::range(1, 1'000'000)),
-        app.add_option("--fc", a.fc, "Stiffness ratio Kc/K (overrides the scene), > 0")
-            ->check(cli::positive_number()),
+        // model.fc's range, named by the flag given (the scene's refusal named model.fc).
+        app.add_option("--fc", a.fc, "Stiffness ratio Kc/K (overrides the scene), in (0, 1e9]")
+            ->check(cli::positive_number())
+            ->check(cli::number_range(0.0, 1e9, false)),
         app.add_option("--modes", o.count, "Number of modes (0: all)")
             ->check(cli::range(0, 1'000'000))
             ->capture_default_str(),

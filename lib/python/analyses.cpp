@@ -19,7 +19,7 @@ namespace gapchain::python {
 namespace {
 
 constexpr const char* modes_doc =
-    R"(modes(Nm=None, fc=None, *, count=0, end="lowest", method="auto", shapes=True, scene=None, **keys) -> dict
+    R"(modes(Nm=None, fc=None, *, count=0, end="lowest", method="auto", shapes=True, max_dense=5000, scene=None, **keys) -> dict
 
 Natural frequencies and mode shapes of the linear chain (e_r = 0, every contact acting both
 ways; paper Section 5) against the paper's approximation eq (26),
@@ -30,6 +30,8 @@ Nm      bodies, 1 .. 1e6;  fc  stiffness ratio Kc/K, (0, 1e9]; either, when give
 count   modes wanted, 0 .. Nm (0: all, dense solver only)
 end     "lowest" or "highest" modes;  method "auto", "dense" or "sparse"
 shapes  also return the mode shapes (phi^T M phi = 1)
+max_dense  largest Nm for the dense solver, 1 .. 1e6 (memory 8 Nm^2 bytes, time ~Nm^3), as
+        gapchain-modes --max-dense; with method "auto" beyond it the sparse solver is used
 scene, **keys   a scene (dict or path) and scene keys for a non-uniform row.
 
 Returns a dict: mode (int k, 1-based), frequency (reduced f_k = f/f0), approx (eq 26),
@@ -150,16 +152,9 @@ exponent's rates trend, the run had not reached its attractor; raise run.transie
 -4 pi eps Nm on the paper's row; NaN when count < 2 Nm), averaging_time, history (dict: t, and
 exponents (n x count) running estimates), status, message, wall_time_s.)";
 
-py::dict modes_py(const py::object& Nm, const py::object& fc, int count, const std::string& end,
-                  const std::string& method, bool shapes, const py::object& scene_arg,
-                  py::kwargs keys) {
-    // Given, they override the scene's; else the scene's (the paper's 5 and 100 without one).
-    if (!Nm.is_none()) keys["Nm"] = Nm;
-    if (!fc.is_none()) keys["fc"] = fc;
-    // As gapchain-modes: a run or output keyword (periods=5) was taken and ignored.
-    refuse_run_keys(keys, "modes", {}, "its modes follow from the model alone");
-    // Nor do the forcing, the start, the damping or the clearances (f_r=2, eps=7 were taken
-    // and ignored).
+// Nor do the forcing, the start, the damping or the clearances (f_r=2, eps=7 were taken and
+// ignored), nor such a member of a dict keyword.
+void refuse_keys_unread_by_modes(const py::kwargs& keys) {
     const auto refuse = [](const std::string& name, const std::string& dotted) {
         if (key_unread_by_modes(dotted))
             throw std::invalid_argument(name +
@@ -180,14 +175,43 @@ py::dict modes_py(const py::object& Nm, const py::object& fc, int count, const s
                 refuse(dotted, dotted);
             }
     }
+}
+
+// modal_analysis(), its refusals naming modes()' keywords: the dense limit's said
+// "max_dense_bodies: ... raise the limit", an argument modes() did not have (helper-85).
+ModalResult modal_analysis_named(const Chain& chain, const ModalOptions& o) {
+    try {
+        return modal_analysis(chain, o);
+    } catch (const std::invalid_argument& e) {
+        const std::string field = "max_dense_bodies:";
+        std::string message = e.what();
+        if (message.rfind(field, 0) != 0) throw;
+        message = "max_dense:" + message.substr(field.size());
+        const std::string limit = "raise the limit";
+        if (const auto at = message.find(limit); at != std::string::npos)
+            message.replace(at, limit.size(), "raise max_dense");
+        throw std::invalid_argument(message);
+    }
+}
+
+py::dict modes_py(const py::object& Nm, const py::object& fc, int count, const std::string& end,
+                  const std::string& method, bool shapes, int max_dense,
+                  const py::object& scene_arg, py::kwargs keys) {
+    // Given, they override the scene's; else the scene's (the paper's 5 and 100 without one).
+    if (!Nm.is_none()) keys["Nm"] = Nm;
+    if (!fc.is_none()) keys["fc"] = fc;
+    // As gapchain-modes: a run or output keyword (periods=5) was taken and ignored.
+    refuse_run_keys(keys, "modes", {}, "its modes follow from the model alone");
+    refuse_keys_unread_by_modes(keys);
     const Scene scene = to_scene(scene_arg, keys);
     ModalOptions o;
     o.count = count;
+    o.max_dense_bodies = max_dense;
     o.end =
         choice(end, "end", {"lowest", "highest"}) == 0 ? SpectrumEnd::lowest : SpectrumEnd::highest;
     o.method = parse_eigen_method(method);
     o.shapes = shapes;
-    const ModalResult r = Call().run([&] { return modal_analysis(scene.chain(), o); });
+    const ModalResult r = Call().run([&] { return modal_analysis_named(scene.chain(), o); });
     py::dict d;
     d["mode"] = column<int>(r.mode_numbers, [](int k) { return k; });
     d["frequency"] = array(r.frequencies);
@@ -455,7 +479,8 @@ py::dict lyapunov_py(const py::object& scene_arg, int count, const py::object& p
 void register_analyses(py::module_& m) {
     m.def("modes", &modes_py, modes_doc, py::arg("Nm") = py::none(), py::arg("fc") = py::none(),
           py::kw_only(), py::arg("count") = 0, py::arg("end") = "lowest",
-          py::arg("method") = "auto", py::arg("shapes") = true, py::arg("scene") = py::none());
+          py::arg("method") = "auto", py::arg("shapes") = true,
+          py::arg("max_dense") = ModalOptions{}.max_dense_bodies, py::arg("scene") = py::none());
     const BifurcationOptions b;
     m.def("bifurcation", &bifurcation_py, bifurcation_doc, py::arg("scene") = py::none(),
           py::kw_only(), py::arg("param") = "f_r", py::arg("from_") = b.from, py::arg("to") = b.to,

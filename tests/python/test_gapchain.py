@@ -655,6 +655,11 @@ def test_orbit_and_continuation_refuse_run_keywords_they_would_ignore():
         gapchain.regime_map(MIRROR_PAIR, e_r=[0.5], f_r=[1.2], step=0.001)
     with pytest.raises(ValueError, match="^transient_periods: bifurcation\\(\\) does not read"):
         gapchain.bifurcation(MIRROR_PAIR, from_=1.2, to=1.3, steps=2, transient_periods=5)
+    # The dense limit is modes()' own keyword, and its refusal names it (it named
+    # max_dense_bodies and said "raise the limit", which modes() had no argument for).
+    with pytest.raises(ValueError, match="^max_dense: the dense solver for Nm = 60 .*raise max_dense"):
+        gapchain.modes(60, 100, max_dense=50)
+    assert gapchain.modes(60, 100, max_dense=60)["frequency"].shape == (60,)
     # A dict sets its members: the clearance's scatter was taken and ignored (helper-85).
     with pytest.raises(ValueError, match="^model.scatter.clearance: modes\\(\\) does not read"):
         gapchain.modes(5, 100, **{"model.scatter": {"clearance": 0.5, "seed": 3}})

@@ -81,7 +81,7 @@ kept_checks diagram 143 "$ran of 200000 rows done" bifurcation.png
 
 # 3. A continuation in steps far too small to finish, interrupted after 4 s.
 interrupt_after 4 INT branch "$bin/gapchain-continue" "$scenes/fig13.json" --from 2 --to 4 \
-    --step 1e-5 --max-step 1e-5 --max-points 1000000 --out "$dir/branch"
+    --step 1e-5 --max-step 1e-5 --max-points 1000000 --set run.max_work=1e12 --out "$dir/branch"
 orbits=$(($(wc -l <"$dir/branch/branch.csv") - 1))
 echo "continuation: exit $rc, $orbits orbits kept"
 [ "$orbits" -ge 1 ] || failed "continuation: no orbit kept"

@@ -388,9 +388,11 @@ absent 26 l26.json l26_history.csv l26_convergence.gp
 # (--foreground: timeout otherwise also signals its process group, and a second SIGTERM ends a
 # tool at once, silently, by design.)
 expect 26 143 "interrupted by SIGTERM" timeout -s KILL 20 timeout --foreground --preserve-status -s TERM 1 "$bin/gapchain-orbit" s26.json --set model.Nm=300 --scheme rk4 --from-transient 0 --out o26.json
-expect 26 143 "interrupted by SIGTERM" timeout -s KILL 20 timeout --foreground --preserve-status -s TERM 1 "$bin/gapchain-continue" s26.json --set model.Nm=300 --scheme rk4 --from 1 --to 1.1 --transient 0 --no-plot --out c26
+# (The continuation and the grid are asked within their work limits: beyond them they are now
+# refused before they run, helper-85.)
+expect 26 143 "interrupted by SIGTERM" timeout -s KILL 20 timeout --foreground --preserve-status -s TERM 1 "$bin/gapchain-continue" s26.json --set model.Nm=300 --scheme rk4 --set run.max_work=1e12 --from 1 --to 1.1 --transient 0 --no-plot --out c26
 expect 26 143 "interrupted by SIGTERM" timeout -s KILL 20 timeout --foreground --preserve-status -s TERM 1 "$bin/gapchain-accuracy" s26.json --periods 100000 --repeats 1 --no-unsplit --set run.max_work=1e15 --no-plot --out a26
-expect 26 143 "interrupted by SIGTERM" timeout -s KILL 20 timeout --foreground --preserve-status -s TERM 1 "$bin/gapchain-modes" --grid --grid-fc-points 100000 --grid-Nm-max 2000 --out g26
+expect 26 143 "interrupted by SIGTERM" timeout -s KILL 20 timeout --foreground --preserve-status -s TERM 1 "$bin/gapchain-modes" --grid --grid-fc-points 10 --grid-Nm-max 400 --out g26
 absent 26 o26.json c26 a26 g26
 # A row whose contacts never close is a valid answer, not a failed figure: an event section with
 # no points and a flat spectrum write their CSV files and exit 0.

@@ -169,12 +169,18 @@ TEST_CASE("a physical scene's attractors and orbit are also given in newtons") {
     AttractorSet set;
     set.F_m_max = 0.7;
     set.F_m_max_error = 0.01;
+    set.F_m_max_id = 0;
     set.attractors.resize(1);
     set.attractors[0].F_m = 0.7;
     const auto a = nlohmann::json::parse(to_json(set, AttractorOptions{}, scene));
     CHECK(a.at("F_m_max_newton").get<double>() == doctest::Approx(0.7 * newtons));
     CHECK(a.at("F_m_max_error_newton").get<double>() == doctest::Approx(0.01 * newtons));
     CHECK(a.at("attractors")[0].at("F_m_newton").get<double>() == doctest::Approx(0.7 * newtons));
+    // No attractor, no design value: it read 0 +- 0 (helper-85).
+    const auto none = nlohmann::json::parse(to_json(AttractorSet{}, AttractorOptions{}, scene));
+    CHECK(none.at("F_m_max").is_null());
+    CHECK(none.at("F_m_max_error").is_null());
+    CHECK(none.at("F_m_max_newton").is_null());
     PeriodicOrbit orbit;
     orbit.F_m = 0.5;
     orbit.F_m_error = 1e-4;

@@ -35,6 +35,13 @@ if command -v gnuplot >/dev/null; then
     "$bin/gapchain-continue" "$scene" --from 2 --to 3 --overlay "o'q/summary.csv" \
         --out c2 >out.txt 2>&1 || { echo "FAIL continue with a quote"; cat out.txt; fail=1; }
     [ -s c2/branch.png ] || { echo "FAIL continue with a quote: no figure"; fail=1; }
+    # A template value that is gnuplot code, not text, broke when quotes were doubled (the
+    # diagram's "title 'sweep down'", a reread, helper-86): the continuation mode's figure.
+    "$bin/gapchain-bifurcation" "$scene" --from 2 --to 3 --steps 4 --mode continuation \
+        --out bc >out.txt 2>&1 || { echo "FAIL bifurcation continuation figure"; cat out.txt; fail=1; }
+    [ -s bc/bifurcation.png ] || { echo "FAIL bifurcation continuation: no figure"; fail=1; }
+else
+    echo "note: gnuplot not found; the figure checks were skipped"
 fi
 [ "$fail" -eq 0 ] && echo "plot path checks passed"
 exit "$fail"

@@ -187,7 +187,7 @@ bool write_outputs(const gapchain::BifurcationResult& r, const BifurcationArgume
                                {"PARAM", a.param},
                                // Independent runs have no sweep down: the key listed one.
                                {"UP_TITLE", independent ? "independent runs" : "sweep up"},
-                               {"DOWN_KEY", independent ? "notitle" : "title 'sweep down'"}});
+                               {"DOWN_TITLE", independent ? "" : "sweep down"}});
 }
 
 } // namespace

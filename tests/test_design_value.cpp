@@ -125,6 +125,23 @@ TEST_CASE("design value: where no group settled, it is the larger of the run's F
     CHECK_FALSE(d.run_above);
 }
 
+TEST_CASE("design value: a search stopped before any start ended and a run that did not answer "
+          "give none, not 0") {
+    // A reread (helper-86): the sweep took design.F_m_max, 0 +- 0, as the point's design value.
+    const ReducedParameters p{3, 100, 0.5, 0.1, 1.0};
+    const AttractorOptions o = short_runs(4, 1);
+    const DesignValue stopped = design_value(p, o, RunAnswer{}, [](double) { return false; });
+    CHECK(std::isnan(stopped.F_m_max));
+    CHECK(std::isnan(stopped.F_m_max_error));
+    // The run's answer stands alone where the search has nothing to set against it.
+    RunAnswer answered;
+    answered.answered = true;
+    answered.F_m = 0.4;
+    answered.F_m_error = 0.01;
+    const DesignValue from_run = design_value(p, o, answered, [](double) { return false; });
+    CHECK(std::isnan(from_run.F_m_max)); // cancelled: no verdict at all
+}
+
 TEST_CASE("a chaotic label read on a chaotic saddle's transient is told apart from a chaotic "
           "attractor (classify against the row's attractors)") {
     // Fig 13's row at f_r = 2.05: from rest classify reads chaos (lambda_max +1.6, F_m 1.148)

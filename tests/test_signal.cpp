@@ -136,6 +136,14 @@ TEST_CASE("a row spectrum's options are refused naming the option and its range"
     o = {};
     o.order = 65;
     CHECK(refusal(o).find("order: must be an integer in [1, 64]") == 0);
+    // A force's segment is also read at four times the rate: beyond 2^23 it failed after the
+    // run (a reread, helper-86). The same segment of u1 is taken.
+    o = {};
+    o.variable = "F1";
+    o.samples_per_period = 100000;
+    CHECK(refusal(o).find("segment: a contact force's spectrum is also read at four times") == 0);
+    o.variable = "u1";
+    CHECK(refusal(o).empty());
     // 1000 periods less the default transient, 32 samples each: fewer than 2^20. Exactly the
     // samples recorded (both ends of the window) is a segment; one more is not.
     o = {};

@@ -260,6 +260,8 @@ int main(int argc, char** argv) {
                      {"scheme", "--scheme"},
                      {"max_points", "--max-points"},
                      {"max_branches", "--max-branches"},
+                     {"(a larger max_step, fewer max_points or max_branches)",
+                      "(a larger --max-step, fewer --max-points or --max-branches)"},
                      {"step", "--step"},
                      {"max_step", "--max-step"},
                      {"from", "--from"},

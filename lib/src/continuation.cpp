@@ -723,11 +723,17 @@ private:
         const Eigen::Index n = m_tracer.dimension();
         const double p = turn.at.z[n];
         const double side = a.z[n] + b.z[n] > 2.0 * p ? -1.0 : 1.0;
+        // Far enough past the turn that Newton at the orbit tolerance cannot land back on it,
+        // and near enough that a branch crossing there is found within a few steps of its
+        // slope: the step's chord let another sheet beyond a fold count (a reread, helper-86).
+        const double delta = std::max(10.0 * std::max(turn.value_error, m_o.locate_tolerance),
+                                      1e3 * m_o.orbit.tolerance * (1.0 + std::abs(p)));
         Vector guess = turn.at.z;
-        guess[n] = p + side * 10.0 * std::max(turn.value_error, m_o.locate_tolerance);
+        guess[n] = p + side * delta;
         if (!m_tracer.admissible(guess[n])) return false;
         const std::optional<OrbitPoint> beyond = m_tracer.correct_at_value(guess);
-        return beyond && near(*beyond, guess, (b.z - a.z).norm());
+        const double reach = std::min((b.z - a.z).norm(), 1e3 * delta * (1.0 + turn.at.z.norm()));
+        return beyond && near(*beyond, guess, reach);
     }
 
     /// A loss of stability next to -1 that is not smooth (at a grazing corner the multiplier
@@ -962,8 +968,6 @@ void list_unfollowed(const std::deque<PendingBranch>& pending, const Continuatio
             (left.until ? " back to " + detail::format_number(*left.until) : std::string()));
 }
 
-/// The row at options.from, once the options, both ends of the line and the row's size are
-/// checked (std::invalid_argument naming the first bad one).
 /// Refuses a line whose branches may not reach `to` within run.max_work: a step advances the
 /// parameter by at most max_step, so a branch walked across the line takes |to - from| /
 /// max_step points (or max_points, where it stops first), each a prediction and at least two
@@ -977,16 +981,19 @@ void require_walk_affordable(const ReducedParameters& start, const ReducedParame
                  std::ceil(std::abs(options.to - options.from) / options.max_step));
     const double per_shooting = std::max(shooting_work(Dynamics::paper_row(start), shooting),
                                          shooting_work(Dynamics::paper_row(end), shooting));
-    detail::require_work(3.0 * points * options.max_branches * per_shooting, shooting.max_work,
-                         "walking the line may take",
-                         std::to_string(options.max_branches) + " branches (--max-branches) of " +
-                             detail::format_number(points) + " points of 3 shootings, at most " +
-                             detail::format_number(options.max_step) +
-                             " apart in the parameter (--max-step, --max-points)",
-                         "a larger --max-step, fewer --max-points or --max-branches, a shorter "
-                         "line or a larger run.max_work");
+    // The fields are named as the library and Python call them; the tool maps them to flags.
+    detail::require_work(
+        3.0 * points * options.max_branches * per_shooting, shooting.max_work,
+        "walking the line may take",
+        std::to_string(options.max_branches) + " branches (max_branches) of " +
+            detail::format_number(points) + " points (max_points) of 3 shootings, at most " +
+            detail::format_number(options.max_step) + " apart in the parameter (max_step)",
+        "ask less (a larger max_step, fewer max_points or max_branches), a "
+        "shorter line or a larger run.max_work");
 }
 
+/// The row at options.from, once the options, both ends of the line, the row's size and the
+/// walk's work are checked (std::invalid_argument naming the first bad one).
 ReducedParameters checked_start(const ReducedParameters& base, const ContinuationOptions& options) {
     validate(options);
     const ReducedParameters start = model_with(base, options, options.from, "from");

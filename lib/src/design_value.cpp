@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace gapchain {
 
@@ -37,17 +38,21 @@ DesignValue design_value(const ReducedParameters& p, const AttractorOptions& opt
     d.overlap_factor = options.overlap_factor;
     d.search = find_attractors(p, options, progress);
     if (d.search.cancelled) return d;
-    d.F_m_max = d.search.F_m_max;
-    d.F_m_max_error = d.search.F_m_max_error;
+    // A search with no group (every start failed) has no F_m: NaN, where 0 +- 0 read as a
+    // design value (a reread, helper-86).
+    const bool any_group = d.search.F_m_max_id >= 0;
+    const double none = std::numeric_limits<double>::quiet_NaN();
+    d.F_m_max = any_group ? d.search.F_m_max : none;
+    d.F_m_max_error = any_group ? d.search.F_m_max_error : none;
     // A run that failed or was stopped has no F_m to set against the attractors; a search
     // whose groups were all still converging has no attractor's F_m to set it against.
-    const bool attractor_found = d.search.F_m_max_id >= 0 && d.search.any_settled();
+    const bool attractor_found = any_group && d.search.any_settled();
     if (!run.answered) return d;
     const double run_error = run.F_m_error;
     // Where every group was still converging, the search's F_m_max is a transient's; the larger
     // of it and the run's stands all the same, and from_run says which (it once said "the run's"
     // whenever nothing settled, next to the group's larger F_m).
-    d.from_run = run.F_m >= d.search.F_m_max;
+    d.from_run = !any_group || run.F_m >= d.search.F_m_max;
     if (d.from_run) {
         d.F_m_max = run.F_m;
         d.F_m_max_error = run_error;

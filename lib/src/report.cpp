@@ -244,24 +244,25 @@ nlohmann::ordered_json search_run_json(const RunOptions& run) {
 json design_value_json(const DesignValue& design, const AttractorOptions& options,
                        const Scene& scene) {
     const AttractorSet& set = design.search;
-    json d = {{"samples", options.samples},
-              {"seed", options.seed},
-              {"box", options.box},
-              {"center", box_center(options, scene.reduced.Nm)},
-              {"attractors", set.attractor_count()},
-              {"unsettled", set.unsettled},
-              {"failed", set.failed},
-              {"F_m_max", design.F_m_max},
-              {"F_m_max_error",
-               std::isnan(design.F_m_max_error) ? json(nullptr) : json(design.F_m_max_error)},
-              {"from_run", design.from_run},
-              {"start_below", design.start_below},
-              {"run_above", design.run_above},
-              {"attractors_F_m_max", set.F_m_max},
-              {"attractors_F_m_max_error", set.F_m_max_error},
-              {"transients", transients_json(set.transients)},
-              {"run", search_run_json(options.run)},
-              {"wall_time_s", set.wall_time_s}};
+    json d = {
+        {"samples", options.samples},
+        {"seed", options.seed},
+        {"box", options.box},
+        {"center", box_center(options, scene.reduced.Nm)},
+        {"attractors", set.attractor_count()},
+        {"unsettled", set.unsettled},
+        {"failed", set.failed},
+        {"F_m_max", design.F_m_max},
+        {"F_m_max_error",
+         std::isnan(design.F_m_max_error) ? json(nullptr) : json(design.F_m_max_error)},
+        {"from_run", design.from_run},
+        {"start_below", design.start_below},
+        {"run_above", design.run_above},
+        {"attractors_F_m_max", set.F_m_max_id >= 0 ? json(set.F_m_max) : json(nullptr)},
+        {"attractors_F_m_max_error", set.F_m_max_id >= 0 ? json(set.F_m_max_error) : json(nullptr)},
+        {"transients", transients_json(set.transients)},
+        {"run", search_run_json(options.run)},
+        {"wall_time_s", set.wall_time_s}};
     if (set.F_m_max_id >= 0) {
         const Attractor& a = set.attractors[static_cast<std::size_t>(set.F_m_max_id)];
         d["attractor"] = {{"regime", regime_label(a)},

@@ -86,10 +86,21 @@ void validate(const RowSpectrumOptions& o, const Dynamics& dyn, const RunOptions
                                     " ((run.periods - run.transient_periods) x samples per "
                                     "period + 1), got " +
                                     std::to_string(o.segment));
-    // The recorded samples are held in memory, twice as many for the aliasing check (a double
+    // The recorded samples are held in memory, twice as many for the aliasing check (four
+    // times for a contact force, add_second_folds()) (a double
     // each, and the PSD's work as much): refuse up front what the machine cannot hold instead
     // of failing after the run.
     const int times = held_rate(o, dyn) / o.samples_per_period;
+    // A force's segment is read at four times the rate too (add_second_folds()), within
+    // welch_psd()'s 2^25: at 100000 samples a period it failed after the whole run (a reread,
+    // helper-86).
+    const long segment =
+        o.segment != 0 ? o.segment : whole_period_segment(samples, o.samples_per_period, o.order);
+    if (times == 4 && segment > (1L << 23))
+        throw std::invalid_argument(
+            "segment: a contact force's spectrum is also read at four times the rate, so its "
+            "segment holds at most 8388608 samples (2^23), got " +
+            std::to_string(segment) + "; fewer samples per period or a shorter segment");
     if (samples * times > 500'000'000L)
         throw std::invalid_argument(
             "samples_per_period: (run.periods - run.transient_periods) x samples per period = " +

@@ -60,7 +60,7 @@ extern "C" void on_signal(int signal) {
     g_signal.store(signal);
     // A call that asks no progress callback would hold the first signal until it is done (a
     // 111 s dense solve, a sparse one of many minutes): it ends the process at once instead.
-    if (g_uninterruptible.load()) on_second_signal(signal);
+    if (g_uninterruptible.load()) return on_second_signal(signal);
     handle_signals(on_second_signal);
 }
 
@@ -107,8 +107,12 @@ bool interrupted() {
 }
 
 Uninterruptible::Uninterruptible() {
-    throw_if_interrupted();
+    // The flag first: a signal between a check and the flag would be held to the solve's end.
     g_uninterruptible.store(true);
+    if (interrupted()) {
+        g_uninterruptible.store(false);
+        throw_if_interrupted();
+    }
 }
 
 Uninterruptible::~Uninterruptible() {

@@ -138,8 +138,9 @@ struct Classification {
     /// label is the steady state's, from one cycle recorded after it (periods_run counts the
     /// record up to there); F_m is the cycle's (the orbit's where Newton confirmed it), and its
     /// error bar covers the record's maximum before the settle (the transient's, so it depends
-    /// on transient_periods); without Newton, lambda_max is a tangent average restarted at the
-    /// settle, over the cycle (its error infinite for fewer than 20 periods).
+    /// on transient_periods); without Newton (confirm_by_newton false), lambda_max is a
+    /// tangent average restarted at the settle, over whole cycles of at least 20 periods, with
+    /// their blocks' error (with Newton asked, over one cycle, no error, until Newton gives it).
     bool settled_in_record = false;
     bool stopped_at_steady_state = false; ///< the run ended early on a periodic steady state
     bool newton_confirmed = false; ///< Newton converged on the periodic orbit (period is then its

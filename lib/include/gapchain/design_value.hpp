@@ -19,11 +19,12 @@ struct DesignValue {
     AttractorSet search; ///< find_attractors() from the options' random starts
     /// The design value: the largest of the search's F_m_max and the run's F_m (a run whose
     /// transient outlasts its discarded periods counts: the row shaken from that start reaches
-    /// it); the search's alone if the run failed or was stopped. 0 if the search was cancelled.
-    double F_m_max = 0.0;
+    /// it); the search's alone if the run failed or was stopped. NaN where neither gives one
+    /// (the search cancelled, or every start failed and the run did not answer).
+    double F_m_max = std::numeric_limits<double>::quiet_NaN();
     /// The error of whichever gave F_m_max; NaN if that is the run and its error was not
-    /// estimated (run.estimate_error false).
-    double F_m_max_error = 0.0;
+    /// estimated (run.estimate_error false), and where F_m_max is.
+    double F_m_max_error = std::numeric_limits<double>::quiet_NaN();
     bool from_run = false; ///< F_m_max is the run's own F_m
     /// The search's F_m_max exceeds the run's F_m by more than 3 (F_m_error + F_m_max_error)
     /// and the accuracy asked (run.tolerance F_m_max): the run's start reached a weaker

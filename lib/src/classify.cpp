@@ -293,7 +293,11 @@ void require_map_work(const ReducedParameters& base, std::size_t rows,
         throw std::invalid_argument("e_r, f_r: " + detail::format_number(cells) +
                                     " map cells; at most 1e6 (a sweep with \"keep\": "
                                     "[\"regime\"] runs larger studies)");
-    const double periods = static_cast<double>(o.transient_periods + o.record_periods);
+    // A cell that settles at the record's end runs its cycle on: one (up to max_period
+    // periods), or without Newton at least 20 periods of it (record_cycle(); a reread,
+    // helper-86: such a cell could run twice the estimate).
+    const long cycle = o.confirm_by_newton ? o.max_period : 20L + o.max_period;
+    const double periods = static_cast<double>(o.transient_periods + o.record_periods + cycle);
     double body_steps = 0.0;
     for (double f : f_r) {
         const Dynamics dyn = Dynamics::paper_row({base.Nm, base.fc, base.eps, base.e_r, f});

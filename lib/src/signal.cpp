@@ -121,6 +121,11 @@ Signal every_other(const Signal& fine) {
 
 namespace {
 
+// How far power P moves when power P_m folds onto it with any phase: P_m + 2 sqrt(P P_m).
+double folded_error(double power, double mirror) {
+    return mirror + 2.0 * std::sqrt(power * mirror);
+}
+
 double band_power(const Psd& psd, int first, int last) {
     double power = 0.0;
     for (int k = first; k <= last; ++k)
@@ -164,7 +169,7 @@ void measure_aliasing(const Signal& fine, const std::vector<double>& coarse, con
             band_power(fine_psd, po.segment_length - p.last_bin, po.segment_length - p.first_bin);
         aliasing.push_back(
             std::max(std::abs(band_power(compared, p.first_bin, p.last_bin) - fine_power),
-                     mirror + 2.0 * std::sqrt(fine_power * mirror)));
+                     folded_error(fine_power, mirror)));
     }
 }
 
@@ -188,7 +193,7 @@ void add_second_folds(const Signal& finest, const PsdOptions& po, const RowSpect
         const SpectralPeak& p = r.content.peaks[i];
         const double power = band_power(finest_psd, p.first_bin, p.last_bin);
         const double mirror = band_power(finest_psd, S - p.last_bin, S - p.first_bin);
-        aliasing[i] += mirror + 2.0 * std::sqrt(power * mirror);
+        aliasing[i] += folded_error(power, mirror);
     }
 }
 

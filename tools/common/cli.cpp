@@ -189,7 +189,7 @@ void Outputs::check_distinct(const std::string& path, const std::string& flag) {
 
 void refuse_control_characters(const std::string& path, const std::string& flag) {
     for (const char c : path)
-        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
+        if (is_control_character(c))
             throw std::invalid_argument(flag + ": the path holds a control character (code " +
                                         std::to_string(static_cast<int>(c)) +
                                         "); give a path of printable characters");
@@ -683,7 +683,7 @@ std::string readable(const std::string& message) {
             pieces.emplace_back("\\r");
         else if (c == '\t')
             pieces.emplace_back("\\t");
-        else if (byte < 0x20 || byte == 0x7f) {
+        else if (is_control_character(c)) {
             char escaped[8];
             std::snprintf(escaped, sizeof escaped, "\\x%02x", byte);
             pieces.emplace_back(escaped);

@@ -68,6 +68,12 @@ inline constexpr std::string_view staging_prefix = ".gapchain-staging.";
 // A path, or a message naming paths, as the user knows them: staging folder components dropped.
 std::string shown_path(const std::string& text);
 
+// A byte below 0x20 or DEL: a newline, a tab, an escape (the one test of the messages, the
+// paths and the plot scripts).
+inline bool is_control_character(char c) {
+    return static_cast<unsigned char>(c) < 0x20 || c == 0x7f;
+}
+
 // Throws std::invalid_argument naming flag where path holds a control character (a newline,
 // a tab, ...): such a path cannot be written into the gnuplot scripts the tools run, and is
 // refused before any work.

@@ -154,7 +154,7 @@ namespace {
 std::string gnuplot_quoted(const std::string& value, const std::string& key) {
     std::string quoted;
     for (const char c : value) {
-        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
+        if (is_control_character(c))
             throw std::invalid_argument(key + ": a control character cannot go into a gnuplot "
                                               "script");
         quoted += c == '\'' ? std::string("''") : std::string(1, c);

@@ -277,6 +277,20 @@ TEST_CASE("a shooting beyond run.max_work leaves the label unconfirmed, after a 
     CHECK(classify(p, o).newton_confirmed);
 }
 
+TEST_CASE("where Newton cannot confirm a settled state, its exponent is measured on the orbit") {
+    // A row longer than the exact scheme takes (max_exact_bodies) has no shooting: its settled
+    // contact-free state read lambda_max -2.9622 +- inf (one cycle's) where every free mode
+    // decays as exp(-2 pi eps t) (MODEL.md §5), -pi here; the 5-body row's Newton gives it.
+    const ReducedParameters p{max_exact_bodies + 1, 60, 0.5, 1.4, 1.0};
+    const Classification c = classify(p, ClassifyOptions{});
+    REQUIRE(c.regime == Regime::no_contact);
+    REQUIRE_FALSE(c.newton_confirmed);
+    MESSAGE("unconfirmed " << c.lambda_max << " +- " << c.lambda_max_error);
+    REQUIRE(std::isfinite(c.lambda_max_error));
+    CHECK(std::abs(c.lambda_max + 2.0 * std::numbers::pi * p.eps) <= c.lambda_max_error);
+    CHECK(c.lambda_max_error < 0.2);
+}
+
 TEST_CASE("a map of more than 1e6 cells, or beyond run.max_work at full length, is refused "
           "before any cell runs") {
     const ReducedParameters base{5, 60, 0.5, 0.06, 3.0};

@@ -295,8 +295,9 @@ void require_map_work(const ReducedParameters& base, std::size_t rows,
                                     "[\"regime\"] runs larger studies)");
     // A cell that settles at the record's end runs its cycle on: one (up to max_period
     // periods), or without Newton at least 20 periods of it (record_cycle(); a reread,
-    // helper-86: such a cell could run twice the estimate).
-    const long cycle = o.confirm_by_newton ? o.max_period : 20L + o.max_period;
+    // helper-86: such a cell could run twice the estimate). Where Newton does not confirm the
+    // cycle, at least 20 periods more (measure_unconfirmed_exponent()).
+    const long cycle = o.confirm_by_newton ? 20L + 2L * o.max_period : 20L + o.max_period;
     const double periods = static_cast<double>(o.transient_periods + o.record_periods + cycle);
     double body_steps = 0.0;
     for (double f : f_r) {
@@ -393,7 +394,7 @@ void label_recorded(const Dynamics& dyn, double f_r, const ClassifyOptions& o,
 /// there: the average so far is the transient's (+0.68 +- 0.19 on a period-1 orbit of the
 /// Nm = 6 row); over one cycle it has no error (null) until Newton gives it. Without Newton the
 /// cycles run on to at least 20 periods, the exponent restarted at the settle.
-bool record_cycle(const Dynamics& dyn, const ClassifyOptions& o, int period, double t,
+bool record_cycle(const Dynamics& dyn, const ClassifyOptions& o, int period, double& t,
                   const ProgressCallback& keep_going, PlannedRun& planned,
                   std::optional<Recording>& record, LyapunovResult& lyap, Classification& c) {
     record.emplace(dyn, o, -1);
@@ -408,9 +409,33 @@ bool record_cycle(const Dynamics& dyn, const ClassifyOptions& o, int period, dou
     TangentObserver restarted(dyn, 1, 0);
     std::vector<Observer*> cycle = record->observers();
     if (c.settled_in_record || orbit_exponent) cycle.push_back(&restarted);
-    if (phase_ends(planned.run({cycles * period, 0, t}, cycle, keep_going), c)) return true;
+    const RunOutcome outcome = planned.run({cycles * period, 0, t}, cycle, keep_going);
+    if (phase_ends(outcome, c)) return true;
+    t = outcome.t_end;
     if (c.settled_in_record || orbit_exponent) lyap = restarted.result();
     return false;
+}
+
+/// Where Newton was asked for but did not confirm a settled periodic (or contact-free) state
+/// (no convergence, an unstable orbit, a row the exact scheme refuses, a shooting beyond
+/// run.max_work), the exponent measured on the orbit as without Newton: restarted at t and
+/// averaged over whole cycles of at least 20 periods. It was one cycle's, with no error (or the
+/// transient's average), where the orbit's is negative. A run of those cycles beyond
+/// run.max_work leaves it so, as does a run of them that ends the classification.
+void measure_unconfirmed_exponent(const Dynamics& dyn, const ClassifyOptions& o, int period,
+                                  double t, const ProgressCallback& keep_going, PlannedRun& planned,
+                                  Classification& c) {
+    if (!o.confirm_by_newton || c.newton_confirmed ||
+        (c.regime != Regime::periodic && c.regime != Regime::no_contact))
+        return;
+    const long periods = (20 + period - 1) / period * period;
+    if (run_work(dyn, planned.plan(), static_cast<double>(periods), 1) > o.max_work) return;
+    TangentObserver restarted(dyn, 1, 0);
+    Observer* cycles[] = {&restarted};
+    if (phase_ends(planned.run({periods, 0, t}, cycles, keep_going), c)) return;
+    const LyapunovResult lyap = restarted.result();
+    c.lambda_max = lyap.exponents.front();
+    c.lambda_max_error = lyap.errors.front();
 }
 
 /// One classification of the row from `initial` (classify() without the twin).
@@ -440,12 +465,10 @@ Classification classify_from(const Dynamics& dyn, double f_r, const ClassifyOpti
     std::optional<int> period = steady.period();
     LyapunovResult lyap = tangent.result();
 
-    // Phase 2, recording record_periods where the state did not settle, with the forces, the
-    // section, u_1 and the tangent vector. A detector of its own keeps watching: a chaotic
-    // transient that outlasts the discarded periods can end while recording, and the record
-    // would then label the transient (Nm = 2, fc = 15.70, eps = 0.287, e_r = 0.0615,
-    // f_r = 3.642 from rest read quasi-periodic, F_m 0.263; it settles on period 2, F_m 0.0749,
-    // after 278 periods).
+    // Phase 2, recording record_periods where the state did not settle. A detector of its own
+    // keeps watching: a chaotic transient that outlasts the discarded periods can end while
+    // recording (Nm = 2, fc = 15.70, eps = 0.287, e_r = 0.0615, f_r = 3.642 from rest read
+    // quasi-periodic, F_m 0.263; it settles on period 2, F_m 0.0749, after 278 periods).
     std::optional<Recording> record;
     double transient_maximum = 0.0;
     if (!period) {
@@ -470,7 +493,10 @@ Classification classify_from(const Dynamics& dyn, double f_r, const ClassifyOpti
     }
     if (period && record_cycle(dyn, o, *period, t, keep_going, planned, record, lyap, c)) return c;
     label_recorded(dyn, f_r, o, planned.state(), *record, period, lyap, transient_maximum, c);
-    if (!period) c.section_states = std::move(record->states);
+    if (period)
+        measure_unconfirmed_exponent(dyn, o, *period, t, keep_going, planned, c);
+    else
+        c.section_states = std::move(record->states);
     return c;
 }
 

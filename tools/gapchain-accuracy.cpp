@@ -118,17 +118,17 @@ int main(int argc, char** argv) {
     cli::SceneArguments scene_args;
     cli::add_scene_arguments(app, scene_args, true);
     WorkPrecisionOptions o;
-    std::vector<std::string> schemes{"central_difference", "rk4", "rkf45", "rk8pd", "exact"};
+    std::vector<std::string> schemes{"central_difference,rk4,rkf45,rk8pd,exact"};
+    std::vector<std::string> tolerances{"1e-2,1e-3,1e-4,1e-5,1e-6,1e-7,1e-8"};
     double target = 1e-6;
     std::string out = "accuracy";
     bool no_plot = false, no_unsplit = false;
-    app.add_option("--schemes", schemes, "Schemes to compare")
-        ->delimiter(',')
-        ->check(CLI::IsMember({"central_difference", "rk4", "rkf45", "rk8pd", "exact"}))
+    app.add_option("--schemes", schemes,
+                   "Schemes to compare, comma-separated: central_difference, rk4, rkf45, rk8pd, "
+                   "exact")
         ->capture_default_str();
-    app.add_option("--tolerances", o.tolerances, "Tolerance ladder, each in [1e-12, 0.1]")
-        ->delimiter(',')
-        ->check(cli::range(1e-12, 0.1))
+    app.add_option("--tolerances", tolerances,
+                   "Tolerance ladder, comma-separated, each in [1e-12, 0.1]")
         ->capture_default_str();
     app.add_option("--periods", o.periods, "Forcing periods per run")
         ->check(cli::range(1L, 1'000'000L))
@@ -150,7 +150,15 @@ int main(int argc, char** argv) {
         require_linear_harmonic(
             scene, "gapchain-accuracy",
             "every scheme is measured against the exact propagator, which needs both");
-        set_schemes(o, schemes, no_unsplit);
+        set_schemes(o,
+                    cli::list_items(
+                        "--schemes", schemes,
+                        CLI::IsMember({"central_difference", "rk4", "rkf45", "rk8pd", "exact"})),
+                    no_unsplit);
+        o.tolerances.clear();
+        for (const std::string& item :
+             cli::list_items("--tolerances", tolerances, cli::range(1e-12, 0.1)))
+            o.tolerances.push_back(std::stod(item));
         o.max_work = scene.run.max_work;
         cli::Outputs outputs({scene_args.path});
         outputs.folder(

@@ -24,7 +24,7 @@ using namespace gapchain;
 // The section asked for on the command line.
 struct SectionArguments {
     std::string kind = "stroboscopic", trigger = "u1", direction = "up";
-    std::vector<std::string> record{"u1", "v1"};
+    std::vector<std::string> record{"u1,v1"};
 };
 
 SectionSpec section_spec(const SectionArguments& a, SectionSpec spec, int bodies) {
@@ -34,7 +34,7 @@ SectionSpec section_spec(const SectionArguments& a, SectionSpec spec, int bodies
                      : a.direction == "down" ? CrossingDirection::down
                                              : CrossingDirection::both;
     spec.record.clear();
-    for (const auto& name : a.record)
+    for (const auto& name : cli::list_items("--record", a.record))
         spec.record.push_back(SectionVariable::parse(name, bodies, "--record"));
     validate(spec, bodies);
     return spec;
@@ -186,8 +186,8 @@ void add_section_options(CLI::App& app, SectionArguments& a, SectionSpec& spec) 
     app.add_option("--direction", a.direction, "Event direction: up, down or both")
         ->check(CLI::IsMember({"up", "down", "both"}))
         ->capture_default_str();
-    app.add_option("--record", a.record, "Recorded variables: t, u1.., v1.., g0.., F0..")
-        ->delimiter(',')
+    app.add_option("--record", a.record,
+                   "Recorded variables, comma-separated: t, u1.., v1.., g0.., F0..")
         ->capture_default_str();
 }
 

@@ -473,6 +473,27 @@ CLI::Validator number_range(double lo, double hi, bool integer) {
         "[" + range + "]");
 }
 
+std::vector<std::string> list_items(const std::string& flag, const std::vector<std::string>& values,
+                                    CLI::Validator check) {
+    std::vector<std::string> items;
+    for (const std::string& value : values) {
+        std::size_t begin = 0;
+        while (true) {
+            const std::size_t comma = value.find(',', begin);
+            std::string item = value.substr(begin, comma - begin);
+            if (item.empty())
+                throw std::invalid_argument(flag + ": item " + std::to_string(items.size() + 1) +
+                                            " of \"" + value + "\" is empty");
+            if (const std::string refusal = check(item); !refusal.empty())
+                throw std::invalid_argument(flag + ": " + refusal);
+            items.push_back(std::move(item));
+            if (comma == std::string::npos) break;
+            begin = comma + 1;
+        }
+    }
+    return items;
+}
+
 std::string row_title(const ReducedParameters& p, const std::string& swept) {
     std::string title = "Nm=" + std::to_string(p.Nm);
     const std::pair<const char*, double> fields[] = {

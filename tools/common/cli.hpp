@@ -157,6 +157,13 @@ CLI::Validator range(T lo, T hi) {
     return number_range(static_cast<double>(lo), static_cast<double>(hi), std::is_integral_v<T>);
 }
 
+// The items of a comma-separated list option (each value given, split at its commas), each
+// passing `check` (none: any). CLI11's own delimiter dropped empty items: "--schemes rk4," ran
+// rk4 alone and "--tolerances 1e-4,,1e-5" two tolerances, without a word. An empty item is
+// refused, naming the flag.
+std::vector<std::string> list_items(const std::string& flag, const std::vector<std::string>& values,
+                                    CLI::Validator check = {});
+
 // --seed and --box of an attractor search's random starts (gapchain-attractors, and
 // gapchain-sim --attractors), the box around `center` (what its help calls the center);
 // returns the two options.

@@ -105,12 +105,9 @@ void print_steady_state(const SimulationResult& r) {
             *r.longer_cycle_period, *r.longer_cycle_period);
 }
 
-void print_result(const Scene& scene, const SimulationResult& r, bool searched) {
-    const ReducedParameters& p = scene.reduced;
-    print_header(scene, r);
-    print_force(scene, r);
-    print_where(r, p.Nm);
-    print_steady_state(r);
+// The notes on where F_m may not be the steady figure it looks like: an undamped or slow
+// start-up, and a record whose path depends on the truncation error.
+void print_accuracy_notes(const Scene& scene, const SimulationResult& r) {
     const Chain chain = scene.chain();
     const auto& damping = chain.damping;
     const bool undamped =
@@ -129,13 +126,20 @@ void print_result(const Scene& scene, const SimulationResult& r, bool searched) 
     // at 1e-11 by 2-3 such bars (a hostile probe, helper-87). The bar is then one draw.
     const double asked = std::max(scene.run.tolerance, 1e-9) * r.F_m;
     if (!scene.harmonic() && r.F_m_error > 10.0 * asked)
-        std::printf(
-            "note: F_m_error is %.3g times run.tolerance x F_m: this record's response "
-            "depends on the truncation error (a run at half the step, or a tenth of the tolerance, "
-            "parts from it by that much), and "
-            "the bar is one draw of that spread; a tighter run.tolerance (1e-8) "
-            "narrows it\n",
-            r.F_m_error / asked);
+        std::printf("note: F_m_error is %.3g times run.tolerance x F_m: this record's response "
+                    "depends on the truncation error (a run at half the step, or a tenth of the "
+                    "tolerance, parts from it by that much), and the bar is one draw of that "
+                    "spread; a tighter run.tolerance (1e-8) narrows it\n",
+                    r.F_m_error / asked);
+}
+
+void print_result(const Scene& scene, const SimulationResult& r, bool searched) {
+    const ReducedParameters& p = scene.reduced;
+    print_header(scene, r);
+    print_force(scene, r);
+    print_where(r, p.Nm);
+    print_steady_state(r);
+    print_accuracy_notes(scene, r);
     if (r.accuracy_mode_used == AccuracyUsed::relaxed)
         std::printf("accuracy: relaxed from period %ld on (the run does not settle%s; "
                     "run.accuracy_mode = \"strict\" holds every step to the tolerance)\n",

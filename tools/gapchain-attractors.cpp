@@ -196,7 +196,8 @@ void run_point(const Scene& scene, AttractorArguments& a, cli::Outputs& outputs)
     const std::string dir = outputs.staged(a.out_dir);
     write_file_atomically(dir + "/attractors.csv", attractors_csv(set));
     write_file_atomically(dir + "/attractors.json", to_json(set, a.options, scene));
-    write_file_atomically(dir + "/starts.csv", attractor_starts_csv(set));
+    write_file_atomically(dir + "/starts.csv",
+                          attractor_starts_csv(set, attractor_starts(scene.reduced, a.options)));
     if (a.options.slice) {
         write_file_atomically(dir + "/basins.csv", basin_slice_csv(set));
         const auto comma = a.grid.find(',');

@@ -44,7 +44,8 @@ that left it for an orbit; above 0 the group is a chaotic transient, unsettled),
 state: one row of 2 Nm values per attractor, a state on it at phase 0), sample_attractor (per
 random start: attractor id, -1 if its run failed), sample_settle_period (per random start: the
 period where its transient ended, -1 if it did not settle on an orbit), sample_F_m (per random
-start: its run's F_m), transients (how long the starts' transients last before they reach a
+start: its run's F_m), sample_start (per random start: its state, 2 Nm values, as starts.csv
+writes it: a scene's initial.u and initial.v that run it again), transients (how long the starts' transients last before they reach a
 periodic attractor, starts still in a chaotic transient counted as still going:
 from_period, the median length; lifetime beyond it and lifetime_error, NaN with fewer than 10
 ending beyond it; ended; censored, still going when their runs ended; rate_ratio and its error,
@@ -186,6 +187,18 @@ void add_newtons(py::dict& d, const AttractorSet& s, const PhysicalParameters& p
     d["attractors"].attr("__setitem__")("F_m_newton", array(newtons));
 }
 
+// The random starts' states, one row of 2 Nm values each, as starts.csv writes them.
+py::array_t<double> start_rows(const AttractorSet& s,
+                               const std::vector<std::vector<double>>& starts) {
+    const std::size_t rows = s.sample_attractor.size();
+    const std::size_t cols = starts.empty() ? 0 : starts.front().size();
+    std::vector<double> flat;
+    flat.reserve(rows * cols);
+    for (std::size_t k = 0; k < rows; ++k)
+        flat.insert(flat.end(), starts[k].begin(), starts[k].end());
+    return matrix(flat, rows, cols);
+}
+
 py::dict attractors_py(const py::object& scene_arg, long samples, std::uint64_t seed, double box,
                        int section_points, const py::object& grid, int resolution, int threads,
                        const py::object& progress, const py::kwargs& keys) {
@@ -204,6 +217,7 @@ py::dict attractors_py(const py::object& scene_arg, long samples, std::uint64_t 
                     [&](const AttractorSet& s) {
                         py::dict d = set_dict(s);
                         d["center"] = array(box_center(o, p.Nm));
+                        d["sample_start"] = start_rows(s, attractor_starts(p, o));
                         if (scene.physical) add_newtons(d, s, *scene.physical);
                         return d;
                     });

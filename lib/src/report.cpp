@@ -666,13 +666,29 @@ std::string attractors_csv(const AttractorSet& set) {
     return os.str();
 }
 
-std::string attractor_starts_csv(const AttractorSet& set) {
+std::string attractor_starts_csv(const AttractorSet& set,
+                                 const std::vector<std::vector<double>>& starts) {
+    if (starts.size() < set.sample_attractor.size())
+        throw std::invalid_argument("starts: " + std::to_string(starts.size()) + " states for " +
+                                    std::to_string(set.sample_attractor.size()) + " starts");
+    const std::size_t bodies = starts.empty() ? 0 : starts.front().size() / 2;
     std::ostringstream os;
-    os.precision(12);
-    os << "start,attractor,settle_period,F_m_run\n";
-    for (std::size_t k = 0; k < set.sample_attractor.size(); ++k)
+    os << "start,attractor,settle_period,F_m_run";
+    for (const char* name : {"u", "v"})
+        for (std::size_t i = 1; i <= bodies; ++i)
+            os << ',' << name << i;
+    os << '\n';
+    // Without the states a start could not be run again (an independent review, helper-88):
+    // only each attractor's first one was in attractors.json.
+    for (std::size_t k = 0; k < set.sample_attractor.size(); ++k) {
+        os.precision(12);
         os << k << ',' << set.sample_attractor[k] << ',' << set.sample_settle_period[k] << ','
-           << set.sample_F_m[k] << '\n';
+           << set.sample_F_m[k];
+        os.precision(17);
+        for (const double x : starts[k])
+            os << ',' << x;
+        os << '\n';
+    }
     return os.str();
 }
 

@@ -442,8 +442,19 @@ def test_attractors_match_gapchain_attractors(tmp_path):
         columns["basin_fraction"].tolist()
     # Per start: where its transient ended, as starts.csv says; the per-attractor statistics.
     rows = (tmp_path / "a" / "starts.csv").read_text().splitlines()
-    assert rows[0] == "start,attractor,settle_period,F_m_run" and len(rows) == 41
+    assert rows[0] == "start,attractor,settle_period,F_m_run,u1,v1" and len(rows) == 41
     assert [int(r.split(",")[2]) for r in rows[1:]] == a["sample_settle_period"].tolist()
+    # Each start's state, which runs it again (an independent review, helper-88: only each
+    # attractor's first start was written). Run from it, a start ends on the orbit the search
+    # put it on: the mirror pair's two orbits differ in sign.
+    starts = np.array([[float(x) for x in r.split(",")[4:]] for r in rows[1:]])
+    assert np.array_equal(starts, a["sample_start"]) and starts.shape == (40, 2)
+    for k in (0, 1, 2):
+        rerun = gapchain.simulate(MIRROR_PAIR, **{"initial.u": [starts[k][0]],
+                                                  "initial.v": [starts[k][1]]})
+        distances = [np.abs(rerun["final_state"] - orbit).max() for orbit in columns["state"]]
+        assert np.argmin(distances) == a["sample_attractor"][k]
+        assert rerun["F_m"] == pytest.approx(a["sample_F_m"][k], rel=1e-9)
     assert a["sample_F_m"].shape == (40,)
     # The transients' lifetime, as attractors.json says (NaN there is null).
     nan_as_none = {k: (None if isinstance(v, float) and np.isnan(v) else v)

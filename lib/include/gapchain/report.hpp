@@ -126,8 +126,11 @@ std::string to_json(const ContinuationResult& result, const ContinuationOptions&
 std::string attractors_csv(const AttractorSet& set);
 
 /// The random starts, one row each: start,attractor,settle_period,F_m_run (attractor -1: the
-/// run failed; settle_period -1: the run did not settle on an orbit).
-std::string attractor_starts_csv(const AttractorSet& set);
+/// run failed; settle_period -1: the run did not settle on an orbit), then the start's state
+/// u1..uNm,v1..vNm (to all 17 digits: a scene's initial.u and initial.v that run it again).
+/// starts: attractor_starts() of the search's parameters and options.
+std::string attractor_starts_csv(const AttractorSet& set,
+                                 const std::vector<std::vector<double>>& starts);
 
 /// Attractors as JSON: F_m_max (the design value) and its attractor, each attractor with its
 /// row of attractors_csv(), max_multiplier, initial_state and state, the search's options and

@@ -658,3 +658,22 @@ TEST_CASE("a section's error estimate says why it is missing, and never refuses 
     const SectionAccuracy none = section_accuracy(dyn, RunOptions{}, spec, {}, {});
     CHECK(none.not_estimated == "no point to compare");
 }
+
+TEST_CASE("a record's tail repeats: the start-up before its second half does not count, t is "
+          "left out") {
+    SectionSpec spec;
+    spec.record = {SectionVariable::parse("t", 1, "record"),
+                   SectionVariable::parse("u1", 1, "record")};
+    RecordTailRepeats cycle(spec), drifting(spec), short_record(spec);
+    for (int i = 0; i < 300; ++i) {
+        const double start_up = i < 100 ? 0.5 / (1 + i) : 0.0;
+        cycle.add({static_cast<double>(i), {static_cast<double>(i), (i % 3) * 0.1 + start_up}});
+        drifting.add({static_cast<double>(i), {static_cast<double>(i), 1e-6 * i}});
+    }
+    CHECK(cycle.period() == 3);
+    CHECK(drifting.period() == 0);
+    // Three points of a period-2 sequence cannot show it: two cycles are needed.
+    for (int i = 0; i < 3; ++i)
+        short_record.add({static_cast<double>(i), {static_cast<double>(i), (i % 2) * 1.0}});
+    CHECK(short_record.period() == 0);
+}

@@ -314,7 +314,7 @@ TEST_CASE("section JSON names the scheme and step the run took, beside the ones 
     const StepPlan plan = plan_run(dyn, scene.run);
     SectionSpec spec;
     const RunOutcome outcome = take_section(dyn, scene.run, spec, [](const SectionPoint&) {});
-    const auto j = nlohmann::json::parse(to_json(spec, 10, nullptr, 0.0, scene, outcome));
+    const auto j = nlohmann::json::parse(to_json(spec, 10, 0, nullptr, 0.0, scene, outcome));
     CHECK(j["parameters"]["scheme"] == "auto");
     CHECK(j["parameters"]["step"].is_null());
     CHECK(j["scheme"] == std::string(to_string(plan.scheme)));

@@ -66,8 +66,10 @@ int csv_column(const SectionSpec& spec, std::size_t index) {
 }
 
 // What the section run gave: its points, the first of them kept for the error estimate.
+
 struct TakenSection {
     long count = 0;
+    int repeats_every = 0; ///< the last points repeat after this many; 0: they do not
     std::vector<SectionPoint> first;
     RunOutcome outcome;
 };
@@ -81,6 +83,9 @@ TakenSection take_section_to_csv(const Scene& scene, const SectionSpec& spec,
         if (!is_time(v)) csv.stream() << ',' << v.name();
     csv.stream() << '\n';
     TakenSection taken;
+    // Whether the record ends periodic, and on how many points: a researcher counted 100 rows
+    // of one point by hand (an independent review, helper-88).
+    RecordTailRepeats repeats(spec);
     cli::Progress progress("gapchain-poincare");
     taken.outcome = take_section(
         scene.dynamics(), scene.run, spec,
@@ -91,12 +96,14 @@ TakenSection take_section_to_csv(const Scene& scene, const SectionSpec& spec,
             csv.stream() << '\n';
             ++taken.count;
             if (taken.first.size() < section_error_points) taken.first.push_back(p);
+            repeats.add(p);
         },
         scene.initial, progress.callback());
     cli::throw_if_interrupted();
     if (taken.outcome.status == RunStatus::non_finite)
         throw cli::NumericalFailure(taken.outcome.message);
     csv.commit();
+    taken.repeats_every = repeats.period();
     return taken;
 }
 
@@ -108,6 +115,18 @@ SectionAccuracy estimate_point_error(const Scene& scene, const SectionSpec& spec
     cli::Progress progress("gapchain-poincare: error estimate");
     return section_accuracy(scene.dynamics(), scene.run, spec, scene.initial, first,
                             progress.callback());
+}
+
+void print_repeats(const TakenSection& taken) {
+    if (taken.count == 0) return;
+    if (taken.repeats_every > 0)
+        std::printf("  the record's last points repeat every %d point%s (to 1e-8 of their size): "
+                    "a periodic record\n",
+                    taken.repeats_every, taken.repeats_every == 1 ? "" : "s");
+    else
+        std::printf("  the record's last points do not repeat after up to %d points (to 1e-8 of "
+                    "their size): chaotic, quasi-periodic, a longer cycle, or still settling\n",
+                    RecordTailRepeats::max_repeat);
 }
 
 void print_crossings_differ(const SectionAccuracy& a) {
@@ -231,8 +250,9 @@ int main(int argc, char** argv) {
             const double wall =
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
             write_file_atomically(staged + "/section.json",
-                                  to_json(spec, taken.count, accuracy ? &*accuracy : nullptr, wall,
-                                          scene, taken.outcome));
+                                  to_json(spec, taken.count, taken.repeats_every,
+                                          accuracy ? &*accuracy : nullptr, wall, scene,
+                                          taken.outcome));
             // No point (an event never met, a contact that never closes): nothing to draw.
             if (taken.count == 0 && !no_plot)
                 std::fprintf(stderr, "note: the section has no points: no figure\n");
@@ -241,6 +261,7 @@ int main(int argc, char** argv) {
             outputs.keep();
             std::printf("gapchain-poincare: %ld section points in %s/section.csv (%.3f s)\n",
                         taken.count, out_dir.c_str(), wall);
+            print_repeats(taken);
             if (accuracy) print_point_error(spec, *accuracy);
         },
         {{"section.phase", "--phase"},

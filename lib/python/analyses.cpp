@@ -90,7 +90,8 @@ error      estimate the points' error: the first 1000 set against a run at half 
            transient and those periods
 
 Returns a dict: t ((n,) reduced times), points ((n, len(record)) float64), names (record),
-point_error (None with error=False or a run that did not complete, else a dict as
+repeats_every (the record's last points repeat after this many, to 1e-8 of their size, t left
+out; None where they do not within 128), point_error (None with error=False or a run that did not complete, else a dict as
 section.json's: compared, error (per recorded name: twice the largest difference before the
 runs part; None for a stroboscopic section's t and an event's trigger), parted_at (the first compared point where the
 runs differ by more than 1e-3 of a variable's largest value and from which on they grow apart,
@@ -343,7 +344,9 @@ py::dict poincare_py(const py::object& scene_arg, const std::string& section,
         section_spec(section, phase, trigger, level, direction, record, dyn.bodies());
     std::vector<double> t, values;
     std::vector<SectionPoint> first;
+    RecordTailRepeats repeats(spec);
     const SectionSink sink = [&](const SectionPoint& p) {
+        repeats.add(p);
         t.push_back(p.t);
         values.insert(values.end(), p.values.begin(), p.values.end());
         if (first.size() < section_error_points) first.push_back(p);
@@ -357,8 +360,11 @@ py::dict poincare_py(const py::object& scene_arg, const std::string& section,
         const double wall =
             std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
         py::dict d;
-        d["point_error"] = py::module_::import("json").attr("loads")(to_json(
-            spec, static_cast<long>(t.size()), accuracy, wall, scene, outcome))["point_error"];
+        const int repeats_every = repeats.period();
+        d["point_error"] = py::module_::import("json").attr("loads")(
+            to_json(spec, static_cast<long>(t.size()), repeats_every, accuracy, wall, scene,
+                    outcome))["point_error"];
+        d["repeats_every"] = repeats_every > 0 ? py::object(py::int_(repeats_every)) : py::none();
         d["wall_time_s"] = wall;
         d["t"] = array(t);
         d["points"] = matrix(values, t.size(), record.size());

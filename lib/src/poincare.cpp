@@ -320,6 +320,38 @@ int SectionRepeats::period(double tolerance, bool distinct_cycle) const {
     return 0;
 }
 
+void RecordTailRepeats::add(const SectionPoint& point) {
+    std::vector<double> values;
+    values.reserve(point.values.size());
+    for (std::size_t i = 0; i < point.values.size(); ++i)
+        if (m_spec.record[i].name() != "t") values.push_back(point.values[i]);
+    m_last.push_back(std::move(values));
+    if (m_last.size() > 3 * static_cast<std::size_t>(max_repeat)) m_last.pop_front();
+    ++m_count;
+}
+
+int RecordTailRepeats::period() const {
+    const auto held = static_cast<long>(m_last.size());
+    double scale = 0.0;
+    for (const auto& values : m_last)
+        for (double v : values)
+            scale = std::max(scale, std::abs(v));
+    const double tol = repeat_tolerance * (1.0 + scale);
+    for (long k = 1; k <= max_repeat; ++k) {
+        const long window = std::max(2 * k, std::min(m_count / 2, 2L * max_repeat));
+        if (window + k > held) break;
+        bool repeats = true;
+        for (long i = held - window; i < held && repeats; ++i) {
+            const auto& now = m_last[static_cast<std::size_t>(i)];
+            const auto& before = m_last[static_cast<std::size_t>(i - k)];
+            for (std::size_t c = 0; c < now.size() && repeats; ++c)
+                repeats = std::abs(now[c] - before[c]) <= tol;
+        }
+        if (repeats) return static_cast<int>(k);
+    }
+    return 0;
+}
+
 RunOutcome take_section(const Dynamics& dyn, const RunOptions& options, const SectionSpec& spec,
                         const SectionSink& sink, const std::vector<double>& initial,
                         const ProgressCallback& progress) {

@@ -514,8 +514,9 @@ std::string to_json(const RowSpectrum& s, const RowSpectrumOptions& o, const Sce
     return j.dump(2) + "\n";
 }
 
-std::string to_json(const SectionSpec& spec, long points, const SectionAccuracy* accuracy,
-                    double wall_time_s, const Scene& scene, const RunOutcome& outcome) {
+std::string to_json(const SectionSpec& spec, long points, int repeats_every,
+                    const SectionAccuracy* accuracy, double wall_time_s, const Scene& scene,
+                    const RunOutcome& outcome) {
     json j;
     json section = {{"kind", spec.kind == SectionSpec::Kind::event ? "event" : "stroboscopic"}};
     if (spec.kind == SectionSpec::Kind::event) {
@@ -533,6 +534,7 @@ std::string to_json(const SectionSpec& spec, long points, const SectionAccuracy*
     section["record"] = record;
     j["section"] = section;
     j["points"] = points;
+    j["repeats_every"] = repeats_every > 0 ? json(repeats_every) : json(nullptr);
     if (accuracy) {
         json error = json::object();
         for (std::size_t i = 0; i < spec.record.size(); ++i)

@@ -683,6 +683,13 @@ def test_orbit_and_continuation_refuse_run_keywords_they_would_ignore():
         gapchain.spectrum(MIRROR_PAIR, accuracy_mode="strict")
     with pytest.raises(ValueError, match="^trajectory_every: poincare\\(\\) does not read"):
         gapchain.poincare(MIRROR_PAIR, trajectory_every=3)
+
+
+def test_poincare_says_whether_the_record_repeats():
+    # The mirror pair's runs settle on one of its two period-1 orbits (MODEL.md section 5); a
+    # recorded t does not count against the repeat.
+    assert gapchain.poincare(MIRROR_PAIR, record=["t", "u1", "v1"], error=False)[
+        "repeats_every"] == 1
     with pytest.raises(ValueError, match="^estimate_error: attractors\\(\\) does not read"):
         gapchain.attractors(MIRROR_PAIR, samples=2, estimate_error=False)
     with pytest.raises(ValueError, match="^trajectory_every: simulate\\(\\) does not read"):

@@ -150,6 +150,29 @@ private:
     long m_count = 0;
 };
 
+/// Whether a section's record ends periodic, as gapchain-poincare and Python poincare() say it
+/// (repeats_every in section.json): the smallest k <= max_repeat such that each of the
+/// record's last points (its second half, at most 2 max_repeat, at least 2 k) comes back k
+/// points later, every recorded value but t (a stroboscopic t never repeats) within
+/// repeat_tolerance (relative; above the round-off of a settled run's points and of an event's
+/// located crossing) of its size; 0 where none does. A start-up before the second half does
+/// not count, as it does in detect_period().
+class RecordTailRepeats {
+public:
+    static constexpr int max_repeat = 128;
+    static constexpr double repeat_tolerance = 1e-8;
+    explicit RecordTailRepeats(const SectionSpec& spec) : m_spec(spec) {}
+    /// The next point of the section taken to the spec.
+    void add(const SectionPoint& point);
+    /// k, or 0.
+    [[nodiscard]] int period() const;
+
+private:
+    SectionSpec m_spec;
+    std::deque<std::vector<double>> m_last; ///< up to 3 max_repeat points, t left out
+    long m_count = 0;
+};
+
 /// Runs dyn from initial (empty: rest) over options.periods, with options.transient_periods
 /// discarded, on the step options.scheme / tolerance / step ask for, and streams the section
 /// points to sink. Runs the full length (a section wants every period). Returns how the run

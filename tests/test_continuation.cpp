@@ -700,6 +700,12 @@ TEST_CASE("a turn that no orbit goes on past is a fold, and a turn at a pitchfor
     }
     CHECK(folds == 1);
     CHECK(branch_points == 1);
+    // Between the fold and the doubling at 2.62490 the branch is stable; both fell in one step,
+    // and branch.csv held no orbit of that stretch. A step with two kinds of special point in
+    // it is now halved.
+    CHECK(std::any_of(r.points.begin(), r.points.end(), [](const BranchPoint& q) {
+        return q.stable && q.value > 2.62439229 + 1e-6 && q.value < 2.62490 - 1e-6;
+    }));
 }
 
 TEST_CASE("a restart beyond a branch's end traces the skipped stretch back") {

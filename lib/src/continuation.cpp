@@ -347,6 +347,7 @@ private:
                 b.reset();
                 m_cut_corner = true;
             }
+            if (b && crowded(a, *b) && ds / 2 >= 16.0 * m_o.locate_tolerance) b.reset();
             if (!b) ds /= 2;
         }
         return b;
@@ -374,6 +375,23 @@ private:
         if (!own || !near(*own, a.z, ds) || !same_impacts(*own, a)) return false;
         return (own->z.head(n) - b.z.head(n)).norm() >
                1e3 * m_o.orbit.tolerance * (1.0 + b.z.head(n).norm());
+    }
+
+    /// Whether two kinds of special point fall between a and b: a turn (fold or branch
+    /// point), a multiplier through -1, a pair through the unit circle. The step is then
+    /// halved (down to 16 locate_tolerance), so that the orbits between them are on the branch:
+    /// on Nm 1, fc 100, eps 0.2, e_r 0.05 (an independent review, helper-84) the stable stretch
+    /// between the doubling at f_r = 2.62490 and the fold at 2.62439 lay inside one step, and
+    /// branch.csv held no orbit of it.
+    static bool crowded(const OrbitPoint& a, const OrbitPoint& b) {
+        const auto changes = [&](auto test) { return (test(a) > 0) != (test(b) > 0); };
+        const auto ta = torus_test(a), tb = torus_test(b);
+        const bool pair_through_circle = ta && tb && (*ta > 0) != (*tb > 0);
+        const bool through_minus_one = changes(doubling_test) || multipliers_below_minus_one(a) !=
+                                                                     multipliers_below_minus_one(b);
+        const int kinds = (changes(fold_test) || changes(branch_test) ? 1 : 0) +
+                          (through_minus_one ? 1 : 0) + (pair_through_circle ? 1 : 0);
+        return kinds >= 2;
     }
 
     /// Whether every contact closes as many times per orbit at a as at b.

@@ -676,4 +676,20 @@ TEST_CASE("a record's tail repeats: the start-up before its second half does not
     for (int i = 0; i < 3; ++i)
         short_record.add({static_cast<double>(i), {static_cast<double>(i), (i % 2) * 1.0}});
     CHECK(short_record.period() == 0);
+    // Neither t nor an event's trigger tells a repeat: recorded alone, they read period 1 on a
+    // chaotic record (a reread, helper-89).
+    SectionSpec event;
+    event.kind = SectionSpec::Kind::event;
+    event.trigger = SectionVariable::parse_trigger("u1", 1, "trigger");
+    event.record = {SectionVariable::parse("t", 1, "record"),
+                    SectionVariable::parse("u1", 1, "record")};
+    SectionSpec time_only;
+    time_only.record = {SectionVariable::parse("t", 1, "record")};
+    RecordTailRepeats crossings(event), times(time_only);
+    for (int i = 0; i < 300; ++i) {
+        crossings.add({0.37 * i * i, {0.37 * i * i, 0.0}});
+        times.add({static_cast<double>(i), {static_cast<double>(i)}});
+    }
+    CHECK(crossings.period() == 0);
+    CHECK(times.period() == 0);
 }

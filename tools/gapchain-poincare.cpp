@@ -66,7 +66,6 @@ int csv_column(const SectionSpec& spec, std::size_t index) {
 }
 
 // What the section run gave: its points, the first of them kept for the error estimate.
-
 struct TakenSection {
     long count = 0;
     int repeats_every = 0; ///< the last points repeat after this many; 0: they do not
@@ -120,13 +119,14 @@ SectionAccuracy estimate_point_error(const Scene& scene, const SectionSpec& spec
 void print_repeats(const TakenSection& taken) {
     if (taken.count == 0) return;
     if (taken.repeats_every > 0)
-        std::printf("  the record's last points repeat every %d point%s (to 1e-8 of their size): "
+        std::printf("  the record's last points repeat every %d point%s (to %g of their size): "
                     "a periodic record\n",
-                    taken.repeats_every, taken.repeats_every == 1 ? "" : "s");
+                    taken.repeats_every, taken.repeats_every == 1 ? "" : "s",
+                    RecordTailRepeats::repeat_tolerance);
     else
-        std::printf("  the record's last points do not repeat after up to %d points (to 1e-8 of "
+        std::printf("  the record's last points do not repeat after up to %d points (to %g of "
                     "their size): chaotic, quasi-periodic, a longer cycle, or still settling\n",
-                    RecordTailRepeats::max_repeat);
+                    RecordTailRepeats::max_repeat, RecordTailRepeats::repeat_tolerance);
 }
 
 void print_crossings_differ(const SectionAccuracy& a) {

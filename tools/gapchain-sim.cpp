@@ -8,6 +8,7 @@
 #include "gapchain/simulation.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <memory>
 #include <optional>
@@ -123,14 +124,17 @@ void print_accuracy_notes(const Scene& scene, const SimulationResult& r) {
     // A record's F_m is its transient's, and where the path depends on the truncation error the
     // comparison run at half the step parts from the main run by far more than the tolerance:
     // on table4-experiment-seismic.json at 1e-4 to 1e-6, seeds 24 and 35 missed rk8pd's F_m
-    // at 1e-11 by 2-3 such bars (a hostile probe, helper-87). The bar is then one draw.
+    // at 1e-11 by 2 and 3.4 such bars (a hostile probe, helper-87). The bar is then one draw.
+    // (A comparison run that went non-finite gives an infinite bar, said elsewhere.)
     const double asked = std::max(scene.run.tolerance, 1e-9) * r.F_m;
-    if (!scene.harmonic() && r.F_m_error > 10.0 * asked)
+    if (!scene.harmonic() && std::isfinite(r.F_m_error) && r.F_m_error > 10.0 * asked)
         std::printf("note: F_m_error is %.3g times run.tolerance x F_m: this record's response "
                     "depends on the truncation error (a run at half the step, or a tenth of the "
                     "tolerance, parts from it by that much), and the bar is one draw of that "
-                    "spread; a tighter run.tolerance (1e-8) narrows it\n",
-                    r.F_m_error / asked);
+                    "spread%s\n",
+                    r.F_m_error / asked,
+                    scene.run.tolerance > 1e-8 ? "; a tighter run.tolerance (1e-8) narrows it"
+                                               : "");
 }
 
 void print_result(const Scene& scene, const SimulationResult& r, bool searched) {

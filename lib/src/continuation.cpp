@@ -347,7 +347,10 @@ private:
                 b.reset();
                 m_cut_corner = true;
             }
-            if (b && crowded(a, *b) && ds / 2 >= 16.0 * m_o.locate_tolerance) b.reset();
+            // Not below the corrector's own floor (1e-7): the branch would end there as if the
+            // corrector had failed.
+            if (b && crowded(a, *b) && ds / 2 >= std::max(16.0 * m_o.locate_tolerance, 2e-7))
+                b.reset();
             if (!b) ds /= 2;
         }
         return b;
@@ -379,14 +382,19 @@ private:
 
     /// Whether two kinds of special point fall between a and b: a turn (fold or branch
     /// point), a multiplier through -1, a pair through the unit circle. The step is then
-    /// halved (down to 16 locate_tolerance), so that the orbits between them are on the branch:
-    /// on Nm 1, fc 100, eps 0.2, e_r 0.05 (an independent review, helper-84) the stable stretch
-    /// between the doubling at f_r = 2.62490 and the fold at 2.62439 lay inside one step, and
-    /// branch.csv held no orbit of it.
+    /// halved (down to 16 locate_tolerance, and 2e-7), so that the orbits between them are on the
+    /// branch: on Nm 1, fc 100, eps 0.2, e_r 0.05 (an independent review, helper-84) the stable
+    /// stretch between the doubling at f_r = 2.62490 and the fold at 2.62439 lay inside one step,
+    /// and branch.csv held no orbit of it.
     static bool crowded(const OrbitPoint& a, const OrbitPoint& b) {
         const auto changes = [&](auto test) { return (test(a) > 0) != (test(b) > 0); };
         const auto ta = torus_test(a), tb = torus_test(b);
         const bool pair_through_circle = ta && tb && (*ta > 0) != (*tb > 0);
+        // A pair below -1 that changes beside a pair through the circle counts as two kinds,
+        // though detect() lists one step holding both as the Neimark-Sacker point alone: halved,
+        // the step at Fig 13's 3.13084 parted them (a doubling 8e-7 beyond the Neimark-Sacker
+        // point, whose period-2 family the walk then follows). Where they coincide (a grazing
+        // corner) the halving costs about 12 corrections.
         const bool through_minus_one = changes(doubling_test) || multipliers_below_minus_one(a) !=
                                                                      multipliers_below_minus_one(b);
         const int kinds = (changes(fold_test) || changes(branch_test) ? 1 : 0) +

@@ -320,17 +320,37 @@ int SectionRepeats::period(double tolerance, bool distinct_cycle) const {
     return 0;
 }
 
+namespace {
+
+/// A stroboscopic section's time (a multiple of the period), and an event section's trigger,
+/// which equals the level at every point, carry no error of the trajectory; an event section's
+/// crossing times do (rkf45 at its default tolerance on Fig 13's row at f_r = 2.2 is 3.7e-6
+/// off rk8pd at 1e-10, a reviewer's probe, helper-75).
+bool estimated(const SectionSpec& spec, const SectionVariable& v) {
+    const bool event = spec.kind == SectionSpec::Kind::event;
+    if (v.kind == SectionVariable::Kind::time) return event;
+    return !(event && v.kind == spec.trigger.kind && v.index == spec.trigger.index);
+}
+
+} // namespace
+
 void RecordTailRepeats::add(const SectionPoint& point) {
+    // Neither t nor an event's trigger (at the level on every point) tells a repeat: recorded
+    // alone, they read "periodic" on Fig 13's chaotic row at f_r = 3.3 (a reread, helper-89).
     std::vector<double> values;
     values.reserve(point.values.size());
-    for (std::size_t i = 0; i < point.values.size(); ++i)
-        if (m_spec.record[i].name() != "t") values.push_back(point.values[i]);
+    for (std::size_t i = 0; i < point.values.size(); ++i) {
+        const SectionVariable& v = m_spec.record[i];
+        if (v.kind != SectionVariable::Kind::time && estimated(m_spec, v))
+            values.push_back(point.values[i]);
+    }
     m_last.push_back(std::move(values));
     if (m_last.size() > 3 * static_cast<std::size_t>(max_repeat)) m_last.pop_front();
     ++m_count;
 }
 
 int RecordTailRepeats::period() const {
+    if (m_last.empty() || m_last.front().empty()) return 0;
     const auto held = static_cast<long>(m_last.size());
     double scale = 0.0;
     for (const auto& values : m_last)
@@ -418,16 +438,6 @@ FinerRun finer_run(const Dynamics& dyn, const RunOptions& options, const Section
         f.not_run = "the finer run would take " + detail::format_number(work) +
                     " body-steps, above run.max_work = " + detail::format_number(options.max_work);
     return f;
-}
-
-/// A stroboscopic section's time (a multiple of the period), and an event section's trigger,
-/// which equals the level at every point, carry no error of the trajectory; an event section's
-/// crossing times do (rkf45 at its default tolerance on Fig 13's row at f_r = 2.2 is 3.7e-6
-/// off rk8pd at 1e-10, a reviewer's probe, helper-75).
-bool estimated(const SectionSpec& spec, const SectionVariable& v) {
-    const bool event = spec.kind == SectionSpec::Kind::event;
-    if (v.kind == SectionVariable::Kind::time) return event;
-    return !(event && v.kind == spec.trigger.kind && v.index == spec.trigger.index);
 }
 
 /// The main run's points set against the finer run's, point k of one against point m of the

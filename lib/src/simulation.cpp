@@ -73,17 +73,14 @@ StepPlan comparison_plan(const Dynamics& dyn, const StepPlan& plan, bool on_orbi
     // 1.30004 at h = 0.0019 and 1.29856 at 2h, +- 0.0029, where every step below 0.0014 and
     // rk8pd at 1e-11 read 1.2149 (a hostile probe, helper-87; rkf45 at 1e-3 missed by 107
     // bars). Its comparison run is finer: half the step, or a tenth of the tolerance.
-    const bool record = !dyn.ground_motion().is_harmonic();
-    if ((plan.scheme == Scheme::rkf45 || plan.scheme == Scheme::rk8pd) && record) {
-        other.tolerance = std::max(1e-12, plan.tolerance / 10.0);
-        other.steps_per_period = plan.steps_per_period * 2;
-    } else if (plan.scheme == Scheme::rkf45 || plan.scheme == Scheme::rk8pd) {
+    if (!dyn.ground_motion().is_harmonic()) return finer_plan(dyn, plan, 10.0);
+    if (plan.scheme == Scheme::rkf45 || plan.scheme == Scheme::rk8pd) {
         // At a loose tolerance the output interval, not the error control, sets the steps:
         // the two runs then took the same steps and agreed to 4e-9 where both were 1.4e-5 off
         // (rkf45 at 1e-2, Nm 4, fc 500, eps 0.1, e_r 0.2, f_r 0.8, one period from rest).
         other.tolerance = std::min(0.1, 10.0 * plan.tolerance);
         if (plan.steps_per_period >= 2) other.steps_per_period = plan.steps_per_period / 2;
-    } else if (plan.scheme == Scheme::exact || on_orbit || record || plan.steps_per_period < 2 ||
+    } else if (plan.scheme == Scheme::exact || on_orbit || plan.steps_per_period < 2 ||
                2.0 * plan.step * dyn.max_rate() >= 0.9 * tr.stability_limit) {
         // An orbit's F_m is compared at half the step (and at twice it: comparison_error()):
         // at rk4's default h omega_max = 0.4 many periodic rows are not yet in its asymptotic
@@ -561,8 +558,9 @@ void require_trajectory_fits(const Dynamics& dyn, const RunOptions& requested, i
 namespace {
 
 /// The comparison run's plan at the most it can take, before the run: a run that may settle on
-/// an orbit (a steady-state stop, harmonic forcing) compares it at twice the steps; one that
-/// may not, at half (or twice, where half breaks the stability limit: comparison_plan()). A
+/// an orbit (a steady-state stop, harmonic forcing) compares it at twice the steps, as does a
+/// ground motion record; one that may not, at half (or twice, where half breaks the stability
+/// limit: comparison_plan()). A
 /// chaotic run whose window estimates its own error runs none, but it cannot be told apart from
 /// a settling one before it runs.
 StepPlan priced_comparison_plan(const Dynamics& dyn, const RunOptions& options,

@@ -684,12 +684,6 @@ def test_orbit_and_continuation_refuse_run_keywords_they_would_ignore():
     with pytest.raises(ValueError, match="^trajectory_every: poincare\\(\\) does not read"):
         gapchain.poincare(MIRROR_PAIR, trajectory_every=3)
 
-
-def test_poincare_says_whether_the_record_repeats():
-    # The mirror pair's runs settle on one of its two period-1 orbits (MODEL.md section 5); a
-    # recorded t does not count against the repeat.
-    assert gapchain.poincare(MIRROR_PAIR, record=["t", "u1", "v1"], error=False)[
-        "repeats_every"] == 1
     with pytest.raises(ValueError, match="^estimate_error: attractors\\(\\) does not read"):
         gapchain.attractors(MIRROR_PAIR, samples=2, estimate_error=False)
     with pytest.raises(ValueError, match="^trajectory_every: simulate\\(\\) does not read"):
@@ -700,6 +694,16 @@ def test_poincare_says_whether_the_record_repeats():
         gapchain.orbit(MIRROR_PAIR, max_work=10)
     with pytest.raises(ValueError, match="^run.max_work: .* above run.max_work = 10:"):
         gapchain.continuation(MIRROR_PAIR, from_=1.2, to=1.21, max_work=10)
+
+
+def test_poincare_says_whether_the_record_repeats():
+    # The mirror pair's runs settle on one of its two period-1 orbits (MODEL.md section 5); a
+    # recorded t does not count against the repeat.
+    assert gapchain.poincare(MIRROR_PAIR, record=["t", "u1", "v1"], error=False)[
+        "repeats_every"] == 1
+    # Nor do t and an event's trigger alone: they read period 1 on a chaotic record (helper-89).
+    assert gapchain.poincare(MIRROR_PAIR, section="event", trigger="u1", level=0.0,
+                             record=["t", "u1"], error=False)["repeats_every"] is None
 
 
 def test_a_missing_required_argument_is_named():

@@ -478,12 +478,12 @@ std::vector<std::string> list_items(const std::string& flag, const std::vector<s
     std::vector<std::string> items;
     for (const std::string& value : values) {
         std::size_t begin = 0;
-        while (true) {
+        for (int number = 1;; ++number) {
             const std::size_t comma = value.find(',', begin);
             std::string item = value.substr(begin, comma - begin);
             if (item.empty())
-                throw std::invalid_argument(flag + ": item " + std::to_string(items.size() + 1) +
-                                            " of \"" + value + "\" is empty");
+                throw std::invalid_argument(flag + ": item " + std::to_string(number) + " of \"" +
+                                            value + "\" is empty");
             if (const std::string refusal = check(item); !refusal.empty())
                 throw std::invalid_argument(flag + ": " + refusal);
             items.push_back(std::move(item));

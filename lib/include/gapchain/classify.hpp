@@ -80,8 +80,9 @@ struct Classification {
                     ///< is longer than max_period (or not periodic)
     /// Largest Lyapunov exponent [1 / reduced time]: ln(max_multiplier) / (period T) for an
     /// orbit Newton confirmed, else the tangent vector's average along the run (for a periodic
-    /// label without Newton, or where Newton did not confirm it, along at least 20 periods of
-    /// the orbit, restarted at the settle).
+    /// label without Newton, along at least 20 periods of the orbit, restarted at the settle;
+    /// where Newton was asked and did not confirm it, along at least 20 periods after its
+    /// recorded cycle, unless those are beyond max_work: then one cycle's, with no error).
     double lambda_max = 0.0;
     double lambda_max_error = 0.0; ///< the average's standard error (inf if the window was too
                                    ///< short); for a confirmed orbit, from its largest
@@ -142,7 +143,8 @@ struct Classification {
     /// on transient_periods); without Newton (confirm_by_newton false), lambda_max is a
     /// tangent average restarted at the settle, over whole cycles of at least 20 periods, with
     /// their blocks' error (with Newton asked, over one cycle, no error, until Newton gives it;
-    /// where Newton does not confirm the state, over at least 20 more periods, as without it).
+    /// where Newton does not confirm the state, over at least 20 periods after that cycle;
+    /// periods_run counts them).
     bool settled_in_record = false;
     bool stopped_at_steady_state = false; ///< the run ended early on a periodic steady state
     bool newton_confirmed = false; ///< Newton converged on the periodic orbit (period is then its

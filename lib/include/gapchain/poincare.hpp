@@ -153,10 +153,10 @@ private:
 /// Whether a section's record ends periodic, as gapchain-poincare and Python poincare() say it
 /// (repeats_every in section.json): the smallest k <= max_repeat such that each of the
 /// record's last points (its second half, at most 2 max_repeat, at least 2 k) comes back k
-/// points later, every recorded value but t (a stroboscopic t never repeats) within
+/// points later, every recorded value but t and an event's trigger (which tell nothing) within
 /// repeat_tolerance (relative; above the round-off of a settled run's points and of an event's
-/// located crossing) of its size; 0 where none does. A start-up before the second half does
-/// not count, as it does in detect_period().
+/// located crossing) of its size; 0 where none does, or where nothing else is recorded. A
+/// start-up before the second half does not count, as it does in detect_period().
 class RecordTailRepeats {
 public:
     static constexpr int max_repeat = 128;

@@ -88,14 +88,13 @@ std::string to_json(const WorkPrecision& study, const WorkPrecisionOptions& o, d
 std::string to_json(const RowSpectrum& s, const RowSpectrumOptions& o, const Scene& scene);
 
 /// A Poincare section's sidecar (section.json beside section.csv): the section (kind; phase, or
-/// trigger, level and direction; record), points, repeats_every, point_error (null where not estimated, else
-/// compared, error per recorded variable (null for t and an event's trigger), parted_at (null:
-/// never), comparison, status and not_estimated (null where estimated), as SectionAccuracy),
-/// wall_time_s [s], the scheme and step the run took (outcome), and the run's provenance
-/// (parameters, the run keys a once-through run reads with the scheme and step asked for,
-/// chain, initial).
-/// repeats_every: the k after which the record's last points repeat (detect_period() on the
-/// recorded values, t left out), 0 where they do not (written as null).
+/// trigger, level and direction; record), points, repeats_every, point_error (null where not
+/// estimated, else compared, error per recorded variable (null for t and an event's trigger),
+/// parted_at (null: never), comparison, status and not_estimated (null where estimated), as
+/// SectionAccuracy), wall_time_s [s], the scheme and step the run took (outcome), and the run's
+/// provenance (parameters, the run keys a once-through run reads with the scheme and step asked
+/// for, chain, initial). repeats_every: the k after which the record's last points repeat
+/// (RecordTailRepeats), 0 where they do not (written as null).
 std::string to_json(const SectionSpec& spec, long points, int repeats_every,
                     const SectionAccuracy* accuracy, double wall_time_s, const Scene& scene,
                     const RunOutcome& outcome);

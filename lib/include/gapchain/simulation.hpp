@@ -201,7 +201,10 @@ void require_trajectory_fits(const Dynamics& dyn, const RunOptions& options, int
 ///   other step), and the run at h is no nearer the truth than the other. rkf45/rk8pd
 ///   compare at ten times the tolerance and twice the output interval (their largest step),
 ///   exact at half the output interval; on their orbit they report |F_m - F_m'|, else twice
-///   it. The estimate is never below a round-off floor, exact_F_m_round_off F_m (1e-12 F_m,
+///   it. A ground motion record's run compares at half the step (a tenth of an adaptive
+///   tolerance, half its output interval) and reports 2 |F_m - F_m'|: its transient follows one
+///   path at h and 2h where the truncation error decides it (docs/beyond.md). The estimate is
+///   never below a round-off floor, exact_F_m_round_off F_m (1e-12 F_m,
 ///   stepper.hpp) for every scheme. F_m_orbit_error comes from the same comparison run where
 ///   it settled on the same
 ///   orbit (for a run on its orbit, the larger of F_m_error's estimate and the orbits'

@@ -280,6 +280,15 @@ void label_regime(const ClassifyOptions& o, const RecordedEvidence& evidence, do
     c.regime = (c.F_m > 0.0 || evidence.impacts > 0) ? Regime::periodic : Regime::no_contact;
 }
 
+/// The fewest periods over which a periodic label's exponent is measured on its orbit (without
+/// Newton, or where Newton does not confirm it): its 10 blocks' error needs them.
+constexpr long min_orbit_exponent_periods = 20;
+
+/// Whole cycles of a period-`period` orbit that span min_orbit_exponent_periods.
+long orbit_exponent_cycles(int period) {
+    return (min_orbit_exponent_periods + period - 1) / period;
+}
+
 /// Refuses a map of more than 1e6 cells (days of work, and more than fits in memory: larger
 /// studies are sweeps, resumable and sharded), or whose cells, each run to its full length
 /// (a periodic one stops sooner), exceed run.max_work together: a 3000 x 3000 map from Python
@@ -297,7 +306,8 @@ void require_map_work(const ReducedParameters& base, std::size_t rows,
     // periods), or without Newton at least 20 periods of it (record_cycle(); a reread,
     // helper-86: such a cell could run twice the estimate). Where Newton does not confirm the
     // cycle, at least 20 periods more (measure_unconfirmed_exponent()).
-    const long cycle = o.confirm_by_newton ? 20L + 2L * o.max_period : 20L + o.max_period;
+    const long at_most = min_orbit_exponent_periods + o.max_period;
+    const long cycle = o.confirm_by_newton ? at_most + o.max_period : at_most;
     const double periods = static_cast<double>(o.transient_periods + o.record_periods + cycle);
     double body_steps = 0.0;
     for (double f : f_r) {
@@ -405,7 +415,7 @@ bool record_cycle(const Dynamics& dyn, const ClassifyOptions& o, int period, dou
     // orbits whose multipliers give -0.169 and -0.553 (a hostile probe, helper-85). With Newton
     // to come, one cycle (no tangent where the settle was in the discarded periods).
     const bool orbit_exponent = !o.confirm_by_newton;
-    const long cycles = orbit_exponent ? (20 + period - 1) / period : 1;
+    const long cycles = orbit_exponent ? orbit_exponent_cycles(period) : 1;
     TangentObserver restarted(dyn, 1, 0);
     std::vector<Observer*> cycle = record->observers();
     if (c.settled_in_record || orbit_exponent) cycle.push_back(&restarted);
@@ -428,7 +438,7 @@ void measure_unconfirmed_exponent(const Dynamics& dyn, const ClassifyOptions& o,
     if (!o.confirm_by_newton || c.newton_confirmed ||
         (c.regime != Regime::periodic && c.regime != Regime::no_contact))
         return;
-    const long periods = (20 + period - 1) / period * period;
+    const long periods = orbit_exponent_cycles(period) * period;
     if (run_work(dyn, planned.plan(), static_cast<double>(periods), 1) > o.max_work) return;
     TangentObserver restarted(dyn, 1, 0);
     Observer* cycles[] = {&restarted};
